@@ -1,0 +1,235 @@
+//! Embedded datasets, so nothing needs a file: three procedural test volumes and two small real
+//! ones (sources and licences in `assets/volumes/NOTICE.md`).
+//!
+//! * `bunny` — the Stanford bunny as a smooth density, surface at 128 (128×126×101, u8).
+//! * `brainsmall` — VolPack's MRI head (128×128×84, u8).
+//! * `shells` — concentric spherical shells, `255·(½ − ½·cos(2πr/10))` inside r < 30 voxels
+//!   (64³, u8): nested surfaces for First and Accumulate.
+//! * `marschner-lobb` — the Marschner–Lobb test signal (Marschner & Lobb, "An evaluation of
+//!   reconstruction filters for volume rendering", 1994) with f_M = 6, α = 0.25 on [−1, 1]³
+//!   (41³, f32): nearly all its energy is near the Nyquist limit, so it shows every
+//!   reconstruction and step-size artefact.
+//! * `bucky` — a buckminsterfullerene-like cage: Gaussian blobs on the 60 vertices of a
+//!   truncated icosahedron (32³, u8).
+
+use crate::error::LoadError;
+use crate::io::{Loaded, load, nrrd};
+use crate::volume::{Volume, VoxelData};
+use glam::{UVec3, Vec3};
+use std::f32::consts::PI;
+use std::path::Path;
+
+/// The dataset the sandbox and the CLI open when given none.
+pub const DEFAULT: &str = "bunny";
+
+/// Every embedded dataset's name, with a one-line description.
+pub const DATASETS: &[(&str, &str)] = &[
+    (
+        "bunny",
+        "Stanford bunny as a smooth density, surface at 128 (128×126×101, uint8)",
+    ),
+    (
+        "brainsmall",
+        "MRI of a head, VolPack example (128×128×84, uint8)",
+    ),
+    ("shells", "concentric spherical shells (64³, uint8)"),
+    (
+        "marschner-lobb",
+        "Marschner–Lobb test signal, f_M = 6, α = 0.25 (41³, float32)",
+    ),
+    (
+        "bucky",
+        "buckyball-like cage of 60 Gaussian atoms (32³, uint8)",
+    ),
+];
+
+const BUNNY: &[u8] = include_bytes!("../../../assets/volumes/bunny_sdf.nrrd");
+const BRAINSMALL: &[u8] = include_bytes!("../../../assets/volumes/mri_brainsmall.nrrd");
+
+/// Opens `builtin:NAME` or a file path.
+pub fn load_source(spec: &str) -> Result<Loaded, LoadError> {
+    match spec.strip_prefix("builtin:") {
+        Some(name) => load_builtin(name),
+        None => load(Path::new(spec)),
+    }
+}
+
+/// Builds or decodes an embedded dataset by name.
+pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
+    let generated = |volume: Volume| Loaded {
+        volume,
+        notes: Vec::new(),
+    };
+    match name {
+        "bunny" => nrrd::load_bytes("bunny_sdf", BUNNY),
+        "brainsmall" => nrrd::load_bytes("mri_brainsmall", BRAINSMALL),
+        "shells" => Ok(generated(shells())),
+        "marschner-lobb" => Ok(generated(marschner_lobb())),
+        "bucky" => Ok(generated(bucky())),
+        other => {
+            let names: Vec<&str> = DATASETS.iter().map(|d| d.0).collect();
+            Err(LoadError::new(
+                format!("builtin:{other}"),
+                crate::error::LoadProblem::Header(format!(
+                    "no embedded dataset of that name (choose from {})",
+                    names.join(", ")
+                )),
+            ))
+        }
+    }
+}
+
+/// Samples `f(i, j, k)` over an `n³` lattice, x fastest.
+fn lattice<T>(n: u32, f: impl Fn(u32, u32, u32) -> T) -> Vec<T> {
+    let mut out = Vec::with_capacity((n * n * n) as usize);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                out.push(f(i, j, k));
+            }
+        }
+    }
+    out
+}
+
+fn to_u8(x: f32) -> u8 {
+    (x.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+/// Concentric shells (see module docs).
+pub fn shells() -> Volume {
+    let n = 64;
+    let c = Vec3::splat((n - 1) as f32 * 0.5);
+    let data = lattice(n, |i, j, k| {
+        let r = (Vec3::new(i as f32, j as f32, k as f32) - c).length();
+        if r < 30.0 {
+            to_u8(0.5 - 0.5 * (2.0 * PI * r / 10.0).cos())
+        } else {
+            0
+        }
+    });
+    Volume::new("shells", UVec3::splat(n), Vec3::ONE, VoxelData::U8(data))
+        .expect("valid by construction")
+}
+
+/// The Marschner–Lobb signal at a point of [−1, 1]³, in [0, 1].
+pub fn marschner_lobb_at(p: Vec3) -> f32 {
+    const F_M: f32 = 6.0;
+    const ALPHA: f32 = 0.25;
+    let r = (p.x * p.x + p.y * p.y).sqrt();
+    let rho_r = (2.0 * PI * F_M * (PI * r / 2.0).cos()).cos();
+    (1.0 - (PI * p.z / 2.0).sin() + ALPHA * (1.0 + rho_r)) / (2.0 * (1.0 + ALPHA))
+}
+
+/// The Marschner–Lobb volume (see module docs).
+pub fn marschner_lobb() -> Volume {
+    let n = 41;
+    let h = 2.0 / (n - 1) as f32;
+    let data = lattice(n, |i, j, k| {
+        marschner_lobb_at(Vec3::new(i as f32, j as f32, k as f32) * h - 1.0)
+    });
+    Volume::new(
+        "marschner-lobb",
+        UVec3::splat(n),
+        Vec3::splat(h),
+        VoxelData::F32(data),
+    )
+    .expect("valid by construction")
+}
+
+/// The 60 vertices of a truncated icosahedron with edge length 2 (circumradius √(9φ + 10)).
+pub fn truncated_icosahedron() -> Vec<Vec3> {
+    let phi = (1.0 + 5f32.sqrt()) / 2.0;
+    let bases = [
+        Vec3::new(0.0, 1.0, 3.0 * phi),
+        Vec3::new(1.0, 2.0 + phi, 2.0 * phi),
+        Vec3::new(phi, 2.0, 2.0 * phi + 1.0),
+    ];
+    let mut out = Vec::with_capacity(60);
+    for b in bases {
+        for signs in 0..8u32 {
+            let s = Vec3::new(
+                if signs & 1 == 0 { 1.0 } else { -1.0 },
+                if signs & 2 == 0 { 1.0 } else { -1.0 },
+                if signs & 4 == 0 { 1.0 } else { -1.0 },
+            );
+            let v = b * s;
+            // Skip duplicate sign patterns on zero components.
+            if b.x == 0.0 && s.x < 0.0 {
+                continue;
+            }
+            // The three cyclic (even) permutations.
+            for p in [v, Vec3::new(v.y, v.z, v.x), Vec3::new(v.z, v.x, v.y)] {
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// The bucky-like cage (see module docs).
+pub fn bucky() -> Volume {
+    let n = 32;
+    let c = Vec3::splat((n - 1) as f32 * 0.5);
+    let atoms = truncated_icosahedron();
+    let radius = atoms[0].length();
+    let scale = 12.0 / radius;
+    let atoms: Vec<Vec3> = atoms.into_iter().map(|a| c + a * scale).collect();
+    let sigma2 = 2.0 * 1.1f32 * 1.1;
+    let data = lattice(n, |i, j, k| {
+        let p = Vec3::new(i as f32, j as f32, k as f32);
+        let d: f32 = atoms
+            .iter()
+            .map(|a| (-(p - *a).length_squared() / sigma2).exp())
+            .sum();
+        to_u8(d)
+    });
+    Volume::new("bucky", UVec3::splat(n), Vec3::ONE, VoxelData::U8(data))
+        .expect("valid by construction")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_builtin_loads() {
+        for (name, _) in DATASETS {
+            let l = load_builtin(name).unwrap();
+            assert!(l.volume.voxel_count() > 0, "{name}");
+            let (lo, hi) = l.volume.value_range();
+            assert!(hi > lo, "{name} is not constant");
+        }
+        assert!(
+            load_builtin("nope")
+                .unwrap_err()
+                .to_string()
+                .contains("bunny")
+        );
+    }
+
+    #[test]
+    fn truncated_icosahedron_has_60_equidistant_vertices_with_edge_2() {
+        let v = truncated_icosahedron();
+        assert_eq!(v.len(), 60);
+        let r = v[0].length();
+        assert!(v.iter().all(|p| (p.length() - r).abs() < 1e-4));
+        let phi = (1.0 + 5f32.sqrt()) / 2.0;
+        assert!((r - (9.0 * phi + 10.0).sqrt()).abs() < 1e-4);
+        // Every vertex has exactly three neighbours at distance 2.
+        for a in &v {
+            let near = v
+                .iter()
+                .filter(|b| ((**b - *a).length() - 2.0).abs() < 1e-3)
+                .count();
+            assert_eq!(near, 3);
+        }
+    }
+
+    #[test]
+    fn marschner_lobb_stays_in_range() {
+        let v = marschner_lobb();
+        let (lo, hi) = v.value_range();
+        assert!(lo >= 0.0 && hi <= 1.0, "{lo} {hi}");
+    }
+}

@@ -1,0 +1,289 @@
+//! Compositing: how the samples along a ray become one pixel. Each method is a small pure function.
+//!
+//! Twin: `shaders/composite.wgsl` (same function names).
+//!
+//! Notation (thesis §2.2.4, lecture "Resampling & Compositing"): sample `n` has colour `c_n` and
+//! opacity `α_n`; `C_n`, `O_n` are the composited colour (premultiplied) and opacity after it,
+//! `C_0 = 0`, `O_0 = 0`.
+//!
+//! * **Accumulate, front to back** (the order rays are marched):
+//!   `C_n = C_{n−1} + (1 − O_{n−1})·α_n·c_n`, `O_n = O_{n−1} + (1 − O_{n−1})·α_n`.
+//!   Once `O_n` reaches the cutoff, later samples can change the pixel by at most `1 − O_n`:
+//!   early ray termination stops there.
+//! * **Accumulate, back to front** (the lecture's order, Levoy 1988): from the last sample to
+//!   the first, `C ← C·(1 − α_n) + c_n·α_n`, `O ← O·(1 − α_n) + α_n`. The same image, within float
+//!   rounding, but it must visit every sample.
+//! * **Opacity correction** (Engel et al., *Real-Time Volume Graphics*, §9.1.3): a transfer
+//!   function's `α` is the opacity of a reference path length `Δs_ref`; a sample standing for a
+//!   length `Δs` gets `α' = 1 − (1 − α)^(Δs/Δs_ref)`. For constant `α` the transmittance along `L`
+//!   is then `(1 − α)^(L/Δs_ref) = e^(−σL)`, `σ = −ln(1 − α)/Δs_ref`: Beer–Lambert, whatever the step.
+//! * **Average / Maximum / Minimum** (lecture "Projection schemes"): the mean, largest or
+//!   smallest interpolated value of the samples inside the volume, then the transfer function.
+//! * **First** (the lecture's "distance to first voxel", as an isosurface): the first place where
+//!   the interpolated value crosses the target, located between two samples and refined
+//!   ([`crossing_fraction`]), coloured by the transfer function at the target.
+//!
+//! Every method finishes by blending the background under what is not opaque:
+//! `pixel = C + (1 − O)·background` ([`blend_background`]).
+
+use glam::Vec3;
+
+/// How the samples along a ray are combined.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Method {
+    /// Emission–absorption: colours and opacities accumulated front to back.
+    #[default]
+    Accumulate,
+    /// The first crossing of the target value (an isosurface), shaded.
+    First,
+    /// The transfer function of the mean value along the ray.
+    Average,
+    /// The transfer function of the largest value (maximum intensity projection, MIP).
+    Maximum,
+    /// The transfer function of the smallest value (minimum intensity projection).
+    Minimum,
+}
+
+impl Method {
+    pub const ALL: [Method; 5] = [
+        Method::Accumulate,
+        Method::First,
+        Method::Average,
+        Method::Maximum,
+        Method::Minimum,
+    ];
+
+    /// The GPU's integer code (Rust owns it; the shader receives it as a uniform).
+    pub const fn code(self) -> u32 {
+        match self {
+            Method::Accumulate => 0,
+            Method::First => 1,
+            Method::Average => 2,
+            Method::Maximum => 3,
+            Method::Minimum => 4,
+        }
+    }
+
+    pub const fn name(self) -> &'static str {
+        match self {
+            Method::Accumulate => "accumulate",
+            Method::First => "first",
+            Method::Average => "average",
+            Method::Maximum => "maximum",
+            Method::Minimum => "minimum",
+        }
+    }
+
+    /// The one-line description shown with the method (documented once, reused as tooltip).
+    pub const fn doc(self) -> &'static str {
+        match self {
+            Method::Accumulate => {
+                "Accumulate: every sample adds its colour, weighted by its opacity and by what is \
+                 still transparent in front of it: C_n = C_{n−1} + (1 − O_{n−1})·α_n·c_n."
+            }
+            Method::First => {
+                "First hit: the first place the value crosses the target, refined between two \
+                 samples, coloured by the transfer function at the target and shaded: an isosurface."
+            }
+            Method::Average => {
+                "Average: the transfer function of the mean value of the samples inside the volume \
+                 (like an X-ray)."
+            }
+            Method::Maximum => {
+                "Maximum: the transfer function of the largest value along the ray (maximum \
+                 intensity projection): bright structures show through everything."
+            }
+            Method::Minimum => {
+                "Minimum: the transfer function of the smallest value along the ray (minimum \
+                 intensity projection): dark cavities show through."
+            }
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|m| {
+            m.name().eq_ignore_ascii_case(s)
+                || (s.eq_ignore_ascii_case("mip") && *m == Method::Maximum)
+        })
+    }
+}
+
+/// The order Accumulate visits samples in.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Order {
+    /// From the camera outwards; allows early ray termination.
+    #[default]
+    FrontToBack,
+    /// From the far end towards the camera (Levoy's formulation); visits every sample.
+    BackToFront,
+}
+
+/// `α' = 1 − (1 − α)^(ds/ds_ref)`: the opacity of a sample standing for path length `ds`
+/// when the transfer function's `α` is for `ds_ref`. Exact at α = 0 and α = 1.
+#[inline(always)]
+pub fn correct_opacity(alpha: f32, ds: f32, ds_ref: f32) -> f32 {
+    if alpha <= 0.0 {
+        return 0.0;
+    }
+    if alpha >= 1.0 {
+        return if ds > 0.0 { 1.0 } else { 0.0 };
+    }
+    1.0 - (1.0 - alpha).powf(ds / ds_ref)
+}
+
+/// One front-to-back step: `C + (1 − O)·α·c`, `O + (1 − O)·α`.
+#[inline(always)]
+pub fn accumulate_front_to_back(c: Vec3, o: f32, color: Vec3, alpha: f32) -> (Vec3, f32) {
+    let w = (1.0 - o) * alpha;
+    (c + color * w, o + w)
+}
+
+/// One back-to-front step: `C·(1 − α) + c·α`, `O·(1 − α) + α`.
+#[inline(always)]
+pub fn accumulate_back_to_front(c: Vec3, o: f32, color: Vec3, alpha: f32) -> (Vec3, f32) {
+    (c * (1.0 - alpha) + color * alpha, o * (1.0 - alpha) + alpha)
+}
+
+/// `C + (1 − O)·background`: the pixel.
+#[inline(always)]
+pub fn blend_background(c: Vec3, o: f32, background: Vec3) -> Vec3 {
+    c + background * (1.0 - o)
+}
+
+/// Whether the value crosses `target` between two consecutive samples (in either direction;
+/// touching counts): the sign of `value − target` changes or becomes zero.
+#[inline(always)]
+pub fn crosses(prev: f32, cur: f32, target: f32) -> bool {
+    let a = prev - target;
+    let b = cur - target;
+    (a < 0.0 && b >= 0.0) || (a > 0.0 && b <= 0.0)
+}
+
+/// Where between two samples the linearly interpolated value equals `target`, as a fraction of
+/// the way from `prev` to `cur` (in [0, 1]): `(target − prev) / (cur − prev)`.
+#[inline(always)]
+pub fn crossing_fraction(prev: f32, cur: f32, target: f32) -> f32 {
+    let d = cur - prev;
+    if d == 0.0 {
+        return 0.0;
+    }
+    ((target - prev) / d).clamp(0.0, 1.0)
+}
+
+/// Running statistics of values along a ray, for Average, Maximum and Minimum.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ValueStats {
+    pub count: u32,
+    pub sum: f64,
+    pub max: f32,
+    pub min: f32,
+}
+
+impl Default for ValueStats {
+    fn default() -> Self {
+        Self {
+            count: 0,
+            sum: 0.0,
+            max: f32::NEG_INFINITY,
+            min: f32::INFINITY,
+        }
+    }
+}
+
+impl ValueStats {
+    #[inline(always)]
+    pub fn add(&mut self, v: f32) {
+        self.count += 1;
+        self.sum += v as f64;
+        self.max = self.max.max(v);
+        self.min = self.min.min(v);
+    }
+
+    /// The mean (`None` before any sample).
+    pub fn mean(&self) -> Option<f32> {
+        (self.count > 0).then(|| (self.sum / self.count as f64) as f32)
+    }
+
+    /// The value `method` projects (`None` for Accumulate/First or before any sample).
+    pub fn projected(&self, method: Method) -> Option<f32> {
+        if self.count == 0 {
+            return None;
+        }
+        match method {
+            Method::Average => self.mean(),
+            Method::Maximum => Some(self.max),
+            Method::Minimum => Some(self.min),
+            Method::Accumulate | Method::First => None,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn correction_is_exact_at_the_reference_and_composes() {
+        assert_eq!(correct_opacity(0.3, 1.0, 1.0), 0.3);
+        // Two half steps equal one full step.
+        let h = correct_opacity(0.3, 0.5, 1.0);
+        let (_, o) = accumulate_front_to_back(Vec3::ZERO, 0.0, Vec3::ONE, h);
+        let (_, o) = accumulate_front_to_back(Vec3::ZERO, o, Vec3::ONE, h);
+        assert!((o - 0.3).abs() < 1e-6);
+        assert_eq!(correct_opacity(0.0, 3.0, 1.0), 0.0);
+        assert_eq!(correct_opacity(1.0, 1e-6, 1.0), 1.0);
+        assert_eq!(correct_opacity(1.0, 0.0, 1.0), 0.0);
+    }
+
+    #[test]
+    fn both_orders_agree() {
+        let samples = [
+            (Vec3::new(1.0, 0.0, 0.0), 0.3),
+            (Vec3::new(0.0, 1.0, 0.0), 0.5),
+            (Vec3::ONE, 0.2),
+        ];
+        let (mut cf, mut of) = (Vec3::ZERO, 0.0);
+        for &(c, a) in &samples {
+            (cf, of) = accumulate_front_to_back(cf, of, c, a);
+        }
+        let (mut cb, mut ob) = (Vec3::ZERO, 0.0);
+        for &(c, a) in samples.iter().rev() {
+            (cb, ob) = accumulate_back_to_front(cb, ob, c, a);
+        }
+        assert!((cf - cb).abs().max_element() < 1e-6);
+        assert!((of - ob).abs() < 1e-6);
+    }
+
+    #[test]
+    fn crossings() {
+        assert!(crosses(1.0, 3.0, 2.0));
+        assert!(crosses(3.0, 1.0, 2.0));
+        assert!(crosses(1.0, 2.0, 2.0));
+        assert!(
+            !crosses(2.0, 3.0, 2.0),
+            "leaving the exact value is not a new crossing"
+        );
+        assert!(!crosses(0.0, 1.0, 2.0));
+        assert_eq!(crossing_fraction(1.0, 3.0, 2.0), 0.5);
+        assert_eq!(crossing_fraction(2.0, 2.0, 2.0), 0.0);
+    }
+
+    #[test]
+    fn stats_project() {
+        let mut s = ValueStats::default();
+        assert_eq!(s.projected(Method::Average), None);
+        for v in [1.0, 5.0, 3.0] {
+            s.add(v);
+        }
+        assert_eq!(s.projected(Method::Average), Some(3.0));
+        assert_eq!(s.projected(Method::Maximum), Some(5.0));
+        assert_eq!(s.projected(Method::Minimum), Some(1.0));
+        assert_eq!(Method::parse("MIP"), Some(Method::Maximum));
+    }
+}

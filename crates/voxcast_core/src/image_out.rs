@@ -1,0 +1,152 @@
+//! Rendered images: linear float pixels, 8-bit PNG output, and the error measures used to compare
+//! two renders (speed/accuracy table, GPU/CPU agreement).
+//!
+//! Pixels are written to PNG as `round(255 · clamp(x, 0, 1))` per channel with no transfer curve
+//! (as VTK writes its renders), so a PNG holds exactly the numbers the ray caster computed.
+
+use glam::Vec3;
+use std::path::Path;
+
+/// An RGB image of linear floats, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearImage {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<Vec3>,
+}
+
+/// How two images differ, per channel, in units of the full range [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ImageDiff {
+    pub rmse: f64,
+    pub max_abs: f32,
+    pub mean_abs: f64,
+}
+
+impl LinearImage {
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
+            width,
+            height,
+            pixels: vec![Vec3::ZERO; width as usize * height as usize],
+        }
+    }
+
+    pub fn get(&self, x: u32, y: u32) -> Vec3 {
+        self.pixels[(y * self.width + x) as usize]
+    }
+
+    pub fn set(&mut self, x: u32, y: u32, v: Vec3) {
+        self.pixels[(y * self.width + x) as usize] = v;
+    }
+
+    /// 8-bit RGB, as written to PNG.
+    pub fn to_rgb8(&self) -> image::RgbImage {
+        let mut out = image::RgbImage::new(self.width, self.height);
+        for (dst, src) in out.pixels_mut().zip(&self.pixels) {
+            *dst = image::Rgb(to_u8(*src));
+        }
+        out
+    }
+
+    /// Reads an 8-bit PNG back as linear floats (`v / 255`).
+    pub fn from_rgb8(img: &image::RgbImage) -> Self {
+        Self {
+            width: img.width(),
+            height: img.height(),
+            pixels: img
+                .pixels()
+                .map(|p| Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / 255.0)
+                .collect(),
+        }
+    }
+
+    /// Writes a PNG (atomically: to a temporary file beside it, then renamed).
+    pub fn save_png(&self, path: &Path) -> Result<(), image::ImageError> {
+        save_rgb8_atomic(&self.to_rgb8(), path)
+    }
+
+    /// Per-channel differences to `other`; `None` if the sizes differ.
+    pub fn diff(&self, other: &Self) -> Option<ImageDiff> {
+        if (self.width, self.height) != (other.width, other.height) {
+            return None;
+        }
+        let mut sq = 0.0f64;
+        let mut abs = 0.0f64;
+        let mut max = 0.0f32;
+        for (a, b) in self.pixels.iter().zip(&other.pixels) {
+            let d = (*a - *b).abs();
+            sq += d.length_squared() as f64;
+            abs += (d.x + d.y + d.z) as f64;
+            max = max.max(d.max_element());
+        }
+        let n = (self.pixels.len() * 3) as f64;
+        Some(ImageDiff {
+            rmse: (sq / n).sqrt(),
+            max_abs: max,
+            mean_abs: abs / n,
+        })
+    }
+
+    /// A heat map of the largest channel difference per pixel: black (none) through red to
+    /// yellow and white at `full_scale` or more.
+    pub fn diff_heatmap(&self, other: &Self, full_scale: f32) -> Option<Self> {
+        if (self.width, self.height) != (other.width, other.height) {
+            return None;
+        }
+        let pixels = self
+            .pixels
+            .iter()
+            .zip(&other.pixels)
+            .map(|(a, b)| {
+                let x = ((*a - *b).abs().max_element() / full_scale.max(f32::MIN_POSITIVE))
+                    .clamp(0.0, 1.0)
+                    * 3.0;
+                Vec3::new(
+                    x.min(1.0),
+                    (x - 1.0).clamp(0.0, 1.0),
+                    (x - 2.0).clamp(0.0, 1.0),
+                )
+            })
+            .collect();
+        Some(Self {
+            width: self.width,
+            height: self.height,
+            pixels,
+        })
+    }
+}
+
+/// `round(255 · clamp(v, 0, 1))` per channel.
+pub fn to_u8(v: Vec3) -> [u8; 3] {
+    let q = |x: f32| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [q(v.x), q(v.y), q(v.z)]
+}
+
+/// Writes `img` to `path` through a temporary file and a rename, so a failed or interrupted write
+/// never leaves a half-written PNG where a good one was.
+pub fn save_rgb8_atomic(img: &image::RgbImage, path: &Path) -> Result<(), image::ImageError> {
+    let tmp = path.with_extension("png.tmp");
+    img.save_with_format(&tmp, image::ImageFormat::Png)?;
+    std::fs::rename(&tmp, path).map_err(image::ImageError::IoError)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantisation_and_diff() {
+        assert_eq!(to_u8(Vec3::new(-1.0, 0.5, 2.0)), [0, 128, 255]);
+        let mut a = LinearImage::new(2, 1);
+        let b = LinearImage::new(2, 1);
+        a.set(1, 0, Vec3::new(0.3, 0.0, 0.0));
+        let d = a.diff(&b).unwrap();
+        assert!((d.max_abs - 0.3).abs() < 1e-6);
+        assert!((d.rmse - (0.09f64 / 6.0).sqrt()).abs() < 1e-6);
+        assert!(a.diff(&LinearImage::new(1, 1)).is_none());
+        let h = a.diff_heatmap(&b, 0.3).unwrap();
+        assert_eq!(h.get(0, 0), Vec3::ZERO);
+        assert_eq!(h.get(1, 0), Vec3::ONE);
+    }
+}

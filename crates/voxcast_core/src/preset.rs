@@ -1,0 +1,169 @@
+//! Presets: a transfer function plus the settings that suit it, one for every bundled dataset.
+//!
+//! Presets are data (`assets/presets/*.json`, compiled in):
+//!
+//! ```json
+//! {"name": "bunny", "description": "…", "volumes": ["bunny_sdf"],
+//!  "view": {"from": [0.3, 0.4, 1.0], "up": [0, 1, 0]},
+//!  "transfer": {"name": "bunny", "points": [{"value": 110, "color": [0.9, 0.7, 0.5], "alpha": 0}, …]},
+//!  "settings": {"shading": true, "target": 128.0}}
+//! ```
+//!
+//! `settings` holds only what the preset changes; everything else keeps its default. The CT and
+//! MRI presets are the peer's transfer functions (`../shared/tools/peer/tf`) converted exactly,
+//! so Voxcast and VTK render the same inputs.
+
+use crate::error::SettingsError;
+use crate::settings::RenderSettings;
+use crate::transfer::TransferFunction;
+
+/// A named transfer function with the settings it is meant for.
+#[derive(Clone, Debug, PartialEq, serde::Deserialize)]
+pub struct Preset {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    /// Names of the volumes this preset is the default for.
+    #[serde(default)]
+    pub volumes: Vec<String>,
+    /// The direction to look from and the up vector that show the volume best.
+    #[serde(default)]
+    pub view: Option<View>,
+    pub transfer: TransferFunction,
+    /// The settings the preset changes, as a JSON object (applied over defaults or current ones).
+    #[serde(default)]
+    pub settings: serde_json::Map<String, serde_json::Value>,
+}
+
+/// A preferred view direction: the default camera looks at the volume's centre from `from`
+/// (eye − target, any length) with `up` as the screen's up.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Deserialize)]
+pub struct View {
+    pub from: glam::Vec3,
+    pub up: glam::Vec3,
+}
+
+const EMBEDDED: &[&str] = &[
+    include_str!("../../../assets/presets/bunny.json"),
+    include_str!("../../../assets/presets/brainsmall.json"),
+    include_str!("../../../assets/presets/shells.json"),
+    include_str!("../../../assets/presets/marschner_lobb.json"),
+    include_str!("../../../assets/presets/bucky.json"),
+    include_str!("../../../assets/presets/ct_skin_bone.json"),
+    include_str!("../../../assets/presets/mri_brain.json"),
+];
+
+impl Preset {
+    /// Reads a preset's JSON.
+    pub fn from_json(text: &str) -> Result<Self, SettingsError> {
+        let p: Preset = serde_json::from_str(text)
+            .map_err(|e| SettingsError::Invalid(format!("preset: {e}")))?;
+        p.settings_over(&RenderSettings::default())?;
+        Ok(p)
+    }
+
+    /// `base` with this preset's settings written over it.
+    pub fn settings_over(&self, base: &RenderSettings) -> Result<RenderSettings, SettingsError> {
+        let mut value = serde_json::to_value(base).expect("settings serialise");
+        merge(
+            &mut value,
+            &serde_json::Value::Object(self.settings.clone()),
+        );
+        let s: RenderSettings = serde_json::from_value(value)
+            .map_err(|e| SettingsError::Invalid(format!("preset {}: {e}", self.name)))?;
+        s.validate()?;
+        Ok(s)
+    }
+}
+
+/// Deep-merges JSON objects: `patch`'s fields replace `base`'s, recursively. An object whose keys
+/// are not all in `base` (another enum variant, such as `{"world": 1}` over `{"voxels": 0.5}`)
+/// replaces it whole.
+fn merge(base: &mut serde_json::Value, patch: &serde_json::Value) {
+    match (base, patch) {
+        (serde_json::Value::Object(b), serde_json::Value::Object(p))
+            if p.keys().all(|k| b.contains_key(k)) =>
+        {
+            for (k, v) in p {
+                merge(b.entry(k.clone()).or_insert(serde_json::Value::Null), v);
+            }
+        }
+        (b, p) => *b = p.clone(),
+    }
+}
+
+/// Every embedded preset.
+pub fn all() -> Vec<Preset> {
+    EMBEDDED
+        .iter()
+        .map(|text| Preset::from_json(text).expect("embedded presets are valid (tested)"))
+        .collect()
+}
+
+/// The embedded preset called `name`.
+pub fn by_name(name: &str) -> Option<Preset> {
+    all().into_iter().find(|p| p.name == name)
+}
+
+/// The preset meant for a volume of this name, if any.
+pub fn for_volume(volume_name: &str) -> Option<Preset> {
+    all()
+        .into_iter()
+        .find(|p| p.volumes.iter().any(|v| v == volume_name))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::builtin::{DATASETS, load_builtin};
+
+    #[test]
+    fn every_embedded_preset_is_valid_and_every_builtin_has_one() {
+        let presets = all();
+        assert_eq!(presets.len(), EMBEDDED.len());
+        for (name, _) in DATASETS {
+            let v = load_builtin(name).unwrap().volume;
+            let p = for_volume(v.name()).unwrap_or_else(|| panic!("no preset for {name}"));
+            let s = p.settings_over(&RenderSettings::default()).unwrap();
+            assert!(
+                s.target.is_some(),
+                "{}: presets give First a target",
+                p.name
+            );
+            let (lo, hi) = v.value_range();
+            let t = s.target.unwrap();
+            assert!(
+                t > lo && t < hi,
+                "{}: target {t} outside {lo}..{hi}",
+                p.name
+            );
+            assert!(
+                !p.transfer.bake(lo, hi).is_empty(),
+                "{}: shows something",
+                p.name
+            );
+            let view = p.view.expect("every preset has a view");
+            let (a, b) = v.bounds();
+            assert!(
+                crate::camera::Camera::framing(a, b, view.from, view.up).is_ok(),
+                "{}",
+                p.name
+            );
+        }
+        for shared in ["ct_cranium", "mri_mni152"] {
+            assert!(for_volume(shared).is_some(), "{shared}");
+        }
+    }
+
+    #[test]
+    fn settings_patch_only_what_they_name() {
+        let p = by_name("shells").unwrap();
+        let base = RenderSettings {
+            cutoff: 0.5,
+            ..Default::default()
+        };
+        let s = p.settings_over(&base).unwrap();
+        assert_eq!(s.cutoff, 0.5);
+        assert_eq!(s.target, Some(128.0));
+    }
+}

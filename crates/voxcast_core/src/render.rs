@@ -1,0 +1,184 @@
+//! The image renderer: every pixel's ray through [`crate::trace`], in parallel, cancellable.
+//!
+//! The image is cut into square tiles that rayon hands to its threads; each pixel depends only
+//! on its own ray(s), so the image is identical for any number of threads (tested). After each
+//! tile a progress callback reports `(tiles done, tiles total)`, and before each tile the cancel
+//! flag is read, so a cancelled render stops within one tile's time. The march is
+//! [`crate::trace`]'s, run with [`NoRecord`].
+
+use crate::camera::Camera;
+use crate::error::SettingsError;
+use crate::image_out::LinearImage;
+use crate::trace::{Marcher, NoRecord, Scene};
+use crate::volume::{Grid, GridVisitor, Voxel};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Tile edge in pixels: small enough to balance load and to react to cancel quickly.
+pub const TILE: u32 = 16;
+
+/// The largest image edge accepted (pixels).
+pub const MAX_EDGE: u32 = 16_384;
+
+/// What a finished render measured.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct RenderStats {
+    /// Rays cast (pixels × supersampling²).
+    pub rays: u64,
+    /// Samples marched over all rays.
+    pub samples: u64,
+}
+
+/// The render was cancelled before it finished.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("render cancelled")]
+pub struct Cancelled;
+
+/// Checks an image size: both edges in `1..=MAX_EDGE`.
+pub fn validate_size(width: u32, height: u32) -> Result<(), SettingsError> {
+    if width == 0 || height == 0 || width > MAX_EDGE || height > MAX_EDGE {
+        return Err(SettingsError::Invalid(format!(
+            "image size {width}×{height}: each edge must be 1 to {MAX_EDGE} pixels"
+        )));
+    }
+    Ok(())
+}
+
+/// Renders `camera`'s view of `scene` at `width × height` on the current rayon pool.
+/// `progress(done, total)` is called after each tile (from worker threads).
+pub fn render(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(LinearImage, RenderStats), Cancelled> {
+    struct Visit<'x, 'a> {
+        scene: &'x Scene<'a>,
+        camera: &'x Camera,
+        width: u32,
+        height: u32,
+        progress: &'x (dyn Fn(usize, usize) + Sync),
+        cancel: &'x AtomicBool,
+    }
+    impl GridVisitor for Visit<'_, '_> {
+        type Output = Result<(LinearImage, RenderStats), Cancelled>;
+        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
+            render_typed(
+                self.scene,
+                grid,
+                self.camera,
+                self.width,
+                self.height,
+                self.progress,
+                self.cancel,
+            )
+        }
+    }
+    scene.volume.visit(Visit {
+        scene,
+        camera,
+        width,
+        height,
+        progress,
+        cancel,
+    })
+}
+
+/// As [`render`], on a dedicated pool of `threads` threads (for measurements and tests).
+pub fn render_with_threads(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    threads: usize,
+) -> Result<(LinearImage, RenderStats), Cancelled> {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .expect("a thread pool can be built");
+    pool.install(|| {
+        render(
+            scene,
+            camera,
+            width,
+            height,
+            &|_, _| {},
+            &AtomicBool::new(false),
+        )
+    })
+}
+
+/// A finished tile: its top-left corner, its pixels row by row, and the samples it took.
+type TileResult = (u32, u32, Vec<Vec3>, u64);
+
+fn render_typed<T: Voxel>(
+    scene: &Scene<'_>,
+    grid: Grid<'_, T>,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(LinearImage, RenderStats), Cancelled> {
+    let marcher = Marcher::new(scene, grid);
+    let tiles_x = width.div_ceil(TILE);
+    let tiles_y = height.div_ceil(TILE);
+    let total = (tiles_x * tiles_y) as usize;
+    let done = AtomicUsize::new(0);
+    let n = scene.settings.supersampling.max(1);
+    let inv_rays = 1.0 / (n * n) as f32;
+    let background = scene.settings.background;
+
+    let tiles: Vec<Option<TileResult>> = (0..total as u32)
+        .into_par_iter()
+        .map(|tile| {
+            if cancel.load(Ordering::Relaxed) {
+                return None;
+            }
+            let x0 = (tile % tiles_x) * TILE;
+            let y0 = (tile / tiles_x) * TILE;
+            let x1 = (x0 + TILE).min(width);
+            let y1 = (y0 + TILE).min(height);
+            let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+            let mut samples = 0u64;
+            for py in y0..y1 {
+                for px in x0..x1 {
+                    let mut sum = Vec3::ZERO;
+                    for sy in 0..n {
+                        for sx in 0..n {
+                            let x = px as f32 + (sx as f32 + 0.5) / n as f32;
+                            let y = py as f32 + (sy as f32 + 0.5) / n as f32;
+                            let ray = camera.ray(x, y, width, height);
+                            let jitter = scene.jitter([px * n + sx, py * n + sy]);
+                            let out = marcher.march(&ray, jitter, &mut NoRecord);
+                            samples += out.samples as u64;
+                            sum += out.pixel(background);
+                        }
+                    }
+                    pixels.push(sum * inv_rays);
+                }
+            }
+            let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+            progress(d, total);
+            Some((x0, y0, pixels, samples))
+        })
+        .collect();
+
+    let mut image = LinearImage::new(width, height);
+    let mut stats = RenderStats {
+        rays: width as u64 * height as u64 * (n * n) as u64,
+        samples: 0,
+    };
+    for tile in tiles {
+        let (x0, y0, pixels, samples) = tile.ok_or(Cancelled)?;
+        stats.samples += samples;
+        let w = (x0 + TILE).min(width) - x0;
+        for (i, p) in pixels.into_iter().enumerate() {
+            image.set(x0 + i as u32 % w, y0 + i as u32 / w, p);
+        }
+    }
+    Ok((image, stats))
+}

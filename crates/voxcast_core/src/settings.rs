@@ -1,0 +1,170 @@
+//! Render settings: every choice the ray caster offers, validated in one place.
+//!
+//! Defaults and ranges come from [`crate::tunables`], where each is documented once.
+
+use crate::classify::Classification;
+use crate::composite::{Method, Order};
+use crate::error::SettingsError;
+use crate::sample::Interpolation;
+use crate::shade::{Light, Phong};
+use crate::step::Length;
+use crate::tunables as t;
+use glam::Vec3;
+
+/// Everything that decides how the rays are cast and composited.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct RenderSettings {
+    /// How samples become a pixel ([`Method::doc`]).
+    pub method: Method,
+    /// [`t::STEP`].
+    pub step: Length,
+    /// How values between lattice points are reconstructed.
+    pub interpolation: Interpolation,
+    /// [`t::OPACITY_CORRECTION`].
+    pub opacity_correction: bool,
+    /// [`t::REFERENCE_STEP`].
+    pub reference_step: Length,
+    /// [`t::EARLY_TERMINATION`].
+    pub early_termination: bool,
+    /// [`t::CUTOFF`].
+    pub cutoff: f32,
+    /// Sample order for Accumulate.
+    pub order: Order,
+    /// [`t::JITTER`].
+    pub jitter: bool,
+    /// Seed of the jitter hash (a different seed gives a different noise pattern).
+    pub jitter_seed: u32,
+    /// [`t::TARGET`]; `None` is the middle of the volume's value range.
+    pub target: Option<f32>,
+    /// [`t::REFINE_STEPS`].
+    pub refine_steps: u32,
+    /// [`t::MAX_SAMPLES`].
+    pub max_samples: u32,
+    /// [`t::SUPERSAMPLING`].
+    pub supersampling: u32,
+    /// [`t::SHADING`].
+    pub shading: bool,
+    /// Phong parameters and the light, used when `shading` is on.
+    pub phong: Phong,
+    /// Colour behind the volume (linear RGB).
+    pub background: Vec3,
+    /// How opacity is assigned ([`crate::classify`]).
+    pub classification: Classification,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            method: Method::Accumulate,
+            step: Length::Voxels(t::STEP.default),
+            interpolation: Interpolation::Trilinear,
+            opacity_correction: t::OPACITY_CORRECTION.default != 0.0,
+            reference_step: Length::Voxels(t::REFERENCE_STEP.default),
+            early_termination: t::EARLY_TERMINATION.default != 0.0,
+            cutoff: t::CUTOFF.default,
+            order: Order::FrontToBack,
+            jitter: t::JITTER.default != 0.0,
+            jitter_seed: 0,
+            target: None,
+            refine_steps: t::REFINE_STEPS.default as u32,
+            max_samples: t::MAX_SAMPLES.default as u32,
+            supersampling: t::SUPERSAMPLING.default as u32,
+            shading: t::SHADING.default != 0.0,
+            phong: Phong::default(),
+            background: Vec3::ZERO,
+            classification: Classification::Table,
+        }
+    }
+}
+
+fn check(tn: &t::Tunable, v: f32) -> Result<(), SettingsError> {
+    SettingsError::check_range(tn.key, v, tn.min, tn.max)
+}
+
+impl RenderSettings {
+    /// Checks every value against its documented range.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        self.step.validate(t::STEP.key)?;
+        self.reference_step.validate(t::REFERENCE_STEP.key)?;
+        check(&t::CUTOFF, self.cutoff)?;
+        if let Some(target) = self.target {
+            check(&t::TARGET, target)?;
+        }
+        check(&t::REFINE_STEPS, self.refine_steps as f32)?;
+        check(&t::MAX_SAMPLES, self.max_samples as f32)?;
+        check(&t::SUPERSAMPLING, self.supersampling as f32)?;
+        let p = &self.phong;
+        check(&t::AMBIENT, p.ka)?;
+        check(&t::DIFFUSE, p.kd)?;
+        check(&t::SPECULAR, p.ks)?;
+        check(&t::SHININESS, p.shininess)?;
+        check(&t::ATTENUATION_CONSTANT, p.kc)?;
+        check(&t::ATTENUATION_LINEAR, p.kl)?;
+        check(&t::ATTENUATION_QUADRATIC, p.kq)?;
+        check(&t::GRADIENT_THRESHOLD, p.gradient_threshold)?;
+        if p.kc + p.kl + p.kq <= 0.0 {
+            return Err(SettingsError::Invalid(
+                "attenuation kc + kl + kq must be positive (else a point light is infinitely bright)".into(),
+            ));
+        }
+        if !p.light_color.is_finite() || p.light_color.min_element() < 0.0 {
+            return Err(SettingsError::Invalid(
+                "light colour must be finite and non-negative".into(),
+            ));
+        }
+        match p.light {
+            Light::Headlight => {}
+            Light::Point(v) if v.is_finite() => {}
+            Light::Directional(v) if v.is_finite() && v.length_squared() > 0.0 => {}
+            other => {
+                return Err(SettingsError::Invalid(format!(
+                    "light {other:?} is not a finite position or direction"
+                )));
+            }
+        }
+        if !self.background.is_finite()
+            || self.background.min_element() < 0.0
+            || self.background.max_element() > 1.0
+        {
+            return Err(SettingsError::Invalid(
+                "background channels must lie in [0, 1]".into(),
+            ));
+        }
+        self.classification.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_bad_values_are_named() {
+        assert!(RenderSettings::default().validate().is_ok());
+        let mut s = RenderSettings {
+            cutoff: 1.5,
+            ..Default::default()
+        };
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.contains("cutoff"), "{e}");
+        s.cutoff = 0.9;
+        s.step = Length::Voxels(-1.0);
+        assert!(s.validate().unwrap_err().to_string().contains("step"));
+        s.step = Length::Voxels(0.5);
+        s.phong.kc = 0.0;
+        assert!(s.validate().is_err());
+    }
+
+    #[test]
+    fn json_round_trip_with_partial_input() {
+        let s: RenderSettings =
+            serde_json::from_str(r#"{"method": "maximum", "step": {"world": 0.25}}"#).unwrap();
+        assert_eq!(s.method, Method::Maximum);
+        assert_eq!(s.step, Length::World(0.25));
+        assert_eq!(s.cutoff, t::CUTOFF.default);
+        let back: RenderSettings =
+            serde_json::from_str(&serde_json::to_string(&s).unwrap()).unwrap();
+        assert_eq!(back, s);
+    }
+}

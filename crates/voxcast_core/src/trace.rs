@@ -1,0 +1,682 @@
+//! Tracing one ray: enter the box, step, sample, classify, shade, composite — optionally recording
+//! every number on the way.
+//!
+//! Twin: `shaders/trace.wgsl` (`trace`).
+//!
+//! [`Scene`] holds what every ray of a render shares (the baked transfer function, the resolved
+//! settings in world units, the light). The march is written once, generic over the voxel type
+//! and over a [`Recorder`]: [`trace_ray`] records each sample for the ray inspector and
+//! `voxcast trace`, while the image renderer ([`crate::render`]) runs the very same code with
+//! [`NoRecord`], whose recording calls compile away. The picture and the breakdown therefore
+//! cannot disagree.
+
+use crate::classify::Classifier;
+use crate::composite::{
+    Method, Order, ValueStats, accumulate_back_to_front, accumulate_front_to_back,
+    blend_background, correct_opacity, crosses, crossing_fraction,
+};
+use crate::error::SettingsError;
+use crate::hash::jitter_fraction;
+use crate::ray::{Ray, intersect_box};
+use crate::sample::{Interpolation, SampleDetail, gradient, sample, sample_detail};
+use crate::settings::RenderSettings;
+use crate::shade::{Phong, ResolvedLight, ShadeTerms, shade};
+use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
+use crate::transfer::{Lut, TransferFunction};
+use crate::volume::{Grid, GridVisitor, Volume, Voxel};
+use glam::{Vec3, Vec4};
+use serde::Serialize;
+
+/// What a render's rays share, resolved once: world-unit step lengths, the baked table, the
+/// light for this view.
+#[derive(Clone, Debug)]
+pub struct Scene<'a> {
+    pub volume: &'a Volume,
+    pub lut: Lut,
+    pub settings: RenderSettings,
+    pub classifier: Classifier,
+    pub light: ResolvedLight,
+    /// Step between samples, world units.
+    pub dt: f32,
+    /// Reference step of the transfer function's opacity, world units.
+    pub dt_ref: f32,
+    /// First-hit target value, data units.
+    pub target: f32,
+    pub bounds: (Vec3, Vec3),
+}
+
+impl<'a> Scene<'a> {
+    /// Validates the settings and resolves them for `volume`, with the headlight (if any) along
+    /// `view_forward`.
+    pub fn new(
+        volume: &'a Volume,
+        tf: &TransferFunction,
+        settings: &RenderSettings,
+        view_forward: Vec3,
+    ) -> Result<Self, SettingsError> {
+        settings.validate()?;
+        let voxel = volume.spacing().min_element();
+        let (lo, hi) = volume.value_range();
+        let lut = tf.bake(lo, hi);
+        let classifier = Classifier::new(&settings.classification, &lut, voxel);
+        Ok(Self {
+            volume,
+            classifier,
+            light: settings.phong.light.resolve(view_forward),
+            dt: settings.step.world(voxel),
+            dt_ref: settings.reference_step.world(voxel),
+            target: settings.target.unwrap_or(0.5 * (lo + hi)),
+            bounds: volume.bounds(),
+            lut,
+            settings: settings.clone(),
+        })
+    }
+
+    /// The jitter fraction for image position `key` (pixel, or sub-pixel with supersampling).
+    pub fn jitter(&self, key: [u32; 2]) -> f32 {
+        if self.settings.jitter {
+            jitter_fraction(key[0], key[1], self.settings.jitter_seed)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Why a ray stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StopReason {
+    /// The ray never entered the volume's box.
+    Missed,
+    /// It crossed the box (or took no sample, when jitter pushed the only one out).
+    LeftVolume,
+    /// Early ray termination: the accumulated opacity reached the cutoff.
+    Cutoff,
+    /// First: the target value was crossed.
+    FirstHit,
+    /// The sample cap was reached before the ray left the box.
+    SampleCap,
+}
+
+/// The result of one ray.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RayOutcome {
+    /// Composited colour, premultiplied (before the background).
+    pub color: Vec3,
+    /// Composited opacity.
+    pub opacity: f32,
+    /// Samples marched (refinement and gradient reads not counted).
+    pub samples: u32,
+    pub stop: StopReason,
+}
+
+impl RayOutcome {
+    const MISS: Self = Self {
+        color: Vec3::ZERO,
+        opacity: 0.0,
+        samples: 0,
+        stop: StopReason::Missed,
+    };
+
+    /// The pixel colour over `background`.
+    pub fn pixel(&self, background: Vec3) -> Vec3 {
+        blend_background(self.color, self.opacity, background)
+    }
+}
+
+/// Everything about one sample, for the inspector and `voxcast trace --json`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SampleRecord {
+    /// Sample number `k` along the ray (from the entry point).
+    pub index: u32,
+    /// Distance along the ray, world units.
+    pub t: f32,
+    /// Length of ray this sample stands for, world units.
+    pub ds: f32,
+    pub p_world: [f32; 3],
+    pub p_voxel: [f32; 3],
+    /// The 8 corners, their values and weights, and the interpolated value (data units).
+    pub reconstruction: SampleDetail,
+    /// The value normalised to the volume's range, in [0, 1].
+    pub value_normalized: f32,
+    /// Transfer-function colour and opacity at the value (the table's, before classification).
+    pub tf_rgba: [f32; 4],
+    /// Opacity after classification, before correction.
+    pub alpha: f32,
+    /// Opacity actually composited (after correction, if on).
+    pub alpha_corrected: f32,
+    /// Gradient (data units per world unit), where it was computed.
+    pub gradient: Option<[f32; 3]>,
+    /// Shading terms, where the sample was shaded.
+    pub shading: Option<ShadeTerms>,
+    /// The sample's colour as composited (after shading).
+    pub color: [f32; 3],
+    /// Composited colour (premultiplied) and opacity after this sample (Accumulate).
+    pub composite_after: [f32; 4],
+    /// Running statistics of values (Average, Maximum, Minimum).
+    pub stats_after: Option<ValueStats>,
+}
+
+/// One step of the First method's refinement.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RefineStep {
+    pub t: f32,
+    pub value: f32,
+}
+
+/// Where and how the First method found its crossing.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FirstHit {
+    pub t: f32,
+    pub p_world: [f32; 3],
+    pub p_voxel: [f32; 3],
+    /// The reconstructed value at the hit (≈ the target).
+    pub value: f32,
+    /// The two sample distances that bracketed the crossing.
+    pub bracket: [f32; 2],
+    /// Bisection midpoints, in order, then the final interpolation.
+    pub refinement: Vec<RefineStep>,
+    pub tf_rgba: [f32; 4],
+    pub shading: Option<ShadeTerms>,
+    pub color: [f32; 3],
+}
+
+/// The full breakdown of one ray.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RayTrace {
+    pub origin: [f32; 3],
+    pub dir: [f32; 3],
+    pub method: Method,
+    /// `[t_enter, t_exit]` in the box, if it was hit.
+    pub interval: Option<[f32; 2]>,
+    pub plan: Option<StepPlan>,
+    pub samples: Vec<SampleRecord>,
+    pub first_hit: Option<FirstHit>,
+    /// The value Average/Maximum/Minimum projected.
+    pub projected_value: Option<f32>,
+    pub stop: StopReason,
+    /// Composited colour (premultiplied) and opacity.
+    pub color: [f32; 3],
+    pub opacity: f32,
+    /// The final pixel over the background.
+    pub pixel: [f32; 3],
+}
+
+/// Receives each sample's record; [`NoRecord`] compiles to nothing.
+pub trait Recorder {
+    const ACTIVE: bool;
+    fn sample(&mut self, record: SampleRecord);
+    fn plan(&mut self, _plan: &StepPlan) {}
+    fn first_hit(&mut self, _hit: FirstHit) {}
+    fn projected(&mut self, _value: f32) {}
+}
+
+/// The renderer's recorder: records nothing.
+pub struct NoRecord;
+
+impl Recorder for NoRecord {
+    const ACTIVE: bool = false;
+    #[inline(always)]
+    fn sample(&mut self, _: SampleRecord) {}
+}
+
+#[derive(Default)]
+struct Breakdown {
+    plan: Option<StepPlan>,
+    samples: Vec<SampleRecord>,
+    first_hit: Option<FirstHit>,
+    projected: Option<f32>,
+}
+
+impl Recorder for Breakdown {
+    const ACTIVE: bool = true;
+    fn sample(&mut self, record: SampleRecord) {
+        self.samples.push(record);
+    }
+    fn plan(&mut self, plan: &StepPlan) {
+        self.plan = Some(*plan);
+    }
+    fn first_hit(&mut self, hit: FirstHit) {
+        self.first_hit = Some(hit);
+    }
+    fn projected(&mut self, value: f32) {
+        self.projected = Some(value);
+    }
+}
+
+/// Traces `ray` through the scene, recording every sample. `jitter_key` is the pixel (or
+/// sub-pixel) the ray belongs to, which decides its jitter.
+pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace {
+    struct Visit<'s, 'a> {
+        scene: &'s Scene<'a>,
+        ray: &'s Ray,
+        jitter: f32,
+    }
+    impl GridVisitor for Visit<'_, '_> {
+        type Output = (RayOutcome, Breakdown, Option<(f32, f32)>);
+        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
+            let m = Marcher::new(self.scene, grid);
+            let mut rec = Breakdown::default();
+            let out = m.march(self.ray, self.jitter, &mut rec);
+            (out, rec, m.interval(self.ray))
+        }
+    }
+    let (out, rec, interval) = scene.volume.visit(Visit {
+        scene,
+        ray,
+        jitter: scene.jitter(jitter_key),
+    });
+    let pixel = out.pixel(scene.settings.background);
+    RayTrace {
+        origin: ray.origin.to_array(),
+        dir: ray.dir.to_array(),
+        method: scene.settings.method,
+        interval: interval.map(|(a, b)| [a, b]),
+        plan: rec.plan,
+        samples: rec.samples,
+        first_hit: rec.first_hit,
+        projected_value: rec.projected,
+        stop: out.stop,
+        color: out.color.to_array(),
+        opacity: out.opacity,
+        pixel: pixel.to_array(),
+    }
+}
+
+/// The march for one voxel type: borrowed scene plus the typed grid.
+pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
+    s: &'s Scene<'a>,
+    g: Grid<'g, T>,
+    inv_spacing: Vec3,
+    interp: Interpolation,
+    /// Gradient needed for every classified sample (Levoy's modes).
+    classify_gradient: bool,
+    /// Opacity independent of the table's opacity at the value (Levoy's isovalue contours).
+    iso_contours: bool,
+}
+
+/// Per-sample classification result.
+struct Classified {
+    rgba: Vec4,
+    alpha: f32,
+    grad: Option<Vec3>,
+}
+
+impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
+    pub(crate) fn new(s: &'s Scene<'a>, g: Grid<'g, T>) -> Self {
+        Self {
+            inv_spacing: 1.0 / g.spacing,
+            interp: s.settings.interpolation,
+            classify_gradient: s.classifier != Classifier::Table,
+            iso_contours: matches!(s.classifier, Classifier::IsoContours { .. }),
+            s,
+            g,
+        }
+    }
+
+    fn interval(&self, ray: &Ray) -> Option<(f32, f32)> {
+        intersect_box(ray, self.s.bounds.0, self.s.bounds.1)
+    }
+
+    /// The reconstructed value (data units) at voxel-space point `pv`.
+    #[inline(always)]
+    fn value(&self, pv: Vec3) -> f32 {
+        self.g.to_data(sample(&self.g, pv, self.interp))
+    }
+
+    #[inline(always)]
+    fn gradient(&self, pv: Vec3) -> Vec3 {
+        gradient(&self.g, pv, self.interp)
+    }
+
+    /// Colour and opacity of value `v` at `pv`: the table, then the classifier. Unless `full`
+    /// is asked for, a sample the table makes transparent returns at once (its colour unread).
+    #[inline(always)]
+    fn classify(&self, v: f32, pv: Vec3, full: bool) -> Classified {
+        let table_alpha = self.s.lut.alpha(v);
+        if table_alpha <= 0.0 && !full && !self.iso_contours {
+            return Classified {
+                rgba: Vec4::ZERO,
+                alpha: 0.0,
+                grad: None,
+            };
+        }
+        let rgba = self.s.lut.lookup(v);
+        if !self.classify_gradient {
+            return Classified {
+                rgba,
+                alpha: table_alpha,
+                grad: None,
+            };
+        }
+        let grad = self.gradient(pv);
+        Classified {
+            rgba,
+            alpha: self.s.classifier.classify(v, table_alpha, grad.length()),
+            grad: Some(grad),
+        }
+    }
+
+    /// Shades `color` at `pv` if shading is on, reusing a gradient already computed.
+    #[inline(always)]
+    fn shade(
+        &self,
+        color: Vec3,
+        pv: Vec3,
+        grad: Option<Vec3>,
+        view: Vec3,
+    ) -> (Vec3, Option<Vec3>, Option<ShadeTerms>) {
+        if !self.s.settings.shading {
+            return (color, grad, None);
+        }
+        let grad = grad.unwrap_or_else(|| self.gradient(pv));
+        let phong: &Phong = &self.s.settings.phong;
+        let (c, terms) = shade(color, grad, pv * self.g.spacing, view, self.s.light, phong);
+        (c, Some(grad), Some(terms))
+    }
+
+    /// Marches `ray` with jitter fraction `jitter`.
+    #[inline]
+    pub(crate) fn march<R: Recorder>(&self, ray: &Ray, jitter: f32, rec: &mut R) -> RayOutcome {
+        let Some((t0, t1)) = self.interval(ray) else {
+            return RayOutcome::MISS;
+        };
+        let set = &self.s.settings;
+        let plan = plan_steps(t0, t1, self.s.dt, jitter, set.max_samples);
+        if R::ACTIVE {
+            rec.plan(&plan);
+        }
+        let o_v = ray.origin * self.inv_spacing;
+        let d_v = ray.dir * self.inv_spacing;
+        let mut out = match set.method {
+            Method::Accumulate => self.accumulate(ray, &plan, o_v, d_v, rec),
+            Method::First => self.first(ray, &plan, o_v, d_v, rec),
+            Method::Average | Method::Maximum | Method::Minimum => {
+                self.project(&plan, o_v, d_v, rec)
+            }
+        };
+        out.samples = out.samples.min(plan.count);
+        if out.stop == StopReason::LeftVolume && plan.capped {
+            out.stop = StopReason::SampleCap;
+        }
+        out
+    }
+
+    fn accumulate<R: Recorder>(
+        &self,
+        ray: &Ray,
+        plan: &StepPlan,
+        o_v: Vec3,
+        d_v: Vec3,
+        rec: &mut R,
+    ) -> RayOutcome {
+        let set = &self.s.settings;
+        let view = -ray.dir;
+        let mut c = Vec3::ZERO;
+        let mut o = 0.0f32;
+        let back_to_front = set.order == Order::BackToFront;
+        let stop_at = if set.early_termination && !back_to_front {
+            set.cutoff
+        } else {
+            f32::INFINITY
+        };
+        let mut taken = 0;
+        for i in 0..plan.count {
+            let k = if back_to_front { plan.count - 1 - i } else { i };
+            let t = sample_t(plan, k);
+            let pv = o_v + d_v * t;
+            let v = self.value(pv);
+            let cl = self.classify(v, pv, R::ACTIVE);
+            let ds = segment_length(plan, k, t);
+            let alpha = if set.opacity_correction {
+                correct_opacity(cl.alpha, ds, self.s.dt_ref)
+            } else {
+                cl.alpha
+            };
+            let mut grad = cl.grad;
+            let mut terms = None;
+            let mut color = cl.rgba.truncate();
+            if alpha > 0.0 {
+                (color, grad, terms) = self.shade(color, pv, grad, view);
+                (c, o) = if back_to_front {
+                    accumulate_back_to_front(c, o, color, alpha)
+                } else {
+                    accumulate_front_to_back(c, o, color, alpha)
+                };
+            }
+            taken += 1;
+            if R::ACTIVE {
+                rec.sample(self.record(
+                    k,
+                    t,
+                    ds,
+                    pv,
+                    v,
+                    &cl,
+                    alpha,
+                    grad,
+                    terms,
+                    color,
+                    Vec4::from((c, o)),
+                    None,
+                ));
+            }
+            if o >= stop_at {
+                return RayOutcome {
+                    color: c,
+                    opacity: o,
+                    samples: taken,
+                    stop: StopReason::Cutoff,
+                };
+            }
+        }
+        RayOutcome {
+            color: c,
+            opacity: o,
+            samples: taken,
+            stop: StopReason::LeftVolume,
+        }
+    }
+
+    fn project<R: Recorder>(
+        &self,
+        plan: &StepPlan,
+        o_v: Vec3,
+        d_v: Vec3,
+        rec: &mut R,
+    ) -> RayOutcome {
+        let method = self.s.settings.method;
+        let mut stats = ValueStats::default();
+        for k in 0..plan.count {
+            let t = sample_t(plan, k);
+            let pv = o_v + d_v * t;
+            let v = self.value(pv);
+            stats.add(v);
+            if R::ACTIVE {
+                let cl = self.classify(v, pv, true);
+                let ds = segment_length(plan, k, t);
+                let rgb = cl.rgba.truncate();
+                rec.sample(self.record(
+                    k,
+                    t,
+                    ds,
+                    pv,
+                    v,
+                    &cl,
+                    cl.alpha,
+                    cl.grad,
+                    None,
+                    rgb,
+                    Vec4::ZERO,
+                    Some(stats),
+                ));
+            }
+        }
+        let Some(value) = stats.projected(method) else {
+            return RayOutcome {
+                samples: 0,
+                stop: StopReason::LeftVolume,
+                ..RayOutcome::MISS
+            };
+        };
+        if R::ACTIVE {
+            rec.projected(value);
+        }
+        let rgba = self.s.lut.lookup(value);
+        RayOutcome {
+            color: rgba.truncate() * rgba.w,
+            opacity: rgba.w,
+            samples: plan.count,
+            stop: StopReason::LeftVolume,
+        }
+    }
+
+    fn first<R: Recorder>(
+        &self,
+        ray: &Ray,
+        plan: &StepPlan,
+        o_v: Vec3,
+        d_v: Vec3,
+        rec: &mut R,
+    ) -> RayOutcome {
+        let target = self.s.target;
+        let mut prev = (0.0f32, 0.0f32);
+        for k in 0..plan.count {
+            let t = sample_t(plan, k);
+            let pv = o_v + d_v * t;
+            let v = self.value(pv);
+            if R::ACTIVE {
+                let cl = self.classify(v, pv, true);
+                let ds = segment_length(plan, k, t);
+                let rgb = cl.rgba.truncate();
+                rec.sample(self.record(
+                    k,
+                    t,
+                    ds,
+                    pv,
+                    v,
+                    &cl,
+                    cl.alpha,
+                    cl.grad,
+                    None,
+                    rgb,
+                    Vec4::ZERO,
+                    None,
+                ));
+            }
+            let hit = if k == 0 {
+                v == target
+            } else {
+                crosses(prev.1, v, target)
+            };
+            if hit {
+                let bracket = if k == 0 {
+                    (t, v, t, v)
+                } else {
+                    (prev.0, prev.1, t, v)
+                };
+                return self.hit(ray, bracket, o_v, d_v, k + 1, rec);
+            }
+            prev = (t, v);
+        }
+        RayOutcome {
+            samples: plan.count,
+            stop: StopReason::LeftVolume,
+            ..RayOutcome::MISS
+        }
+    }
+
+    /// Refines the crossing in `[ta, tb]` by bisection then linear interpolation, and shades it.
+    fn hit<R: Recorder>(
+        &self,
+        ray: &Ray,
+        (mut ta, mut va, mut tb, mut vb): (f32, f32, f32, f32),
+        o_v: Vec3,
+        d_v: Vec3,
+        samples: u32,
+        rec: &mut R,
+    ) -> RayOutcome {
+        let target = self.s.target;
+        let bracket = [ta, tb];
+        let mut steps = Vec::new();
+        if tb > ta {
+            for _ in 0..self.s.settings.refine_steps {
+                let tm = 0.5 * (ta + tb);
+                let vm = self.value(o_v + d_v * tm);
+                if R::ACTIVE {
+                    steps.push(RefineStep { t: tm, value: vm });
+                }
+                if crosses(va, vm, target) {
+                    (tb, vb) = (tm, vm);
+                } else {
+                    (ta, va) = (tm, vm);
+                }
+            }
+        }
+        let t = ta + (tb - ta) * crossing_fraction(va, vb, target);
+        let pv = o_v + d_v * t;
+        let rgba = self.s.lut.lookup(target);
+        let (color, _, terms) = self.shade(rgba.truncate(), pv, None, -ray.dir);
+        if R::ACTIVE {
+            let value = self.value(pv);
+            steps.push(RefineStep { t, value });
+            rec.first_hit(FirstHit {
+                t,
+                p_world: ray.at(t).to_array(),
+                p_voxel: pv.to_array(),
+                value,
+                bracket,
+                refinement: steps,
+                tf_rgba: rgba.to_array(),
+                shading: terms,
+                color: color.to_array(),
+            });
+        }
+        RayOutcome {
+            color: color * rgba.w,
+            opacity: rgba.w,
+            samples,
+            stop: StopReason::FirstHit,
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn record(
+        &self,
+        k: u32,
+        t: f32,
+        ds: f32,
+        pv: Vec3,
+        v: f32,
+        cl: &Classified,
+        alpha_corrected: f32,
+        grad: Option<Vec3>,
+        shading: Option<ShadeTerms>,
+        color: Vec3,
+        composite_after: Vec4,
+        stats_after: Option<ValueStats>,
+    ) -> SampleRecord {
+        let (lo, hi) = self.s.volume.value_range();
+        SampleRecord {
+            index: k,
+            t,
+            ds,
+            p_world: (pv * self.g.spacing).to_array(),
+            p_voxel: pv.to_array(),
+            reconstruction: sample_detail(&self.g, pv, self.interp),
+            value_normalized: if hi > lo {
+                ((v - lo) / (hi - lo)).clamp(0.0, 1.0)
+            } else {
+                0.0
+            },
+            tf_rgba: cl.rgba.to_array(),
+            alpha: cl.alpha,
+            alpha_corrected,
+            gradient: grad.map(|g| g.to_array()),
+            shading,
+            color: color.to_array(),
+            composite_after: composite_after.to_array(),
+            stats_after,
+        }
+    }
+}

@@ -1,0 +1,302 @@
+//! Every tunable parameter, documented once: meaning, unit, effect of raising it, default, range.
+//!
+//! The same text is the CLI's `--help` for the flag and (in the sandbox) the control's tooltip,
+//! so the documentation is the lesson. [`crate::settings::RenderSettings::default`] takes its
+//! defaults from here and [`crate::settings::RenderSettings::validate`] its ranges.
+
+/// One documented parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tunable {
+    /// Stable key: CLI flag name and JSON field.
+    pub key: &'static str,
+    /// Short label for a UI control.
+    pub label: &'static str,
+    /// The one description: what it means, its unit, what raising it does.
+    pub doc: &'static str,
+    /// Default value (1 / 0 for switches).
+    pub default: f32,
+    /// Smallest accepted value.
+    pub min: f32,
+    /// Largest accepted value.
+    pub max: f32,
+}
+
+pub const STEP: Tunable = Tunable {
+    key: "step",
+    label: "Step size (voxels)",
+    doc: "Distance between two samples along a ray, in voxels of the smallest spacing. \
+          Smaller steps follow thin structures and sharp transfer functions more faithfully \
+          but take proportionally more samples (time). Default 0.5 voxel (twice per voxel, \
+          the Nyquist rate of the lattice).",
+    default: 0.5,
+    min: 1e-6,
+    max: 1e6,
+};
+
+pub const REFERENCE_STEP: Tunable = Tunable {
+    key: "reference-step",
+    label: "Reference step (voxels)",
+    doc: "The path length a transfer-function opacity is defined for, in voxels of the smallest \
+          spacing. With opacity correction each sample's opacity is rescaled to its own length: \
+          α' = 1 − (1 − α)^(Δs/Δs_ref). Raising it makes the same transfer function more \
+          transparent. Default 1 voxel.",
+    default: 1.0,
+    min: 1e-6,
+    max: 1e6,
+};
+
+pub const OPACITY_CORRECTION: Tunable = Tunable {
+    key: "opacity-correction",
+    label: "Opacity correction",
+    doc: "Rescale each sample's opacity to the length of ray it stands for, so the image keeps its \
+          brightness when the step changes (and constant density gives Beer–Lambert's \
+          1 − e^(−σL) exactly). Turn it off to see why it is needed: halving the step then \
+          doubles the number of samples and the volume turns more opaque. Default on.",
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const EARLY_TERMINATION: Tunable = Tunable {
+    key: "early-termination",
+    label: "Early ray termination",
+    doc: "Stop a ray once its accumulated opacity reaches the cutoff: what lies behind can change \
+          the pixel by at most (1 − cutoff). Saves time in dense volumes. Default on.",
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const CUTOFF: Tunable = Tunable {
+    key: "cutoff",
+    label: "Opacity cutoff",
+    doc: "Accumulated opacity at which early termination stops a ray, in [0, 1]. Lower values are \
+          faster and less exact (each pixel may be off by up to 1 − cutoff); 1 never stops \
+          early unless the ray becomes fully opaque. Default 0.99.",
+    default: 0.99,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const JITTER: Tunable = Tunable {
+    key: "jitter",
+    label: "Jitter",
+    doc: "Offset each ray's first sample by a pseudo-random fraction of the step (the same for a \
+          pixel every time). Trades the wood-grain banding of a coarse step for fine noise. \
+          Default off.",
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const TARGET: Tunable = Tunable {
+    key: "target",
+    label: "Target value (First)",
+    doc: "First hit: the value whose first crossing along the ray is shown, in data units (an \
+          isosurface). The crossing is located between two samples and refined, then coloured \
+          with the transfer function at this value and shaded. Default: the preset's isovalue, \
+          else the middle of the value range.",
+    default: 0.0,
+    min: -3.4e38,
+    max: 3.4e38,
+};
+
+pub const REFINE_STEPS: Tunable = Tunable {
+    key: "refine-steps",
+    label: "Refinement steps (First)",
+    doc: "First hit: bisection steps that narrow the interval holding the crossing before the final \
+          linear interpolation; each halves the error. 0 interpolates linearly between the two \
+          samples only. Default 8.",
+    default: 8.0,
+    min: 0.0,
+    max: 32.0,
+};
+
+pub const MAX_SAMPLES: Tunable = Tunable {
+    key: "max-samples",
+    label: "Sample cap per ray",
+    doc: "The most samples one ray may take; a ray that would need more stops there and says so. \
+          Keeps a tiny step from hanging the program. Default 65536.",
+    default: 65536.0,
+    min: 1.0,
+    max: 16_777_216.0,
+};
+
+pub const SUPERSAMPLING: Tunable = Tunable {
+    key: "supersampling",
+    label: "Supersampling (rays per pixel side)",
+    doc: "Cast n×n rays per pixel on a regular grid and average them, smoothing edges at n² the \
+          cost. Default 1 (one ray through each pixel centre).",
+    default: 1.0,
+    min: 1.0,
+    max: 8.0,
+};
+
+pub const SHADING: Tunable = Tunable {
+    key: "shading",
+    label: "Shading",
+    doc: "Light each sample with the Phong model, using the normalised gradient (central \
+          differences) as the surface normal. Shows surfaces inside the volume; costs six extra \
+          lattice reads per lit sample. Default off (on in presets that call for it).",
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const AMBIENT: Tunable = Tunable {
+    key: "ka",
+    label: "Ambient (ka)",
+    doc: "Fraction of the sample's colour seen without any light: lifts shadowed sides. \
+          In [0, 1]; default 0.2.",
+    default: 0.2,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const DIFFUSE: Tunable = Tunable {
+    key: "kd",
+    label: "Diffuse (kd)",
+    doc: "Weight of Lambert's term kd·max(N·L, 0): brightness of surfaces facing the light. \
+          In [0, 1]; default 0.7.",
+    default: 0.7,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const SPECULAR: Tunable = Tunable {
+    key: "ks",
+    label: "Specular (ks)",
+    doc: "Weight of the white highlight ks·max(N·H, 0)^n (Blinn–Phong) or ks·max(R·V, 0)^n \
+          (Phong). In [0, 1]; default 0.3.",
+    default: 0.3,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const SHININESS: Tunable = Tunable {
+    key: "shininess",
+    label: "Shininess (n)",
+    doc: "Specular exponent n: higher values give smaller, sharper highlights. Default 10.",
+    default: 10.0,
+    min: 1.0,
+    max: 1024.0,
+};
+
+pub const ATTENUATION_CONSTANT: Tunable = Tunable {
+    key: "kc",
+    label: "Attenuation kc",
+    doc: "Constant term of the point light's attenuation f = 1/(kc + kl·d + kq·d²), d the distance \
+          to the light in world units. Default 1 (no falloff with kl = kq = 0).",
+    default: 1.0,
+    min: 0.0,
+    max: 1e6,
+};
+
+pub const ATTENUATION_LINEAR: Tunable = Tunable {
+    key: "kl",
+    label: "Attenuation kl",
+    doc: "Linear term of the point light's attenuation, per world unit: raising it darkens \
+          samples far from the light. Default 0.",
+    default: 0.0,
+    min: 0.0,
+    max: 1e6,
+};
+
+pub const ATTENUATION_QUADRATIC: Tunable = Tunable {
+    key: "kq",
+    label: "Attenuation kq",
+    doc: "Quadratic term of the point light's attenuation, per squared world unit (physical \
+          inverse-square falloff). Default 0.",
+    default: 0.0,
+    min: 0.0,
+    max: 1e6,
+};
+
+pub const GRADIENT_THRESHOLD: Tunable = Tunable {
+    key: "gradient-threshold",
+    label: "Gradient threshold",
+    doc: "Samples whose gradient magnitude (data units per world unit) is below this keep their \
+          unshaded colour: in flat regions the normal is undefined. Default 1e-3.",
+    default: 1e-3,
+    min: 0.0,
+    max: 3.4e38,
+};
+
+pub const TWO_SIDED: Tunable = Tunable {
+    key: "two-sided",
+    label: "Two-sided lighting",
+    doc: "Flip normals that face away from the viewer, so a surface is lit from both sides (what \
+          you want inside a volume, where a 'surface' has no outside). Default on.",
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const ISO_THICKNESS: Tunable = Tunable {
+    key: "iso-thickness",
+    label: "Isovalue thickness (voxels)",
+    doc: "Levoy isovalue classification: the width r of the transition region around each \
+          isovalue, in voxels. Opacity falls linearly from the isovalue's to 0 over |f − f_v| ≤ \
+          r·|∇f|, so surfaces look equally thick whatever the local gradient. Default 1.",
+    default: 1.0,
+    min: 1e-3,
+    max: 1e3,
+};
+
+pub const BOUNDARY_GRADIENT: Tunable = Tunable {
+    key: "boundary-gradient",
+    label: "Full-opacity gradient",
+    doc: "Levoy boundary classification: the gradient magnitude (data units per world unit) at \
+          which a boundary reaches the transfer function's opacity; opacity is scaled by \
+          |∇f| / this and clamped, so homogeneous regions vanish and boundaries remain. \
+          Default: a tenth of the value range per voxel.",
+    default: 0.0,
+    min: 0.0,
+    max: 3.4e38,
+};
+
+/// Every tunable, for listing and for the UI.
+pub const ALL: &[Tunable] = &[
+    STEP,
+    REFERENCE_STEP,
+    OPACITY_CORRECTION,
+    EARLY_TERMINATION,
+    CUTOFF,
+    JITTER,
+    TARGET,
+    REFINE_STEPS,
+    MAX_SAMPLES,
+    SUPERSAMPLING,
+    SHADING,
+    AMBIENT,
+    DIFFUSE,
+    SPECULAR,
+    SHININESS,
+    ATTENUATION_CONSTANT,
+    ATTENUATION_LINEAR,
+    ATTENUATION_QUADRATIC,
+    GRADIENT_THRESHOLD,
+    TWO_SIDED,
+    ISO_THICKNESS,
+    BOUNDARY_GRADIENT,
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_tunable_is_documented_and_its_default_in_range() {
+        let mut keys = std::collections::HashSet::new();
+        for t in ALL {
+            assert!(keys.insert(t.key), "duplicate key {}", t.key);
+            assert!(t.doc.len() > 40, "{} is under-documented", t.key);
+            assert!(t.min <= t.max, "{}", t.key);
+            assert!(
+                t.default >= t.min && t.default <= t.max,
+                "{} default out of range",
+                t.key
+            );
+        }
+    }
+}

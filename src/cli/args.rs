@@ -1,0 +1,572 @@
+//! The scene options every command shares (volume, transfer function, settings, camera), and how
+//! they become a core scene. Help texts are the core's tunable docs ([`voxcast_core::tunables`]).
+
+use super::CliError;
+use clap::Args;
+use std::path::{Path, PathBuf};
+use voxcast_core::camera::{Camera, Projection};
+use voxcast_core::classify::Classification;
+use voxcast_core::composite::{Method, Order};
+use voxcast_core::glam::Vec3;
+use voxcast_core::io::raw::{RawSpec, parse_dims};
+use voxcast_core::io::{Endian, FileType, Loaded};
+use voxcast_core::preset::{self, Preset};
+use voxcast_core::sample::Interpolation;
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::shade::{Light, SpecularModel};
+use voxcast_core::step::Length;
+use voxcast_core::transfer::TransferFunction;
+use voxcast_core::tunables as t;
+use voxcast_core::{builtin, peer};
+
+/// Where the volume comes from.
+#[derive(Args, Debug, Clone)]
+pub struct VolumeArgs {
+    /// A volume file (.nrrd, .nhdr, .nii, .nii.gz, .hdr, .raw) or builtin:NAME (bunny,
+    /// brainsmall, shells, marschner-lobb, bucky).
+    #[arg(long, default_value = "builtin:bunny")]
+    pub volume: String,
+    /// Raw files: dimensions NXxNYxNZ (overrides the file name).
+    #[arg(long, value_name = "NXxNYxNZ")]
+    pub dims: Option<String>,
+    /// Raw files: scalar type (uint8, int16, uint16, float32, …; overrides the file name).
+    #[arg(long = "type", value_name = "TYPE")]
+    pub scalar_type: Option<String>,
+    /// Raw files: byte order.
+    #[arg(long, value_parser = ["little", "big"])]
+    pub endian: Option<String>,
+    /// Raw files: spacing sx,sy,sz in world units.
+    #[arg(long, value_name = "SX,SY,SZ", value_parser = parse_vec3)]
+    pub spacing: Option<Vec3>,
+    /// Raw files: bytes to skip before the data.
+    #[arg(long, default_value_t = 0)]
+    pub header_bytes: u64,
+}
+
+impl VolumeArgs {
+    /// Loads the volume, applying the raw-file options.
+    pub fn load(&self) -> Result<Loaded, CliError> {
+        let raw_options = self.dims.is_some()
+            || self.scalar_type.is_some()
+            || self.endian.is_some()
+            || self.spacing.is_some()
+            || self.header_bytes > 0;
+        if raw_options && !self.volume.starts_with("builtin:") {
+            let path = Path::new(&self.volume);
+            let mut spec = RawSpec::from_file_name(path).unwrap_or(RawSpec {
+                dims: [0; 3],
+                ty: FileType::U8,
+                endian: Endian::Little,
+                spacing: Vec3::ONE,
+                header_bytes: 0,
+            });
+            if let Some(d) = &self.dims {
+                spec.dims = parse_dims(d).ok_or_else(|| {
+                    CliError::usage(format!("--dims '{d}': expected NXxNYxNZ, e.g. 256x256x113"))
+                })?;
+            }
+            if let Some(ty) = &self.scalar_type {
+                spec.ty = FileType::parse(ty).ok_or_else(|| {
+                    CliError::usage(format!("--type '{ty}': unknown scalar type"))
+                })?;
+            }
+            if self.endian.as_deref() == Some("big") {
+                spec.endian = Endian::Big;
+            }
+            if let Some(s) = self.spacing {
+                spec.spacing = s;
+            }
+            spec.header_bytes = self.header_bytes;
+            if spec.dims == [0; 3] {
+                return Err(CliError::usage(format!(
+                    "{}: give --dims and --type, or name the file like 'name_256x256x113_uint16.raw'",
+                    self.volume
+                )));
+            }
+            return Ok(voxcast_core::io::raw::load(path, &spec)?);
+        }
+        Ok(builtin::load_source(&self.volume)?)
+    }
+}
+
+/// Transfer function and render settings.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SettingsArgs {
+    /// Transfer function: a preset name (bunny, brainsmall, shells, marschner_lobb, bucky,
+    /// ct_skin_bone, mri_brain), a Voxcast preset or transfer-function JSON file, or a peer TF
+    /// JSON (../shared/tools/peer/tf/*.json). Default: the volume's preset.
+    #[arg(long)]
+    pub tf: Option<String>,
+    /// Render settings as JSON (RenderSettings fields), applied before the flags below.
+    #[arg(long, value_name = "FILE")]
+    pub settings: Option<PathBuf>,
+    /// Compositing method.
+    #[arg(long, value_parser = parse_method)]
+    pub method: Option<Method>,
+    #[arg(long, help = t::STEP.doc)]
+    pub step: Option<f32>,
+    /// Step in world units instead of voxels (overrides --step).
+    #[arg(long, value_name = "W")]
+    pub step_world: Option<f32>,
+    #[arg(long, help = t::REFERENCE_STEP.doc)]
+    pub reference_step: Option<f32>,
+    /// Turn opacity correction off (see --reference-step).
+    #[arg(long)]
+    pub no_opacity_correction: bool,
+    #[arg(long, help = t::CUTOFF.doc)]
+    pub cutoff: Option<f32>,
+    /// Turn early ray termination off.
+    #[arg(long)]
+    pub no_early_termination: bool,
+    /// Accumulate's sample order.
+    #[arg(long, value_parser = ["front-to-back", "back-to-front"])]
+    pub order: Option<String>,
+    #[arg(long, help = t::JITTER.doc)]
+    pub jitter: bool,
+    /// Seed of the jitter pattern.
+    #[arg(long)]
+    pub jitter_seed: Option<u32>,
+    #[arg(long, help = t::TARGET.doc, allow_negative_numbers = true)]
+    pub target: Option<f32>,
+    #[arg(long, help = t::REFINE_STEPS.doc)]
+    pub refine_steps: Option<u32>,
+    /// Reconstruction between lattice points.
+    #[arg(long, value_parser = ["nearest", "trilinear"])]
+    pub interpolation: Option<String>,
+    #[arg(long, help = t::MAX_SAMPLES.doc)]
+    pub max_samples: Option<u32>,
+    #[arg(long, help = t::SUPERSAMPLING.doc)]
+    pub supersampling: Option<u32>,
+    #[arg(long, help = t::SHADING.doc, value_parser = ["on", "off"])]
+    pub shading: Option<String>,
+    #[arg(long, help = t::AMBIENT.doc)]
+    pub ka: Option<f32>,
+    #[arg(long, help = t::DIFFUSE.doc)]
+    pub kd: Option<f32>,
+    #[arg(long, help = t::SPECULAR.doc)]
+    pub ks: Option<f32>,
+    #[arg(long, help = t::SHININESS.doc)]
+    pub shininess: Option<f32>,
+    #[arg(long, help = t::ATTENUATION_CONSTANT.doc)]
+    pub kc: Option<f32>,
+    #[arg(long, help = t::ATTENUATION_LINEAR.doc)]
+    pub kl: Option<f32>,
+    #[arg(long, help = t::ATTENUATION_QUADRATIC.doc)]
+    pub kq: Option<f32>,
+    /// Light: headlight, point:X,Y,Z (world position) or dir:X,Y,Z (direction it shines along).
+    #[arg(long, value_parser = parse_light)]
+    pub light: Option<Light>,
+    /// Specular model.
+    #[arg(long, value_parser = ["phong", "blinn-phong"])]
+    pub specular: Option<String>,
+    #[arg(long, help = t::TWO_SIDED.doc, value_parser = ["on", "off"])]
+    pub two_sided: Option<String>,
+    #[arg(long, help = t::GRADIENT_THRESHOLD.doc)]
+    pub gradient_threshold: Option<f32>,
+    /// Classification: table, iso:V1,V2,…[@THICKNESS_VOXELS] (Levoy's isovalue contours), or
+    /// boundaries[@FULL_GRADIENT] (Levoy's region boundaries).
+    #[arg(long, allow_hyphen_values = true)]
+    pub classify: Option<String>,
+    /// Background colour r,g,b in [0, 1].
+    #[arg(long, value_parser = parse_vec3)]
+    pub background: Option<Vec3>,
+}
+
+/// The transfer function and settings a run uses, with anything worth telling the user.
+pub struct Resolved {
+    pub transfer: TransferFunction,
+    pub settings: RenderSettings,
+    pub preset: Option<Preset>,
+    pub notes: Vec<String>,
+}
+
+impl SettingsArgs {
+    /// Picks the transfer function (flag, else the volume's preset, else a grey ramp) and applies
+    /// preset, settings file and flags in that order.
+    pub fn resolve(&self, loaded: &Loaded) -> Result<Resolved, CliError> {
+        let volume = &loaded.volume;
+        let mut notes = loaded.notes.clone();
+        let mut settings = RenderSettings::default();
+        let mut preset = None;
+        let transfer = match &self.tf {
+            None => match preset::for_volume(volume.name()) {
+                Some(p) => {
+                    settings = p.settings_over(&settings)?;
+                    let tf = p.transfer.clone();
+                    preset = Some(p);
+                    tf
+                }
+                None => {
+                    let (lo, hi) = volume.value_range();
+                    notes.push(
+                        "no preset for this volume: a grey ramp transfer function is used".into(),
+                    );
+                    TransferFunction::ramp(lo, hi, 0.5)?
+                }
+            },
+            Some(name) => {
+                if let Some(p) = preset::by_name(name) {
+                    settings = p.settings_over(&settings)?;
+                    let tf = p.transfer.clone();
+                    preset = Some(p);
+                    tf
+                } else {
+                    let text = std::fs::read_to_string(name).map_err(|e| {
+                        CliError::usage(format!(
+                            "--tf {name}: not a preset name, and cannot read it as a file: {e}"
+                        ))
+                    })?;
+                    if peer::is_peer_json(&text) {
+                        let p = peer::from_json(&text)
+                            .map_err(|e| CliError::usage(format!("{name}: {e}")))?;
+                        p.apply(&mut settings);
+                        notes.extend(p.notes.iter().cloned());
+                        p.transfer
+                    } else if text.contains("\"transfer\"") {
+                        let p = Preset::from_json(&text)
+                            .map_err(|e| CliError::usage(format!("{name}: {e}")))?;
+                        settings = p.settings_over(&settings)?;
+                        let tf = p.transfer.clone();
+                        preset = Some(p);
+                        tf
+                    } else {
+                        TransferFunction::from_json(&text)
+                            .map_err(|e| CliError::usage(format!("{name}: {e}")))?
+                    }
+                }
+            }
+        };
+        if let Some(path) = &self.settings {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| CliError::usage(format!("--settings {}: {e}", path.display())))?;
+            let patch = Preset {
+                name: path.display().to_string(),
+                description: String::new(),
+                volumes: vec![],
+                view: None,
+                transfer: transfer.clone(),
+                settings: serde_json::from_str(&text)
+                    .map_err(|e| CliError::usage(format!("--settings {}: {e}", path.display())))?,
+            };
+            settings = patch.settings_over(&settings)?;
+        }
+        self.apply_flags(&mut settings)?;
+        settings.validate()?;
+        Ok(Resolved {
+            transfer,
+            settings,
+            preset,
+            notes,
+        })
+    }
+
+    fn apply_flags(&self, s: &mut RenderSettings) -> Result<(), CliError> {
+        let on = |v: &Option<String>| v.as_deref().map(|v| v == "on");
+        if let Some(m) = self.method {
+            s.method = m;
+        }
+        if let Some(v) = self.step {
+            s.step = Length::Voxels(v);
+        }
+        if let Some(v) = self.step_world {
+            s.step = Length::World(v);
+        }
+        if let Some(v) = self.reference_step {
+            s.reference_step = Length::Voxels(v);
+        }
+        if self.no_opacity_correction {
+            s.opacity_correction = false;
+        }
+        if let Some(v) = self.cutoff {
+            s.cutoff = v;
+        }
+        if self.no_early_termination {
+            s.early_termination = false;
+        }
+        if let Some(o) = &self.order {
+            s.order = if o == "back-to-front" {
+                Order::BackToFront
+            } else {
+                Order::FrontToBack
+            };
+        }
+        if self.jitter {
+            s.jitter = true;
+        }
+        if let Some(v) = self.jitter_seed {
+            s.jitter_seed = v;
+        }
+        if let Some(v) = self.target {
+            s.target = Some(v);
+        }
+        if let Some(v) = self.refine_steps {
+            s.refine_steps = v;
+        }
+        if let Some(i) = &self.interpolation {
+            s.interpolation = if i == "nearest" {
+                Interpolation::Nearest
+            } else {
+                Interpolation::Trilinear
+            };
+        }
+        if let Some(v) = self.max_samples {
+            s.max_samples = v;
+        }
+        if let Some(v) = self.supersampling {
+            s.supersampling = v;
+        }
+        if let Some(v) = on(&self.shading) {
+            s.shading = v;
+        }
+        let p = &mut s.phong;
+        for (dst, src) in [
+            (&mut p.ka, self.ka),
+            (&mut p.kd, self.kd),
+            (&mut p.ks, self.ks),
+            (&mut p.shininess, self.shininess),
+            (&mut p.kc, self.kc),
+            (&mut p.kl, self.kl),
+            (&mut p.kq, self.kq),
+            (&mut p.gradient_threshold, self.gradient_threshold),
+        ] {
+            if let Some(v) = src {
+                *dst = v;
+            }
+        }
+        if let Some(l) = self.light {
+            p.light = l;
+        }
+        if let Some(m) = &self.specular {
+            p.model = if m == "phong" {
+                SpecularModel::Phong
+            } else {
+                SpecularModel::BlinnPhong
+            };
+        }
+        if let Some(v) = on(&self.two_sided) {
+            p.two_sided = v;
+        }
+        if let Some(c) = &self.classify {
+            s.classification = parse_classification(c)?;
+        }
+        if let Some(bg) = self.background {
+            s.background = bg;
+        }
+        Ok(())
+    }
+}
+
+/// `table`, `iso:V1,V2[@R]`, `boundaries[@G]`.
+fn parse_classification(s: &str) -> Result<Classification, CliError> {
+    let bad = || {
+        CliError::usage(format!(
+            "--classify '{s}': expected table, iso:V1,V2,…[@THICKNESS] or boundaries[@GRADIENT]"
+        ))
+    };
+    let (head, at) = match s.split_once('@') {
+        Some((h, a)) => (h, Some(a.parse::<f32>().map_err(|_| bad())?)),
+        None => (s, None),
+    };
+    if head == "table" {
+        return Ok(Classification::Table);
+    }
+    if head == "boundaries" {
+        return Ok(Classification::Boundaries { full_gradient: at });
+    }
+    if let Some(values) = head.strip_prefix("iso:") {
+        let isovalues = values
+            .split(',')
+            .map(|v| v.trim().parse::<f32>())
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|_| bad())?;
+        return Ok(Classification::IsoContours {
+            isovalues,
+            thickness_voxels: at.unwrap_or(t::ISO_THICKNESS.default),
+        });
+    }
+    Err(bad())
+}
+
+/// `x,y,z` → Vec3.
+pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{s}': expected three numbers x,y,z"))?;
+    let a: [f32; 3] = v
+        .try_into()
+        .map_err(|_| format!("'{s}': expected three numbers x,y,z"))?;
+    let v = Vec3::from(a);
+    if !v.is_finite() {
+        return Err(format!("'{s}': numbers must be finite"));
+    }
+    Ok(v)
+}
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    Method::parse(s)
+        .ok_or_else(|| format!("'{s}': expected accumulate, first, average, maximum or minimum"))
+}
+
+fn parse_light(s: &str) -> Result<Light, String> {
+    if s == "headlight" {
+        return Ok(Light::Headlight);
+    }
+    if let Some(p) = s.strip_prefix("point:") {
+        return parse_vec3(p).map(Light::Point);
+    }
+    if let Some(d) = s.strip_prefix("dir:") {
+        let v = parse_vec3(d)?;
+        if v.length_squared() == 0.0 {
+            return Err("dir:0,0,0 is not a direction".into());
+        }
+        return Ok(Light::Directional(v));
+    }
+    Err(format!(
+        "'{s}': expected headlight, point:X,Y,Z or dir:X,Y,Z"
+    ))
+}
+
+/// The camera options.
+#[derive(Args, Debug, Clone, Default)]
+pub struct CameraArgs {
+    /// Camera: a JSON file ({"eye", "center", "up", "fov_y_deg"}, as ../shared/tools/peer/cams)
+    /// or eye=X,Y,Z,target=X,Y,Z,up=X,Y,Z,fov=DEG[,ortho=HEIGHT]. Default: the preset's view.
+    #[arg(long, allow_hyphen_values = true)]
+    pub camera: Option<String>,
+}
+
+impl CameraArgs {
+    /// The camera for `volume`: the flag, or a framing view from the preset's direction.
+    pub fn camera(&self, loaded: &Loaded, preset: Option<&Preset>) -> Result<Camera, CliError> {
+        let (lo, hi) = loaded.volume.bounds();
+        match &self.camera {
+            None => {
+                let (from, up) = preset
+                    .and_then(|p| p.view)
+                    .map_or((Vec3::new(1.0, 0.8, 1.6), Vec3::Y), |v| (v.from, v.up));
+                Ok(Camera::framing(lo, hi, from, up)?)
+            }
+            Some(spec) if spec.contains('=') => parse_camera_spec(spec),
+            Some(path) => {
+                let text = std::fs::read_to_string(path)
+                    .map_err(|e| CliError::usage(format!("--camera {path}: {e}")))?;
+                Camera::from_json(&text)
+                    .map_err(|e| CliError::usage(format!("--camera {path}: {e}")))
+            }
+        }
+    }
+}
+
+/// `eye=1,2,3,target=0,0,0,up=0,1,0,fov=30` (a token with `=` starts a new key).
+fn parse_camera_spec(spec: &str) -> Result<Camera, CliError> {
+    let mut fields: Vec<(String, Vec<String>)> = Vec::new();
+    for token in spec.split(',') {
+        match token.split_once('=') {
+            Some((k, v)) => fields.push((k.trim().to_owned(), vec![v.to_owned()])),
+            None => match fields.last_mut() {
+                Some(f) => f.1.push(token.to_owned()),
+                None => {
+                    return Err(CliError::usage(format!(
+                        "--camera '{spec}': expected key=value pairs"
+                    )));
+                }
+            },
+        }
+    }
+    let get = |key: &str| fields.iter().find(|f| f.0 == key).map(|f| f.1.join(","));
+    let vec = |key: &str, default: Option<Vec3>| -> Result<Vec3, CliError> {
+        match get(key) {
+            Some(v) => parse_vec3(&v).map_err(|e| CliError::usage(format!("--camera {key}: {e}"))),
+            None => default
+                .ok_or_else(|| CliError::usage(format!("--camera: '{key}=X,Y,Z' is required"))),
+        }
+    };
+    let num = |key: &str| -> Result<Option<f32>, CliError> {
+        get(key)
+            .map(|v| {
+                v.parse::<f32>()
+                    .map_err(|_| CliError::usage(format!("--camera {key}: '{v}' is not a number")))
+            })
+            .transpose()
+    };
+    for (k, _) in &fields {
+        if !["eye", "target", "center", "up", "fov", "ortho"].contains(&k.as_str()) {
+            return Err(CliError::usage(format!(
+                "--camera: unknown key '{k}' (eye, target, up, fov, ortho)"
+            )));
+        }
+    }
+    let target = match get("target") {
+        Some(_) => vec("target", None)?,
+        None => vec("center", None)?,
+    };
+    let projection = match num("ortho")? {
+        Some(height) => Projection::Orthographic { height },
+        None => Projection::Perspective {
+            fov_y_deg: num("fov")?.unwrap_or(30.0),
+        },
+    };
+    Ok(Camera::new(
+        vec("eye", None)?,
+        target,
+        vec("up", Some(Vec3::Y))?,
+        projection,
+    )?)
+}
+
+/// `WxH` → (w, h).
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{s}': expected WIDTHxHEIGHT"))?;
+    let w: u32 = w
+        .parse()
+        .map_err(|_| format!("'{s}': width is not a whole number"))?;
+    let h: u32 = h
+        .parse()
+        .map_err(|_| format!("'{s}': height is not a whole number"))?;
+    voxcast_core::render::validate_size(w, h).map_err(|e| e.to_string())?;
+    Ok((w, h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn camera_spec_parses_and_rejects() {
+        let c = parse_camera_spec("eye=0,0,10,target=0,0,0,up=0,1,0,fov=45").unwrap();
+        assert_eq!(c.eye, Vec3::new(0.0, 0.0, 10.0));
+        assert_eq!(c.projection, Projection::Perspective { fov_y_deg: 45.0 });
+        assert!(parse_camera_spec("eye=0,0,10,target=0,0,0,fov=x").is_err());
+        assert!(parse_camera_spec("eye=0,0,10").is_err());
+        assert!(parse_camera_spec("eye=0,0,10,target=0,0,0,zoom=2").is_err());
+        let o = parse_camera_spec("eye=0,0,10,target=0,0,0,ortho=5").unwrap();
+        assert_eq!(o.projection, Projection::Orthographic { height: 5.0 });
+    }
+
+    #[test]
+    fn classification_and_small_parsers() {
+        assert_eq!(
+            parse_classification("table").unwrap(),
+            Classification::Table
+        );
+        assert_eq!(
+            parse_classification("iso:10,20@2").unwrap(),
+            Classification::IsoContours {
+                isovalues: vec![10.0, 20.0],
+                thickness_voxels: 2.0
+            }
+        );
+        assert!(parse_classification("iso:x").is_err());
+        assert!(parse_classification("levoy").is_err());
+        assert_eq!(parse_size("640x360").unwrap(), (640, 360));
+        assert!(parse_size("0x10").is_err());
+        assert!(parse_size("99999x10").is_err());
+        assert!(parse_vec3("1,2").is_err());
+        assert!(parse_vec3("1,nan,2").is_err());
+        assert!(parse_light("dir:0,0,0").is_err());
+    }
+}

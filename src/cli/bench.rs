@@ -1,0 +1,394 @@
+//! `voxcast bench`: the speed/accuracy trade of the step size, measured, and the same scene through
+//! the VTK peer in the same run.
+//!
+//! For each step (in voxels) and with opacity correction on and off, the scene is rendered
+//! `--repeat` times (median time) and compared with a render at the reference step (1/16 voxel by
+//! default) made with the same correction setting: RMSE and largest channel error, in 8-bit units
+//! of the full range. With `--peer DIR` (`../shared/tools/peer`), VTK's CPU ray caster
+//! (vtkFixedPointVolumeRayCastMapper) renders the same volume, transfer function, camera, size and
+//! sample distance with the same number of threads, and the ratio of median times is reported.
+
+use super::CliError;
+use super::args::{CameraArgs, SettingsArgs, VolumeArgs, parse_size};
+use super::plot::{Series, log_log};
+use super::render::{Timed, timed_render};
+use clap::Args;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use voxcast_core::image_out::{LinearImage, save_rgb8_atomic};
+use voxcast_core::step::Length;
+use voxcast_core::trace::Scene;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub volume: VolumeArgs,
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// Image size in pixels.
+    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Steps to measure, in voxels.
+    #[arg(long, default_value = "4,2,1,0.5,0.25,0.125", value_delimiter = ',')]
+    pub steps: Vec<f32>,
+    /// The reference step (voxels) errors are measured against.
+    #[arg(long = "reference", default_value_t = 0.0625)]
+    pub reference: f32,
+    /// Renders per step; the median time is reported.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: u32,
+    /// Worker threads for Voxcast and VTK (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// The peer harness folder (../shared/tools/peer): also render with VTK and report the ratio.
+    #[arg(long)]
+    pub peer: Option<PathBuf>,
+    /// Python with VTK (default: PEER/venv/bin/python).
+    #[arg(long)]
+    pub peer_python: Option<PathBuf>,
+    /// The peer's transfer-function JSON (default: PEER/tf/<preset>.json).
+    #[arg(long)]
+    pub peer_tf: Option<PathBuf>,
+    /// The step (voxels) at which Voxcast and VTK are compared.
+    #[arg(long, default_value_t = 0.5)]
+    pub peer_step: f32,
+    /// Timed VTK frames (median reported).
+    #[arg(long, default_value_t = 5)]
+    pub peer_frames: u32,
+    /// Write the markdown report here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Write the RMSE-vs-time plot (PNG) here.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Keep the images (Voxcast at each step, the references, VTK's) in this folder.
+    #[arg(long)]
+    pub images: Option<PathBuf>,
+}
+
+/// One measured row.
+struct Row {
+    correction: bool,
+    step: f32,
+    timed: Timed,
+    rmse: f64,
+    max_err: f32,
+}
+
+/// What the peer measured.
+struct PeerResult {
+    median_s: f64,
+    first_s: f64,
+    threads: String,
+    image: Option<LinearImage>,
+}
+
+pub fn run(a: &BenchArgs) -> Result<(), CliError> {
+    if a.steps.is_empty()
+        || a.steps
+            .iter()
+            .chain([&a.reference])
+            .any(|s| !(s.is_finite() && *s > 0.0))
+    {
+        return Err(CliError::usage(
+            "--steps and --reference must be positive numbers",
+        ));
+    }
+    let loaded = a.volume.load()?;
+    let resolved = a.settings.resolve(&loaded)?;
+    for note in &resolved.notes {
+        eprintln!("note: {note}");
+    }
+    let camera = a.camera.camera(&loaded, resolved.preset.as_ref())?;
+    let threads = a
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let voxel = loaded.volume.spacing().min_element();
+    if let Some(dir) = &a.images {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::failed(format!("{}: {e}", dir.display())))?;
+    }
+
+    let mut rows = Vec::new();
+    for correction in [true, false] {
+        let mut s = resolved.settings.clone();
+        s.opacity_correction = correction;
+        s.step = Length::Voxels(a.reference);
+        let scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
+        let label = format!("reference 1/{:.0} voxel", 1.0 / a.reference);
+        let reference = timed_render(&scene, &camera, a.size, 1, Some(threads), &label)?;
+        save_image(
+            a,
+            &format!("reference_{}.png", tag(correction)),
+            &reference.image,
+        )?;
+        for &step in &a.steps {
+            s.step = Length::Voxels(step);
+            let scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
+            let timed = timed_render(
+                &scene,
+                &camera,
+                a.size,
+                a.repeat,
+                Some(threads),
+                &format!("step {step}"),
+            )?;
+            let diff = timed.image.diff(&reference.image).expect("same size");
+            save_image(
+                a,
+                &format!("step_{step}_{}.png", tag(correction)),
+                &timed.image,
+            )?;
+            eprintln!(
+                "correction {:3}, step {step:>6}: {:.3} s, {:>11} samples, RMSE {:.3}/255",
+                tag(correction),
+                timed.median(),
+                timed.stats.samples,
+                diff.rmse * 255.0
+            );
+            rows.push(Row {
+                correction,
+                step,
+                rmse: diff.rmse,
+                max_err: diff.max_abs,
+                timed,
+            });
+        }
+    }
+
+    let peer = a
+        .peer
+        .as_ref()
+        .map(|dir| run_peer(a, dir, &resolved, voxel, threads));
+    let report = report(
+        a,
+        &loaded.volume,
+        &resolved,
+        &rows,
+        peer.as_ref(),
+        threads,
+        voxel,
+    );
+    println!("{report}");
+    if let Some(path) = &a.report {
+        std::fs::write(path, &report)
+            .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
+    }
+    if let Some(path) = &a.plot {
+        let series: Vec<Series> = [(true, [31, 119, 180]), (false, [230, 120, 20])]
+            .into_iter()
+            .map(|(correction, color)| Series {
+                name: format!("correction {}", tag(correction)),
+                color,
+                points: rows
+                    .iter()
+                    .filter(|r| r.correction == correction)
+                    .map(|r| (r.timed.median(), r.rmse * 255.0, format!("{}", r.step)))
+                    .collect(),
+            })
+            .collect();
+        let title = format!(
+            "{} - RMSE VS TIME, LABELS: STEP IN VOXELS",
+            loaded.volume.name()
+        );
+        let img = log_log(&series, &title, "TIME PER FRAME (S)", "RMSE (/255)");
+        save_rgb8_atomic(&img, path)
+            .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
+    }
+    Ok(())
+}
+
+fn tag(correction: bool) -> &'static str {
+    if correction { "on" } else { "off" }
+}
+
+fn save_image(a: &BenchArgs, name: &str, img: &LinearImage) -> Result<(), CliError> {
+    if let Some(dir) = &a.images {
+        let path = dir.join(name);
+        img.save_png(&path)
+            .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
+    }
+    Ok(())
+}
+
+/// Runs VTK's fixed-point CPU ray caster on the same inputs.
+fn run_peer(
+    a: &BenchArgs,
+    dir: &Path,
+    resolved: &super::args::Resolved,
+    voxel: f32,
+    threads: usize,
+) -> Result<PeerResult, String> {
+    let python = a
+        .peer_python
+        .clone()
+        .unwrap_or_else(|| dir.join("venv/bin/python"));
+    let tf = match &a.peer_tf {
+        Some(p) => p.clone(),
+        None => {
+            let name = resolved
+                .preset
+                .as_ref()
+                .map(|p| p.name.clone())
+                .ok_or("give --peer-tf (no preset)")?;
+            dir.join("tf").join(format!("{name}.json"))
+        }
+    };
+    let camera = a
+        .camera
+        .camera
+        .clone()
+        .filter(|c| !c.contains('='))
+        .ok_or("the peer needs --camera FILE (a peer camera JSON)")?;
+    if a.volume.volume.starts_with("builtin:") {
+        return Err("the peer needs --volume FILE".into());
+    }
+    let out = std::env::temp_dir().join(format!("voxcast-peer-{}", std::process::id()));
+    std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
+    let (png, json) = (out.join("vtk.png"), out.join("vtk.json"));
+    let method = match resolved.settings.method {
+        voxcast_core::composite::Method::Accumulate => "composite",
+        voxcast_core::composite::Method::Maximum => "mip",
+        voxcast_core::composite::Method::Minimum => "minip",
+        other => return Err(format!("VTK's CPU mapper has no {} mode", other.name())),
+    };
+    eprintln!("running the VTK peer ({threads} threads)…");
+    let status = Command::new(&python)
+        .arg(dir.join("vtk_render.py"))
+        .args(["--volume", &a.volume.volume])
+        .arg("--tf")
+        .arg(&tf)
+        .args([
+            "--camera",
+            &camera,
+            "--mapper",
+            "fixedpoint",
+            "--blend",
+            method,
+        ])
+        .args(["--sample-distance", &format!("{}", a.peer_step * voxel)])
+        .args(["--size", &a.size.0.to_string(), &a.size.1.to_string()])
+        .args([
+            "--frames",
+            &a.peer_frames.to_string(),
+            "--threads",
+            &threads.to_string(),
+        ])
+        .arg("--out")
+        .arg(&png)
+        .arg("--json-out")
+        .arg(&json)
+        .status()
+        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+    if !status.success() {
+        return Err(format!("the peer exited with {status}"));
+    }
+    let text = std::fs::read_to_string(&json).map_err(|e| e.to_string())?;
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+    let image = image::open(&png)
+        .ok()
+        .map(|i| LinearImage::from_rgb8(&i.to_rgb8()));
+    if let (Some(dir), Some(img)) = (&a.images, &image) {
+        let _ = img.save_png(&dir.join("vtk.png"));
+    }
+    Ok(PeerResult {
+        median_s: v["median_s"]
+            .as_f64()
+            .ok_or("no median_s in the peer's JSON")?,
+        first_s: v["first_frame_s"].as_f64().unwrap_or(f64::NAN),
+        threads: v["fixedpoint_threads"].to_string(),
+        image,
+    })
+}
+
+fn report(
+    a: &BenchArgs,
+    volume: &voxcast_core::Volume,
+    resolved: &super::args::Resolved,
+    rows: &[Row],
+    peer: Option<&Result<PeerResult, String>>,
+    threads: usize,
+    voxel: f32,
+) -> String {
+    use std::fmt::Write;
+    let s = &resolved.settings;
+    let mut r = String::new();
+    let _ = writeln!(
+        r,
+        "Scene: `{}` ({}×{}×{} {}), transfer function `{}`, method {}, {}×{} pixels, shading {}, \
+         early termination {} (cutoff {}), {} threads, {} render(s) per step (median). Errors are \
+         against step {} voxel with the same correction setting, in 8-bit units (/255).\n",
+        volume.name(),
+        volume.dims().x,
+        volume.dims().y,
+        volume.dims().z,
+        volume.scalar_type().name(),
+        resolved.transfer.name,
+        s.method.name(),
+        a.size.0,
+        a.size.1,
+        tag(s.shading),
+        tag(s.early_termination),
+        s.cutoff,
+        threads,
+        a.repeat,
+        a.reference
+    );
+    let _ = writeln!(
+        r,
+        "| correction | step (voxels) | time (s) | samples | M samples/s | RMSE (/255) | max error (/255) |"
+    );
+    let _ = writeln!(r, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    for row in rows {
+        let _ = writeln!(
+            r,
+            "| {} | {} | {:.3} | {} | {:.1} | {:.3} | {:.0} |",
+            tag(row.correction),
+            row.step,
+            row.timed.median(),
+            row.timed.stats.samples,
+            row.timed.samples_per_second() / 1e6,
+            row.rmse * 255.0,
+            row.max_err * 255.0
+        );
+    }
+    if let Some(peer) = peer {
+        let ours = rows.iter().find(|r| r.correction && r.step == a.peer_step);
+        match (peer, ours) {
+            (Ok(p), Some(o)) => {
+                let diff = p
+                    .image
+                    .as_ref()
+                    .and_then(|img| o.timed.image.diff(img))
+                    .map_or("n/a".into(), |d| format!("{:.1}/255 RMSE", d.rmse * 255.0));
+                let _ = writeln!(
+                    r,
+                    "\nVTK peer (vtkFixedPointVolumeRayCastMapper, {} threads, sample distance {:.4} world units = {} voxel): \
+                     {:.3} s per frame (median; first frame {:.3} s). Voxcast at the same step: {:.3} s. \
+                     **VTK / Voxcast = {:.2}×** (above 1: Voxcast is faster). Image difference Voxcast vs VTK: {}.",
+                    p.threads,
+                    a.peer_step * voxel,
+                    a.peer_step,
+                    p.median_s,
+                    p.first_s,
+                    o.timed.median(),
+                    p.median_s / o.timed.median(),
+                    diff
+                );
+            }
+            (Err(e), _) => {
+                let _ = writeln!(r, "\nVTK peer: not measured ({e}).");
+            }
+            (Ok(_), None) => {
+                let _ = writeln!(
+                    r,
+                    "\nVTK peer: step {} is not among --steps, no ratio.",
+                    a.peer_step
+                );
+            }
+        }
+    }
+    r
+}

@@ -1,0 +1,100 @@
+//! `voxcast info`: what a volume file holds.
+
+use super::CliError;
+use super::args::VolumeArgs;
+use clap::Args;
+use voxcast_core::histogram::{Histogram, HistogramScale};
+use voxcast_core::preset;
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// The volume (file path or builtin:NAME).
+    #[arg(value_name = "PATH")]
+    pub path: String,
+    #[command(flatten)]
+    pub raw: RawOnly,
+}
+
+/// The raw-file options of [`VolumeArgs`] without its --volume.
+#[derive(Args, Debug)]
+pub struct RawOnly {
+    #[arg(long, value_name = "NXxNYxNZ")]
+    pub dims: Option<String>,
+    #[arg(long = "type", value_name = "TYPE")]
+    pub scalar_type: Option<String>,
+    #[arg(long, value_parser = ["little", "big"])]
+    pub endian: Option<String>,
+    #[arg(long, value_parser = super::args::parse_vec3)]
+    pub spacing: Option<voxcast_core::glam::Vec3>,
+    #[arg(long, default_value_t = 0)]
+    pub header_bytes: u64,
+}
+
+pub fn run(a: &InfoArgs) -> Result<(), CliError> {
+    let args = VolumeArgs {
+        volume: a.path.clone(),
+        dims: a.raw.dims.clone(),
+        scalar_type: a.raw.scalar_type.clone(),
+        endian: a.raw.endian.clone(),
+        spacing: a.raw.spacing,
+        header_bytes: a.raw.header_bytes,
+    };
+    let loaded = args.load()?;
+    let v = &loaded.volume;
+    let d = v.dims();
+    let s = v.spacing();
+    let (lo, hi) = v.bounds();
+    let (min, max) = v.value_range();
+    let (slope, intercept) = v.rescale();
+    println!("name:       {}", v.name());
+    println!(
+        "dims:       {} × {} × {} = {} voxels",
+        d.x,
+        d.y,
+        d.z,
+        v.voxel_count()
+    );
+    println!(
+        "type:       {} ({:.1} MiB in memory)",
+        v.scalar_type().name(),
+        (v.voxel_count() * v.scalar_type().bytes()) as f64 / (1 << 20) as f64
+    );
+    println!("spacing:    {} × {} × {}", s.x, s.y, s.z);
+    println!(
+        "box:        [{}, {}] × [{}, {}] × [{}, {}] (world units)",
+        lo.x, hi.x, lo.y, hi.y, lo.z, hi.z
+    );
+    println!("range:      {min} .. {max} (data units)");
+    if (slope, intercept) != (1.0, 0.0) {
+        println!("rescale:    data = raw × {slope} + {intercept}");
+    }
+    let h = Histogram::of(v, 64);
+    println!(
+        "percentiles: 1% {:.4}, 25% {:.4}, 50% {:.4}, 75% {:.4}, 99% {:.4}",
+        h.percentile(0.01),
+        h.percentile(0.25),
+        h.percentile(0.5),
+        h.percentile(0.75),
+        h.percentile(0.99)
+    );
+    const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
+    let bars: String = h
+        .heights(HistogramScale::Log)
+        .iter()
+        .map(|&x| {
+            if x == 0.0 {
+                ' '
+            } else {
+                BARS[((x * 7.0).round() as usize).min(7)]
+            }
+        })
+        .collect();
+    println!("histogram (64 bins, log): |{bars}|");
+    if let Some(p) = preset::for_volume(v.name()) {
+        println!("preset:     {} — {}", p.name, p.description);
+    }
+    for note in &loaded.notes {
+        println!("note:       {note}");
+    }
+    Ok(())
+}

@@ -1,0 +1,45 @@
+//! The `voxcast` command line: render, trace, info and bench over the core.
+
+pub mod args;
+pub mod bench;
+pub mod info;
+pub mod plot;
+pub mod progress;
+pub mod render;
+pub mod trace;
+
+use voxcast_core::{LoadError, SettingsError};
+
+/// A command's failure, with the exit code it maps to.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// Bad arguments (exit code 2).
+    #[error("{0}")]
+    Usage(String),
+    /// A value out of range (exit code 2).
+    #[error("{0}")]
+    Settings(#[from] SettingsError),
+    /// A file that could not be loaded (exit code 1).
+    #[error("{0}")]
+    Load(#[from] LoadError),
+    /// Anything else that failed while working (exit code 1).
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl CliError {
+    pub fn usage(msg: impl Into<String>) -> Self {
+        Self::Usage(msg.into())
+    }
+
+    pub fn failed(msg: impl Into<String>) -> Self {
+        Self::Failed(msg.into())
+    }
+
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Self::Usage(_) | Self::Settings(_) => 2,
+            Self::Load(_) | Self::Failed(_) => 1,
+        }
+    }
+}

@@ -1,0 +1,149 @@
+//! `voxcast render`: the exact CPU image of a volume, with its time and sample rate.
+
+use super::CliError;
+use super::args::{CameraArgs, SettingsArgs, VolumeArgs, parse_size};
+use super::progress::Progress;
+use clap::Args;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use voxcast_core::image_out::LinearImage;
+use voxcast_core::render::{RenderStats, render};
+use voxcast_core::trace::Scene;
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub volume: VolumeArgs,
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// Image size in pixels.
+    #[arg(long, default_value = "512x512", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Output PNG.
+    #[arg(long, default_value = "render.png")]
+    pub out: PathBuf,
+    /// Render this many times and report the median time.
+    #[arg(long, default_value_t = 1)]
+    pub repeat: u32,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// One timed render's outcome.
+pub struct Timed {
+    pub image: LinearImage,
+    pub stats: RenderStats,
+    /// Seconds per render, one entry per repetition.
+    pub seconds: Vec<f64>,
+}
+
+impl Timed {
+    pub fn median(&self) -> f64 {
+        median(&self.seconds)
+    }
+
+    pub fn samples_per_second(&self) -> f64 {
+        self.stats.samples as f64 / self.median()
+    }
+}
+
+pub fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// Renders `repeat` times on `threads` threads (or the global pool), with a progress bar.
+pub fn timed_render(
+    scene: &Scene<'_>,
+    camera: &voxcast_core::camera::Camera,
+    (w, h): (u32, u32),
+    repeat: u32,
+    threads: Option<usize>,
+    label: &str,
+) -> Result<Timed, CliError> {
+    let pool = match threads {
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n.max(1))
+                .build()
+                .map_err(|e| CliError::failed(format!("cannot start {n} threads: {e}")))?,
+        ),
+        None => None,
+    };
+    let cancel = AtomicBool::new(false);
+    let mut seconds = Vec::new();
+    let mut last = None;
+    for i in 0..repeat.max(1) {
+        let progress = Progress::new(format!("{label} {}/{}", i + 1, repeat.max(1)));
+        let run = || render(scene, camera, w, h, &|d, t| progress.update(d, t), &cancel);
+        let start = Instant::now();
+        let result = match &pool {
+            Some(p) => p.install(run),
+            None => run(),
+        };
+        seconds.push(start.elapsed().as_secs_f64());
+        progress.finish();
+        last = Some(result.map_err(|e| CliError::failed(e.to_string()))?);
+    }
+    let (image, stats) = last.expect("at least one render");
+    Ok(Timed {
+        image,
+        stats,
+        seconds,
+    })
+}
+
+pub fn run(a: &RenderArgs) -> Result<(), CliError> {
+    let t_load = Instant::now();
+    let loaded = a.volume.load()?;
+    let load_s = t_load.elapsed().as_secs_f64();
+    let resolved = a.settings.resolve(&loaded)?;
+    for note in &resolved.notes {
+        eprintln!("note: {note}");
+    }
+    let camera = a.camera.camera(&loaded, resolved.preset.as_ref())?;
+    let scene = Scene::new(
+        &loaded.volume,
+        &resolved.transfer,
+        &resolved.settings,
+        camera.forward(),
+    )?;
+    let timed = timed_render(&scene, &camera, a.size, a.repeat, a.threads, "rendering")?;
+    timed
+        .image
+        .save_png(&a.out)
+        .map_err(|e| CliError::failed(format!("cannot write {}: {e}", a.out.display())))?;
+    let s = &resolved.settings;
+    println!(
+        "rendered {}×{} {} ({}, step {:.4} voxel) in {:.3} s{}: {} samples, {:.1} M samples/s → {} (loading {:.2} s, excluded)",
+        a.size.0,
+        a.size.1,
+        loaded.volume.name(),
+        s.method.name(),
+        s.step.voxels(loaded.volume.spacing().min_element()),
+        timed.median(),
+        if a.repeat > 1 {
+            format!(" (median of {})", a.repeat)
+        } else {
+            String::new()
+        },
+        timed.stats.samples,
+        timed.samples_per_second() / 1e6,
+        a.out.display(),
+        load_s,
+    );
+    Ok(())
+}

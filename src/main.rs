@@ -1,0 +1,63 @@
+//! Voxcast: a sandbox for learning, teaching and checking volume ray casting.
+//!
+//! This binary is the command line over the pure core (`crates/voxcast_core`): render an image,
+//! trace one ray step by step, describe a volume, measure speed against accuracy.
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+use cli::{bench, info, render, trace};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "voxcast",
+    version,
+    about = "Volume ray casting you can follow step by step"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Render a volume with the exact CPU ray caster and write a PNG.
+    Render(render::RenderArgs),
+    /// Trace one ray and print every sample's calculation.
+    Trace(trace::TraceArgs),
+    /// Describe a volume file: dimensions, type, spacing, value range, histogram.
+    Info(info::InfoArgs),
+    /// Measure time and error against the step size (and against VTK with --peer).
+    Bench(bench::BenchArgs),
+    /// List the embedded datasets and presets.
+    List,
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Render(a) => render::run(a),
+        Command::Trace(a) => trace::run(a),
+        Command::Info(a) => info::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::List => {
+            list();
+            Ok(())
+        }
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e}");
+        std::process::exit(e.exit_code());
+    }
+}
+
+fn list() {
+    println!("embedded datasets (--volume builtin:NAME):");
+    for (name, what) in voxcast_core::builtin::DATASETS {
+        println!("  {name:<16} {what}");
+    }
+    println!("presets (--tf NAME):");
+    for p in voxcast_core::preset::all() {
+        println!("  {:<16} {}", p.name, p.description);
+    }
+}
