@@ -51,6 +51,7 @@ pub mod render;
 pub mod sample;
 pub mod settings;
 pub mod shade;
+pub mod skip;
 pub mod step;
 pub mod trace;
 pub mod transfer;

@@ -26,8 +26,11 @@ pub const MAX_EDGE: u32 = 16_384;
 pub struct RenderStats {
     /// Rays cast (pixels × supersampling²).
     pub rays: u64,
-    /// Samples marched over all rays.
+    /// Samples interpolated over all rays.
     pub samples: u64,
+    /// Sample positions passed over all rays, interpolated or skipped as empty space (what a
+    /// caster without empty-space skipping would interpolate).
+    pub positions: u64,
 }
 
 /// The render was cancelled before it finished.
@@ -112,7 +115,7 @@ pub fn render_with_threads(
 }
 
 /// A finished tile: its top-left corner, its pixels row by row, and the samples it took.
-type TileResult = (u32, u32, Vec<Vec3>, u64);
+type TileResult = (u32, u32, Vec<Vec3>, u64, u64);
 
 fn render_typed<T: Voxel>(
     scene: &Scene<'_>,
@@ -144,6 +147,7 @@ fn render_typed<T: Voxel>(
             let y1 = (y0 + TILE).min(height);
             let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
             let mut samples = 0u64;
+            let mut positions = 0u64;
             for py in y0..y1 {
                 for px in x0..x1 {
                     let mut sum = Vec3::ZERO;
@@ -155,6 +159,7 @@ fn render_typed<T: Voxel>(
                             let jitter = scene.jitter([px * n + sx, py * n + sy]);
                             let out = marcher.march(&ray, jitter, &mut NoRecord);
                             samples += out.samples as u64;
+                            positions += out.positions as u64;
                             sum += out.pixel(background);
                         }
                     }
@@ -163,7 +168,7 @@ fn render_typed<T: Voxel>(
             }
             let d = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress(d, total);
-            Some((x0, y0, pixels, samples))
+            Some((x0, y0, pixels, samples, positions))
         })
         .collect();
 
@@ -171,10 +176,12 @@ fn render_typed<T: Voxel>(
     let mut stats = RenderStats {
         rays: width as u64 * height as u64 * (n * n) as u64,
         samples: 0,
+        positions: 0,
     };
     for tile in tiles {
-        let (x0, y0, pixels, samples) = tile.ok_or(Cancelled)?;
+        let (x0, y0, pixels, samples, positions) = tile.ok_or(Cancelled)?;
         stats.samples += samples;
+        stats.positions += positions;
         let w = (x0 + TILE).min(width) - x0;
         for (i, p) in pixels.into_iter().enumerate() {
             image.set(x0 + i as u32 % w, y0 + i as u32 / w, p);

@@ -30,7 +30,7 @@
 //! with Δ = one voxel), because interpolation is linear. Units: data units per world unit.
 
 use crate::volume::{Grid, Voxel};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 /// How the volume is reconstructed between lattice points.
 #[derive(
@@ -54,20 +54,34 @@ pub struct Cell {
     pub t: Vec3,
 }
 
+/// `max(a, b)` as one `maxss` (Rust's `f32::max` adds NaN handling the marcher never needs).
+/// If `a` is NaN the comparison is false and the result is `b`: the samplers rely on this to map
+/// a NaN position onto the lattice.
+#[inline(always)]
+pub(crate) fn fmax(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// `min(a, b)` as one `minss` (see [`fmax`]).
+#[inline(always)]
+pub(crate) fn fmin(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
 /// Locates `p_voxel` in the lattice (clamped to it).
 #[inline(always)]
-pub fn cell(dims: [usize; 3], p_voxel: Vec3) -> Cell {
+pub fn cell<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3) -> Cell {
     let mut lo = [0usize; 3];
     let mut hi = [0usize; 3];
     let mut t = Vec3::ZERO;
     for a in 0..3 {
-        let n = dims[a];
-        let last = (n - 1) as f32;
-        // `max` first, so NaN (never produced by the marcher) would land on 0.
-        let x = p_voxel[a].max(0.0).min(last);
-        let i = (x as usize).min(n.saturating_sub(2));
+        // `fmax` first maps NaN to 0 (its comparison is false), so x ∈ [0, n − 1] always.
+        let x = fmin(fmax(p_voxel[a], 0.0), g.last[a]);
+        // SAFETY: x is finite and in [0, n − 1] ⊂ [0, 2²⁴] (`MAX_AXIS`), so it fits an i32; and
+        // as x ≥ 0, truncation is the floor.
+        let i = (unsafe { x.to_int_unchecked::<i32>() } as usize).min(g.max_lo[a]);
         lo[a] = i;
-        hi[a] = (i + 1).min(n - 1);
+        hi[a] = i + (g.corner_step[a] != 0) as usize;
         t[a] = x - i as f32;
     }
     Cell { lo, hi, t }
@@ -82,15 +96,18 @@ pub fn lerp(a: f32, b: f32, t: f32) -> f32 {
 /// Trilinear interpolation of the raw values at `p_voxel` (raw units; see [`Grid::to_data`]).
 #[inline(always)]
 pub fn sample_trilinear<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3) -> f32 {
-    let c = cell(g.dims, p_voxel);
-    let sy = g.dims[0];
-    let sz = g.dims[0] * g.dims[1];
-    let base = c.lo[0] + sy * c.lo[1] + sz * c.lo[2];
-    let dx = c.hi[0] - c.lo[0];
-    let dy = (c.hi[1] - c.lo[1]) * sy;
-    let dz = (c.hi[2] - c.lo[2]) * sz;
-    let d = g.data;
-    let v = |o: usize| d[base + o].to_f32();
+    trilinear_in_cell(g, &cell(g, p_voxel))
+}
+
+/// Trilinear interpolation inside a located cell (raw units).
+#[inline(always)]
+pub fn trilinear_in_cell<T: Voxel>(g: &Grid<'_, T>, c: &Cell) -> f32 {
+    let [dx, dy, dz] = g.corner_step;
+    let base = c.lo[0] + g.dims[0] * (c.lo[1] + g.dims[1] * c.lo[2]);
+    // One bounds check for the whole cell: every corner offset is a sum of some of dx, dy, dz.
+    let d = &g.data[base..=base + dx + dy + dz];
+    // SAFETY: `o` ≤ dx + dy + dz < d.len() for every offset used below.
+    let v = |o: usize| unsafe { d.get_unchecked(o) }.to_f32();
     let x00 = lerp(v(0), v(dx), c.t.x);
     let x10 = lerp(v(dy), v(dy + dx), c.t.x);
     let x01 = lerp(v(dz), v(dz + dx), c.t.x);
@@ -104,7 +121,8 @@ pub fn nearest_index(dims: [usize; 3], p_voxel: Vec3) -> [usize; 3] {
     let mut out = [0usize; 3];
     for a in 0..3 {
         let last = (dims[a] - 1) as f32;
-        out[a] = (p_voxel[a] + 0.5).floor().max(0.0).min(last) as usize;
+        // Clamped first, the value is non-negative, so truncation is the floor.
+        out[a] = (p_voxel[a] + 0.5).max(0.0).min(last) as i32 as usize;
     }
     out
 }
@@ -125,21 +143,29 @@ pub fn sample<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3, interpolation: Interpola
     }
 }
 
-/// The central (or one-sided) raw difference along axis `a` at lattice index `idx`, divided by
-/// the number of lattice steps it spans (so per voxel); zero on a one-point axis.
+/// The raw difference along axis `a` at lattice index `idx` per lattice step: central inside,
+/// one-sided at the borders, zero on a one-point axis.
 #[inline(always)]
 fn lattice_difference<T: Voxel>(g: &Grid<'_, T>, idx: [usize; 3], a: usize) -> f32 {
     let n = g.dims[a];
     let lo = idx[a].saturating_sub(1);
     let hi = (idx[a] + 1).min(n - 1);
-    if hi == lo {
-        return 0.0;
-    }
+    let inv_steps = match hi - lo {
+        0 => return 0.0,
+        1 => 1.0,
+        _ => 0.5,
+    };
     let mut p = idx;
     let mut m = idx;
     p[a] = hi;
     m[a] = lo;
-    (g.raw(p[0], p[1], p[2]) - g.raw(m[0], m[1], m[2])) / (hi - lo) as f32
+    (g.raw(p[0], p[1], p[2]) - g.raw(m[0], m[1], m[2])) * inv_steps
+}
+
+/// Raw units per lattice step → data units per world unit, per axis.
+#[inline(always)]
+fn gradient_scale<T: Voxel>(g: &Grid<'_, T>) -> Vec3 {
+    g.slope / g.spacing
 }
 
 /// The lattice gradient at one lattice point, in data units per world unit.
@@ -149,33 +175,91 @@ pub fn lattice_gradient<T: Voxel>(g: &Grid<'_, T>, idx: [usize; 3]) -> Vec3 {
         lattice_difference(g, idx, 0),
         lattice_difference(g, idx, 1),
         lattice_difference(g, idx, 2),
-    ) * g.slope
-        / g.spacing
+    ) * gradient_scale(g)
 }
 
 /// The gradient at `p_voxel`: lattice gradients blended with the trilinear weights (or the
 /// nearest lattice point's gradient), in data units per world unit.
+///
+/// Per corner the raw differences (per lattice step) are blended in the same order as
+/// [`sample_trilinear`] (x, then y, then z) and scaled to world units at the end. Cells at least
+/// one point away from every border take a fast path with one bounds check; it computes the
+/// very same numbers (every difference there is central, `× 0.5`).
 #[inline]
 pub fn gradient<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3, interpolation: Interpolation) -> Vec3 {
     if interpolation == Interpolation::Nearest {
         return lattice_gradient(g, nearest_index(g.dims, p_voxel));
     }
-    let c = cell(g.dims, p_voxel);
-    let corner = |b: usize| {
-        [
-            if b & 1 == 0 { c.lo[0] } else { c.hi[0] },
-            if b & 2 == 0 { c.lo[1] } else { c.hi[1] },
-            if b & 4 == 0 { c.lo[2] } else { c.hi[2] },
-        ]
-    };
-    let mut gc = [Vec3::ZERO; 8];
-    for (b, out) in gc.iter_mut().enumerate() {
-        *out = lattice_gradient(g, corner(b));
+    let c = cell(g, p_voxel);
+    let interior = (0..3).all(|a| c.lo[a] >= 1 && c.lo[a] + 2 < g.dims[a]);
+    let mut gc = [Vec3A::ZERO; 8];
+    if interior {
+        let sy = g.dims[0];
+        let sz = g.dims[0] * g.dims[1];
+        let base = c.lo[0] + sy * c.lo[1] + sz * c.lo[2];
+        // Every point read lies within one step below and two steps above the cell's corner.
+        let first = base - 1 - sy - sz;
+        let d = &g.data[first..=base + 2 + 2 * sy + 2 * sz];
+        // SAFETY: every offset below is (a + b·sy + c·sz) with a, b, c in −1..=2, so
+        // first ≤ base + offset ≤ base + 2 + 2·sy + 2·sz: inside `d`.
+        let f = |a: isize, b: isize, c: isize| {
+            let i = (base as isize + a + b * sy as isize + c * sz as isize) as usize;
+            unsafe { d.get_unchecked(i - first) }.to_f32()
+        };
+        // The 32 distinct points: the cell's 8 corners and one more on each side along each axis.
+        let mut core = [0.0f32; 8];
+        for (b, v) in core.iter_mut().enumerate() {
+            *v = f(
+                (b & 1) as isize,
+                ((b >> 1) & 1) as isize,
+                ((b >> 2) & 1) as isize,
+            );
+        }
+        for (b, out) in gc.iter_mut().enumerate() {
+            let (x, y, z) = (
+                (b & 1) as isize,
+                ((b >> 1) & 1) as isize,
+                ((b >> 2) & 1) as isize,
+            );
+            // Central differences: the neighbour inside the cell comes from `core`.
+            let dx = if x == 0 {
+                core[b | 1] - f(-1, y, z)
+            } else {
+                f(2, y, z) - core[b & !1]
+            };
+            let dy = if y == 0 {
+                core[b | 2] - f(x, -1, z)
+            } else {
+                f(x, 2, z) - core[b & !2]
+            };
+            let dz = if z == 0 {
+                core[b | 4] - f(x, y, -1)
+            } else {
+                f(x, y, 2) - core[b & !4]
+            };
+            *out = Vec3A::new(dx, dy, dz) * 0.5;
+        }
+    } else {
+        for (b, out) in gc.iter_mut().enumerate() {
+            let idx = [
+                if b & 1 == 0 { c.lo[0] } else { c.hi[0] },
+                if b & 2 == 0 { c.lo[1] } else { c.hi[1] },
+                if b & 4 == 0 { c.lo[2] } else { c.hi[2] },
+            ];
+            *out = Vec3A::new(
+                lattice_difference(g, idx, 0),
+                lattice_difference(g, idx, 1),
+                lattice_difference(g, idx, 2),
+            );
+        }
     }
-    let lx = |a: Vec3, b: Vec3| a + (b - a) * c.t.x;
-    let y0 = lx(gc[0], gc[1]) + (lx(gc[2], gc[3]) - lx(gc[0], gc[1])) * c.t.y;
-    let y1 = lx(gc[4], gc[5]) + (lx(gc[6], gc[7]) - lx(gc[4], gc[5])) * c.t.y;
-    y0 + (y1 - y0) * c.t.z
+    // Four-lane SIMD for the three components; the same operations in the same order as scalar.
+    let lx = |a: Vec3A, b: Vec3A| a + (b - a) * c.t.x;
+    let (x00, x10) = (lx(gc[0], gc[1]), lx(gc[2], gc[3]));
+    let (x01, x11) = (lx(gc[4], gc[5]), lx(gc[6], gc[7]));
+    let y0 = x00 + (x10 - x00) * c.t.y;
+    let y1 = x01 + (x11 - x01) * c.t.y;
+    Vec3::from(y0 + (y1 - y0) * c.t.z) * gradient_scale(g)
 }
 
 /// Everything about one reconstruction, for the ray inspector: the 8 corners (lattice indices,
@@ -202,7 +286,7 @@ pub fn sample_detail<T: Voxel>(
     interpolation: Interpolation,
 ) -> SampleDetail {
     let value = g.to_data(sample(g, p_voxel, interpolation));
-    let c = cell(g.dims, p_voxel);
+    let c = cell(g, p_voxel);
     let mut corners = [[0u32; 3]; 8];
     let mut values = [0.0; 8];
     let mut weights = [0.0; 8];
@@ -246,13 +330,7 @@ mod tests {
     use super::*;
 
     fn grid<'a>(data: &'a [f32], dims: [usize; 3]) -> Grid<'a, f32> {
-        Grid {
-            data,
-            dims,
-            spacing: Vec3::ONE,
-            slope: 1.0,
-            intercept: 0.0,
-        }
+        Grid::new(data, dims, Vec3::ONE, 1.0, 0.0)
     }
 
     #[test]
@@ -309,13 +387,7 @@ mod tests {
                 }
             }
         }
-        let g = Grid {
-            data: &d,
-            dims,
-            spacing,
-            slope: 1.0,
-            intercept: 0.0,
-        };
+        let g = Grid::new(&d, dims, spacing, 1.0, 0.0);
         for p in [
             Vec3::ZERO,
             Vec3::new(3.0, 2.0, 1.0),

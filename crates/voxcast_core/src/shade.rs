@@ -104,6 +104,26 @@ impl Default for Phong {
     }
 }
 
+/// `x^n` for `x ≥ 0`: by repeated squaring when `n` is a whole number (the usual case, and
+/// several times faster than `powf`), else `powf`.
+#[inline(always)]
+pub fn power(x: f32, n: f32) -> f32 {
+    if n.fract() == 0.0 && (0.0..=1024.0).contains(&n) {
+        // Binary exponentiation, inline (Rust's `powi` calls a library loop).
+        let (mut base, mut e, mut acc) = (x, n as u32, 1.0f32);
+        while e > 0 {
+            if e & 1 == 1 {
+                acc *= base;
+            }
+            base *= base;
+            e >>= 1;
+        }
+        acc
+    } else {
+        x.powf(n)
+    }
+}
+
 /// The terms of one shading computation, for the ray inspector.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct ShadeTerms {
@@ -120,22 +140,37 @@ pub struct ShadeTerms {
     pub attenuation: f32,
 }
 
-/// Shades colour `c` at `p_world` with gradient `grad`, seen along `view` (unit, towards the
-/// viewer). Returns the shaded colour and its terms.
-#[inline]
-pub fn shade(
-    c: Vec3,
-    grad: Vec3,
-    p_world: Vec3,
-    view: Vec3,
-    light: ResolvedLight,
-    k: &Phong,
-) -> (Vec3, ShadeTerms) {
+/// What shading needs about one ray: the direction to the viewer, the light, and (for a
+/// directional light) the Blinn half vector, which is the same for every sample of the ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Viewing {
+    /// Unit vector towards the viewer (minus the ray direction).
+    pub view: Vec3,
+    pub light: ResolvedLight,
+    /// `normalize(L + V)` for a directional light (`None` for point lights, or when L = −V).
+    half: Option<Vec3>,
+}
+
+impl Viewing {
+    pub fn new(view: Vec3, light: ResolvedLight) -> Self {
+        let half = match light {
+            ResolvedLight::Toward(l) => (l + view).try_normalize(),
+            ResolvedLight::Point(_) => None,
+        };
+        Self { view, light, half }
+    }
+}
+
+/// Shades colour `c` at `p_world` with gradient `grad`, for the ray `v` describes. Returns the
+/// shaded colour and its terms.
+#[inline(always)]
+pub fn shade(c: Vec3, grad: Vec3, p_world: Vec3, v: &Viewing, k: &Phong) -> (Vec3, ShadeTerms) {
+    let (view, light) = (v.view, v.light);
     let len = grad.length();
     if !(len > k.gradient_threshold && len.is_finite()) {
         return (c, ShadeTerms::default());
     }
-    let mut n = -grad / len;
+    let mut n = grad * (-1.0 / len);
     if k.two_sided && n.dot(view) < 0.0 {
         n = -n;
     }
@@ -153,10 +188,12 @@ pub fn shade(
     let lambert = n_dot_l.max(0.0);
     let spec = if n_dot_l > 0.0 {
         let base = match k.model {
-            SpecularModel::BlinnPhong => n.dot((l + view).normalize_or(n)),
+            SpecularModel::BlinnPhong => {
+                n.dot(v.half.unwrap_or_else(|| (l + view).normalize_or(n)))
+            }
             SpecularModel::Phong => (n * (2.0 * n_dot_l) - l).dot(view),
         };
-        base.max(0.0).powf(k.shininess)
+        power(base.max(0.0), k.shininess)
     } else {
         0.0
     };
@@ -199,8 +236,7 @@ mod tests {
             Vec3::splat(0.5),
             Vec3::new(0.0, 0.0, -3.0),
             Vec3::ZERO,
-            Vec3::Z,
-            ResolvedLight::Toward(Vec3::Z),
+            &Viewing::new(Vec3::Z, ResolvedLight::Toward(Vec3::Z)),
             &k(),
         );
         assert!(t.lit);
@@ -218,8 +254,7 @@ mod tests {
             Vec3::new(0.2, 0.4, 0.6),
             Vec3::ZERO,
             Vec3::ZERO,
-            Vec3::Z,
-            ResolvedLight::Toward(Vec3::Z),
+            &Viewing::new(Vec3::Z, ResolvedLight::Toward(Vec3::Z)),
             &k(),
         );
         assert_eq!(c, Vec3::new(0.2, 0.4, 0.6));
@@ -228,8 +263,7 @@ mod tests {
             Vec3::ONE,
             Vec3::splat(f32::INFINITY),
             Vec3::ZERO,
-            Vec3::Z,
-            ResolvedLight::Toward(Vec3::Z),
+            &Viewing::new(Vec3::Z, ResolvedLight::Toward(Vec3::Z)),
             &k(),
         );
         assert!(c.is_finite());
@@ -244,8 +278,7 @@ mod tests {
             Vec3::ONE,
             grad,
             Vec3::ZERO,
-            Vec3::Z,
-            ResolvedLight::Toward(Vec3::Z),
+            &Viewing::new(Vec3::Z, ResolvedLight::Toward(Vec3::Z)),
             &one,
         );
         assert!(
@@ -256,8 +289,7 @@ mod tests {
             Vec3::ONE,
             grad,
             Vec3::ZERO,
-            Vec3::Z,
-            ResolvedLight::Toward(Vec3::Z),
+            &Viewing::new(Vec3::Z, ResolvedLight::Toward(Vec3::Z)),
             &k(),
         );
         assert!(c2.x > 0.9);
@@ -273,11 +305,24 @@ mod tests {
             Vec3::ONE,
             Vec3::NEG_Z,
             Vec3::ZERO,
-            Vec3::Z,
-            ResolvedLight::Point(Vec3::new(0.0, 0.0, 2.0)),
+            &Viewing::new(Vec3::Z, ResolvedLight::Point(Vec3::new(0.0, 0.0, 2.0))),
             &p,
         );
         assert!((t.attenuation - 1.0 / (1.0 + 1.0 + 1.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn power_matches_powf() {
+        for (x, n) in [
+            (0.5f32, 10.0f32),
+            (0.99, 128.0),
+            (0.0, 3.0),
+            (1.0, 7.0),
+            (0.3, 2.5),
+        ] {
+            let (a, b) = (power(x, n), x.powf(n));
+            assert!((a - b).abs() <= 1e-5 * b.max(1e-30), "{x}^{n}: {a} vs {b}");
+        }
     }
 
     #[test]
@@ -289,8 +334,7 @@ mod tests {
                 Vec3::ZERO,
                 Vec3::NEG_Z,
                 Vec3::ZERO,
-                Vec3::Z,
-                ResolvedLight::Toward(Vec3::Z),
+                &Viewing::new(Vec3::Z, ResolvedLight::Toward(Vec3::Z)),
                 &p,
             );
             assert!((t.specular[0] - 0.3).abs() < 1e-6, "{model:?}");

@@ -98,7 +98,10 @@ pub fn plan_steps(t_enter: f32, t_exit: f32, dt: f32, jitter: f32, max_samples: 
 /// Where sample `k` sits: `t_enter + (j + k)·dt`, never past `t_exit`.
 #[inline(always)]
 pub fn sample_t(plan: &StepPlan, k: u32) -> f32 {
-    (plan.t_enter + (plan.jitter + k as f32) * plan.dt).min(plan.t_exit)
+    crate::sample::fmin(
+        plan.t_enter + (plan.jitter + k as f32) * plan.dt,
+        plan.t_exit,
+    )
 }
 
 /// The length of ray sample `k` (at `t_k`) stands for (see the module docs).

@@ -18,9 +18,12 @@ use crate::composite::{
 use crate::error::SettingsError;
 use crate::hash::jitter_fraction;
 use crate::ray::{Ray, intersect_box};
-use crate::sample::{Interpolation, SampleDetail, gradient, sample, sample_detail};
+use crate::sample::{
+    Cell, Interpolation, SampleDetail, cell, gradient, sample, sample_detail, trilinear_in_cell,
+};
 use crate::settings::RenderSettings;
-use crate::shade::{Phong, ResolvedLight, ShadeTerms, shade};
+use crate::shade::{Phong, ResolvedLight, ShadeTerms, Viewing, shade};
+use crate::skip::{EmptyBlocks, VisibleCells};
 use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
 use crate::transfer::{Lut, TransferFunction};
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
@@ -43,7 +46,22 @@ pub struct Scene<'a> {
     /// First-hit target value, data units.
     pub target: f32,
     pub bounds: (Vec3, Vec3),
+    /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
+    pub empty: Option<(EmptyBlocks, VisibleCells)>,
 }
+
+/// `x.ceil()` without the library call that baseline x86-64 makes of it (no SSE4.1 `roundss`).
+#[inline(always)]
+fn ceil(x: f32) -> f32 {
+    if x.is_nan() || x.abs() >= 8_388_608.0 {
+        return x; // already whole (or infinite/NaN)
+    }
+    let i = x as i32 as f32;
+    if i < x { i + 1.0 } else { i }
+}
+
+/// How far inside a transparent block (in voxels) a sample must lie to be skipped.
+const SKIP_MARGIN_VOXELS: f32 = 0.01;
 
 impl<'a> Scene<'a> {
     /// Validates the settings and resolves them for `volume`, with the headlight (if any) along
@@ -59,7 +77,17 @@ impl<'a> Scene<'a> {
         let (lo, hi) = volume.value_range();
         let lut = tf.bake(lo, hi);
         let classifier = Classifier::new(&settings.classification, &lut, voxel);
+        let skippable = settings.method == Method::Accumulate
+            && settings.order == Order::FrontToBack
+            && !matches!(classifier, Classifier::IsoContours { .. });
+        let empty = skippable.then(|| {
+            (
+                EmptyBlocks::new(volume.block_ranges(), &lut),
+                VisibleCells::new(volume, &lut),
+            )
+        });
         Ok(Self {
+            empty,
             volume,
             classifier,
             light: settings.phong.light.resolve(view_forward),
@@ -105,8 +133,11 @@ pub struct RayOutcome {
     pub color: Vec3,
     /// Composited opacity.
     pub opacity: f32,
-    /// Samples marched (refinement and gradient reads not counted).
+    /// Samples interpolated (refinement and gradient reads not counted).
     pub samples: u32,
+    /// Sample positions the ray passed until it stopped, interpolated or skipped as empty
+    /// space: what a caster without skipping would have interpolated.
+    pub positions: u32,
     pub stop: StopReason,
 }
 
@@ -115,6 +146,7 @@ impl RayOutcome {
         color: Vec3::ZERO,
         opacity: 0.0,
         samples: 0,
+        positions: 0,
         stop: StopReason::Missed,
     };
 
@@ -295,6 +327,13 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     iso_contours: bool,
 }
 
+/// Accumulate's running state along a ray.
+struct Accumulation {
+    c: Vec3,
+    o: f32,
+    taken: u32,
+}
+
 /// Per-sample classification result.
 struct Classified {
     rgba: Vec4,
@@ -333,15 +372,18 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     /// is asked for, a sample the table makes transparent returns at once (its colour unread).
     #[inline(always)]
     fn classify(&self, v: f32, pv: Vec3, full: bool) -> Classified {
-        let table_alpha = self.s.lut.alpha(v);
-        if table_alpha <= 0.0 && !full && !self.iso_contours {
-            return Classified {
-                rgba: Vec4::ZERO,
-                alpha: 0.0,
-                grad: None,
-            };
-        }
-        let rgba = self.s.lut.lookup(v);
+        let rgba = match self.s.lut.lookup_if_visible(v) {
+            Some(rgba) => rgba,
+            None if !full && !self.iso_contours => {
+                return Classified {
+                    rgba: Vec4::ZERO,
+                    alpha: 0.0,
+                    grad: None,
+                };
+            }
+            None => self.s.lut.lookup(v),
+        };
+        let table_alpha = rgba.w;
         if !self.classify_gradient {
             return Classified {
                 rgba,
@@ -364,14 +406,14 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         color: Vec3,
         pv: Vec3,
         grad: Option<Vec3>,
-        view: Vec3,
+        view: &Viewing,
     ) -> (Vec3, Option<Vec3>, Option<ShadeTerms>) {
         if !self.s.settings.shading {
             return (color, grad, None);
         }
         let grad = grad.unwrap_or_else(|| self.gradient(pv));
         let phong: &Phong = &self.s.settings.phong;
-        let (c, terms) = shade(color, grad, pv * self.g.spacing, view, self.s.light, phong);
+        let (c, terms) = shade(color, grad, pv * self.g.spacing, view, phong);
         (c, Some(grad), Some(terms))
     }
 
@@ -396,6 +438,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             }
         };
         out.samples = out.samples.min(plan.count);
+        if out.stop != StopReason::Cutoff && out.stop != StopReason::FirstHit {
+            out.positions = plan.count;
+        }
         if out.stop == StopReason::LeftVolume && plan.capped {
             out.stop = StopReason::SampleCap;
         }
@@ -411,71 +456,165 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         rec: &mut R,
     ) -> RayOutcome {
         let set = &self.s.settings;
-        let view = -ray.dir;
-        let mut c = Vec3::ZERO;
-        let mut o = 0.0f32;
         let back_to_front = set.order == Order::BackToFront;
         let stop_at = if set.early_termination && !back_to_front {
             set.cutoff
         } else {
             f32::INFINITY
         };
-        let mut taken = 0;
-        for i in 0..plan.count {
-            let k = if back_to_front { plan.count - 1 - i } else { i };
-            let t = sample_t(plan, k);
-            let pv = o_v + d_v * t;
-            let v = self.value(pv);
-            let cl = self.classify(v, pv, R::ACTIVE);
-            let ds = segment_length(plan, k, t);
-            let alpha = if set.opacity_correction {
-                correct_opacity(cl.alpha, ds, self.s.dt_ref)
-            } else {
-                cl.alpha
-            };
-            let mut grad = cl.grad;
-            let mut terms = None;
-            let mut color = cl.rgba.truncate();
-            if alpha > 0.0 {
-                (color, grad, terms) = self.shade(color, pv, grad, view);
-                (c, o) = if back_to_front {
-                    accumulate_back_to_front(c, o, color, alpha)
-                } else {
-                    accumulate_front_to_back(c, o, color, alpha)
-                };
+        let mut acc = Accumulation {
+            c: Vec3::ZERO,
+            o: 0.0,
+            taken: 0,
+        };
+        let skip = if R::ACTIVE || back_to_front {
+            None
+        } else {
+            self.s.empty.as_ref()
+        };
+        let viewing = Viewing::new(-ray.dir, self.s.light);
+        let mut stopped_at = None;
+        match skip {
+            Some((blocks, cells)) if plan.count > 0 => {
+                // Empty-space skipping (see `crate::skip`): walk the blocks, sampling only those
+                // that can be seen, and in them only the cells that can be seen. A sample within
+                // `margin_t` of a block face is always looked at.
+                let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
+                let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
+                let mut walk = blocks.walk(first, o_v, d_v);
+                let mut k = 0u32;
+                'blocks: loop {
+                    let (is_empty, t_out) = blocks.current(&walk);
+                    if is_empty {
+                        let next = ceil((t_out - margin_t - plan.t_enter) / plan.dt - plan.jitter);
+                        if next > k as f32 {
+                            k = if next >= plan.count as f32 {
+                                plan.count
+                            } else {
+                                next as u32
+                            };
+                        }
+                    } else {
+                        while k < plan.count {
+                            let t = sample_t(plan, k);
+                            if t >= t_out + margin_t {
+                                break;
+                            }
+                            let pv = o_v + d_v * t;
+                            let here = cell(&self.g, pv);
+                            if cells.visible(here.lo)
+                                && self.accumulate_sample(
+                                    &viewing,
+                                    plan,
+                                    k,
+                                    t,
+                                    pv,
+                                    Some(&here),
+                                    stop_at,
+                                    &mut acc,
+                                    rec,
+                                )
+                            {
+                                stopped_at = Some(k);
+                                break 'blocks;
+                            }
+                            k += 1;
+                        }
+                    }
+                    if k >= plan.count || !t_out.is_finite() {
+                        break;
+                    }
+                    blocks.advance(&mut walk);
+                }
             }
-            taken += 1;
-            if R::ACTIVE {
-                rec.sample(self.record(
-                    k,
-                    t,
-                    ds,
-                    pv,
-                    v,
-                    &cl,
-                    alpha,
-                    grad,
-                    terms,
-                    color,
-                    Vec4::from((c, o)),
-                    None,
-                ));
-            }
-            if o >= stop_at {
-                return RayOutcome {
-                    color: c,
-                    opacity: o,
-                    samples: taken,
-                    stop: StopReason::Cutoff,
-                };
+            _ => {
+                for i in 0..plan.count {
+                    let k = if back_to_front { plan.count - 1 - i } else { i };
+                    let t = sample_t(plan, k);
+                    let pv = o_v + d_v * t;
+                    if self
+                        .accumulate_sample(&viewing, plan, k, t, pv, None, stop_at, &mut acc, rec)
+                    {
+                        stopped_at = Some(i);
+                        break;
+                    }
+                }
             }
         }
         RayOutcome {
-            color: c,
-            opacity: o,
-            samples: taken,
-            stop: StopReason::LeftVolume,
+            color: acc.c,
+            opacity: acc.o,
+            samples: acc.taken,
+            positions: stopped_at.map_or(plan.count, |k| k + 1),
+            stop: if stopped_at.is_some() {
+                StopReason::Cutoff
+            } else {
+                StopReason::LeftVolume
+            },
         }
+    }
+
+    /// Takes sample `k` (at `t`, voxel position `pv`, in `cell` if already located, seen as `viewing`
+    /// describes) into the
+    /// accumulation; returns true when early termination stops the ray.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn accumulate_sample<R: Recorder>(
+        &self,
+        viewing: &Viewing,
+        plan: &StepPlan,
+        k: u32,
+        t: f32,
+        pv: Vec3,
+        cell: Option<&Cell>,
+        stop_at: f32,
+        acc: &mut Accumulation,
+        rec: &mut R,
+    ) -> bool {
+        let set = &self.s.settings;
+        let v = match (cell, self.interp) {
+            (Some(c), Interpolation::Trilinear) => self.g.to_data(trilinear_in_cell(&self.g, c)),
+            _ => self.value(pv),
+        };
+        acc.taken += 1;
+        let cl = self.classify(v, pv, R::ACTIVE);
+        if !R::ACTIVE && cl.alpha <= 0.0 {
+            return false; // transparent: nothing changes
+        }
+        let ds = segment_length(plan, k, t);
+        let alpha = if set.opacity_correction {
+            correct_opacity(cl.alpha, ds, self.s.dt_ref)
+        } else {
+            cl.alpha
+        };
+        let mut grad = cl.grad;
+        let mut terms = None;
+        let mut color = cl.rgba.truncate();
+        if alpha > 0.0 {
+            (color, grad, terms) = self.shade(color, pv, grad, viewing);
+            (acc.c, acc.o) = if set.order == Order::BackToFront {
+                accumulate_back_to_front(acc.c, acc.o, color, alpha)
+            } else {
+                accumulate_front_to_back(acc.c, acc.o, color, alpha)
+            };
+        }
+        if R::ACTIVE {
+            rec.sample(self.record(
+                k,
+                t,
+                ds,
+                pv,
+                v,
+                &cl,
+                alpha,
+                grad,
+                terms,
+                color,
+                Vec4::from((acc.c, acc.o)),
+                None,
+            ));
+        }
+        acc.o >= stop_at
     }
 
     fn project<R: Recorder>(
@@ -527,6 +666,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             color: rgba.truncate() * rgba.w,
             opacity: rgba.w,
             samples: plan.count,
+            positions: plan.count,
             stop: StopReason::LeftVolume,
         }
     }
@@ -581,6 +721,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
         RayOutcome {
             samples: plan.count,
+            positions: plan.count,
             stop: StopReason::LeftVolume,
             ..RayOutcome::MISS
         }
@@ -616,7 +757,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let t = ta + (tb - ta) * crossing_fraction(va, vb, target);
         let pv = o_v + d_v * t;
         let rgba = self.s.lut.lookup(target);
-        let (color, _, terms) = self.shade(rgba.truncate(), pv, None, -ray.dir);
+        let viewing = Viewing::new(-ray.dir, self.s.light);
+        let (color, _, terms) = self.shade(rgba.truncate(), pv, None, &viewing);
         if R::ACTIVE {
             let value = self.value(pv);
             steps.push(RefineStep { t, value });
@@ -636,6 +778,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             color: color * rgba.w,
             opacity: rgba.w,
             samples,
+            positions: samples,
             stop: StopReason::FirstHit,
         }
     }
@@ -677,6 +820,29 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             color: color.to_array(),
             composite_after: composite_after.to_array(),
             stats_after,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ceil;
+
+    #[test]
+    fn fast_ceil_matches_the_library() {
+        for x in [
+            -2.5f32,
+            -2.0,
+            -0.1,
+            0.0,
+            0.3,
+            1.0,
+            1.0001,
+            7.9e6,
+            1e9,
+            f32::INFINITY,
+        ] {
+            assert_eq!(ceil(x), x.ceil(), "{x}");
         }
     }
 }

@@ -172,9 +172,13 @@ pub struct Lut {
     pub hi: f32,
     /// `(LUT_SIZE − 1) / (hi − lo)`: entries per data unit.
     pub scale: f32,
+    /// `LUT_SIZE − 1` as a float: the largest position in the table.
+    last: f32,
     pub entries: Vec<Vec4>,
     /// For each entry `i`, whether any opacity in `[i, i+1]` is non-zero: used to skip work.
     opaque: Vec<bool>,
+    /// `visible_before[i]`: how many of the entries before `i` have non-zero opacity.
+    visible_before: Vec<u32>,
 }
 
 impl Lut {
@@ -182,10 +186,19 @@ impl Lut {
         let opaque = (0..entries.len())
             .map(|i| entries[i].w > 0.0 || entries.get(i + 1).is_some_and(|e| e.w > 0.0))
             .collect();
+        let mut visible_before = Vec::with_capacity(entries.len() + 1);
+        let mut count = 0u32;
+        for e in &entries {
+            visible_before.push(count);
+            count += (e.w > 0.0) as u32;
+        }
+        visible_before.push(count);
         Self {
+            visible_before,
             lo,
             hi,
             scale: (entries.len() - 1) as f32 / (hi - lo),
+            last: (entries.len() - 1) as f32,
             entries,
             opaque,
         }
@@ -194,10 +207,13 @@ impl Lut {
     /// Position of `value` in entries (clamped), split into index and fraction.
     #[inline(always)]
     pub fn locate(&self, value: f32) -> (usize, f32) {
-        let x = ((value - self.lo) * self.scale)
-            .max(0.0)
-            .min((self.entries.len() - 1) as f32);
-        let i = (x as usize).min(self.entries.len() - 2);
+        let x = crate::sample::fmin(
+            crate::sample::fmax((value - self.lo) * self.scale, 0.0),
+            self.last,
+        );
+        // SAFETY: `fmax` first maps NaN to 0, so x is finite and in [0, LUT_SIZE − 1]: it fits
+        // an i32, and as x ≥ 0 truncation is the floor.
+        let i = (unsafe { x.to_int_unchecked::<i32>() } as usize).min(self.entries.len() - 2);
         (i, x - i as f32)
     }
 
@@ -213,12 +229,19 @@ impl Lut {
     /// Opacity only, with a fast exit where both entries are transparent.
     #[inline(always)]
     pub fn alpha(&self, value: f32) -> f32 {
+        self.lookup_if_visible(value).map_or(0.0, |c| c.w)
+    }
+
+    /// [`Lut::lookup`], or `None` (without reading the entries) where both entries are fully
+    /// transparent.
+    #[inline(always)]
+    pub fn lookup_if_visible(&self, value: f32) -> Option<Vec4> {
         let (i, t) = self.locate(value);
         if !self.opaque[i] {
-            return 0.0;
+            return None;
         }
-        let a = self.entries[i].w;
-        a + (self.entries[i + 1].w - a) * t
+        let a = self.entries[i];
+        Some(a + (self.entries[i + 1] - a) * t)
     }
 
     /// The colour part of [`Lut::lookup`].
@@ -232,14 +255,29 @@ impl Lut {
         self.entries.iter().all(|e| e.w == 0.0)
     }
 
-    /// The largest opacity of the table for values in `[a, b]` (data units): tells whether a
-    /// region whose values lie in that range can contribute at all (empty-space skipping).
+    /// The largest opacity of the table for values in `[a, b]` (data units).
     pub fn max_alpha_in(&self, a: f32, b: f32) -> f32 {
         let (i, _) = self.locate(a.min(b));
         let (j, _) = self.locate(a.max(b));
-        self.entries[i..=(j + 1).min(self.entries.len() - 1)]
+        self.entries[i..=j + 1]
             .iter()
             .fold(0.0f32, |m, e| m.max(e.w))
+    }
+
+    /// Whether any value in `[a, b]` (data units, `a ≤ b`) can have non-zero opacity: every entry
+    /// an interpolation there could read is checked, in constant time (empty-space skipping).
+    #[inline(always)]
+    pub fn any_visible_in(&self, a: f32, b: f32) -> bool {
+        self.visible_counts(b).1 > self.visible_counts(a).0
+    }
+
+    /// For value `v`: how many entries below the first entry an interpolation at `v` reads have
+    /// non-zero opacity, and how many up to and including the last one it reads. A range `[a, b]`
+    /// can be visible iff `visible_counts(b).1 > visible_counts(a).0`.
+    #[inline(always)]
+    pub fn visible_counts(&self, v: f32) -> (u32, u32) {
+        let (i, _) = self.locate(v);
+        (self.visible_before[i], self.visible_before[i + 2])
     }
 }
 
@@ -309,6 +347,15 @@ mod tests {
         assert!(!lut.is_empty());
         let m = lut.max_alpha_in(0.0, 10.0);
         assert!((0.1..0.1 + 1.0 / 4095.0).contains(&m), "{m}");
+        assert!(lut.any_visible_in(0.0, 10.0));
+        assert!(lut.any_visible_in(99.0, 100.0));
+        // Only entry 0 is transparent; a range reading entries 0 and 1 is visible.
+        assert!(lut.any_visible_in(-5.0, 0.0));
+        let lut = TransferFunction::ramp(50.0, 100.0, 1.0)
+            .unwrap()
+            .bake(0.0, 100.0);
+        assert!(!lut.any_visible_in(0.0, 49.9));
+        assert!(lut.any_visible_in(0.0, 50.1));
     }
 
     #[test]

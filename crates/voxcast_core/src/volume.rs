@@ -46,6 +46,9 @@ impl ScalarType {
 /// A scalar type a volume can be made of. Sealed to the four [`ScalarType`]s.
 pub trait Voxel: Copy + Send + Sync + 'static + private::Sealed {
     const TYPE: ScalarType;
+    /// For integer types: `(offset, count)` such that `raw + offset` indexes a table of `count`
+    /// entries covering every value of the type. `None` for floats.
+    const TABLE: Option<(i32, usize)>;
     fn to_f32(self) -> f32;
 }
 
@@ -59,6 +62,7 @@ mod private {
 
 impl Voxel for u8 {
     const TYPE: ScalarType = ScalarType::U8;
+    const TABLE: Option<(i32, usize)> = Some((0, 1 << 8));
     #[inline(always)]
     fn to_f32(self) -> f32 {
         self as f32
@@ -66,6 +70,7 @@ impl Voxel for u8 {
 }
 impl Voxel for i16 {
     const TYPE: ScalarType = ScalarType::I16;
+    const TABLE: Option<(i32, usize)> = Some((1 << 15, 1 << 16));
     #[inline(always)]
     fn to_f32(self) -> f32 {
         self as f32
@@ -73,6 +78,7 @@ impl Voxel for i16 {
 }
 impl Voxel for u16 {
     const TYPE: ScalarType = ScalarType::U16;
+    const TABLE: Option<(i32, usize)> = Some((0, 1 << 16));
     #[inline(always)]
     fn to_f32(self) -> f32 {
         self as f32
@@ -80,6 +86,7 @@ impl Voxel for u16 {
 }
 impl Voxel for f32 {
     const TYPE: ScalarType = ScalarType::F32;
+    const TABLE: Option<(i32, usize)> = None;
     #[inline(always)]
     fn to_f32(self) -> f32 {
         self
@@ -141,6 +148,37 @@ pub struct Grid<'a, T: Voxel> {
     pub slope: f32,
     /// Data units at raw zero.
     pub intercept: f32,
+    /// Largest lattice coordinate per axis, `n − 1`, as a float (for clamping).
+    pub(crate) last: Vec3,
+    /// Largest lower cell corner per axis, `max(n − 2, 0)`.
+    pub(crate) max_lo: [usize; 3],
+    /// Index distance from a cell's lower to its upper corner per axis: `1, nx, nx·ny`, or 0 on
+    /// an axis with one point (both corners are that point).
+    pub(crate) corner_step: [usize; 3],
+}
+
+impl<'a, T: Voxel> Grid<'a, T> {
+    /// A view of `data` (x fastest) with these dimensions; panics if the length does not match
+    /// (a [`Volume`] guarantees it).
+    pub fn new(data: &'a [T], dims: [usize; 3], spacing: Vec3, slope: f32, intercept: f32) -> Self {
+        assert_eq!(data.len(), dims[0] * dims[1] * dims[2], "grid data length");
+        assert!(dims.iter().all(|&n| n > 0), "grid dimensions");
+        let strides = [1, dims[0], dims[0] * dims[1]];
+        Self {
+            data,
+            dims,
+            spacing,
+            slope,
+            intercept,
+            last: Vec3::new(
+                (dims[0] - 1) as f32,
+                (dims[1] - 1) as f32,
+                (dims[2] - 1) as f32,
+            ),
+            max_lo: dims.map(|n| n.saturating_sub(2)),
+            corner_step: [0, 1, 2].map(|a| if dims[a] > 1 { strides[a] } else { 0 }),
+        }
+    }
 }
 
 impl<T: Voxel> Grid<'_, T> {
@@ -180,6 +218,8 @@ pub struct Volume {
     intercept: f32,
     /// (min, max) in data units.
     range: (f32, f32),
+    /// Per-block value ranges for empty-space skipping, computed on first use.
+    blocks: std::sync::OnceLock<crate::skip::BlockRanges>,
 }
 
 impl Volume {
@@ -226,6 +266,7 @@ impl Volume {
             slope,
             intercept,
             range: (a.min(b), a.max(b)),
+            blocks: std::sync::OnceLock::new(),
         })
     }
 
@@ -291,6 +332,13 @@ impl Volume {
         Some(self.data.raw_f32(index) * self.slope + self.intercept)
     }
 
+    /// The value range of each block of cells (empty-space skipping, [`crate::skip`]): computed
+    /// once per volume, on first use.
+    pub fn block_ranges(&self) -> &crate::skip::BlockRanges {
+        self.blocks
+            .get_or_init(|| crate::skip::BlockRanges::of(self))
+    }
+
     /// Hands the typed view of this volume to `visitor`.
     pub fn visit<V: GridVisitor>(&self, visitor: V) -> V::Output {
         let dims = [
@@ -300,13 +348,13 @@ impl Volume {
         ];
         macro_rules! go {
             ($v:expr) => {
-                visitor.visit(Grid {
-                    data: $v,
+                visitor.visit(Grid::new(
+                    $v,
                     dims,
-                    spacing: self.spacing,
-                    slope: self.slope,
-                    intercept: self.intercept,
-                })
+                    self.spacing,
+                    self.slope,
+                    self.intercept,
+                ))
             };
         }
         match &self.data {
@@ -318,7 +366,11 @@ impl Volume {
     }
 }
 
-/// `nx·ny·nz`, checked for zero axes, axes beyond `u32`, and overflow of `usize` and of 2⁴⁰ voxels (a terabyte
+/// The most lattice points along one axis: 2²⁴, where `f32` positions stop resolving single
+/// voxels (and lattice coordinates stay exact, positive `i32`s, which the samplers rely on).
+pub const MAX_AXIS: u64 = 1 << 24;
+
+/// `nx·ny·nz`, checked for zero axes, axes beyond [`MAX_AXIS`], and overflow of `usize` and of 2⁴⁰ voxels (a terabyte
 /// of 8-bit data: far beyond any machine this runs on, small enough that byte counts never wrap).
 pub fn checked_voxel_count(nx: u64, ny: u64, nz: u64) -> Result<u64, VolumeError> {
     if nx == 0 || ny == 0 || nz == 0 {
@@ -329,7 +381,7 @@ pub fn checked_voxel_count(nx: u64, ny: u64, nz: u64) -> Result<u64, VolumeError
         .checked_mul(ny)
         .and_then(|v| v.checked_mul(nz))
         .filter(|&c| c <= MAX_VOXELS && usize::try_from(c).is_ok())
-        .filter(|_| nx.max(ny).max(nz) <= u32::MAX as u64)
+        .filter(|_| nx.max(ny).max(nz) <= MAX_AXIS)
         .ok_or(VolumeError::TooManyVoxels(nx, ny, nz))?;
     Ok(count)
 }

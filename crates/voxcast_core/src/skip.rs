@@ -1,0 +1,469 @@
+//! Empty-space skipping: whole blocks of the volume that the transfer function makes transparent
+//! are crossed without sampling them — exactly, not approximately.
+//!
+//! The lattice cells are grouped into blocks of [`BLOCK`]³ cells ("macrocells", Levoy 1990,
+//! "Efficient ray tracing of volume data"; Parker et al. 1999). For each block the smallest and
+//! largest lattice value is stored over every lattice point its cells touch *plus an apron of one
+//! point on every side*. Any sample whose cell lies in the block — or, through rounding of its
+//! position, in a cell next to it — interpolates only those points, so its value lies in the
+//! block's range; if the transfer function's opacity is zero over that whole range, the sample's
+//! opacity is exactly zero. In Accumulate such a sample changes neither colour nor opacity
+//! (`C + (1 − O)·0·c = C`), so skipping it leaves the image bit for bit the same; the samples
+//! that are taken keep their positions `t_enter + (j + k)·dt`.
+//!
+//! A ray walks the blocks with the 3-D DDA of Amanatides & Woo ("A fast voxel traversal
+//! algorithm for ray tracing", 1987): from block to block it steps along the axis whose next face
+//! is nearest. Samples in empty blocks are skipped, except within a small margin of a face;
+//! samples in other blocks are taken without any further test. Blocks on the volume's border
+//! extend to infinity outwards, because sampling clamps positions outside the lattice onto it.
+//! Skipping is used by the image renderer for Accumulate with table or boundary classification;
+//! the recorded breakdown ([`crate::trace::trace_ray`]) visits every sample.
+
+use crate::sample::{fmax, fmin};
+use crate::transfer::Lut;
+use crate::volume::{Grid, GridVisitor, Volume, Voxel};
+use glam::{UVec3, Vec3};
+use rayon::prelude::*;
+
+/// Cells per block edge.
+pub const BLOCK: usize = 8;
+
+/// Per-block value ranges of a volume, in data units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BlockRanges {
+    /// Blocks per axis.
+    pub blocks: UVec3,
+    /// `(min, max)` per block, x fastest.
+    pub ranges: Vec<(f32, f32)>,
+}
+
+/// Blocks per axis for `n` lattice points: ⌈(n − 1)/BLOCK⌉, at least one.
+fn block_count(n: usize) -> usize {
+    (n - 1).div_ceil(BLOCK).max(1)
+}
+
+impl BlockRanges {
+    /// Scans the volume once (in parallel over z-slabs of blocks).
+    pub fn of(volume: &Volume) -> Self {
+        struct Scan;
+        impl GridVisitor for Scan {
+            type Output = BlockRanges;
+            fn visit<T: Voxel>(self, g: Grid<'_, T>) -> BlockRanges {
+                let nb = [
+                    block_count(g.dims[0]),
+                    block_count(g.dims[1]),
+                    block_count(g.dims[2]),
+                ];
+                // The block's lattice points and a one-point apron, clamped to the lattice.
+                let span = |b: usize, n: usize| {
+                    (
+                        (b * BLOCK).saturating_sub(1),
+                        ((b + 1) * BLOCK + 1).min(n - 1),
+                    )
+                };
+                let ranges: Vec<(f32, f32)> = (0..nb[2])
+                    .into_par_iter()
+                    .flat_map_iter(|bz| {
+                        let mut out = Vec::with_capacity(nb[0] * nb[1]);
+                        for by in 0..nb[1] {
+                            for bx in 0..nb[0] {
+                                let (x0, x1) = span(bx, g.dims[0]);
+                                let (y0, y1) = span(by, g.dims[1]);
+                                let (z0, z1) = span(bz, g.dims[2]);
+                                let mut lo = f32::INFINITY;
+                                let mut hi = f32::NEG_INFINITY;
+                                for k in z0..=z1 {
+                                    for j in y0..=y1 {
+                                        let row = g.index(x0, j, k);
+                                        for v in &g.data[row..=row + (x1 - x0)] {
+                                            let v = v.to_f32();
+                                            lo = fmin(lo, v);
+                                            hi = fmax(hi, v);
+                                        }
+                                    }
+                                }
+                                let (a, b) = (g.to_data(lo), g.to_data(hi));
+                                out.push((a.min(b), a.max(b)));
+                            }
+                        }
+                        out
+                    })
+                    .collect();
+                BlockRanges {
+                    blocks: UVec3::new(nb[0] as u32, nb[1] as u32, nb[2] as u32),
+                    ranges,
+                }
+            }
+        }
+        volume.visit(Scan)
+    }
+}
+
+/// Which blocks the current transfer function makes fully transparent.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmptyBlocks {
+    blocks: [usize; 3],
+    empty: Vec<bool>,
+}
+
+impl EmptyBlocks {
+    /// Marks blocks whose value range (widened by a hair for float rounding) has zero table
+    /// opacity.
+    pub fn new(ranges: &BlockRanges, lut: &Lut) -> Self {
+        let width = (lut.hi - lut.lo).abs();
+        let empty = ranges
+            .ranges
+            .iter()
+            .map(|&(lo, hi)| {
+                let eps = 1e-5 * (width + lo.abs().max(hi.abs()));
+                !lut.any_visible_in(lo - eps, hi + eps)
+            })
+            .collect();
+        Self {
+            blocks: [
+                ranges.blocks.x as usize,
+                ranges.blocks.y as usize,
+                ranges.blocks.z as usize,
+            ],
+            empty,
+        }
+    }
+
+    /// The fraction of blocks marked empty.
+    pub fn empty_fraction(&self) -> f32 {
+        self.empty.iter().filter(|&&e| e).count() as f32 / self.empty.len() as f32
+    }
+
+    /// The block holding the cell with lower lattice corner `cell_lo`, per axis.
+    #[inline(always)]
+    fn block_coords(&self, cell_lo: [usize; 3]) -> [usize; 3] {
+        [0, 1, 2].map(|a| (cell_lo[a] / BLOCK).min(self.blocks[a] - 1))
+    }
+
+    /// Starts a walk through the blocks along a ray given in voxel space for world-unit `t`
+    /// (origin `o_v`, direction `d_v`), at the block holding the cell with lower corner
+    /// `start_cell_lo` (the first sample's).
+    #[inline]
+    pub fn walk(&self, start_cell_lo: [usize; 3], o_v: Vec3, d_v: Vec3) -> BlockWalk {
+        let b = self.block_coords(start_cell_lo);
+        let mut w = BlockWalk {
+            b,
+            step: [0; 3],
+            t_next: Vec3::INFINITY,
+            t_delta: Vec3::INFINITY,
+        };
+        for a in 0..3 {
+            let d = d_v[a];
+            if d > 0.0 {
+                w.step[a] = 1;
+                w.t_delta[a] = BLOCK as f32 / d;
+                if b[a] + 1 < self.blocks[a] {
+                    w.t_next[a] = (((b[a] + 1) * BLOCK) as f32 - o_v[a]) / d;
+                }
+            } else if d < 0.0 {
+                w.step[a] = -1;
+                w.t_delta[a] = BLOCK as f32 / -d;
+                if b[a] > 0 {
+                    w.t_next[a] = ((b[a] * BLOCK) as f32 - o_v[a]) / d;
+                }
+            }
+        }
+        w
+    }
+
+    /// Whether the walk's current block is empty, and the `t` where the ray leaves it
+    /// (infinite for the last block along the ray).
+    #[inline(always)]
+    pub fn current(&self, w: &BlockWalk) -> (bool, f32) {
+        let [x, y, z] = w.b;
+        let empty = self.empty[x + self.blocks[0] * (y + self.blocks[1] * z)];
+        (empty, w.t_next.min_element())
+    }
+
+    /// Moves the walk into the next block along the ray (call while [`EmptyBlocks::current`]'s
+    /// exit is finite).
+    #[inline(always)]
+    pub fn advance(&self, w: &mut BlockWalk) {
+        let t = w.t_next;
+        let a = if t.x <= t.y && t.x <= t.z {
+            0
+        } else if t.y <= t.z {
+            1
+        } else {
+            2
+        };
+        w.b[a] = (w.b[a] as isize + w.step[a] as isize) as usize;
+        let at_border = if w.step[a] > 0 {
+            w.b[a] + 1 == self.blocks[a]
+        } else {
+            w.b[a] == 0
+        };
+        w.t_next[a] = if at_border {
+            f32::INFINITY
+        } else {
+            w.t_next[a] + w.t_delta[a]
+        };
+    }
+}
+
+/// For every lattice cell, whether the transfer function can make any point in it visible: the
+/// finest level of skipping. A sample's value is interpolated from its cell's 8 corners, so it
+/// lies between their smallest and largest value; where the table's opacity is zero over that
+/// range, the sample is transparent and its interpolation can be left out — exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VisibleCells {
+    /// Cells per axis (`n − 1`, or 1 on a one-point axis).
+    cells: [usize; 3],
+    /// Bricks of 4×4×4 cells per axis; each brick is one 64-bit word (bit `x + 4y + 16z`), so a
+    /// ray's consecutive cells mostly share a word.
+    bricks: [usize; 3],
+    bits: Vec<u64>,
+}
+
+impl VisibleCells {
+    /// Classifies every cell of `volume` against `lut` (in parallel over z).
+    pub fn new(volume: &Volume, lut: &Lut) -> Self {
+        struct Scan<'l>(&'l Lut);
+        impl GridVisitor for Scan<'_> {
+            type Output = VisibleCells;
+            fn visit<T: Voxel>(self, g: Grid<'_, T>) -> VisibleCells {
+                let lut = self.0;
+                let cells = g.dims.map(|n| (n - 1).max(1));
+                let bricks = cells.map(|c| c.div_ceil(4));
+                let nx = g.dims[0];
+                let [_, sy, sz] = g.corner_step;
+                let test = RangeTest::new::<T>(&g, lut);
+                let slab = bricks[0] * bricks[1];
+                let mut bits = vec![0u64; slab * bricks[2]];
+                // One z-slab of bricks per task: its words are contiguous.
+                bits.par_chunks_mut(slab)
+                    .enumerate()
+                    .for_each(|(bz, words)| {
+                        let mut columns: Vec<(f32, f32)> = Vec::with_capacity(nx);
+                        for k in bz * 4..(bz * 4 + 4).min(cells[2]) {
+                            for j in 0..cells[1] {
+                                let start = g.index(0, j, k);
+                                // The four lattice rows around this row of cells.
+                                let r = |o: usize| &g.data[start + o..start + o + nx];
+                                let (a, b, c, d) = (r(0), r(sy), r(sz), r(sy + sz));
+                                // Per column i: min and max of the 4 points (i, j..j+1, k..k+1).
+                                columns.clear();
+                                columns.extend(a.iter().zip(b).zip(c).zip(d).map(
+                                    |(((a, b), c), d)| {
+                                        let v = [a.to_f32(), b.to_f32(), c.to_f32(), d.to_f32()];
+                                        (
+                                            fmin(fmin(v[0], v[1]), fmin(v[2], v[3])),
+                                            fmax(fmax(v[0], v[1]), fmax(v[2], v[3])),
+                                        )
+                                    },
+                                ));
+                                let row_words = &mut words[bricks[0] * (j / 4)..];
+                                let bit_yz = 4 * (j % 4) + 16 * (k % 4);
+                                for i in 0..cells[0] {
+                                    let (p, q) = (columns[i], columns[(i + 1).min(nx - 1)]);
+                                    if test.any_visible(&g, lut, fmin(p.0, q.0), fmax(p.1, q.1)) {
+                                        row_words[i / 4] |= 1 << (bit_yz + i % 4);
+                                    }
+                                }
+                            }
+                        }
+                    });
+                VisibleCells {
+                    cells,
+                    bricks,
+                    bits,
+                }
+            }
+        }
+        volume.visit(Scan(lut))
+    }
+
+    /// Whether the cell with lower corner `lo` can be visible.
+    #[inline(always)]
+    pub fn visible(&self, lo: [usize; 3]) -> bool {
+        let word = (lo[0] >> 2) + self.bricks[0] * ((lo[1] >> 2) + self.bricks[1] * (lo[2] >> 2));
+        let bit = (lo[0] & 3) | (lo[1] & 3) << 2 | (lo[2] & 3) << 4;
+        self.bits[word] & (1 << bit) != 0
+    }
+
+    /// The fraction of cells that can be visible.
+    pub fn visible_fraction(&self) -> f32 {
+        let ones: u32 = self.bits.iter().map(|b| b.count_ones()).sum();
+        ones as f32 / (self.cells[0] * self.cells[1] * self.cells[2]) as f32
+    }
+}
+
+/// "Can a value between these two raw values be visible?", answered fast. For integer types two
+/// tables over every raw value give the table's visible-entry counts below and above each value,
+/// so a test is two lookups; for floats the range is converted and looked up directly (widened
+/// by a hair, as float interpolation may round just outside its corners' range).
+enum RangeTest {
+    Table {
+        offset: i32,
+        below: Vec<u32>,
+        above: Vec<u32>,
+        descending: bool,
+    },
+    Float,
+}
+
+impl RangeTest {
+    fn new<T: Voxel>(g: &Grid<'_, T>, lut: &Lut) -> Self {
+        match T::TABLE {
+            Some((offset, count)) => {
+                // Interpolating integers stays inside the corners' range exactly, and so does
+                // the (monotone) rescale: no widening needed.
+                let (below, above) = (0..count)
+                    .map(|r| lut.visible_counts(g.to_data((r as i32 - offset) as f32)))
+                    .unzip();
+                RangeTest::Table {
+                    offset,
+                    below,
+                    above,
+                    descending: g.slope < 0.0,
+                }
+            }
+            None => RangeTest::Float,
+        }
+    }
+
+    /// Whether a value between raw `lo` and `hi` (`lo ≤ hi`) can have non-zero opacity.
+    #[inline(always)]
+    fn any_visible<T: Voxel>(&self, g: &Grid<'_, T>, lut: &Lut, lo: f32, hi: f32) -> bool {
+        match self {
+            RangeTest::Table {
+                offset,
+                below,
+                above,
+                descending,
+            } => {
+                let (a, b) = if *descending { (hi, lo) } else { (lo, hi) };
+                let ia = (a as i32 + offset) as usize;
+                let ib = (b as i32 + offset) as usize;
+                above[ib] > below[ia]
+            }
+            RangeTest::Float => {
+                let (a, b) = (g.to_data(lo), g.to_data(hi));
+                let (lo, hi) = (a.min(b), a.max(b));
+                let eps = 1e-5 * ((lut.hi - lut.lo).abs() + lo.abs().max(hi.abs()));
+                lut.any_visible_in(lo - eps, hi + eps)
+            }
+        }
+    }
+}
+
+/// A ray's position in the block walk (see [`EmptyBlocks::walk`]).
+#[derive(Clone, Copy, Debug)]
+pub struct BlockWalk {
+    b: [usize; 3],
+    step: [i8; 3],
+    /// `t` at which the ray crosses the next block face, per axis.
+    t_next: Vec3,
+    /// `t` between two faces, per axis.
+    t_delta: Vec3,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::transfer::TransferFunction;
+    use crate::volume::VoxelData;
+
+    #[test]
+    fn block_ranges_include_an_apron() {
+        // 17 points per axis: blocks cover points 0..=8 and 8..=16, with aprons 0..=9 and 7..=16.
+        let n = 17u32;
+        let mut data = vec![0u8; (n * n * n) as usize];
+        data[9] = 200; // point (9, 0, 0): in block 1's cells, in block 0's apron
+        data[(16 * n * n) as usize] = 50; // point (0, 0, 16): block (0, 0, 1) only
+        let v = Volume::new("t", UVec3::splat(n), Vec3::ONE, VoxelData::U8(data)).unwrap();
+        let r = BlockRanges::of(&v);
+        assert_eq!(r.blocks, UVec3::new(2, 2, 2));
+        assert_eq!(r.ranges[0], (0.0, 200.0));
+        assert_eq!(r.ranges[1], (0.0, 200.0));
+        assert_eq!(r.ranges[2], (0.0, 0.0));
+        assert_eq!(r.ranges[4], (0.0, 50.0));
+        let tf = TransferFunction::ramp(100.0, 200.0, 1.0).unwrap();
+        let e = EmptyBlocks::new(&r, &tf.bake(0.0, 200.0));
+        assert_eq!(
+            e.empty,
+            vec![false, false, true, true, true, true, true, true]
+        );
+        assert!((e.empty_fraction() - 0.75).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_walk_visits_blocks_in_order_along_the_ray() {
+        let v = Volume::new(
+            "t",
+            UVec3::new(33, 17, 9),
+            Vec3::ONE,
+            VoxelData::U8(vec![0; 33 * 17 * 9]),
+        )
+        .unwrap();
+        let r = BlockRanges::of(&v);
+        let tf = TransferFunction::constant([1.0; 3], 0.0).unwrap();
+        let e = EmptyBlocks::new(&r, &tf.bake(0.0, 1.0));
+        assert_eq!(r.blocks, UVec3::new(4, 2, 1));
+        // Along +x from x = −2 at y = 9: blocks (0,1), (1,1), (2,1), (3,1), leaving at x = 8, 16, 24.
+        let o = Vec3::new(-2.0, 9.0, 4.0);
+        let mut w = e.walk([0, 9, 4], o, Vec3::X);
+        let mut exits = vec![];
+        loop {
+            let (empty, t) = e.current(&w);
+            assert!(empty);
+            exits.push(t);
+            if !t.is_finite() {
+                break;
+            }
+            e.advance(&mut w);
+        }
+        assert_eq!(exits, vec![10.0, 18.0, 26.0, f32::INFINITY]);
+        // Diagonally in −x, −y: faces alternate between the axes.
+        let d = Vec3::new(-1.0, -0.5, 0.0);
+        let mut w = e.walk([31, 15, 0], Vec3::new(31.0, 15.0, 1.0), d);
+        let mut blocks = vec![w.b];
+        while e.current(&w).1.is_finite() {
+            e.advance(&mut w);
+            blocks.push(w.b);
+        }
+        assert_eq!(
+            blocks,
+            vec![[3, 1, 0], [2, 1, 0], [2, 0, 0], [1, 0, 0], [0, 0, 0]]
+        );
+    }
+
+    #[test]
+    fn visible_cells_follow_their_corners() {
+        // 3×2×2 points: two cells along x. Cell 0 spans values 0..=10, cell 1 spans 10..=250.
+        let data = vec![0u8, 10, 250, 0, 10, 10, 0, 10, 10, 0, 10, 10];
+        let v = Volume::new("t", UVec3::new(3, 2, 2), Vec3::ONE, VoxelData::U8(data)).unwrap();
+        let tf = TransferFunction::ramp(100.0, 200.0, 1.0).unwrap();
+        let vis = VisibleCells::new(&v, &tf.bake(0.0, 250.0));
+        assert!(!vis.visible([0, 0, 0]));
+        assert!(vis.visible([1, 0, 0]));
+        assert!((vis.visible_fraction() - 0.5).abs() < 1e-6);
+        // One-point axes have one cell.
+        let v = Volume::new(
+            "t",
+            UVec3::new(1, 1, 1),
+            Vec3::ONE,
+            VoxelData::U8(vec![150]),
+        )
+        .unwrap();
+        assert!(VisibleCells::new(&v, &tf.bake(0.0, 250.0)).visible([0, 0, 0]));
+    }
+
+    #[test]
+    fn one_point_axes_have_one_block() {
+        let v = Volume::new(
+            "t",
+            UVec3::new(1, 1, 20),
+            Vec3::ONE,
+            VoxelData::U8(vec![1; 20]),
+        )
+        .unwrap();
+        let r = BlockRanges::of(&v);
+        assert_eq!(r.blocks, UVec3::new(1, 1, 3));
+    }
+}
