@@ -103,17 +103,17 @@ pub struct SettingsArgs {
     /// Compositing method.
     #[arg(long, value_parser = parse_method)]
     pub method: Option<Method>,
-    #[arg(long, help = t::STEP.doc)]
+    #[arg(long, help = t::STEP.doc, allow_negative_numbers = true)]
     pub step: Option<f32>,
     /// Step in world units instead of voxels (overrides --step).
-    #[arg(long, value_name = "W")]
+    #[arg(long, value_name = "W", allow_negative_numbers = true)]
     pub step_world: Option<f32>,
-    #[arg(long, help = t::REFERENCE_STEP.doc)]
+    #[arg(long, help = t::REFERENCE_STEP.doc, allow_negative_numbers = true)]
     pub reference_step: Option<f32>,
     /// Turn opacity correction off (see --reference-step).
     #[arg(long)]
     pub no_opacity_correction: bool,
-    #[arg(long, help = t::CUTOFF.doc)]
+    #[arg(long, help = t::CUTOFF.doc, allow_negative_numbers = true)]
     pub cutoff: Option<f32>,
     /// Turn early ray termination off.
     #[arg(long)]
@@ -128,30 +128,30 @@ pub struct SettingsArgs {
     pub jitter_seed: Option<u32>,
     #[arg(long, help = t::TARGET.doc, allow_negative_numbers = true)]
     pub target: Option<f32>,
-    #[arg(long, help = t::REFINE_STEPS.doc)]
+    #[arg(long, help = t::REFINE_STEPS.doc, allow_negative_numbers = true)]
     pub refine_steps: Option<u32>,
     /// Reconstruction between lattice points.
     #[arg(long, value_parser = ["nearest", "trilinear"])]
     pub interpolation: Option<String>,
-    #[arg(long, help = t::MAX_SAMPLES.doc)]
+    #[arg(long, help = t::MAX_SAMPLES.doc, allow_negative_numbers = true)]
     pub max_samples: Option<u32>,
-    #[arg(long, help = t::SUPERSAMPLING.doc)]
+    #[arg(long, help = t::SUPERSAMPLING.doc, allow_negative_numbers = true)]
     pub supersampling: Option<u32>,
     #[arg(long, help = t::SHADING.doc, value_parser = ["on", "off"])]
     pub shading: Option<String>,
-    #[arg(long, help = t::AMBIENT.doc)]
+    #[arg(long, help = t::AMBIENT.doc, allow_negative_numbers = true)]
     pub ka: Option<f32>,
-    #[arg(long, help = t::DIFFUSE.doc)]
+    #[arg(long, help = t::DIFFUSE.doc, allow_negative_numbers = true)]
     pub kd: Option<f32>,
-    #[arg(long, help = t::SPECULAR.doc)]
+    #[arg(long, help = t::SPECULAR.doc, allow_negative_numbers = true)]
     pub ks: Option<f32>,
-    #[arg(long, help = t::SHININESS.doc)]
+    #[arg(long, help = t::SHININESS.doc, allow_negative_numbers = true)]
     pub shininess: Option<f32>,
-    #[arg(long, help = t::ATTENUATION_CONSTANT.doc)]
+    #[arg(long, help = t::ATTENUATION_CONSTANT.doc, allow_negative_numbers = true)]
     pub kc: Option<f32>,
-    #[arg(long, help = t::ATTENUATION_LINEAR.doc)]
+    #[arg(long, help = t::ATTENUATION_LINEAR.doc, allow_negative_numbers = true)]
     pub kl: Option<f32>,
-    #[arg(long, help = t::ATTENUATION_QUADRATIC.doc)]
+    #[arg(long, help = t::ATTENUATION_QUADRATIC.doc, allow_negative_numbers = true)]
     pub kq: Option<f32>,
     /// Light: headlight, point:X,Y,Z (world position) or dir:X,Y,Z (direction it shines along).
     #[arg(long, value_parser = parse_light)]
@@ -161,7 +161,7 @@ pub struct SettingsArgs {
     pub specular: Option<String>,
     #[arg(long, help = t::TWO_SIDED.doc, value_parser = ["on", "off"])]
     pub two_sided: Option<String>,
-    #[arg(long, help = t::GRADIENT_THRESHOLD.doc)]
+    #[arg(long, help = t::GRADIENT_THRESHOLD.doc, allow_negative_numbers = true)]
     pub gradient_threshold: Option<f32>,
     /// Classification: table, iso:V1,V2,…[@THICKNESS_VOXELS] (Levoy's isovalue contours), or
     /// boundaries[@FULL_GRADIENT] (Levoy's region boundaries).
@@ -498,9 +498,10 @@ fn parse_camera_spec(spec: &str) -> Result<Camera, CliError> {
             )));
         }
     }
-    let target = match get("target") {
-        Some(_) => vec("target", None)?,
-        None => vec("center", None)?,
+    let eye = vec("eye", None)?;
+    let target = match (get("target"), get("center")) {
+        (None, Some(_)) => vec("center", None)?,
+        _ => vec("target", None)?,
     };
     let projection = match num("ortho")? {
         Some(height) => Projection::Orthographic { height },
@@ -509,7 +510,7 @@ fn parse_camera_spec(spec: &str) -> Result<Camera, CliError> {
         },
     };
     Ok(Camera::new(
-        vec("eye", None)?,
+        eye,
         target,
         vec("up", Some(Vec3::Y))?,
         projection,

@@ -142,9 +142,10 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
                 &timed.image,
             )?;
             eprintln!(
-                "correction {:3}, step {step:>6}: {:.3} s, {:>11} samples, RMSE {:.3}/255",
+                "correction {:3}, step {step:>6}: {:.3} s, {:>11} samples ({} interpolated), RMSE {:.3}/255",
                 tag(correction),
                 timed.median(),
+                timed.stats.positions,
                 timed.stats.samples,
                 diff.rmse * 255.0
             );

@@ -46,8 +46,9 @@ impl Timed {
         median(&self.seconds)
     }
 
+    /// Sample positions per second (skipped empty space included; see [`RenderStats`]).
     pub fn samples_per_second(&self) -> f64 {
-        self.stats.samples as f64 / self.median()
+        self.stats.positions as f64 / self.median()
     }
 }
 
@@ -115,12 +116,14 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         eprintln!("note: {note}");
     }
     let camera = a.camera.camera(&loaded, resolved.preset.as_ref())?;
+    let t_prep = Instant::now();
     let scene = Scene::new(
         &loaded.volume,
         &resolved.transfer,
         &resolved.settings,
         camera.forward(),
     )?;
+    let prep_s = t_prep.elapsed().as_secs_f64();
     let timed = timed_render(&scene, &camera, a.size, a.repeat, a.threads, "rendering")?;
     timed
         .image
@@ -128,7 +131,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::failed(format!("cannot write {}: {e}", a.out.display())))?;
     let s = &resolved.settings;
     println!(
-        "rendered {}×{} {} ({}, step {:.4} voxel) in {:.3} s{}: {} samples, {:.1} M samples/s → {} (loading {:.2} s, excluded)",
+        "rendered {}×{} {} ({}, step {:.4} voxel) in {:.3} s{}: {} samples ({} interpolated, the rest empty space), {:.1} M samples/s → {} (loading {:.2} s and preparation {:.2} s excluded)",
         a.size.0,
         a.size.1,
         loaded.volume.name(),
@@ -140,10 +143,12 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         } else {
             String::new()
         },
+        timed.stats.positions,
         timed.stats.samples,
         timed.samples_per_second() / 1e6,
         a.out.display(),
         load_s,
+        prep_s,
     );
     Ok(())
 }

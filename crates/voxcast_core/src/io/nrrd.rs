@@ -104,7 +104,14 @@ fn parse<R: BufRead + Seek>(
     let expected = count
         .checked_mul(ty.bytes())
         .ok_or_else(|| bad("voxel data size overflows"))?;
+    let encoding = header
+        .encoding
+        .clone()
+        .ok_or_else(|| bad("missing required field 'encoding'"))?;
+    let text = matches!(encoding.as_str(), "ascii" | "text" | "txt");
     let endian = match (header.endian, ty.bytes()) {
+        // ASCII values are parsed, then stored little-endian (see `ascii_values`).
+        _ if text => Endian::Little,
         (Some(e), _) => e,
         (None, 1) => Endian::Little,
         (None, _) => {
@@ -112,10 +119,6 @@ fn parse<R: BufRead + Seek>(
         }
     };
     let spacing = spacing_of(&header, &axis_of, &mut notes)?;
-    let encoding = header
-        .encoding
-        .clone()
-        .ok_or_else(|| bad("missing required field 'encoding'"))?;
 
     // The data: after the header in this file, or in the detached data file.
     let bytes = match (&header.data_file, path) {

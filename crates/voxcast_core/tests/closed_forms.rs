@@ -1,0 +1,260 @@
+//! Closed forms the ray caster must reproduce: Beer–Lambert for constant density, maximum,
+//! minimum and average of a linear ramp, First hit on a sphere, and the lecture's worked example.
+
+mod common;
+
+use common::*;
+use voxcast_core::composite::{Method, Order};
+use voxcast_core::glam::Vec3;
+use voxcast_core::step::Length;
+use voxcast_core::trace::StopReason;
+use voxcast_core::transfer::{ControlPoint, TransferFunction};
+
+/// Constant density with a constant transfer function: with opacity correction the ray's
+/// opacity is 1 − (1 − α)^(L/Δs_ref) = 1 − e^(−σL) whatever the step; without it, 1 − (1 − α)^N.
+#[test]
+fn constant_density_is_beer_lambert_for_any_step() {
+    let v = constant([16, 16, 16], 1.0);
+    let alpha = 0.1f32;
+    let sigma = -(1.0 - alpha as f64).ln(); // per reference step (1 voxel = 1 world unit)
+    let rays = [
+        (Vec3::new(-3.0, 7.5, 7.5), Vec3::X),
+        (Vec3::new(7.3, 20.0, 6.1), Vec3::NEG_Y),
+        (Vec3::new(-5.0, -4.0, -3.0), Vec3::new(1.0, 0.9, 0.8)),
+    ];
+    for (origin, dir) in rays {
+        for dt in [1.0f32, 0.7, 0.33, 2.5, 0.01, 15.0, 100.0] {
+            let mut s = plain(dt);
+            s.opacity_correction = true;
+            let t = trace(&v, &white(alpha), &s, origin, dir);
+            let [a, b] = t.interval.unwrap();
+            let expect = 1.0 - (-sigma * (b - a) as f64).exp();
+            // f32 compositing loses about one rounding per sample.
+            let tol = 2e-5 + 3e-8 * t.samples.len() as f32;
+            close(
+                t.opacity,
+                expect as f32,
+                tol,
+                &format!("corrected, dt {dt}, dir {dir}"),
+            );
+            // Colour 1 everywhere: premultiplied colour equals opacity.
+            close(t.color[0], t.opacity, 1e-5, "C = O for white");
+
+            s.opacity_correction = false;
+            let t = trace(&v, &white(alpha), &s, origin, dir);
+            let n = t.samples.len() as i32;
+            let expect = 1.0 - (1.0 - alpha as f64).powi(n);
+            close(
+                t.opacity,
+                expect as f32,
+                2e-5 + 3e-8 * n as f32,
+                &format!("uncorrected, dt {dt}, {n} samples"),
+            );
+        }
+    }
+}
+
+/// With the reference step equal to the step and correction off, Beer–Lambert holds at the
+/// sample positions: the two settings agree when the span is a whole number of steps.
+#[test]
+fn correction_is_identity_at_the_reference_step() {
+    let v = constant([9, 9, 9], 1.0);
+    let mut s = plain(0.5);
+    s.reference_step = Length::Voxels(0.5);
+    // Along +x through the box [0, 8]: 17 samples, the first and last standing for half a step.
+    let on = trace(&v, &white(0.2), &s, Vec3::new(-1.0, 4.0, 4.0), Vec3::X);
+    close(
+        on.opacity,
+        1.0 - 0.8f32.powi(16),
+        1e-5,
+        "16 reference steps of path",
+    );
+}
+
+/// Maximum, minimum and average of the ramp f = x along oblique rays, against the sample
+/// positions' closed forms.
+#[test]
+fn projections_of_a_linear_ramp() {
+    let v = field([33, 9, 9], Vec3::ONE, |p| p.x);
+    let tf = grey(0.0, 32.0, 1.0);
+    for (dt, dir) in [
+        (0.5f32, Vec3::new(1.0, 0.1, 0.05)),
+        (0.37, Vec3::new(1.0, -0.2, 0.1)),
+        (1.3, Vec3::X),
+    ] {
+        let origin = Vec3::new(-2.0, 4.0, 4.0);
+        let mut s = plain(dt);
+        s.method = Method::Maximum;
+        let t = trace(&v, &tf, &s, origin, dir);
+        let plan = t.plan.unwrap();
+        let d = dir.normalize();
+        let x_at = |k: u32| origin.x + d.x * (plan.t_enter + k as f32 * plan.dt);
+        let last = x_at(plan.count - 1);
+        close(
+            t.projected_value.unwrap(),
+            last,
+            1e-4,
+            "maximum is at the last sample",
+        );
+        close(
+            t.pixel[0],
+            last / 32.0,
+            1e-3,
+            "maximum through the grey ramp",
+        );
+
+        s.method = Method::Minimum;
+        let t = trace(&v, &tf, &s, origin, dir);
+        close(
+            t.projected_value.unwrap(),
+            x_at(0),
+            1e-4,
+            "minimum is at the entry",
+        );
+
+        s.method = Method::Average;
+        let t = trace(&v, &tf, &s, origin, dir);
+        let mean = (x_at(0) + last) / 2.0; // arithmetic series
+        close(
+            t.projected_value.unwrap(),
+            mean,
+            1e-3,
+            "average of equally spaced samples",
+        );
+        assert_eq!(t.samples.len() as u32, plan.count);
+    }
+}
+
+/// First on the field f = R − |p − c|: along the axes through the centre the field is linear
+/// between lattice points, so the hit lies on the sphere exactly; in any direction the hit lies
+/// on the reconstructed surface within 1e-3 voxel, and on the true sphere within the bound of
+/// trilinear reconstruction (3/(8R) for this field).
+#[test]
+fn first_hit_finds_the_sphere() {
+    let c = Vec3::splat(32.0);
+    let r = 20.0f32;
+    let v = field([65, 65, 65], Vec3::ONE, |p| r - (p - c).length());
+    let tf = white(1.0);
+    for dt in [1.0f32, 0.7, 0.25, 2.0] {
+        let mut s = plain(dt);
+        s.method = Method::First;
+        s.target = Some(0.0);
+        for dir in [
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+        ] {
+            let t = trace(&v, &tf, &s, c - dir * 40.0, dir);
+            assert_eq!(t.stop, StopReason::FirstHit);
+            let hit = Vec3::from(t.first_hit.unwrap().p_world);
+            close(
+                (hit - c).length(),
+                r,
+                1e-3,
+                &format!("axis hit, dt {dt}, {dir}"),
+            );
+        }
+        for i in 0..40 {
+            let a = i as f32 * 0.7;
+            let dir = Vec3::new(
+                a.cos() * (a * 0.3).sin(),
+                (a * 0.3).cos(),
+                a.sin() * (a * 0.3).sin(),
+            );
+            let t = trace(&v, &tf, &s, c - dir * 40.0, dir);
+            let h = t.first_hit.expect("every ray through the centre hits");
+            assert!(
+                h.value.abs() <= 1e-3,
+                "on the reconstructed surface: f = {}",
+                h.value
+            );
+            let dist = (Vec3::from(h.p_world) - c).length();
+            close(dist, r, 3.0 / (8.0 * r) + 1e-3, "near the true sphere");
+            // The hit colour is the transfer function at the target, fully opaque.
+            close(t.opacity, 1.0, 0.0, "opaque surface");
+        }
+    }
+}
+
+/// The lecture's worked example: one unit voxel with corner values f1..f8, a ray sampled at
+/// P1(0.2,0.3,0.8), P2(0.5,0.5,0.5), P3(0.8,0.7,0.2), composited back to front.
+#[test]
+fn lecture_worked_example() {
+    // The slides number the corners f1 (0,0,0), f2 (1,0,0), f3 (1,1,0), f4 (0,1,0),
+    // f5 (0,0,1), f6 (1,0,1), f7 (1,1,1), f8 (0,1,1).
+    let f = [5.0f64, 5.1, 5.2, 4.6, 4.9, 5.1, 5.3, 4.7];
+    let at = |p: Vec3| -> f32 {
+        let value = |q: [u8; 3]| match q {
+            [0, 0, 0] => f[0],
+            [1, 0, 0] => f[1],
+            [1, 1, 0] => f[2],
+            [0, 1, 0] => f[3],
+            [0, 0, 1] => f[4],
+            [1, 0, 1] => f[5],
+            [1, 1, 1] => f[6],
+            _ => f[7],
+        };
+        value([p.x as u8, p.y as u8, p.z as u8]) as f32
+    };
+    let v = field([2, 2, 2], Vec3::ONE, at);
+    // The slides' formula, in f64.
+    let formula = |p: f64, q: f64, r: f64| {
+        f[0] * (1.0 - p) * (1.0 - q) * (1.0 - r)
+            + f[1] * p * (1.0 - q) * (1.0 - r)
+            + f[2] * p * q * (1.0 - r)
+            + f[3] * (1.0 - p) * q * (1.0 - r)
+            + f[4] * (1.0 - p) * (1.0 - q) * r
+            + f[5] * p * (1.0 - q) * r
+            + f[6] * p * q * r
+            + f[7] * (1.0 - p) * q * r
+    };
+    let points = [
+        Vec3::new(0.2, 0.3, 0.8),
+        Vec3::new(0.5, 0.5, 0.5),
+        Vec3::new(0.8, 0.7, 0.2),
+    ];
+    // A transfer function for the exercise: grey level and opacity rising with the value.
+    let tf = TransferFunction::new(
+        "lecture",
+        vec![
+            ControlPoint::new(4.5, [0.0; 3], 0.0),
+            ControlPoint::new(5.5, [1.0; 3], 0.8),
+        ],
+    )
+    .unwrap();
+    let step = points[1] - points[0];
+    let mut s = plain(1.0);
+    s.step = Length::World(step.length());
+    s.opacity_correction = false;
+    s.order = Order::BackToFront;
+    // The camera sits at P1 inside the voxel, so sample 0 is P1, then P2, then P3.
+    let t = trace(&v, &tf, &s, points[0], step);
+    assert_eq!(t.samples.len(), 3);
+    let mut c = 0.0f64;
+    let mut o = 0.0f64;
+    // Back to front, by hand: C ← C(1 − α) + c·α, O ← O(1 − α) + α, from P3 to P1.
+    for p in points.iter().rev() {
+        let value = formula(p.x as f64, p.y as f64, p.z as f64);
+        let x = ((value - 4.5) / 1.0).clamp(0.0, 1.0);
+        let (grey, alpha) = (x, 0.8 * x);
+        c = c * (1.0 - alpha) + grey * alpha;
+        o = o * (1.0 - alpha) + alpha;
+    }
+    for (rec, p) in t.samples.iter().rev().zip(points) {
+        close(
+            Vec3::from(rec.p_voxel).distance(p),
+            0.0,
+            1e-5,
+            "sample positions",
+        );
+        let expect = formula(p.x as f64, p.y as f64, p.z as f64) as f32;
+        close(rec.reconstruction.value, expect, 1e-5, "trilinear value");
+        let w: f32 = rec.reconstruction.weights.iter().sum();
+        close(w, 1.0, 1e-6, "weights sum to one");
+    }
+    close(t.color[0], c as f32, 1e-4, "composited colour");
+    close(t.opacity, o as f32, 1e-4, "composited opacity");
+}

@@ -1,0 +1,332 @@
+//! Invariants over random volumes, rays and settings (proptest), and the renderer's guarantees:
+//! the same image for any thread count, skipping that changes nothing, breakdown equal to render.
+
+mod common;
+
+use common::*;
+use proptest::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use voxcast_core::camera::Camera;
+use voxcast_core::classify::Classification;
+use voxcast_core::composite::{Method, Order};
+use voxcast_core::glam::{UVec3, Vec3};
+use voxcast_core::image_out::LinearImage;
+use voxcast_core::ray::Ray;
+use voxcast_core::render::{Cancelled, render, render_with_threads};
+use voxcast_core::sample::Interpolation;
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::shade::Light;
+use voxcast_core::step::Length;
+use voxcast_core::trace::{Scene, trace_ray};
+use voxcast_core::transfer::{ControlPoint, TransferFunction};
+use voxcast_core::{Volume, VoxelData};
+
+fn volume() -> impl Strategy<Value = Volume> {
+    (
+        1u32..7,
+        1u32..7,
+        1u32..7,
+        0.2f32..4.0,
+        0.2f32..4.0,
+        0.2f32..4.0,
+    )
+        .prop_flat_map(|(x, y, z, sx, sy, sz)| {
+            proptest::collection::vec(any::<u8>(), (x * y * z) as usize).prop_map(move |data| {
+                Volume::new(
+                    "random",
+                    UVec3::new(x, y, z),
+                    Vec3::new(sx, sy, sz),
+                    VoxelData::U8(data),
+                )
+                .unwrap()
+            })
+        })
+}
+
+/// A transfer function with transparent stretches (so skipping has work to do).
+fn transfer() -> impl Strategy<Value = TransferFunction> {
+    proptest::collection::vec(
+        (
+            0f32..255.0,
+            0f32..1.0,
+            0f32..1.0,
+            0f32..1.0,
+            prop_oneof![Just(0.0f32), 0f32..1.0],
+        ),
+        1..6,
+    )
+    .prop_map(|points| {
+        let points = points
+            .into_iter()
+            .map(|(v, r, g, b, a)| ControlPoint::new(v, [r, g, b], a))
+            .collect();
+        TransferFunction::new("random", points).unwrap()
+    })
+}
+
+fn settings() -> impl Strategy<Value = RenderSettings> {
+    (
+        prop_oneof![
+            Just(Method::Accumulate),
+            Just(Method::First),
+            Just(Method::Average),
+            Just(Method::Maximum),
+            Just(Method::Minimum)
+        ],
+        0.05f32..3.0,
+        any::<bool>(),
+        any::<bool>(),
+        0f32..=1.0,
+        any::<bool>(),
+        any::<bool>(),
+        prop_oneof![Just(Interpolation::Trilinear), Just(Interpolation::Nearest)],
+        0f32..255.0,
+        prop_oneof![Just(0u8), Just(1), Just(2)],
+    )
+        .prop_map(
+            |(
+                method,
+                step,
+                correction,
+                early,
+                cutoff,
+                jitter,
+                shading,
+                interpolation,
+                target,
+                mode,
+            )| RenderSettings {
+                method,
+                step: Length::Voxels(step),
+                opacity_correction: correction,
+                early_termination: early,
+                cutoff,
+                jitter,
+                shading,
+                interpolation,
+                target: Some(target),
+                phong: voxcast_core::shade::Phong {
+                    light: if mode == 2 {
+                        Light::Point(Vec3::new(-3.0, 5.0, 9.0))
+                    } else {
+                        Light::Headlight
+                    },
+                    kl: 0.05,
+                    ..Default::default()
+                },
+                classification: match mode {
+                    0 => Classification::Table,
+                    1 => Classification::IsoContours {
+                        isovalues: vec![target, 128.0],
+                        thickness_voxels: 1.5,
+                    },
+                    _ => Classification::Boundaries {
+                        full_gradient: None,
+                    },
+                },
+                ..RenderSettings::default()
+            },
+        )
+}
+
+/// A ray from a point around the volume towards a point inside or near it.
+fn ray_for(v: &Volume, from: [f32; 3], to: [f32; 3]) -> Option<Ray> {
+    let (lo, hi) = v.bounds();
+    let size = (hi - lo).max(Vec3::ONE);
+    let origin = lo + Vec3::from(from) * size * 3.0 - size;
+    let target = lo + Vec3::from(to) * size;
+    Ray::new(origin, target - origin)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn every_ray_gives_finite_colours_in_range_and_opacity_never_falls(
+        v in volume(), tf in transfer(), s in settings(),
+        from in proptest::array::uniform3(0f32..1.0), to in proptest::array::uniform3(-0.2f32..1.2),
+    ) {
+        let Some(ray) = ray_for(&v, from, to) else { return Ok(()) };
+        let scene = Scene::new(&v, &tf, &s, ray.dir).unwrap();
+        let t = trace_ray(&scene, &ray, [3, 5]);
+        for c in t.pixel.iter().chain(&t.color).chain([&t.opacity]) {
+            prop_assert!(c.is_finite() && (0.0..=1.0 + 1e-6).contains(c), "{:?}", t.pixel);
+        }
+        if s.method == Method::Accumulate {
+            let mut last = 0.0f32;
+            for rec in &t.samples {
+                let o = rec.composite_after[3];
+                prop_assert!(o >= last, "opacity fell from {} to {}", last, o);
+                prop_assert!((0.0..=1.0).contains(&rec.alpha_corrected));
+                last = o;
+            }
+        }
+    }
+
+    #[test]
+    fn back_to_front_equals_front_to_back(
+        v in volume(), tf in transfer(), mut s in settings(),
+        from in proptest::array::uniform3(0f32..1.0), to in proptest::array::uniform3(0f32..1.0),
+    ) {
+        let Some(ray) = ray_for(&v, from, to) else { return Ok(()) };
+        s.method = Method::Accumulate;
+        s.early_termination = false;
+        let front = trace_ray(&Scene::new(&v, &tf, &s, ray.dir).unwrap(), &ray, [0, 0]);
+        s.order = Order::BackToFront;
+        let back = trace_ray(&Scene::new(&v, &tf, &s, ray.dir).unwrap(), &ray, [0, 0]);
+        for i in 0..3 {
+            prop_assert!((front.color[i] - back.color[i]).abs() < 1e-5, "{:?} vs {:?}", front.color, back.color);
+        }
+        prop_assert!((front.opacity - back.opacity).abs() < 1e-5);
+    }
+
+    #[test]
+    fn skipping_empty_space_changes_no_bit_and_the_breakdown_equals_the_render(
+        v in volume(), tf in transfer(), mut s in settings(),
+        from in proptest::array::uniform3(0.3f32..1.0),
+    ) {
+        s.method = Method::Accumulate;
+        let (lo, hi) = v.bounds();
+        let Ok(camera) = Camera::framing(lo, hi, Vec3::from(from) - 0.2, Vec3::Y) else { return Ok(()) };
+        let skipping = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+        let iso = matches!(s.classification, Classification::IsoContours { .. });
+        prop_assert!(skipping.empty.is_some() || iso);
+        let mut plain_scene = skipping.clone();
+        plain_scene.empty = None;
+        let (a, _) = render_with_threads(&skipping, &camera, 12, 9, 1).unwrap();
+        let (b, _) = render_with_threads(&plain_scene, &camera, 12, 9, 1).unwrap();
+        prop_assert_eq!(&a.pixels, &b.pixels);
+        // The inspector's numbers are the renderer's.
+        for (px, py) in [(0u32, 0u32), (6, 4), (11, 8), (3, 7)] {
+            let t = trace_ray(&skipping, &camera.pixel_ray(px, py, 12, 9), [px, py]);
+            prop_assert_eq!(Vec3::from(t.pixel), a.get(px, py));
+        }
+    }
+}
+
+/// A smooth field (two Gaussian blobs) for convergence measurements.
+fn blobs() -> Volume {
+    field([24, 24, 24], Vec3::ONE, |p| {
+        let a = (-(p - Vec3::new(9.0, 11.0, 12.0)).length_squared() / 30.0).exp();
+        let b = (-(p - Vec3::new(15.0, 13.0, 10.0)).length_squared() / 20.0).exp();
+        a + 0.7 * b
+    })
+}
+
+#[test]
+fn error_shrinks_as_the_step_halves() {
+    let v = blobs();
+    let tf = TransferFunction::new(
+        "smooth",
+        vec![
+            ControlPoint::new(0.0, [0.1, 0.2, 0.9], 0.0),
+            ControlPoint::new(1.2, [1.0, 0.8, 0.2], 0.5),
+        ],
+    )
+    .unwrap();
+    let camera = Camera::framing(
+        Vec3::ZERO,
+        Vec3::splat(23.0),
+        Vec3::new(0.3, 0.5, 1.0),
+        Vec3::Y,
+    )
+    .unwrap();
+    let image = |step: f32, correction: bool| -> LinearImage {
+        let mut s = plain(step);
+        s.opacity_correction = correction;
+        let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+        render_with_threads(&scene, &camera, 32, 32, 2).unwrap().0
+    };
+    for correction in [true, false] {
+        let reference = image(1.0 / 64.0, correction);
+        let errors: Vec<f64> = [2.0, 1.0, 0.5, 0.25, 0.125]
+            .iter()
+            .map(|&dt| image(dt, correction).diff(&reference).unwrap().rmse)
+            .collect();
+        for w in errors.windows(2) {
+            assert!(
+                w[1] < w[0],
+                "correction {correction}: RMSE did not shrink: {errors:?}"
+            );
+        }
+        // With correction the samples approximate one integral and the error falls at least in
+        // proportion to the step; without it, each step size converges to its own, denser image,
+        // and the error against the finest one shrinks only slowly (the lesson of the switch).
+        if correction {
+            assert!(
+                errors[4] < 0.25 * errors[1],
+                "at least first order: {errors:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_image_is_the_same_for_any_thread_count() {
+    let v = blobs();
+    let tf = TransferFunction::ramp(0.0, 1.2, 0.4).unwrap();
+    let mut s = plain(0.5);
+    s.shading = true;
+    s.jitter = true;
+    let camera = Camera::framing(
+        Vec3::ZERO,
+        Vec3::splat(23.0),
+        Vec3::new(1.0, 0.5, 0.3),
+        Vec3::Y,
+    )
+    .unwrap();
+    let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+    let (one, stats) = render_with_threads(&scene, &camera, 40, 30, 1).unwrap();
+    for threads in [2, 3, 8] {
+        let (other, other_stats) = render_with_threads(&scene, &camera, 40, 30, threads).unwrap();
+        assert_eq!(one.pixels, other.pixels, "{threads} threads");
+        assert_eq!(stats, other_stats);
+    }
+}
+
+#[test]
+fn progress_reaches_the_end_and_cancel_stops_the_render() {
+    let v = blobs();
+    let tf = TransferFunction::ramp(0.0, 1.2, 0.4).unwrap();
+    let s = plain(0.5);
+    let camera = Camera::framing(Vec3::ZERO, Vec3::splat(23.0), Vec3::Z, Vec3::Y).unwrap();
+    let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+    let seen = AtomicUsize::new(0);
+    let total = AtomicUsize::new(0);
+    let report = |d: usize, t: usize| {
+        seen.fetch_max(d, Ordering::Relaxed);
+        total.store(t, Ordering::Relaxed);
+    };
+    render(&scene, &camera, 64, 48, &report, &AtomicBool::new(false)).unwrap();
+    assert_eq!(seen.load(Ordering::Relaxed), total.load(Ordering::Relaxed));
+    assert_eq!(total.load(Ordering::Relaxed), 4 * 3, "16-pixel tiles");
+    let cancel = AtomicBool::new(false);
+    let result = render(
+        &scene,
+        &camera,
+        64,
+        48,
+        &|_, _| cancel.store(true, Ordering::Relaxed),
+        &cancel,
+    );
+    assert_eq!(result.err(), Some(Cancelled));
+}
+
+#[test]
+fn supersampling_averages_sub_rays() {
+    let v = blobs();
+    let tf = TransferFunction::ramp(0.0, 1.2, 0.4).unwrap();
+    let mut s: RenderSettings = plain(0.5);
+    s.supersampling = 2;
+    let camera = Camera::framing(Vec3::ZERO, Vec3::splat(23.0), Vec3::Z, Vec3::Y).unwrap();
+    let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+    let (img, stats) = render_with_threads(&scene, &camera, 5, 4, 1).unwrap();
+    assert_eq!(stats.rays, 5 * 4 * 4);
+    // Pixel (2, 1) is the mean of the four rays of the 10×8 image's pixels (4..=5, 2..=3).
+    let mut fine = s.clone();
+    fine.supersampling = 1;
+    let fine_scene = Scene::new(&v, &tf, &fine, camera.forward()).unwrap();
+    let (big, _) = render_with_threads(&fine_scene, &camera, 10, 8, 1).unwrap();
+    let mean = (big.get(4, 2) + big.get(5, 2) + big.get(4, 3) + big.get(5, 3)) / 4.0;
+    assert!((img.get(2, 1) - mean).abs().max_element() < 1e-6);
+}

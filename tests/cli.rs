@@ -1,0 +1,225 @@
+//! The `voxcast` command line, run as a user runs it: outputs, formats, and errors with exit codes.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn voxcast(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn out_dir() -> PathBuf {
+    let d = std::env::temp_dir().join(format!("voxcast-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+#[test]
+fn render_writes_a_png_and_reports_speed() {
+    let png = out_dir().join("shells.png");
+    let o = voxcast(&[
+        "render",
+        "--volume",
+        "builtin:shells",
+        "--size",
+        "48x32",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let line = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        line.contains("samples/s") && line.contains("48×32"),
+        "{line}"
+    );
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (48, 32));
+    assert!(
+        img.pixels().any(|p| p.0 != [0, 0, 0]),
+        "something is visible"
+    );
+}
+
+#[test]
+fn every_method_renders_every_builtin() {
+    for volume in ["bunny", "brainsmall", "shells", "marschner-lobb", "bucky"] {
+        for method in ["accumulate", "first", "average", "maximum", "minimum"] {
+            let png = out_dir().join(format!("{volume}_{method}.png"));
+            let o = voxcast(&[
+                "render",
+                "--volume",
+                &format!("builtin:{volume}"),
+                "--method",
+                method,
+                "--size",
+                "24x24",
+                "--out",
+                png.to_str().unwrap(),
+            ]);
+            assert!(o.status.success(), "{volume} {method}: {}", text(&o));
+        }
+    }
+}
+
+#[test]
+fn trace_prints_json_csv_and_a_table() {
+    let args = [
+        "trace",
+        "--volume",
+        "builtin:bucky",
+        "--origin",
+        "-5,15.5,15.5",
+        "--dir",
+        "1,0,0",
+        "--step",
+        "1",
+    ];
+    let o = voxcast(&[&args[..], &["--json"]].concat());
+    assert!(o.status.success(), "{}", text(&o));
+    let json: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let samples = json["samples"].as_array().unwrap();
+    assert_eq!(samples.len(), 32, "31 voxels at one voxel per step");
+    assert_eq!(
+        samples[0]["reconstruction"]["weights"]
+            .as_array()
+            .unwrap()
+            .len(),
+        8
+    );
+    assert!(json["stop"].is_string());
+    let o = voxcast(&[&args[..], &["--csv"]].concat());
+    let csv = String::from_utf8_lossy(&o.stdout);
+    assert!(csv.starts_with(voxcast_core::breakdown::CSV_HEADER));
+    assert_eq!(csv.lines().filter(|l| !l.starts_with('#')).count(), 33);
+    let o = voxcast(&args);
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("enters at t = 5.0"),
+        "{}",
+        text(&o)
+    );
+    // In voxel space and through a pixel.
+    let o = voxcast(&[
+        "trace",
+        "--volume",
+        "builtin:bunny",
+        "--pixel",
+        "256,256",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = voxcast(&[
+        "trace",
+        "--volume",
+        "builtin:bunny",
+        "--origin",
+        "-1,60,50",
+        "--dir",
+        "1,0,0",
+        "--space",
+        "voxel",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+}
+
+#[test]
+fn info_and_list_describe_what_there_is() {
+    let o = voxcast(&["info", "builtin:brainsmall"]);
+    let t = text(&o);
+    assert!(
+        o.status.success() && t.contains("128 × 128 × 84") && t.contains("uint8"),
+        "{t}"
+    );
+    let o = voxcast(&["list"]);
+    let t = text(&o);
+    assert!(
+        t.contains("marschner-lobb") && t.contains("ct_skin_bone"),
+        "{t}"
+    );
+}
+
+#[test]
+fn bench_writes_its_table_and_plot() {
+    let dir = out_dir();
+    let (report, plot) = (dir.join("bench.md"), dir.join("bench.png"));
+    let o = voxcast(&[
+        "bench",
+        "--volume",
+        "builtin:bucky",
+        "--size",
+        "32x32",
+        "--steps",
+        "2,1",
+        "--repeat",
+        "1",
+        "--report",
+        report.to_str().unwrap(),
+        "--plot",
+        plot.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let md = std::fs::read_to_string(&report).unwrap();
+    assert_eq!(
+        md.lines()
+            .filter(|l| l.starts_with("| on") || l.starts_with("| off"))
+            .count(),
+        4
+    );
+    assert!(image::open(&plot).is_ok());
+}
+
+#[test]
+fn bad_arguments_and_files_fail_clearly() {
+    let cases: &[(&[&str], i32, &str)] = &[
+        (&["render", "--size", "0x10"], 2, "1 to 16384"),
+        (&["render", "--step", "-1"], 2, "step"),
+        (&["render", "--step", "nan"], 2, "step"),
+        (&["render", "--cutoff", "2"], 2, "cutoff"),
+        (&["render", "--method", "sum"], 2, "accumulate"),
+        (&["render", "--camera", "eye=1,2"], 2, "eye"),
+        (
+            &["render", "--camera", "eye=0,0,0,target=0,0,0"],
+            2,
+            "same point",
+        ),
+        (&["render", "--tf", "no_such_preset"], 2, "no_such_preset"),
+        (
+            &["render", "--volume", "/no/such/file.nrrd"],
+            1,
+            "/no/such/file.nrrd",
+        ),
+        (&["render", "--volume", "builtin:teapot"], 1, "teapot"),
+        (
+            &["render", "--volume", "thing.xyz"],
+            1,
+            "unknown file format",
+        ),
+        (&["render", "--classify", "iso:"], 2, "classify"),
+        (
+            &["trace", "--origin", "0,0,0", "--dir", "0,0,0"],
+            2,
+            "non-zero",
+        ),
+        (&["trace", "--pixel", "600,0"], 2, "outside"),
+        (&["info", "/no/such.nii"], 1, "/no/such.nii"),
+    ];
+    for (args, code, needle) in cases {
+        let o = voxcast(args);
+        let t = text(&o);
+        assert_eq!(o.status.code(), Some(*code), "{args:?}: {t}");
+        assert!(
+            t.contains(needle),
+            "{args:?} should mention '{needle}': {t}"
+        );
+        assert!(!t.contains("panicked"), "{args:?}: {t}");
+    }
+}
