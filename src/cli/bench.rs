@@ -11,7 +11,7 @@
 use super::CliError;
 use super::args::{CameraArgs, SettingsArgs, VolumeArgs, parse_size};
 use super::plot::{Series, log_log};
-use super::render::{Timed, timed_render};
+use super::render::{Timed, median, timed_render};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -54,12 +54,20 @@ pub struct BenchArgs {
     /// The step (voxels) at which Voxcast and VTK are compared.
     #[arg(long, default_value_t = 0.5)]
     pub peer_step: f32,
-    /// Timed VTK frames (median reported).
+    /// Timed VTK frames per round (median reported).
     #[arg(long, default_value_t = 5)]
     pub peer_frames: u32,
+    /// Rounds of VTK then Voxcast, alternating, so both see the same machine (timings on a
+    /// shared machine drift); the ratio is of the medians over rounds.
+    #[arg(long, default_value_t = 3)]
+    pub peer_rounds: u32,
     /// Write the markdown report here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// With --report: replace only the block between `<!-- bench:NAME -->` and
+    /// `<!-- /bench:NAME -->` in that file (appended if absent), keeping the rest.
+    #[arg(long, value_name = "NAME", requires = "report")]
+    pub section: Option<String>,
     /// Write the RMSE-vs-time plot (PNG) here.
     #[arg(long)]
     pub plot: Option<PathBuf>,
@@ -79,10 +87,21 @@ struct Row {
 
 /// What the peer measured.
 struct PeerResult {
-    median_s: f64,
+    /// Per round: VTK's median seconds per frame, then Voxcast's median for the same scene.
+    rounds: Vec<(f64, f64)>,
     first_s: f64,
     threads: String,
-    image: Option<LinearImage>,
+    vtk_image: Option<LinearImage>,
+    our_image: LinearImage,
+}
+
+impl PeerResult {
+    fn vtk_median(&self) -> f64 {
+        median(&self.rounds.iter().map(|r| r.0).collect::<Vec<_>>())
+    }
+    fn our_median(&self) -> f64 {
+        median(&self.rounds.iter().map(|r| r.1).collect::<Vec<_>>())
+    }
 }
 
 pub fn run(a: &BenchArgs) -> Result<(), CliError> {
@@ -162,7 +181,7 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     let peer = a
         .peer
         .as_ref()
-        .map(|dir| run_peer(a, dir, &resolved, voxel, threads));
+        .map(|dir| compare_with_peer(a, dir, &loaded.volume, &resolved, &camera, voxel, threads));
     let report = report(
         a,
         &loaded.volume,
@@ -174,7 +193,15 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     );
     println!("{report}");
     if let Some(path) = &a.report {
-        std::fs::write(path, &report)
+        let text = match &a.section {
+            None => report.clone(),
+            Some(name) => replace_section(
+                &std::fs::read_to_string(path).unwrap_or_default(),
+                name,
+                &report,
+            ),
+        };
+        std::fs::write(path, text)
             .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
     }
     if let Some(path) = &a.plot {
@@ -201,6 +228,27 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// `old` with the block between the `bench:NAME` markers replaced by `body` (or appended).
+fn replace_section(old: &str, name: &str, body: &str) -> String {
+    let (open, close) = (
+        format!("<!-- bench:{name} -->"),
+        format!("<!-- /bench:{name} -->"),
+    );
+    let block = format!("{open}\n{}\n{close}", body.trim_end());
+    match (old.find(&open), old.find(&close)) {
+        (Some(a), Some(b)) if b > a => format!("{}{block}{}", &old[..a], &old[b + close.len()..]),
+        _ => format!(
+            "{}{}{block}\n",
+            old,
+            if old.is_empty() || old.ends_with('\n') {
+                ""
+            } else {
+                "\n"
+            }
+        ),
+    }
+}
+
 fn tag(correction: bool) -> &'static str {
     if correction { "on" } else { "off" }
 }
@@ -214,11 +262,14 @@ fn save_image(a: &BenchArgs, name: &str, img: &LinearImage) -> Result<(), CliErr
     Ok(())
 }
 
-/// Runs VTK's fixed-point CPU ray caster on the same inputs.
-fn run_peer(
+/// Renders the same scene with VTK's fixed-point CPU ray caster and with Voxcast, alternating.
+#[allow(clippy::too_many_arguments)]
+fn compare_with_peer(
     a: &BenchArgs,
     dir: &Path,
+    volume: &voxcast_core::Volume,
     resolved: &super::args::Resolved,
+    camera: &voxcast_core::camera::Camera,
     voxel: f32,
     threads: usize,
 ) -> Result<PeerResult, String> {
@@ -226,18 +277,28 @@ fn run_peer(
         .peer_python
         .clone()
         .unwrap_or_else(|| dir.join("venv/bin/python"));
-    let tf = match &a.peer_tf {
-        Some(p) => p.clone(),
-        None => {
-            let name = resolved
-                .preset
-                .as_ref()
-                .map(|p| p.name.clone())
-                .ok_or("give --peer-tf (no preset)")?;
-            dir.join("tf").join(format!("{name}.json"))
+    let out = std::env::temp_dir().join(format!("voxcast-peer-{}", std::process::id()));
+    std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
+    // The peer's own file for the preset if it has one, else this run's transfer function and
+    // settings written in the peer's format.
+    let own = resolved
+        .preset
+        .as_ref()
+        .map(|p| dir.join("tf").join(format!("{}.json", p.name)));
+    let tf = match (&a.peer_tf, own) {
+        (Some(p), _) => p.clone(),
+        (None, Some(p)) if p.exists() => p,
+        _ => {
+            let p = out.join("tf.json");
+            std::fs::write(
+                &p,
+                voxcast_core::peer::to_json(&resolved.transfer, &resolved.settings, voxel),
+            )
+            .map_err(|e| e.to_string())?;
+            p
         }
     };
-    let camera = a
+    let camera_file = a
         .camera
         .camera
         .clone()
@@ -246,8 +307,6 @@ fn run_peer(
     if a.volume.volume.starts_with("builtin:") {
         return Err("the peer needs --volume FILE".into());
     }
-    let out = std::env::temp_dir().join(format!("voxcast-peer-{}", std::process::id()));
-    std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
     let (png, json) = (out.join("vtk.png"), out.join("vtk.json"));
     let method = match resolved.settings.method {
         voxcast_core::composite::Method::Accumulate => "composite",
@@ -255,52 +314,83 @@ fn run_peer(
         voxcast_core::composite::Method::Minimum => "minip",
         other => return Err(format!("VTK's CPU mapper has no {} mode", other.name())),
     };
-    eprintln!("running the VTK peer ({threads} threads)…");
-    let status = Command::new(&python)
-        .arg(dir.join("vtk_render.py"))
-        .args(["--volume", &a.volume.volume])
-        .arg("--tf")
-        .arg(&tf)
-        .args([
-            "--camera",
-            &camera,
-            "--mapper",
-            "fixedpoint",
-            "--blend",
-            method,
-        ])
-        .args(["--sample-distance", &format!("{}", a.peer_step * voxel)])
-        .args(["--size", &a.size.0.to_string(), &a.size.1.to_string()])
-        .args([
-            "--frames",
-            &a.peer_frames.to_string(),
-            "--threads",
-            &threads.to_string(),
-        ])
-        .arg("--out")
-        .arg(&png)
-        .arg("--json-out")
-        .arg(&json)
-        .status()
-        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
-    if !status.success() {
-        return Err(format!("the peer exited with {status}"));
+    let mut settings = resolved.settings.clone();
+    settings.opacity_correction = true;
+    settings.step = Length::Voxels(a.peer_step);
+    let scene = Scene::new(volume, &resolved.transfer, &settings, camera.forward())
+        .map_err(|e| e.to_string())?;
+    let mut rounds = Vec::new();
+    let mut first_s = f64::NAN;
+    let mut fp_threads = String::new();
+    let mut ours = None;
+    for round in 0..a.peer_rounds.max(1) {
+        eprintln!("round {}: the VTK peer ({threads} threads)…", round + 1);
+        let status = Command::new(&python)
+            .arg(dir.join("vtk_render.py"))
+            .args(["--volume", &a.volume.volume])
+            .arg("--tf")
+            .arg(&tf)
+            .args([
+                "--camera",
+                &camera_file,
+                "--mapper",
+                "fixedpoint",
+                "--blend",
+                method,
+            ])
+            .args(["--sample-distance", &format!("{}", a.peer_step * voxel)])
+            .args(["--size", &a.size.0.to_string(), &a.size.1.to_string()])
+            .args([
+                "--frames",
+                &a.peer_frames.to_string(),
+                "--threads",
+                &threads.to_string(),
+            ])
+            .arg("--out")
+            .arg(&png)
+            .arg("--json-out")
+            .arg(&json)
+            .status()
+            .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+        if !status.success() {
+            return Err(format!("the peer exited with {status}"));
+        }
+        let text = std::fs::read_to_string(&json).map_err(|e| e.to_string())?;
+        let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
+        let vtk_s = v["median_s"]
+            .as_f64()
+            .ok_or("no median_s in the peer's JSON")?;
+        first_s = v["first_frame_s"].as_f64().unwrap_or(f64::NAN);
+        fp_threads = v["fixedpoint_threads"].to_string();
+        let timed = timed_render(
+            &scene,
+            camera,
+            a.size,
+            a.repeat,
+            Some(threads),
+            &format!("round {} Voxcast", round + 1),
+        )
+        .map_err(|e| e.to_string())?;
+        eprintln!(
+            "round {}: VTK {vtk_s:.3} s, Voxcast {:.3} s",
+            round + 1,
+            timed.median()
+        );
+        rounds.push((vtk_s, timed.median()));
+        ours = Some(timed.image);
     }
-    let text = std::fs::read_to_string(&json).map_err(|e| e.to_string())?;
-    let v: serde_json::Value = serde_json::from_str(&text).map_err(|e| e.to_string())?;
-    let image = image::open(&png)
+    let vtk_image = image::open(&png)
         .ok()
         .map(|i| LinearImage::from_rgb8(&i.to_rgb8()));
-    if let (Some(dir), Some(img)) = (&a.images, &image) {
+    if let (Some(dir), Some(img)) = (&a.images, &vtk_image) {
         let _ = img.save_png(&dir.join("vtk.png"));
     }
     Ok(PeerResult {
-        median_s: v["median_s"]
-            .as_f64()
-            .ok_or("no median_s in the peer's JSON")?,
-        first_s: v["first_frame_s"].as_f64().unwrap_or(f64::NAN),
-        threads: v["fixedpoint_threads"].to_string(),
-        image,
+        rounds,
+        first_s,
+        threads: fp_threads,
+        vtk_image,
+        our_image: ours.expect("at least one round"),
     })
 }
 
@@ -339,57 +429,79 @@ fn report(
     );
     let _ = writeln!(
         r,
-        "| correction | step (voxels) | time (s) | samples | M samples/s | RMSE (/255) | max error (/255) |"
+        "| correction | step (voxels) | time (s) | samples | M samples/s | interpolated | RMSE (/255) | max error (/255) |"
     );
-    let _ = writeln!(r, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+    let _ = writeln!(
+        r,
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+    );
     for row in rows {
         let _ = writeln!(
             r,
-            "| {} | {} | {:.3} | {} | {:.1} | {:.3} | {:.0} |",
+            "| {} | {} | {:.3} | {} | {:.1} | {} | {:.3} | {:.0} |",
             tag(row.correction),
             row.step,
             row.timed.median(),
-            row.timed.stats.samples,
+            row.timed.stats.positions,
             row.timed.samples_per_second() / 1e6,
+            row.timed.stats.samples,
             row.rmse * 255.0,
             row.max_err * 255.0
         );
     }
     if let Some(peer) = peer {
-        let ours = rows.iter().find(|r| r.correction && r.step == a.peer_step);
-        match (peer, ours) {
-            (Ok(p), Some(o)) => {
+        match peer {
+            Ok(p) => {
                 let diff = p
-                    .image
+                    .vtk_image
                     .as_ref()
-                    .and_then(|img| o.timed.image.diff(img))
+                    .and_then(|img| p.our_image.diff(img))
                     .map_or("n/a".into(), |d| format!("{:.1}/255 RMSE", d.rmse * 255.0));
+                let rounds: Vec<String> = p
+                    .rounds
+                    .iter()
+                    .map(|(v, o)| format!("{v:.3}/{o:.3}"))
+                    .collect();
                 let _ = writeln!(
                     r,
-                    "\nVTK peer (vtkFixedPointVolumeRayCastMapper, {} threads, sample distance {:.4} world units = {} voxel): \
-                     {:.3} s per frame (median; first frame {:.3} s). Voxcast at the same step: {:.3} s. \
-                     **VTK / Voxcast = {:.2}×** (above 1: Voxcast is faster). Image difference Voxcast vs VTK: {}.",
+                    "\nVTK peer (vtkFixedPointVolumeRayCastMapper, {} threads, sample distance {:.4} world units = {} voxel, \
+                     opacity correction on both): {:.3} s per frame, Voxcast {:.3} s (medians over {} alternating rounds; \
+                     VTK/Voxcast per round {}; VTK's first frame {:.3} s). **VTK / Voxcast = {:.2}×** (above 1: Voxcast is \
+                     faster). Image difference Voxcast vs VTK: {}.",
                     p.threads,
                     a.peer_step * voxel,
                     a.peer_step,
-                    p.median_s,
+                    p.vtk_median(),
+                    p.our_median(),
+                    p.rounds.len(),
+                    rounds.join(", "),
                     p.first_s,
-                    o.timed.median(),
-                    p.median_s / o.timed.median(),
+                    p.vtk_median() / p.our_median(),
                     diff
                 );
             }
-            (Err(e), _) => {
+            Err(e) => {
                 let _ = writeln!(r, "\nVTK peer: not measured ({e}).");
-            }
-            (Ok(_), None) => {
-                let _ = writeln!(
-                    r,
-                    "\nVTK peer: step {} is not among --steps, no ratio.",
-                    a.peer_step
-                );
             }
         }
     }
     r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::replace_section;
+
+    #[test]
+    fn sections_are_replaced_in_place_or_appended() {
+        let doc = "# B\n<!-- bench:x -->\nold\n<!-- /bench:x -->\ntail\n";
+        assert_eq!(
+            replace_section(doc, "x", "new"),
+            "# B\n<!-- bench:x -->\nnew\n<!-- /bench:x -->\ntail\n"
+        );
+        assert_eq!(
+            replace_section("# B", "y", "t"),
+            "# B\n<!-- bench:y -->\nt\n<!-- /bench:y -->\n"
+        );
+    }
 }

@@ -164,22 +164,57 @@ impl Camera {
     /// The ray through image position `(x, y)` in pixels from the top-left corner (`x + ½` is
     /// the centre of column `x`), for an image of `width × height` pixels.
     pub fn ray(&self, x: f32, y: f32, width: u32, height: u32) -> Ray {
-        let (r, u, f) = self.basis();
+        self.rays(width, height).ray(x, y)
+    }
+
+    /// The rays of a `width × height` image, with the camera's basis worked out once.
+    pub fn rays(&self, width: u32, height: u32) -> ImageRays {
+        let (right, up, forward) = self.basis();
         let aspect = width as f32 / height as f32;
-        let ndc_x = 2.0 * x / width as f32 - 1.0;
-        let ndc_y = 1.0 - 2.0 * y / height as f32;
-        let (origin, dir) = match self.projection {
-            Projection::Perspective { fov_y_deg } => {
-                let h = (fov_y_deg.to_radians() * 0.5).tan();
-                (
-                    self.eye,
-                    (f + r * (ndc_x * h * aspect) + u * (ndc_y * h)).normalize(),
-                )
-            }
-            Projection::Orthographic { height } => {
-                let h = height * 0.5;
-                (self.eye + r * (ndc_x * h * aspect) + u * (ndc_y * h), f)
-            }
+        let half_height = match self.projection {
+            Projection::Perspective { fov_y_deg } => (fov_y_deg.to_radians() * 0.5).tan(),
+            Projection::Orthographic { height } => height * 0.5,
+        };
+        ImageRays {
+            eye: self.eye,
+            right: right * (half_height * aspect),
+            up: up * half_height,
+            forward,
+            perspective: matches!(self.projection, Projection::Perspective { .. }),
+            inv_size: (1.0 / width as f32, 1.0 / height as f32),
+        }
+    }
+
+    /// The ray through the centre of pixel `(px, py)`.
+    pub fn pixel_ray(&self, px: u32, py: u32, width: u32, height: u32) -> Ray {
+        self.ray(px as f32 + 0.5, py as f32 + 0.5, width, height)
+    }
+}
+
+/// The rays of one image (see [`Camera::rays`]): the camera's basis scaled to the image plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImageRays {
+    eye: Vec3,
+    /// Right and up, scaled to half the view's width and height (at unit distance for a
+    /// perspective camera, in world units for an orthographic one).
+    right: Vec3,
+    up: Vec3,
+    forward: Vec3,
+    perspective: bool,
+    inv_size: (f32, f32),
+}
+
+impl ImageRays {
+    /// The ray through image position `(x, y)` in pixels from the top-left corner.
+    #[inline]
+    pub fn ray(&self, x: f32, y: f32) -> Ray {
+        let ndc_x = 2.0 * x * self.inv_size.0 - 1.0;
+        let ndc_y = 1.0 - 2.0 * y * self.inv_size.1;
+        let offset = self.right * ndc_x + self.up * ndc_y;
+        let (origin, dir) = if self.perspective {
+            (self.eye, (self.forward + offset).normalize())
+        } else {
+            (self.eye + offset, self.forward)
         };
         Ray {
             origin,
@@ -187,11 +222,6 @@ impl Camera {
             t_min: 0.0,
             t_max: f32::INFINITY,
         }
-    }
-
-    /// The ray through the centre of pixel `(px, py)`.
-    pub fn pixel_ray(&self, px: u32, py: u32, width: u32, height: u32) -> Ray {
-        self.ray(px as f32 + 0.5, py as f32 + 0.5, width, height)
     }
 }
 

@@ -105,6 +105,30 @@ impl PeerTransfer {
     }
 }
 
+/// Writes `transfer` and the rendering fields of `settings` as the peer's JSON, so VTK renders
+/// what Voxcast renders (the reference step goes out in world units; `voxel` is the smallest
+/// spacing). Levoy classification, attenuation, point lights and jitter have no equivalent there.
+pub fn to_json(transfer: &TransferFunction, settings: &RenderSettings, voxel: f32) -> String {
+    let p = transfer.points();
+    let mut v = serde_json::json!({
+        "name": transfer.name,
+        "color": p.iter().map(|c| [c.value, c.color[0], c.color[1], c.color[2]]).collect::<Vec<_>>(),
+        "opacity": p.iter().map(|c| [c.value, c.alpha]).collect::<Vec<_>>(),
+        "opacity_unit_distance": settings.reference_step.world(voxel),
+        "interpolation": match settings.interpolation { Interpolation::Trilinear => "linear", Interpolation::Nearest => "nearest" },
+        "shade": settings.shading,
+        "ambient": settings.phong.ka,
+        "diffuse": settings.phong.kd,
+        "specular": settings.phong.ks,
+        "specular_power": settings.phong.shininess,
+        "background": settings.background,
+    });
+    if let Some(t) = settings.target {
+        v["iso_values"] = serde_json::json!([t]);
+    }
+    serde_json::to_string_pretty(&v).expect("serialises")
+}
+
 /// Whether `text` looks like the peer's format (separate `color` and `opacity` lists).
 pub fn is_peer_json(text: &str) -> bool {
     serde_json::from_str::<serde_json::Value>(text)
@@ -251,6 +275,18 @@ mod tests {
         assert_eq!(s.phong.shininess, 20.0);
         assert_eq!(s.target, Some(400.0));
         assert_eq!(s.background, Vec3::new(0.1, 0.2, 0.3));
+    }
+
+    #[test]
+    fn writing_and_reading_back_is_lossless() {
+        let p = from_json(CT).unwrap();
+        let mut s = RenderSettings::default();
+        p.apply(&mut s);
+        let back = from_json(&to_json(&p.transfer, &s, 0.5)).unwrap();
+        assert_eq!(back.transfer.points(), p.transfer.points());
+        let mut s2 = RenderSettings::default();
+        back.apply(&mut s2);
+        assert_eq!(s2, s);
     }
 
     #[test]

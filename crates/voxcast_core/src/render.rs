@@ -134,6 +134,7 @@ fn render_typed<T: Voxel>(
     let n = scene.settings.supersampling.max(1);
     let inv_rays = 1.0 / (n * n) as f32;
     let background = scene.settings.background;
+    let rays = camera.rays(width, height);
 
     let tiles: Vec<Option<TileResult>> = (0..total as u32)
         .into_par_iter()
@@ -155,7 +156,7 @@ fn render_typed<T: Voxel>(
                         for sx in 0..n {
                             let x = px as f32 + (sx as f32 + 0.5) / n as f32;
                             let y = py as f32 + (sy as f32 + 0.5) / n as f32;
-                            let ray = camera.ray(x, y, width, height);
+                            let ray = rays.ray(x, y);
                             let jitter = scene.jitter([px * n + sx, py * n + sy]);
                             let out = marcher.march(&ray, jitter, &mut NoRecord);
                             samples += out.samples as u64;

@@ -254,12 +254,76 @@ pub fn gradient<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3, interpolation: Interpo
         }
     }
     // Four-lane SIMD for the three components; the same operations in the same order as scalar.
-    let lx = |a: Vec3A, b: Vec3A| a + (b - a) * c.t.x;
+    blend_corner_gradients(&gc, c.t) * gradient_scale(g)
+}
+
+/// Lattice differences of one point, per axis, as exact integers: `f(i+1) − f(i−1)` inside,
+/// `2·(f(1) − f(0))` and `2·(f(n−1) − f(n−2))` at the borders, 0 on a one-point axis — so that
+/// `D·½` is [`lattice_difference`] exactly. The fourth lane pads each point to 8 bytes.
+pub type Differences = [i16; 4];
+
+/// Every lattice point's [`Differences`], for integer volumes whose range keeps them within
+/// `i16` (`max − min ≤ 16383`): gradients then read 8 points instead of 32, with the very same
+/// result. `None` for float volumes and wider ranges (gradients are then computed directly).
+pub fn lattice_differences<T: Voxel>(g: &Grid<'_, T>) -> Option<Vec<Differences>> {
+    T::TABLE?;
+    let (lo, hi) = g
+        .data
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), v| {
+            (fmin(a, v.to_f32()), fmax(b, v.to_f32()))
+        });
+    if hi - lo > 16383.0 {
+        return None;
+    }
+    use rayon::prelude::*;
+    let [nx, ny, _] = g.dims;
+    let mut out = vec![[0i16; 4]; g.data.len()];
+    out.par_chunks_mut(nx)
+        .enumerate()
+        .for_each(|(row, points)| {
+            let (j, k) = (row % ny, row / ny);
+            for (i, d) in points.iter_mut().enumerate() {
+                for (a, out) in d.iter_mut().take(3).enumerate() {
+                    *out = (lattice_difference(g, [i, j, k], a) * 2.0) as i16;
+                }
+            }
+        });
+    Some(out)
+}
+
+/// [`gradient`], reading precomputed [`lattice_differences`] (bit for bit the same result).
+#[inline]
+pub fn gradient_from_differences<T: Voxel>(
+    g: &Grid<'_, T>,
+    diffs: &[Differences],
+    p_voxel: Vec3,
+    interpolation: Interpolation,
+) -> Vec3 {
+    let as_vec = |d: &Differences| Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32) * 0.5;
+    if interpolation == Interpolation::Nearest {
+        let [i, j, k] = nearest_index(g.dims, p_voxel);
+        return Vec3::from(as_vec(&diffs[g.index(i, j, k)])) * gradient_scale(g);
+    }
+    let c = cell(g, p_voxel);
+    let [dx, dy, dz] = g.corner_step;
+    let base = c.lo[0] + g.dims[0] * (c.lo[1] + g.dims[1] * c.lo[2]);
+    let d = &diffs[base..=base + dx + dy + dz];
+    let offsets = [0, dx, dy, dy + dx, dz, dz + dx, dz + dy, dz + dy + dx];
+    // SAFETY: every offset is a sum of some of dx, dy, dz, so below d.len().
+    let gc = offsets.map(|o| as_vec(unsafe { d.get_unchecked(o) }));
+    blend_corner_gradients(&gc, c.t) * gradient_scale(g)
+}
+
+/// The trilinear blend of 8 corner vectors (corners `a + 2b + 4c`), x then y then z.
+#[inline(always)]
+fn blend_corner_gradients(gc: &[Vec3A; 8], t: Vec3) -> Vec3 {
+    let lx = |a: Vec3A, b: Vec3A| a + (b - a) * t.x;
     let (x00, x10) = (lx(gc[0], gc[1]), lx(gc[2], gc[3]));
     let (x01, x11) = (lx(gc[4], gc[5]), lx(gc[6], gc[7]));
-    let y0 = x00 + (x10 - x00) * c.t.y;
-    let y1 = x01 + (x11 - x01) * c.t.y;
-    Vec3::from(y0 + (y1 - y0) * c.t.z) * gradient_scale(g)
+    let y0 = x00 + (x10 - x00) * t.y;
+    let y1 = x01 + (x11 - x01) * t.y;
+    Vec3::from(y0 + (y1 - y0) * t.z)
 }
 
 /// Everything about one reconstruction, for the ray inspector: the 8 corners (lattice indices,
@@ -399,6 +463,35 @@ mod tests {
                 "{gr}"
             );
         }
+    }
+
+    #[test]
+    fn precomputed_differences_give_the_same_gradient_bit_for_bit() {
+        // An integer field with borders, a one-point axis and big differences.
+        for dims in [[5usize, 4, 3], [6, 1, 4], [2, 2, 2]] {
+            let n = dims[0] * dims[1] * dims[2];
+            let data: Vec<i16> = (0..n).map(|i| ((i * 7919) % 4000) as i16 - 1000).collect();
+            let g = Grid::new(&data, dims, Vec3::new(0.7, 1.3, 2.0), 1.5, -3.0);
+            let diffs = lattice_differences(&g).unwrap();
+            for interp in [Interpolation::Trilinear, Interpolation::Nearest] {
+                for i in 0..60 {
+                    let f = i as f32;
+                    let p = Vec3::new(
+                        (f * 0.37) % 6.0 - 0.5,
+                        (f * 0.61) % 4.5 - 0.3,
+                        (f * 0.23) % 3.5 - 0.2,
+                    );
+                    let a = gradient(&g, p, interp);
+                    let b = gradient_from_differences(&g, &diffs, p, interp);
+                    assert_eq!(a, b, "{dims:?} {interp:?} at {p}");
+                }
+            }
+        }
+        // Too wide a range for exact i16 differences: computed directly instead.
+        let wide: Vec<i16> = vec![-20000, 20000];
+        assert!(lattice_differences(&Grid::new(&wide, [2, 1, 1], Vec3::ONE, 1.0, 0.0)).is_none());
+        let floats = [0.5f32, 1.5];
+        assert!(lattice_differences(&Grid::new(&floats, [2, 1, 1], Vec3::ONE, 1.0, 0.0)).is_none());
     }
 
     #[test]

@@ -281,9 +281,54 @@ impl VisibleCells {
     /// Whether the cell with lower corner `lo` can be visible.
     #[inline(always)]
     pub fn visible(&self, lo: [usize; 3]) -> bool {
-        let word = (lo[0] >> 2) + self.bricks[0] * ((lo[1] >> 2) + self.bricks[1] * (lo[2] >> 2));
+        self.lookup(lo) == Cell::Visible
+    }
+
+    /// The cell's state: visible, invisible, or in a brick with no visible cell at all.
+    #[inline(always)]
+    pub fn lookup(&self, lo: [usize; 3]) -> Cell {
+        let word = self.bits
+            [(lo[0] >> 2) + self.bricks[0] * ((lo[1] >> 2) + self.bricks[1] * (lo[2] >> 2))];
         let bit = (lo[0] & 3) | (lo[1] & 3) << 2 | (lo[2] & 3) << 4;
-        self.bits[word] & (1 << bit) != 0
+        if word & (1 << bit) != 0 {
+            Cell::Visible
+        } else if word == 0 {
+            Cell::EmptyBrick
+        } else {
+            Cell::Invisible
+        }
+    }
+
+    /// For a sample at voxel position `pv` in the cell `lo` of an empty brick: if `pv` lies
+    /// more than [`BRICK_MARGIN`] inside the brick, the `t` where the ray (origin `o_v`, inverse
+    /// direction `inv_d`, voxel space, world-unit `t`) leaves the brick shrunk by that margin.
+    /// Every sample before that `t` lies inside the brick by more than any rounding of its
+    /// position, so its cell is one of the brick's — all invisible.
+    #[inline]
+    pub fn brick_exit(&self, lo: [usize; 3], pv: Vec3, o_v: Vec3, inv_d: Vec3) -> Option<f32> {
+        let mut t_exit = f32::INFINITY;
+        for a in 0..3 {
+            let b = lo[a] >> 2;
+            // Border bricks extend outwards without limit (positions outside are clamped in).
+            let low = if b == 0 {
+                f32::NEG_INFINITY
+            } else {
+                (b * 4) as f32 + BRICK_MARGIN
+            };
+            let high = if b + 1 == self.bricks[a] {
+                f32::INFINITY
+            } else {
+                (b * 4 + 4) as f32 - BRICK_MARGIN
+            };
+            if !(pv[a] > low && pv[a] < high) {
+                return None;
+            }
+            let face = if inv_d[a] > 0.0 { high } else { low };
+            if face.is_finite() && inv_d[a] != 0.0 {
+                t_exit = t_exit.min((face - o_v[a]) * inv_d[a]);
+            }
+        }
+        Some(t_exit)
     }
 
     /// The fraction of cells that can be visible.
@@ -292,6 +337,18 @@ impl VisibleCells {
         ones as f32 / (self.cells[0] * self.cells[1] * self.cells[2]) as f32
     }
 }
+
+/// A cell's state in [`VisibleCells`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cell {
+    Visible,
+    Invisible,
+    /// Invisible, and so is every cell of its 4×4×4 brick.
+    EmptyBrick,
+}
+
+/// How far inside an empty brick (in voxels) a sample must lie for the brick to be skipped.
+pub const BRICK_MARGIN: f32 = 1e-3;
 
 /// "Can a value between these two raw values be visible?", answered fast. For integer types two
 /// tables over every raw value give the table's visible-entry counts below and above each value,
@@ -452,6 +509,35 @@ mod tests {
         )
         .unwrap();
         assert!(VisibleCells::new(&v, &tf.bake(0.0, 250.0)).visible([0, 0, 0]));
+    }
+
+    #[test]
+    fn empty_bricks_are_left_at_their_shrunk_faces() {
+        // 9 points along x (8 cells = 2 bricks); only the last cell can be seen.
+        let mut data = vec![0u8; 9 * 2 * 2];
+        for j in 0..2 {
+            for k in 0..2 {
+                data[8 + 9 * (j + 2 * k)] = 200;
+            }
+        }
+        let v = Volume::new("t", UVec3::new(9, 2, 2), Vec3::ONE, VoxelData::U8(data)).unwrap();
+        let tf = TransferFunction::ramp(100.0, 200.0, 1.0).unwrap();
+        let vis = VisibleCells::new(&v, &tf.bake(0.0, 200.0));
+        assert_eq!(vis.lookup([0, 0, 0]), Cell::EmptyBrick);
+        assert_eq!(vis.lookup([5, 0, 0]), Cell::Invisible);
+        assert_eq!(vis.lookup([7, 0, 0]), Cell::Visible);
+        let inv = 1.0 / Vec3::X;
+        let o = Vec3::new(-3.0, 0.5, 0.5);
+        // From x = 1, leave brick 0 just before x = 4.
+        let t = vis
+            .brick_exit([1, 0, 0], Vec3::new(1.0, 0.5, 0.5), o, inv)
+            .unwrap();
+        assert!((t - (7.0 - BRICK_MARGIN)).abs() < 1e-5, "{t}");
+        // Too close to the face to skip.
+        assert!(
+            vis.brick_exit([3, 0, 0], Vec3::new(3.9999, 0.5, 0.5), o, inv)
+                .is_none()
+        );
     }
 
     #[test]

@@ -19,11 +19,12 @@ use crate::error::SettingsError;
 use crate::hash::jitter_fraction;
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
-    Cell, Interpolation, SampleDetail, cell, gradient, sample, sample_detail, trilinear_in_cell,
+    Cell, Interpolation, SampleDetail, cell, gradient, gradient_from_differences, sample,
+    sample_detail, trilinear_in_cell,
 };
 use crate::settings::RenderSettings;
 use crate::shade::{Phong, ResolvedLight, ShadeTerms, Viewing, shade};
-use crate::skip::{EmptyBlocks, VisibleCells};
+use crate::skip::{Cell as CellState, EmptyBlocks, VisibleCells};
 use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
 use crate::transfer::{Lut, TransferFunction};
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
@@ -48,6 +49,8 @@ pub struct Scene<'a> {
     pub bounds: (Vec3, Vec3),
     /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
     pub empty: Option<(EmptyBlocks, VisibleCells)>,
+    /// Precomputed lattice differences, when gradients are needed and they exist.
+    pub differences: Option<&'a [crate::sample::Differences]>,
 }
 
 /// `x.ceil()` without the library call that baseline x86-64 makes of it (no SSE4.1 `roundss`).
@@ -86,8 +89,15 @@ impl<'a> Scene<'a> {
                 VisibleCells::new(volume, &lut),
             )
         });
+        let needs_gradient = settings.shading || classifier != Classifier::Table;
+        let differences = if needs_gradient {
+            volume.lattice_differences()
+        } else {
+            None
+        };
         Ok(Self {
             empty,
+            differences,
             volume,
             classifier,
             light: settings.phong.light.resolve(view_forward),
@@ -365,7 +375,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
 
     #[inline(always)]
     fn gradient(&self, pv: Vec3) -> Vec3 {
-        gradient(&self.g, pv, self.interp)
+        match self.s.differences {
+            Some(d) => gradient_from_differences(&self.g, d, pv, self.interp),
+            None => gradient(&self.g, pv, self.interp),
+        }
     }
 
     /// Colour and opacity of value `v` at `pv`: the table, then the classifier. Unless `full`
@@ -482,6 +495,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
                 let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
                 let mut walk = blocks.walk(first, o_v, d_v);
+                let inv_d = 1.0 / d_v;
                 let mut k = 0u32;
                 'blocks: loop {
                     let (is_empty, t_out) = blocks.current(&walk);
@@ -502,21 +516,42 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                             }
                             let pv = o_v + d_v * t;
                             let here = cell(&self.g, pv);
-                            if cells.visible(here.lo)
-                                && self.accumulate_sample(
-                                    &viewing,
-                                    plan,
-                                    k,
-                                    t,
-                                    pv,
-                                    Some(&here),
-                                    stop_at,
-                                    &mut acc,
-                                    rec,
-                                )
-                            {
-                                stopped_at = Some(k);
-                                break 'blocks;
+                            match cells.lookup(here.lo) {
+                                CellState::Visible => {
+                                    let stop = self.accumulate_sample(
+                                        &viewing,
+                                        plan,
+                                        k,
+                                        t,
+                                        pv,
+                                        Some(&here),
+                                        stop_at,
+                                        &mut acc,
+                                        rec,
+                                    );
+                                    if stop {
+                                        stopped_at = Some(k);
+                                        break 'blocks;
+                                    }
+                                }
+                                CellState::EmptyBrick => {
+                                    // Skip the rest of the brick (see `VisibleCells::brick_exit`).
+                                    if let Some(t_brick) = cells.brick_exit(here.lo, pv, o_v, inv_d)
+                                    {
+                                        let t_skip = t_brick.min(t_out);
+                                        let next =
+                                            ceil((t_skip - plan.t_enter) / plan.dt - plan.jitter);
+                                        if next > (k + 1) as f32 {
+                                            k = if next >= plan.count as f32 {
+                                                plan.count
+                                            } else {
+                                                next as u32
+                                            };
+                                            continue;
+                                        }
+                                    }
+                                }
+                                CellState::Invisible => {}
                             }
                             k += 1;
                         }

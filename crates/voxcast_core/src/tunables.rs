@@ -285,6 +285,32 @@ pub const ALL: &[Tunable] = &[
 mod tests {
     use super::*;
 
+    /// The text never contradicts the code: a default quoted in a doc is the default.
+    #[test]
+    fn quoted_defaults_match_the_values() {
+        for t in ALL {
+            let doc = t.doc.to_lowercase();
+            let Some(pos) = doc.rfind("default") else {
+                panic!("{} does not state its default", t.key);
+            };
+            let quoted = &doc[pos + "default".len()..];
+            let word = quoted
+                .split_whitespace()
+                .next()
+                .unwrap_or("")
+                .trim_end_matches(['.', ',', ')']);
+            match word {
+                "on" => assert_eq!(t.default, 1.0, "{}", t.key),
+                "off" => assert_eq!(t.default, 0.0, "{}", t.key),
+                _ => match word.parse::<f32>() {
+                    Ok(v) => assert_eq!(v, t.default, "{}: doc says {v}", t.key),
+                    // Defaults that depend on the volume or preset are described in words.
+                    Err(_) => assert!(t.default == 0.0, "{}: unparsed default '{word}'", t.key),
+                },
+            }
+        }
+    }
+
     #[test]
     fn every_tunable_is_documented_and_its_default_in_range() {
         let mut keys = std::collections::HashSet::new();

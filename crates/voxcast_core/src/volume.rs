@@ -220,7 +220,13 @@ pub struct Volume {
     range: (f32, f32),
     /// Per-block value ranges for empty-space skipping, computed on first use.
     blocks: std::sync::OnceLock<crate::skip::BlockRanges>,
+    /// Lattice differences for fast exact gradients, computed on first use where they fit.
+    differences: std::sync::OnceLock<Option<Vec<crate::sample::Differences>>>,
 }
+
+/// The most memory precomputed gradients may take (8 bytes a voxel): beyond it, gradients are
+/// computed from the values each time (same result, slower).
+pub const MAX_DIFFERENCE_BYTES: usize = 1 << 30;
 
 impl Volume {
     /// Validates and builds a volume: every axis at least one voxel, the data length equal to the
@@ -267,6 +273,7 @@ impl Volume {
             intercept,
             range: (a.min(b), a.max(b)),
             blocks: std::sync::OnceLock::new(),
+            differences: std::sync::OnceLock::new(),
         })
     }
 
@@ -337,6 +344,26 @@ impl Volume {
     pub fn block_ranges(&self) -> &crate::skip::BlockRanges {
         self.blocks
             .get_or_init(|| crate::skip::BlockRanges::of(self))
+    }
+
+    /// Every lattice point's exact integer differences (see
+    /// [`crate::sample::lattice_differences`]), computed once on first use; `None` for float
+    /// data, ranges too wide for them, and volumes above [`MAX_DIFFERENCE_BYTES`].
+    pub fn lattice_differences(&self) -> Option<&[crate::sample::Differences]> {
+        self.differences
+            .get_or_init(|| {
+                struct Build;
+                impl GridVisitor for Build {
+                    type Output = Option<Vec<crate::sample::Differences>>;
+                    fn visit<T: Voxel>(self, g: Grid<'_, T>) -> Self::Output {
+                        crate::sample::lattice_differences(&g)
+                    }
+                }
+                (self.voxel_count() * 8 <= MAX_DIFFERENCE_BYTES)
+                    .then(|| self.visit(Build))
+                    .flatten()
+            })
+            .as_deref()
     }
 
     /// Hands the typed view of this volume to `visitor`.
