@@ -8,9 +8,11 @@
 //! between its own breakpoints, so also between the finer union).
 //!
 //! The file's rendering fields become settings: `opacity_unit_distance` → reference step (world
-//! units, as VTK corrects `1 − (1 − a)^(d/unit)`), `shade`/`ambient`/`diffuse`/`specular`/
-//! `specular_power` → Phong with a headlight (VTK's default light), `interpolation`, the first of
-//! `iso_values` → First's target, `background`. VTK-only fields Voxcast does not model
+//! units, as VTK corrects `1 − (1 − a)^(d/unit)`), `shade`/`diffuse`/`specular`/`specular_power`
+//! → Phong with a headlight (VTK's default light), `interpolation`, the first of `iso_values` →
+//! First's target, `background`. VTK's default light has a black *ambient* colour
+//! (vtkEncodedGradientShader multiplies the material's ambient by it), so the file's `ambient`
+//! has no effect in VTK; Voxcast sets `ka = 0` to render the same picture, and says so. VTK-only fields Voxcast does not model
 //! (`gradient_opacity`, `average_range`) are reported as notes.
 
 use crate::error::SettingsError;
@@ -117,6 +119,7 @@ pub fn to_json(transfer: &TransferFunction, settings: &RenderSettings, voxel: f3
         "opacity_unit_distance": settings.reference_step.world(voxel),
         "interpolation": match settings.interpolation { Interpolation::Trilinear => "linear", Interpolation::Nearest => "nearest" },
         "shade": settings.shading,
+        // VTK ignores it under its default light (see the module docs).
         "ambient": settings.phong.ka,
         "diffuse": settings.phong.kd,
         "specular": settings.phong.ks,
@@ -192,6 +195,12 @@ pub fn from_json(text: &str) -> Result<PeerTransfer, SettingsError> {
             "'gradient_opacity' (VTK-specific) is not modelled; try --classify boundaries".into(),
         );
     }
+    if p.ambient.is_some_and(|a| a != 0.0) && p.shade == Some(true) {
+        notes.push(format!(
+            "'ambient' {} has no effect under VTK's default light (its ambient colour is black): ka = 0 to match VTK",
+            p.ambient.unwrap_or(0.0)
+        ));
+    }
     if p.average_range.is_some() {
         notes.push(
             "'average_range' (VTK GPU mapper only) is not modelled: Average uses every sample"
@@ -217,7 +226,7 @@ pub fn from_json(text: &str) -> Result<PeerTransfer, SettingsError> {
             reference: p.opacity_unit_distance,
             interpolation,
             shade: p.shade,
-            ka: p.ambient,
+            ka: p.ambient.map(|_| 0.0),
             kd: p.diffuse,
             ks: p.specular,
             n: p.specular_power,
@@ -271,7 +280,7 @@ mod tests {
         p.apply(&mut s);
         assert!(s.shading);
         assert_eq!(s.reference_step, Length::World(2.0));
-        assert_eq!(s.phong.ka, 0.1);
+        assert_eq!(s.phong.ka, 0.0, "VTK's default light has no ambient colour");
         assert_eq!(s.phong.shininess, 20.0);
         assert_eq!(s.target, Some(400.0));
         assert_eq!(s.background, Vec3::new(0.1, 0.2, 0.3));

@@ -496,11 +496,15 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
                 let mut walk = blocks.walk(first, o_v, d_v);
                 let inv_d = 1.0 / d_v;
+                // Multiplying by the inverse step may round the index of the first sample past a
+                // face up or down by one; either way that sample lies within rounding of the
+                // margin inside the skipped region, or is simply taken.
+                let inv_dt = 1.0 / plan.dt;
                 let mut k = 0u32;
                 'blocks: loop {
                     let (is_empty, t_out) = blocks.current(&walk);
                     if is_empty {
-                        let next = ceil((t_out - margin_t - plan.t_enter) / plan.dt - plan.jitter);
+                        let next = ceil((t_out - margin_t - plan.t_enter) * inv_dt - plan.jitter);
                         if next > k as f32 {
                             k = if next >= plan.count as f32 {
                                 plan.count
@@ -540,7 +544,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                                     {
                                         let t_skip = t_brick.min(t_out);
                                         let next =
-                                            ceil((t_skip - plan.t_enter) / plan.dt - plan.jitter);
+                                            ceil((t_skip - plan.t_enter) * inv_dt - plan.jitter);
                                         if next > (k + 1) as f32 {
                                             k = if next >= plan.count as f32 {
                                                 plan.count
