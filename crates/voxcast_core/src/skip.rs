@@ -43,6 +43,15 @@ fn block_count(n: usize) -> usize {
 }
 
 impl BlockRanges {
+    /// Blocks per axis, as indices.
+    pub fn grid(&self) -> [usize; 3] {
+        [
+            self.blocks.x as usize,
+            self.blocks.y as usize,
+            self.blocks.z as usize,
+        ]
+    }
+
     /// Scans the volume once (in parallel over z-slabs of blocks).
     pub fn of(volume: &Volume) -> Self {
         struct Scan;
@@ -134,19 +143,46 @@ impl EmptyBlocks {
         self.empty.iter().filter(|&&e| e).count() as f32 / self.empty.len() as f32
     }
 
-    /// The block holding the cell with lower lattice corner `cell_lo`, per axis.
-    #[inline(always)]
-    fn block_coords(&self, cell_lo: [usize; 3]) -> [usize; 3] {
-        [0, 1, 2].map(|a| (cell_lo[a] / BLOCK).min(self.blocks[a] - 1))
-    }
-
-    /// Starts a walk through the blocks along a ray given in voxel space for world-unit `t`
-    /// (origin `o_v`, direction `d_v`), at the block holding the cell with lower corner
-    /// `start_cell_lo` (the first sample's).
+    /// Starts a walk through the blocks along a ray (see [`BlockWalk::new`]).
     #[inline]
     pub fn walk(&self, start_cell_lo: [usize; 3], o_v: Vec3, d_v: Vec3) -> BlockWalk {
-        let b = self.block_coords(start_cell_lo);
+        BlockWalk::new(self.blocks, start_cell_lo, o_v, d_v)
+    }
+
+    /// Whether the walk's current block is empty, and the `t` where the ray leaves it.
+    #[inline(always)]
+    pub fn current(&self, w: &BlockWalk) -> (bool, f32) {
+        (self.empty[w.index()], w.exit())
+    }
+
+    /// Moves the walk into the next block along the ray.
+    #[inline(always)]
+    pub fn advance(&self, w: &mut BlockWalk) {
+        w.advance();
+    }
+}
+
+/// A ray's walk through the blocks, in order along the ray: the 3-D DDA of Amanatides & Woo.
+#[derive(Clone, Copy, Debug)]
+pub struct BlockWalk {
+    blocks: [usize; 3],
+    b: [usize; 3],
+    step: [i8; 3],
+    /// `t` at which the ray crosses the next block face, per axis.
+    t_next: Vec3,
+    /// `t` between two faces, per axis.
+    t_delta: Vec3,
+}
+
+impl BlockWalk {
+    /// Starts at the block holding the cell with lower lattice corner `start_cell_lo` (the first
+    /// sample's), for a ray given in voxel space for world-unit `t` (origin `o_v`, direction
+    /// `d_v`), in a grid of `blocks` blocks per axis.
+    #[inline]
+    pub fn new(blocks: [usize; 3], start_cell_lo: [usize; 3], o_v: Vec3, d_v: Vec3) -> Self {
+        let b = [0, 1, 2].map(|a| (start_cell_lo[a] / BLOCK).min(blocks[a] - 1));
         let mut w = BlockWalk {
+            blocks,
             b,
             step: [0; 3],
             t_next: Vec3::INFINITY,
@@ -157,7 +193,7 @@ impl EmptyBlocks {
             if d > 0.0 {
                 w.step[a] = 1;
                 w.t_delta[a] = BLOCK as f32 / d;
-                if b[a] + 1 < self.blocks[a] {
+                if b[a] + 1 < blocks[a] {
                     w.t_next[a] = (((b[a] + 1) * BLOCK) as f32 - o_v[a]) / d;
                 }
             } else if d < 0.0 {
@@ -171,20 +207,23 @@ impl EmptyBlocks {
         w
     }
 
-    /// Whether the walk's current block is empty, and the `t` where the ray leaves it
-    /// (infinite for the last block along the ray).
+    /// The current block's index (x fastest).
     #[inline(always)]
-    pub fn current(&self, w: &BlockWalk) -> (bool, f32) {
-        let [x, y, z] = w.b;
-        let empty = self.empty[x + self.blocks[0] * (y + self.blocks[1] * z)];
-        (empty, w.t_next.min_element())
+    pub fn index(&self) -> usize {
+        let [x, y, z] = self.b;
+        x + self.blocks[0] * (y + self.blocks[1] * z)
     }
 
-    /// Moves the walk into the next block along the ray (call while [`EmptyBlocks::current`]'s
-    /// exit is finite).
+    /// The `t` where the ray leaves the current block (infinite for the last along the ray).
     #[inline(always)]
-    pub fn advance(&self, w: &mut BlockWalk) {
-        let t = w.t_next;
+    pub fn exit(&self) -> f32 {
+        self.t_next.min_element()
+    }
+
+    /// Moves into the next block along the ray (call while [`BlockWalk::exit`] is finite).
+    #[inline(always)]
+    pub fn advance(&mut self) {
+        let t = self.t_next;
         let a = if t.x <= t.y && t.x <= t.z {
             0
         } else if t.y <= t.z {
@@ -192,16 +231,16 @@ impl EmptyBlocks {
         } else {
             2
         };
-        w.b[a] = (w.b[a] as isize + w.step[a] as isize) as usize;
-        let at_border = if w.step[a] > 0 {
-            w.b[a] + 1 == self.blocks[a]
+        self.b[a] = (self.b[a] as isize + self.step[a] as isize) as usize;
+        let at_border = if self.step[a] > 0 {
+            self.b[a] + 1 == self.blocks[a]
         } else {
-            w.b[a] == 0
+            self.b[a] == 0
         };
-        w.t_next[a] = if at_border {
+        self.t_next[a] = if at_border {
             f32::INFINITY
         } else {
-            w.t_next[a] + w.t_delta[a]
+            self.t_next[a] + self.t_delta[a]
         };
     }
 }
@@ -407,17 +446,6 @@ impl RangeTest {
             }
         }
     }
-}
-
-/// A ray's position in the block walk (see [`EmptyBlocks::walk`]).
-#[derive(Clone, Copy, Debug)]
-pub struct BlockWalk {
-    b: [usize; 3],
-    step: [i8; 3],
-    /// `t` at which the ray crosses the next block face, per axis.
-    t_next: Vec3,
-    /// `t` between two faces, per axis.
-    t_delta: Vec3,
 }
 
 #[cfg(test)]

@@ -24,7 +24,7 @@ use crate::sample::{
 };
 use crate::settings::RenderSettings;
 use crate::shade::{Phong, ResolvedLight, ShadeTerms, Viewing, shade};
-use crate::skip::{Cell as CellState, EmptyBlocks, VisibleCells};
+use crate::skip::{BlockWalk, Cell as CellState, EmptyBlocks, VisibleCells};
 use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
 use crate::transfer::{Lut, TransferFunction};
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
@@ -49,6 +49,8 @@ pub struct Scene<'a> {
     pub bounds: (Vec3, Vec3),
     /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
     pub empty: Option<(EmptyBlocks, VisibleCells)>,
+    /// Whether Maximum/Minimum may skip blocks that cannot change their result.
+    pub project_blocks: bool,
     /// Precomputed lattice differences, when gradients are needed and they exist.
     pub differences: Option<&'a [crate::sample::Differences]>,
 }
@@ -95,8 +97,13 @@ impl<'a> Scene<'a> {
         } else {
             None
         };
+        let project_blocks = matches!(settings.method, Method::Maximum | Method::Minimum);
+        if project_blocks {
+            volume.block_ranges(); // computed now, not inside the first render
+        }
         Ok(Self {
             empty,
+            project_blocks,
             differences,
             volume,
             classifier,
@@ -665,29 +672,34 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     ) -> RayOutcome {
         let method = self.s.settings.method;
         let mut stats = ValueStats::default();
-        for k in 0..plan.count {
-            let t = sample_t(plan, k);
-            let pv = o_v + d_v * t;
-            let v = self.value(pv);
-            stats.add(v);
-            if R::ACTIVE {
-                let cl = self.classify(v, pv, true);
-                let ds = segment_length(plan, k, t);
-                let rgb = cl.rgba.truncate();
-                rec.sample(self.record(
-                    k,
-                    t,
-                    ds,
-                    pv,
-                    v,
-                    &cl,
-                    cl.alpha,
-                    cl.grad,
-                    None,
-                    rgb,
-                    Vec4::ZERO,
-                    Some(stats),
-                ));
+        let extreme = matches!(method, Method::Maximum | Method::Minimum);
+        if !R::ACTIVE && extreme && self.s.project_blocks && plan.count > 0 {
+            self.project_extreme(plan, o_v, d_v, &mut stats);
+        } else {
+            for k in 0..plan.count {
+                let t = sample_t(plan, k);
+                let pv = o_v + d_v * t;
+                let v = self.value(pv);
+                stats.add(v);
+                if R::ACTIVE {
+                    let cl = self.classify(v, pv, true);
+                    let ds = segment_length(plan, k, t);
+                    let rgb = cl.rgba.truncate();
+                    rec.sample(self.record(
+                        k,
+                        t,
+                        ds,
+                        pv,
+                        v,
+                        &cl,
+                        cl.alpha,
+                        cl.grad,
+                        None,
+                        rgb,
+                        Vec4::ZERO,
+                        Some(stats),
+                    ));
+                }
             }
         }
         let Some(value) = stats.projected(method) else {
@@ -704,9 +716,58 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         RayOutcome {
             color: rgba.truncate() * rgba.w,
             opacity: rgba.w,
-            samples: plan.count,
+            samples: stats.count,
             positions: plan.count,
             stop: StopReason::LeftVolume,
+        }
+    }
+
+    /// Maximum and Minimum with block skipping: a block whose value range cannot beat the
+    /// running maximum (minimum) is crossed without sampling, which leaves the result exactly
+    /// as it was (see `crate::skip`; ranges include a one-point apron for rounding).
+    fn project_extreme(&self, plan: &StepPlan, o_v: Vec3, d_v: Vec3, stats: &mut ValueStats) {
+        let ranges = self.s.volume.block_ranges();
+        let maximum = self.s.settings.method == Method::Maximum;
+        // Interpolating integers never leaves the corners' range, so a block that can only tie
+        // the running extreme is skippable too; float rounding could exceed it by an ulp.
+        let ties_skippable = T::TABLE.is_some();
+        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
+        let inv_dt = 1.0 / plan.dt;
+        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
+        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
+        let mut k = 0u32;
+        loop {
+            let t_out = walk.exit();
+            let (lo, hi) = ranges.ranges[walk.index()];
+            let useless = stats.count > 0
+                && if maximum {
+                    hi < stats.max || (ties_skippable && hi == stats.max)
+                } else {
+                    lo > stats.min || (ties_skippable && lo == stats.min)
+                };
+            if useless {
+                let next = ceil((t_out - margin_t - plan.t_enter) * inv_dt - plan.jitter);
+                if next > k as f32 {
+                    k = if next >= plan.count as f32 {
+                        plan.count
+                    } else {
+                        next as u32
+                    };
+                }
+            } else {
+                while k < plan.count {
+                    let t = sample_t(plan, k);
+                    if t >= t_out + margin_t {
+                        break;
+                    }
+                    stats.add(self.value(o_v + d_v * t));
+                    k += 1;
+                }
+            }
+            if k >= plan.count || !t_out.is_finite() {
+                break;
+            }
+            walk.advance();
         }
     }
 
