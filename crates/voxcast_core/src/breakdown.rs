@@ -1,11 +1,139 @@
-//! Exports of a ray's breakdown ([`crate::trace::RayTrace`]): JSON and CSV, the same numbers
-//! `voxcast trace` prints and the sandbox's inspector saves.
+//! A ray's breakdown: the record of every sample ([`SampleRecord`]), of the First hit, and of
+//! the whole ray ([`RayTrace`]), the [`Recorder`] the march writes them to, and their exports as
+//! JSON and CSV — the same numbers `voxcast trace` prints and the sandbox's inspector saves.
 //!
 //! Numbers are written with Rust's shortest round-trip formatting, so every `f32` reads back to
 //! the identical value: a student can redo each step by hand from the file.
 
-use crate::trace::RayTrace;
+use crate::composite::{Method, ValueStats};
+use crate::sample::SampleDetail;
+use crate::shade::ShadeTerms;
+use crate::step::StepPlan;
+use crate::trace::StopReason;
+use serde::Serialize;
+
 use std::fmt::Write;
+
+/// Everything about one sample, for the inspector and `voxcast trace --json`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SampleRecord {
+    /// Sample number `k` along the ray (from the entry point).
+    pub index: u32,
+    /// Distance along the ray, world units.
+    pub t: f32,
+    /// Length of ray this sample stands for, world units.
+    pub ds: f32,
+    pub p_world: [f32; 3],
+    pub p_voxel: [f32; 3],
+    /// The 8 corners, their values and weights, and the interpolated value (data units).
+    pub reconstruction: SampleDetail,
+    /// The value normalised to the volume's range, in [0, 1].
+    pub value_normalized: f32,
+    /// Transfer-function colour and opacity at the value (the table's, before classification).
+    pub tf_rgba: [f32; 4],
+    /// Opacity after classification, before correction.
+    pub alpha: f32,
+    /// Opacity actually composited (after correction, if on).
+    pub alpha_corrected: f32,
+    /// Gradient (data units per world unit), where it was computed.
+    pub gradient: Option<[f32; 3]>,
+    /// Shading terms, where the sample was shaded.
+    pub shading: Option<ShadeTerms>,
+    /// The sample's colour as composited (after shading).
+    pub color: [f32; 3],
+    /// Composited colour (premultiplied) and opacity after this sample (Accumulate).
+    pub composite_after: [f32; 4],
+    /// Running statistics of values (Average, Maximum, Minimum).
+    pub stats_after: Option<ValueStats>,
+}
+
+/// One step of the First method's refinement.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RefineStep {
+    pub t: f32,
+    pub value: f32,
+}
+
+/// Where and how the First method found its crossing.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FirstHit {
+    pub t: f32,
+    pub p_world: [f32; 3],
+    pub p_voxel: [f32; 3],
+    /// The reconstructed value at the hit (≈ the target).
+    pub value: f32,
+    /// The two sample distances that bracketed the crossing.
+    pub bracket: [f32; 2],
+    /// Bisection midpoints, in order, then the final interpolation.
+    pub refinement: Vec<RefineStep>,
+    pub tf_rgba: [f32; 4],
+    pub shading: Option<ShadeTerms>,
+    pub color: [f32; 3],
+}
+
+/// The full breakdown of one ray.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RayTrace {
+    pub origin: [f32; 3],
+    pub dir: [f32; 3],
+    pub method: Method,
+    /// `[t_enter, t_exit]` in the box, if it was hit.
+    pub interval: Option<[f32; 2]>,
+    pub plan: Option<StepPlan>,
+    pub samples: Vec<SampleRecord>,
+    pub first_hit: Option<FirstHit>,
+    /// The value Average/Maximum/Minimum projected.
+    pub projected_value: Option<f32>,
+    pub stop: StopReason,
+    /// Composited colour (premultiplied) and opacity.
+    pub color: [f32; 3],
+    pub opacity: f32,
+    /// The final pixel over the background.
+    pub pixel: [f32; 3],
+}
+
+/// Receives each sample's record; [`NoRecord`] compiles to nothing.
+pub trait Recorder {
+    const ACTIVE: bool;
+    fn sample(&mut self, record: SampleRecord);
+    fn plan(&mut self, _plan: &StepPlan) {}
+    fn first_hit(&mut self, _hit: FirstHit) {}
+    fn projected(&mut self, _value: f32) {}
+}
+
+/// The renderer's recorder: records nothing.
+pub struct NoRecord;
+
+impl Recorder for NoRecord {
+    const ACTIVE: bool = false;
+    #[inline(always)]
+    fn sample(&mut self, _: SampleRecord) {}
+}
+
+/// The recorder of [`crate::trace::trace_ray`]: keeps everything.
+#[derive(Default)]
+pub(crate) struct Breakdown {
+    pub(crate) plan: Option<StepPlan>,
+    pub(crate) samples: Vec<SampleRecord>,
+    pub(crate) first_hit: Option<FirstHit>,
+    pub(crate) projected: Option<f32>,
+}
+
+impl Recorder for Breakdown {
+    const ACTIVE: bool = true;
+    fn sample(&mut self, record: SampleRecord) {
+        self.samples.push(record);
+    }
+    fn plan(&mut self, plan: &StepPlan) {
+        self.plan = Some(*plan);
+    }
+    fn first_hit(&mut self, hit: FirstHit) {
+        self.first_hit = Some(hit);
+    }
+    fn projected(&mut self, value: f32) {
+        self.projected = Some(value);
+    }
+}
 
 /// Pretty JSON of the whole breakdown.
 pub fn to_json(trace: &RayTrace) -> String {

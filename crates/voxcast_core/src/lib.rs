@@ -12,7 +12,7 @@
 //! | classify | [`transfer`], [`classify`] | value → colour and opacity (LUT, Levoy's modes) |
 //! | shade | [`shade`] | Phong / Blinn–Phong with central-difference normals |
 //! | composite | [`composite`] | Accumulate, First, Average, Maximum, Minimum |
-//! | trace | [`trace`] | one ray, optionally recorded sample by sample |
+//! | trace | [`scene`], [`trace`], [`breakdown`] | what a render shares; one ray, optionally recorded sample by sample |
 //! | render | [`render`] | every pixel, in parallel, cancellable |
 //!
 //! # Conventions (written down once)
@@ -49,6 +49,7 @@ pub mod preset;
 pub mod ray;
 pub mod render;
 pub mod sample;
+pub mod scene;
 pub mod settings;
 pub mod shade;
 pub mod skip;

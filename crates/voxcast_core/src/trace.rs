@@ -15,117 +15,21 @@ use crate::composite::{
     Method, Order, ValueStats, accumulate_back_to_front, accumulate_front_to_back,
     blend_background, correct_opacity, crosses, crossing_fraction,
 };
-use crate::error::SettingsError;
-use crate::hash::jitter_fraction;
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
-    Cell, Interpolation, SampleDetail, cell, gradient, gradient_from_differences, sample,
-    sample_detail, trilinear_in_cell,
+    Cell, Interpolation, cell, gradient, gradient_from_differences, sample, sample_detail,
+    trilinear_in_cell,
 };
-use crate::settings::RenderSettings;
-use crate::shade::{Phong, ResolvedLight, ShadeTerms, Viewing, shade};
-use crate::skip::{BlockWalk, Cell as CellState, EmptyBlocks, VisibleCells};
+use crate::shade::{Phong, ShadeTerms, Viewing, shade};
+use crate::skip::{BlockWalk, Cell as CellState};
 use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
-use crate::transfer::{Lut, TransferFunction};
-use crate::volume::{Grid, GridVisitor, Volume, Voxel};
+use crate::volume::{Grid, GridVisitor, Voxel};
 use glam::{Vec3, Vec4};
 use serde::Serialize;
 
-/// What a render's rays share, resolved once: world-unit step lengths, the baked table, the
-/// light for this view.
-#[derive(Clone, Debug)]
-pub struct Scene<'a> {
-    pub volume: &'a Volume,
-    pub lut: Lut,
-    pub settings: RenderSettings,
-    pub classifier: Classifier,
-    pub light: ResolvedLight,
-    /// Step between samples, world units.
-    pub dt: f32,
-    /// Reference step of the transfer function's opacity, world units.
-    pub dt_ref: f32,
-    /// First-hit target value, data units.
-    pub target: f32,
-    pub bounds: (Vec3, Vec3),
-    /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
-    pub empty: Option<(EmptyBlocks, VisibleCells)>,
-    /// Whether Maximum/Minimum may skip blocks that cannot change their result.
-    pub project_blocks: bool,
-    /// Precomputed lattice differences, when gradients are needed and they exist.
-    pub differences: Option<&'a [crate::sample::Differences]>,
-}
-
-/// `x.ceil()` without the library call that baseline x86-64 makes of it (no SSE4.1 `roundss`).
-#[inline(always)]
-fn ceil(x: f32) -> f32 {
-    if x.is_nan() || x.abs() >= 8_388_608.0 {
-        return x; // already whole (or infinite/NaN)
-    }
-    let i = x as i32 as f32;
-    if i < x { i + 1.0 } else { i }
-}
-
-/// How far inside a transparent block (in voxels) a sample must lie to be skipped.
-const SKIP_MARGIN_VOXELS: f32 = 0.01;
-
-impl<'a> Scene<'a> {
-    /// Validates the settings and resolves them for `volume`, with the headlight (if any) along
-    /// `view_forward`.
-    pub fn new(
-        volume: &'a Volume,
-        tf: &TransferFunction,
-        settings: &RenderSettings,
-        view_forward: Vec3,
-    ) -> Result<Self, SettingsError> {
-        settings.validate()?;
-        let voxel = volume.spacing().min_element();
-        let (lo, hi) = volume.value_range();
-        let lut = tf.bake(lo, hi);
-        let classifier = Classifier::new(&settings.classification, &lut, voxel);
-        let skippable = settings.method == Method::Accumulate
-            && settings.order == Order::FrontToBack
-            && !matches!(classifier, Classifier::IsoContours { .. });
-        let empty = skippable.then(|| {
-            (
-                EmptyBlocks::new(volume.block_ranges(), &lut),
-                VisibleCells::new(volume, &lut),
-            )
-        });
-        let needs_gradient = settings.shading || classifier != Classifier::Table;
-        let differences = if needs_gradient {
-            volume.lattice_differences()
-        } else {
-            None
-        };
-        let project_blocks = matches!(settings.method, Method::Maximum | Method::Minimum);
-        if project_blocks {
-            volume.block_ranges(); // computed now, not inside the first render
-        }
-        Ok(Self {
-            empty,
-            project_blocks,
-            differences,
-            volume,
-            classifier,
-            light: settings.phong.light.resolve(view_forward),
-            dt: settings.step.world(voxel),
-            dt_ref: settings.reference_step.world(voxel),
-            target: settings.target.unwrap_or(0.5 * (lo + hi)),
-            bounds: volume.bounds(),
-            lut,
-            settings: settings.clone(),
-        })
-    }
-
-    /// The jitter fraction for image position `key` (pixel, or sub-pixel with supersampling).
-    pub fn jitter(&self, key: [u32; 2]) -> f32 {
-        if self.settings.jitter {
-            jitter_fraction(key[0], key[1], self.settings.jitter_seed)
-        } else {
-            0.0
-        }
-    }
-}
+use crate::breakdown::Breakdown;
+pub use crate::breakdown::{FirstHit, NoRecord, RayTrace, Recorder, RefineStep, SampleRecord};
+pub use crate::scene::Scene;
 
 /// Why a ray stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -173,125 +77,18 @@ impl RayOutcome {
     }
 }
 
-/// Everything about one sample, for the inspector and `voxcast trace --json`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SampleRecord {
-    /// Sample number `k` along the ray (from the entry point).
-    pub index: u32,
-    /// Distance along the ray, world units.
-    pub t: f32,
-    /// Length of ray this sample stands for, world units.
-    pub ds: f32,
-    pub p_world: [f32; 3],
-    pub p_voxel: [f32; 3],
-    /// The 8 corners, their values and weights, and the interpolated value (data units).
-    pub reconstruction: SampleDetail,
-    /// The value normalised to the volume's range, in [0, 1].
-    pub value_normalized: f32,
-    /// Transfer-function colour and opacity at the value (the table's, before classification).
-    pub tf_rgba: [f32; 4],
-    /// Opacity after classification, before correction.
-    pub alpha: f32,
-    /// Opacity actually composited (after correction, if on).
-    pub alpha_corrected: f32,
-    /// Gradient (data units per world unit), where it was computed.
-    pub gradient: Option<[f32; 3]>,
-    /// Shading terms, where the sample was shaded.
-    pub shading: Option<ShadeTerms>,
-    /// The sample's colour as composited (after shading).
-    pub color: [f32; 3],
-    /// Composited colour (premultiplied) and opacity after this sample (Accumulate).
-    pub composite_after: [f32; 4],
-    /// Running statistics of values (Average, Maximum, Minimum).
-    pub stats_after: Option<ValueStats>,
-}
-
-/// One step of the First method's refinement.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct RefineStep {
-    pub t: f32,
-    pub value: f32,
-}
-
-/// Where and how the First method found its crossing.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct FirstHit {
-    pub t: f32,
-    pub p_world: [f32; 3],
-    pub p_voxel: [f32; 3],
-    /// The reconstructed value at the hit (≈ the target).
-    pub value: f32,
-    /// The two sample distances that bracketed the crossing.
-    pub bracket: [f32; 2],
-    /// Bisection midpoints, in order, then the final interpolation.
-    pub refinement: Vec<RefineStep>,
-    pub tf_rgba: [f32; 4],
-    pub shading: Option<ShadeTerms>,
-    pub color: [f32; 3],
-}
-
-/// The full breakdown of one ray.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RayTrace {
-    pub origin: [f32; 3],
-    pub dir: [f32; 3],
-    pub method: Method,
-    /// `[t_enter, t_exit]` in the box, if it was hit.
-    pub interval: Option<[f32; 2]>,
-    pub plan: Option<StepPlan>,
-    pub samples: Vec<SampleRecord>,
-    pub first_hit: Option<FirstHit>,
-    /// The value Average/Maximum/Minimum projected.
-    pub projected_value: Option<f32>,
-    pub stop: StopReason,
-    /// Composited colour (premultiplied) and opacity.
-    pub color: [f32; 3],
-    pub opacity: f32,
-    /// The final pixel over the background.
-    pub pixel: [f32; 3],
-}
-
-/// Receives each sample's record; [`NoRecord`] compiles to nothing.
-pub trait Recorder {
-    const ACTIVE: bool;
-    fn sample(&mut self, record: SampleRecord);
-    fn plan(&mut self, _plan: &StepPlan) {}
-    fn first_hit(&mut self, _hit: FirstHit) {}
-    fn projected(&mut self, _value: f32) {}
-}
-
-/// The renderer's recorder: records nothing.
-pub struct NoRecord;
-
-impl Recorder for NoRecord {
-    const ACTIVE: bool = false;
-    #[inline(always)]
-    fn sample(&mut self, _: SampleRecord) {}
-}
-
-#[derive(Default)]
-struct Breakdown {
-    plan: Option<StepPlan>,
-    samples: Vec<SampleRecord>,
-    first_hit: Option<FirstHit>,
-    projected: Option<f32>,
-}
-
-impl Recorder for Breakdown {
-    const ACTIVE: bool = true;
-    fn sample(&mut self, record: SampleRecord) {
-        self.samples.push(record);
+/// `x.ceil()` without the library call that baseline x86-64 makes of it (no SSE4.1 `roundss`).
+#[inline(always)]
+fn ceil(x: f32) -> f32 {
+    if x.is_nan() || x.abs() >= 8_388_608.0 {
+        return x; // already whole (or infinite/NaN)
     }
-    fn plan(&mut self, plan: &StepPlan) {
-        self.plan = Some(*plan);
-    }
-    fn first_hit(&mut self, hit: FirstHit) {
-        self.first_hit = Some(hit);
-    }
-    fn projected(&mut self, value: f32) {
-        self.projected = Some(value);
-    }
+    let i = x as i32 as f32;
+    if i < x { i + 1.0 } else { i }
 }
+
+/// How far inside a transparent block (in voxels) a sample must lie to be skipped.
+const SKIP_MARGIN_VOXELS: f32 = 0.01;
 
 /// Traces `ray` through the scene, recording every sample. `jitter_key` is the pixel (or
 /// sub-pixel) the ray belongs to, which decides its jitter.

@@ -1,0 +1,97 @@
+//! The scene of one render: what every ray shares, resolved once from the volume, the transfer
+//! function and the settings — the baked table, step lengths in world units, the light for this
+//! view, and the acceleration structures ([`crate::skip`], precomputed gradients).
+
+use crate::classify::Classifier;
+use crate::composite::{Method, Order};
+use crate::error::SettingsError;
+use crate::hash::jitter_fraction;
+use crate::settings::RenderSettings;
+use crate::shade::ResolvedLight;
+use crate::skip::{EmptyBlocks, VisibleCells};
+use crate::transfer::{Lut, TransferFunction};
+use crate::volume::Volume;
+use glam::Vec3;
+
+/// What a render's rays share, resolved once: world-unit step lengths, the baked table, the
+/// light for this view.
+#[derive(Clone, Debug)]
+pub struct Scene<'a> {
+    pub volume: &'a Volume,
+    pub lut: Lut,
+    pub settings: RenderSettings,
+    pub classifier: Classifier,
+    pub light: ResolvedLight,
+    /// Step between samples, world units.
+    pub dt: f32,
+    /// Reference step of the transfer function's opacity, world units.
+    pub dt_ref: f32,
+    /// First-hit target value, data units.
+    pub target: f32,
+    pub bounds: (Vec3, Vec3),
+    /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
+    pub empty: Option<(EmptyBlocks, VisibleCells)>,
+    /// Whether Maximum/Minimum may skip blocks that cannot change their result.
+    pub project_blocks: bool,
+    /// Precomputed lattice differences, when gradients are needed and they exist.
+    pub differences: Option<&'a [crate::sample::Differences]>,
+}
+
+impl<'a> Scene<'a> {
+    /// Validates the settings and resolves them for `volume`, with the headlight (if any) along
+    /// `view_forward`.
+    pub fn new(
+        volume: &'a Volume,
+        tf: &TransferFunction,
+        settings: &RenderSettings,
+        view_forward: Vec3,
+    ) -> Result<Self, SettingsError> {
+        settings.validate()?;
+        let voxel = volume.spacing().min_element();
+        let (lo, hi) = volume.value_range();
+        let lut = tf.bake(lo, hi);
+        let classifier = Classifier::new(&settings.classification, &lut, voxel);
+        let skippable = settings.method == Method::Accumulate
+            && settings.order == Order::FrontToBack
+            && !matches!(classifier, Classifier::IsoContours { .. });
+        let empty = skippable.then(|| {
+            (
+                EmptyBlocks::new(volume.block_ranges(), &lut),
+                VisibleCells::new(volume, &lut),
+            )
+        });
+        let needs_gradient = settings.shading || classifier != Classifier::Table;
+        let differences = if needs_gradient {
+            volume.lattice_differences()
+        } else {
+            None
+        };
+        let project_blocks = matches!(settings.method, Method::Maximum | Method::Minimum);
+        if project_blocks {
+            volume.block_ranges(); // computed now, not inside the first render
+        }
+        Ok(Self {
+            empty,
+            project_blocks,
+            differences,
+            volume,
+            classifier,
+            light: settings.phong.light.resolve(view_forward),
+            dt: settings.step.world(voxel),
+            dt_ref: settings.reference_step.world(voxel),
+            target: settings.target.unwrap_or(0.5 * (lo + hi)),
+            bounds: volume.bounds(),
+            lut,
+            settings: settings.clone(),
+        })
+    }
+
+    /// The jitter fraction for image position `key` (pixel, or sub-pixel with supersampling).
+    pub fn jitter(&self, key: [u32; 2]) -> f32 {
+        if self.settings.jitter {
+            jitter_fraction(key[0], key[1], self.settings.jitter_seed)
+        } else {
+            0.0
+        }
+    }
+}
