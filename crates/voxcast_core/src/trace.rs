@@ -479,23 +479,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 let v = self.value(pv);
                 stats.add(v);
                 if R::ACTIVE {
-                    let cl = self.classify(v, pv, true);
-                    let ds = segment_length(plan, k, t);
-                    let rgb = cl.rgba.truncate();
-                    rec.sample(self.record(
-                        k,
-                        t,
-                        ds,
-                        pv,
-                        v,
-                        &cl,
-                        cl.alpha,
-                        cl.grad,
-                        None,
-                        rgb,
-                        Vec4::ZERO,
-                        Some(stats),
-                    ));
+                    rec.sample(self.record_plain(plan, k, t, pv, v, Some(stats)));
                 }
             }
         }
@@ -583,23 +567,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             let pv = o_v + d_v * t;
             let v = self.value(pv);
             if R::ACTIVE {
-                let cl = self.classify(v, pv, true);
-                let ds = segment_length(plan, k, t);
-                let rgb = cl.rgba.truncate();
-                rec.sample(self.record(
-                    k,
-                    t,
-                    ds,
-                    pv,
-                    v,
-                    &cl,
-                    cl.alpha,
-                    cl.grad,
-                    None,
-                    rgb,
-                    Vec4::ZERO,
-                    None,
-                ));
+                rec.sample(self.record_plain(plan, k, t, pv, v, None));
             }
             let hit = if k == 0 {
                 v == target
@@ -678,6 +646,36 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             positions: samples,
             stop: StopReason::FirstHit,
         }
+    }
+
+    /// The record of a sample that is classified but not composited (First and the
+    /// projections), with the running statistics where there are some.
+    fn record_plain(
+        &self,
+        plan: &StepPlan,
+        k: u32,
+        t: f32,
+        pv: Vec3,
+        v: f32,
+        stats: Option<ValueStats>,
+    ) -> SampleRecord {
+        let cl = self.classify(v, pv, true);
+        let ds = segment_length(plan, k, t);
+        let rgb = cl.rgba.truncate();
+        self.record(
+            k,
+            t,
+            ds,
+            pv,
+            v,
+            &cl,
+            cl.alpha,
+            cl.grad,
+            None,
+            rgb,
+            Vec4::ZERO,
+            stats,
+        )
     }
 
     #[allow(clippy::too_many_arguments)]

@@ -139,14 +139,7 @@ fn first_hit_finds_the_sphere() {
         let mut s = plain(dt);
         s.method = Method::First;
         s.target = Some(0.0);
-        for dir in [
-            Vec3::X,
-            Vec3::NEG_X,
-            Vec3::Y,
-            Vec3::NEG_Y,
-            Vec3::Z,
-            Vec3::NEG_Z,
-        ] {
+        for dir in AXES {
             let t = trace(&v, &tf, &s, c - dir * 40.0, dir);
             assert_eq!(t.stop, StopReason::FirstHit);
             let hit = Vec3::from(t.first_hit.unwrap().p_world);

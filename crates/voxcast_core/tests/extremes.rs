@@ -33,14 +33,7 @@ fn axis_parallel_rays_in_all_six_directions() {
     let v = field([16, 16, 16], Vec3::ONE, |p| p.x + 2.0 * p.y + 3.0 * p.z);
     let tf = grey(0.0, 90.0, 0.05);
     let centre = Vec3::splat(7.5);
-    for dir in [
-        Vec3::X,
-        Vec3::NEG_X,
-        Vec3::Y,
-        Vec3::NEG_Y,
-        Vec3::Z,
-        Vec3::NEG_Z,
-    ] {
+    for dir in AXES {
         let t = trace(&v, &tf, &plain(0.5), centre - dir * 20.0, dir);
         finite(&t);
         let [a, b] = t.interval.unwrap();

@@ -9,6 +9,16 @@ use voxcast_core::trace::{RayTrace, Scene, trace_ray};
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
 use voxcast_core::{Volume, VoxelData};
 
+/// The six axis directions.
+pub const AXES: [Vec3; 6] = [
+    Vec3::X,
+    Vec3::NEG_X,
+    Vec3::Y,
+    Vec3::NEG_Y,
+    Vec3::Z,
+    Vec3::NEG_Z,
+];
+
 /// A float volume of `dims` with unit spacing whose value at lattice point `(i, j, k)` is `f`.
 pub fn field(dims: [u32; 3], spacing: Vec3, f: impl Fn(Vec3) -> f32) -> Volume {
     let mut data = Vec::with_capacity((dims[0] * dims[1] * dims[2]) as usize);
