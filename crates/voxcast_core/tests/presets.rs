@@ -44,3 +44,27 @@ fn peer_derived_presets_equal_the_peer_files() {
         assert_eq!(got.reference_step, expected.reference_step, "{name}");
     }
 }
+
+#[test]
+fn every_peer_transfer_function_and_camera_reads() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/tools/peer");
+    if !dir.is_dir() {
+        eprintln!("note: {} not found; the peer's files are not read in this run", dir.display());
+        return;
+    }
+    let mut seen = 0;
+    for sub in ["tf", "cams"] {
+        for entry in std::fs::read_dir(dir.join(sub)).unwrap() {
+            let path = entry.unwrap().path();
+            let text = std::fs::read_to_string(&path).unwrap();
+            if sub == "tf" {
+                assert!(peer::is_peer_json(&text), "{}", path.display());
+                peer::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            } else {
+                voxcast_core::camera::Camera::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            }
+            seen += 1;
+        }
+    }
+    assert!(seen >= 17, "13 transfer functions and 4 cameras, found {seen}");
+}
