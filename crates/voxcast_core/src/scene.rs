@@ -31,8 +31,8 @@ pub struct Scene<'a> {
     pub bounds: (Vec3, Vec3),
     /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
     pub empty: Option<(EmptyBlocks, VisibleCells)>,
-    /// Whether Maximum/Minimum may skip blocks that cannot change their result.
-    pub project_blocks: bool,
+    /// Whether Maximum, Minimum and First may skip blocks that cannot change their result.
+    pub block_skipping: bool,
     /// Precomputed lattice differences, when gradients are needed and they exist.
     pub differences: Option<&'a [crate::sample::Differences]>,
 }
@@ -66,13 +66,16 @@ impl<'a> Scene<'a> {
         } else {
             None
         };
-        let project_blocks = matches!(settings.method, Method::Maximum | Method::Minimum);
-        if project_blocks {
+        let block_skipping = matches!(
+            settings.method,
+            Method::Maximum | Method::Minimum | Method::First
+        );
+        if block_skipping {
             volume.block_ranges(); // computed now, not inside the first render
         }
         Ok(Self {
             empty,
-            project_blocks,
+            block_skipping,
             differences,
             volume,
             classifier,

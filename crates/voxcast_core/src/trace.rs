@@ -470,7 +470,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let method = self.s.settings.method;
         let mut stats = ValueStats::default();
         let extreme = matches!(method, Method::Maximum | Method::Minimum);
-        if !R::ACTIVE && extreme && self.s.project_blocks && plan.count > 0 {
+        if !R::ACTIVE && extreme && self.s.block_skipping && plan.count > 0 {
             self.project_extreme(plan, o_v, d_v, &mut stats);
         } else {
             for k in 0..plan.count {
@@ -560,6 +560,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         d_v: Vec3,
         rec: &mut R,
     ) -> RayOutcome {
+        if !R::ACTIVE && self.s.block_skipping && plan.count > 0 {
+            return self.first_skipping(ray, plan, o_v, d_v);
+        }
         let target = self.s.target;
         let mut prev = (0.0f32, 0.0f32);
         for k in 0..plan.count {
@@ -586,6 +589,73 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
         RayOutcome {
             samples: plan.count,
+            positions: plan.count,
+            stop: StopReason::LeftVolume,
+            ..RayOutcome::MISS
+        }
+    }
+
+    /// First with block skipping: a block whose values all lie strictly on the same side of the
+    /// target as the previous sample holds no crossing, so its samples are passed over — except
+    /// the last, which becomes the previous sample for the next comparison. The crossings found,
+    /// and so the image, are exactly those of the plain march.
+    fn first_skipping(&self, ray: &Ray, plan: &StepPlan, o_v: Vec3, d_v: Vec3) -> RayOutcome {
+        let target = self.s.target;
+        let ranges = self.s.volume.block_ranges();
+        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
+        let inv_dt = 1.0 / plan.dt;
+        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
+        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
+        let mut prev: Option<(f32, f32)> = None;
+        let mut taken = 0u32;
+        let mut k = 0u32;
+        loop {
+            let t_out = walk.exit();
+            let (lo, hi) = ranges.ranges[walk.index()];
+            let same_side = prev
+                .is_some_and(|(_, p)| (hi < target && p < target) || (lo > target && p > target));
+            if same_side {
+                let next = ceil((t_out - margin_t - plan.t_enter) * inv_dt - plan.jitter);
+                if next > k as f32 {
+                    // Samples k..last are inside the block: only `last` is needed, as `prev`.
+                    let last = if next >= plan.count as f32 {
+                        plan.count
+                    } else {
+                        next as u32
+                    } - 1;
+                    let t = sample_t(plan, last);
+                    prev = Some((t, self.value(o_v + d_v * t)));
+                    taken += 1;
+                    k = last + 1;
+                }
+            } else {
+                while k < plan.count {
+                    let t = sample_t(plan, k);
+                    if t >= t_out + margin_t {
+                        break;
+                    }
+                    let v = self.value(o_v + d_v * t);
+                    taken += 1;
+                    let bracket = match prev {
+                        None => (v == target).then_some((t, v, t, v)),
+                        Some((pt, p)) => crosses(p, v, target).then_some((pt, p, t, v)),
+                    };
+                    if let Some(bracket) = bracket {
+                        let mut out = self.hit(ray, bracket, o_v, d_v, k + 1, &mut NoRecord);
+                        out.samples = taken;
+                        return out;
+                    }
+                    prev = Some((t, v));
+                    k += 1;
+                }
+            }
+            if k >= plan.count || !t_out.is_finite() {
+                break;
+            }
+            walk.advance();
+        }
+        RayOutcome {
+            samples: taken,
             positions: plan.count,
             stop: StopReason::LeftVolume,
             ..RayOutcome::MISS

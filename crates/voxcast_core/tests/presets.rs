@@ -49,7 +49,10 @@ fn peer_derived_presets_equal_the_peer_files() {
 fn every_peer_transfer_function_and_camera_reads() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/tools/peer");
     if !dir.is_dir() {
-        eprintln!("note: {} not found; the peer's files are not read in this run", dir.display());
+        eprintln!(
+            "note: {} not found; the peer's files are not read in this run",
+            dir.display()
+        );
         return;
     }
     let mut seen = 0;
@@ -61,10 +64,14 @@ fn every_peer_transfer_function_and_camera_reads() {
                 assert!(peer::is_peer_json(&text), "{}", path.display());
                 peer::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             } else {
-                voxcast_core::camera::Camera::from_json(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                voxcast_core::camera::Camera::from_json(&text)
+                    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             }
             seen += 1;
         }
     }
-    assert!(seen >= 17, "13 transfer functions and 4 cameras, found {seen}");
+    assert!(
+        seen >= 17,
+        "13 transfer functions and 4 cameras, found {seen}"
+    );
 }

@@ -201,12 +201,12 @@ proptest! {
             let t = trace_ray(&skipping, &camera.pixel_ray(px, py, 12, 9), [px, py]);
             prop_assert_eq!(Vec3::from(t.pixel), a.get(px, py));
         }
-        // Maximum and Minimum skip blocks that cannot change them.
-        for method in [Method::Maximum, Method::Minimum] {
+        // Maximum, Minimum and First skip blocks that cannot change them.
+        for method in [Method::Maximum, Method::Minimum, Method::First] {
             s.method = method;
             let fast = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
             let mut slow = fast.clone();
-            slow.project_blocks = false;
+            slow.block_skipping = false;
             let (a, _) = render_with_threads(&fast, &camera, 12, 9, 1).unwrap();
             let (b, _) = render_with_threads(&slow, &camera, 12, 9, 1).unwrap();
             prop_assert_eq!(&a.pixels, &b.pixels);
@@ -371,16 +371,16 @@ fn accelerations_are_exact_on_real_volumes() {
             let t = trace_ray(&fast, &camera.pixel_ray(x, y, 64, 48), [x, y]);
             assert_eq!(Vec3::from(t.pixel), a.get(x, y), "{name} pixel {x},{y}");
         }
-        // Maximum and Minimum skip blocks that cannot change their result.
-        for method in [Method::Maximum, Method::Minimum] {
+        // Maximum, Minimum and First skip blocks that cannot change their result.
+        for method in [Method::Maximum, Method::Minimum, Method::First] {
             let s = RenderSettings {
                 method,
                 ..s.clone()
             };
             let fast = Scene::new(&v, &p.transfer, &s, camera.forward()).unwrap();
-            assert!(fast.project_blocks);
+            assert!(fast.block_skipping);
             let mut slow = fast.clone();
-            slow.project_blocks = false;
+            slow.block_skipping = false;
             let (a, sa) = render_with_threads(&fast, &camera, 64, 48, 2).unwrap();
             let (b, sb) = render_with_threads(&slow, &camera, 64, 48, 2).unwrap();
             assert_eq!(a.pixels, b.pixels, "{name} {method:?}");
