@@ -117,6 +117,30 @@ pub fn segment_length(plan: &StepPlan, k: u32, t_k: f32) -> f32 {
     (end - start).max(0.0)
 }
 
+/// The index of the first sample at or after `t` (`inv_dt` = 1/dt), at most `count`: where a
+/// ray resumes after skipping to `t`.
+#[inline(always)]
+pub fn first_index_from(plan: &StepPlan, t: f32, inv_dt: f32) -> u32 {
+    let k = ceil((t - plan.t_enter) * inv_dt - plan.jitter);
+    if k <= 0.0 {
+        0
+    } else if k >= plan.count as f32 {
+        plan.count
+    } else {
+        k as u32
+    }
+}
+
+/// `x.ceil()` without the library call that baseline x86-64 makes of it (no SSE4.1 `roundss`).
+#[inline(always)]
+fn ceil(x: f32) -> f32 {
+    if x.is_nan() || x.abs() >= 8_388_608.0 {
+        return x; // already whole (or infinite/NaN)
+    }
+    let i = x as i32 as f32;
+    if i < x { i + 1.0 } else { i }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,6 +181,33 @@ mod tests {
         assert_eq!(plan_steps(2.0, 2.0, 0.5, 0.0, 10).count, 1);
         // Jitter can push the only sample out.
         assert_eq!(plan_steps(0.0, 0.1, 1.0, 0.5, 10).count, 0);
+    }
+
+    #[test]
+    fn fast_ceil_matches_the_library() {
+        for x in [
+            -2.5f32,
+            -2.0,
+            -0.1,
+            0.0,
+            0.3,
+            1.0,
+            1.0001,
+            7.9e6,
+            1e9,
+            f32::INFINITY,
+        ] {
+            assert_eq!(ceil(x), x.ceil(), "{x}");
+        }
+    }
+
+    #[test]
+    fn resuming_after_a_skip() {
+        let p = plan_steps(0.0, 10.0, 0.5, 0.0, 100);
+        assert_eq!(first_index_from(&p, 2.0, 2.0), 4);
+        assert_eq!(first_index_from(&p, 2.1, 2.0), 5);
+        assert_eq!(first_index_from(&p, -3.0, 2.0), 0);
+        assert_eq!(first_index_from(&p, f32::INFINITY, 2.0), p.count);
     }
 
     #[test]

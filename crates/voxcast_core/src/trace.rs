@@ -22,7 +22,7 @@ use crate::sample::{
 };
 use crate::shade::{Phong, ShadeTerms, Viewing, shade};
 use crate::skip::{BlockWalk, Cell as CellState};
-use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
+use crate::step::{StepPlan, first_index_from, plan_steps, sample_t, segment_length};
 use crate::volume::{Grid, GridVisitor, Voxel};
 use glam::{Vec3, Vec4};
 use serde::Serialize;
@@ -75,16 +75,6 @@ impl RayOutcome {
     pub fn pixel(&self, background: Vec3) -> Vec3 {
         blend_background(self.color, self.opacity, background)
     }
-}
-
-/// `x.ceil()` without the library call that baseline x86-64 makes of it (no SSE4.1 `roundss`).
-#[inline(always)]
-fn ceil(x: f32) -> f32 {
-    if x.is_nan() || x.abs() >= 8_388_608.0 {
-        return x; // already whole (or infinite/NaN)
-    }
-    let i = x as i32 as f32;
-    if i < x { i + 1.0 } else { i }
 }
 
 /// How far inside a transparent block (in voxels) a sample must lie to be skipped.
@@ -308,14 +298,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 'blocks: loop {
                     let (is_empty, t_out) = blocks.current(&walk);
                     if is_empty {
-                        let next = ceil((t_out - margin_t - plan.t_enter) * inv_dt - plan.jitter);
-                        if next > k as f32 {
-                            k = if next >= plan.count as f32 {
-                                plan.count
-                            } else {
-                                next as u32
-                            };
-                        }
+                        k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
                     } else {
                         while k < plan.count {
                             let t = sample_t(plan, k);
@@ -346,15 +329,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                                     // Skip the rest of the brick (see `VisibleCells::brick_exit`).
                                     if let Some(t_brick) = cells.brick_exit(here.lo, pv, o_v, inv_d)
                                     {
-                                        let t_skip = t_brick.min(t_out);
                                         let next =
-                                            ceil((t_skip - plan.t_enter) * inv_dt - plan.jitter);
-                                        if next > (k + 1) as f32 {
-                                            k = if next >= plan.count as f32 {
-                                                plan.count
-                                            } else {
-                                                next as u32
-                                            };
+                                            first_index_from(plan, t_brick.min(t_out), inv_dt);
+                                        if next > k + 1 {
+                                            k = next;
                                             continue;
                                         }
                                     }
@@ -527,14 +505,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                     lo > stats.min || (ties_skippable && lo == stats.min)
                 };
             if useless {
-                let next = ceil((t_out - margin_t - plan.t_enter) * inv_dt - plan.jitter);
-                if next > k as f32 {
-                    k = if next >= plan.count as f32 {
-                        plan.count
-                    } else {
-                        next as u32
-                    };
-                }
+                k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
             } else {
                 while k < plan.count {
                     let t = sample_t(plan, k);
@@ -615,14 +586,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             let same_side = prev
                 .is_some_and(|(_, p)| (hi < target && p < target) || (lo > target && p > target));
             if same_side {
-                let next = ceil((t_out - margin_t - plan.t_enter) * inv_dt - plan.jitter);
-                if next > k as f32 {
+                let next = first_index_from(plan, t_out - margin_t, inv_dt);
+                if next > k {
                     // Samples k..last are inside the block: only `last` is needed, as `prev`.
-                    let last = if next >= plan.count as f32 {
-                        plan.count
-                    } else {
-                        next as u32
-                    } - 1;
+                    let last = next - 1;
                     let t = sample_t(plan, last);
                     prev = Some((t, self.value(o_v + d_v * t)));
                     taken += 1;
@@ -785,29 +752,6 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             color: color.to_array(),
             composite_after: composite_after.to_array(),
             stats_after,
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::ceil;
-
-    #[test]
-    fn fast_ceil_matches_the_library() {
-        for x in [
-            -2.5f32,
-            -2.0,
-            -0.1,
-            0.0,
-            0.3,
-            1.0,
-            1.0001,
-            7.9e6,
-            1e9,
-            f32::INFINITY,
-        ] {
-            assert_eq!(ceil(x), x.ceil(), "{x}");
         }
     }
 }
