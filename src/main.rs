@@ -1,9 +1,12 @@
 //! Voxcast: a sandbox for learning, teaching and checking volume ray casting.
 //!
-//! This binary is the command line over the pure core (`crates/voxcast_core`): render an image,
-//! trace one ray step by step, describe a volume, measure speed against accuracy.
+//! Without a subcommand this opens the sandbox (`sandbox`: Bevy, the live GPU preview, the
+//! settings panel). The subcommands are the command line over the pure core
+//! (`crates/voxcast_core`): render an image, trace one ray step by step, describe a volume,
+//! measure speed against accuracy.
 
 mod cli;
+mod sandbox;
 
 use clap::{Parser, Subcommand};
 use cli::{bench, info, render, trace};
@@ -12,11 +15,15 @@ use cli::{bench, info, render, trace};
 #[command(
     name = "voxcast",
     version,
-    about = "Volume ray casting you can follow step by step"
+    about = "Volume ray casting you can follow step by step",
+    args_conflicts_with_subcommands = true
 )]
 struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
+    /// Without a subcommand: the sandbox's options.
+    #[command(flatten)]
+    sandbox: sandbox::SandboxArgs,
 }
 
 #[derive(Subcommand, Debug)]
@@ -36,11 +43,12 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Render(a) => render::run(a),
-        Command::Trace(a) => trace::run(a),
-        Command::Info(a) => info::run(a),
-        Command::Bench(a) => bench::run(a),
-        Command::List => {
+        None => sandbox::run(&cli.sandbox),
+        Some(Command::Render(a)) => render::run(a),
+        Some(Command::Trace(a)) => trace::run(a),
+        Some(Command::Info(a)) => info::run(a),
+        Some(Command::Bench(a)) => bench::run(a),
+        Some(Command::List) => {
             list();
             Ok(())
         }

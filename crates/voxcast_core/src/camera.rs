@@ -194,14 +194,15 @@ impl Camera {
 /// The rays of one image (see [`Camera::rays`]): the camera's basis scaled to the image plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImageRays {
-    eye: Vec3,
+    pub eye: Vec3,
     /// Right and up, scaled to half the view's width and height (at unit distance for a
     /// perspective camera, in world units for an orthographic one).
-    right: Vec3,
-    up: Vec3,
-    forward: Vec3,
-    perspective: bool,
-    inv_size: (f32, f32),
+    pub right: Vec3,
+    pub up: Vec3,
+    pub forward: Vec3,
+    pub perspective: bool,
+    /// `(1/width, 1/height)` of the image in pixels.
+    pub inv_size: (f32, f32),
 }
 
 impl ImageRays {

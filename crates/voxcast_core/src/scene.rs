@@ -46,37 +46,48 @@ impl<'a> Scene<'a> {
         settings: &RenderSettings,
         view_forward: Vec3,
     ) -> Result<Self, SettingsError> {
+        let mut scene = Self::plain(volume, tf, settings, view_forward)?;
+        let lut = &scene.lut;
+        let skippable = settings.method == Method::Accumulate
+            && settings.order == Order::FrontToBack
+            && !matches!(scene.classifier, Classifier::IsoContours { .. });
+        scene.empty = skippable.then(|| {
+            (
+                EmptyBlocks::new(volume.block_ranges(), lut),
+                VisibleCells::new(volume, lut),
+            )
+        });
+        let needs_gradient = settings.shading || scene.classifier != Classifier::Table;
+        if needs_gradient {
+            scene.differences = volume.lattice_differences();
+        }
+        scene.block_skipping = matches!(
+            settings.method,
+            Method::Maximum | Method::Minimum | Method::First
+        );
+        if scene.block_skipping {
+            volume.block_ranges(); // computed now, not inside the first render
+        }
+        Ok(scene)
+    }
+
+    /// As [`Scene::new`] without the acceleration structures: what the GPU preview's uniform
+    /// needs, cheap to rebuild on every change. Renders the same image, more slowly.
+    pub fn plain(
+        volume: &'a Volume,
+        tf: &TransferFunction,
+        settings: &RenderSettings,
+        view_forward: Vec3,
+    ) -> Result<Self, SettingsError> {
         settings.validate()?;
         let voxel = volume.spacing().min_element();
         let (lo, hi) = volume.value_range();
         let lut = tf.bake(lo, hi);
         let classifier = Classifier::new(&settings.classification, &lut, voxel);
-        let skippable = settings.method == Method::Accumulate
-            && settings.order == Order::FrontToBack
-            && !matches!(classifier, Classifier::IsoContours { .. });
-        let empty = skippable.then(|| {
-            (
-                EmptyBlocks::new(volume.block_ranges(), &lut),
-                VisibleCells::new(volume, &lut),
-            )
-        });
-        let needs_gradient = settings.shading || classifier != Classifier::Table;
-        let differences = if needs_gradient {
-            volume.lattice_differences()
-        } else {
-            None
-        };
-        let block_skipping = matches!(
-            settings.method,
-            Method::Maximum | Method::Minimum | Method::First
-        );
-        if block_skipping {
-            volume.block_ranges(); // computed now, not inside the first render
-        }
         Ok(Self {
-            empty,
-            block_skipping,
-            differences,
+            empty: None,
+            block_skipping: false,
+            differences: None,
             volume,
             classifier,
             light: settings.phong.light.resolve(view_forward),

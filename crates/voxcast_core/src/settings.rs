@@ -135,6 +135,69 @@ impl RenderSettings {
     }
 }
 
+/// The combinations on which the GPU preview must agree with the CPU render (the sandbox's
+/// `--screenshot DIR --sweep` and its test): every method at steps 1 and ½ voxel, shading off and
+/// on; plus nearest interpolation, jitter, back-to-front order and no opacity correction for
+/// Accumulate. Each with a file stem naming it.
+pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
+    let mut out = Vec::new();
+    for method in Method::ALL {
+        for step in [1.0f32, 0.5] {
+            for shading in [false, true] {
+                let s = RenderSettings {
+                    method,
+                    step: Length::Voxels(step),
+                    shading,
+                    ..base.clone()
+                };
+                let name = format!(
+                    "{}_step{}_{}",
+                    method.name(),
+                    step,
+                    if shading { "shaded" } else { "flat" }
+                );
+                out.push((name, s));
+            }
+        }
+    }
+    let accumulate = RenderSettings {
+        method: Method::Accumulate,
+        step: Length::Voxels(0.5),
+        shading: true,
+        ..base.clone()
+    };
+    out.push((
+        "accumulate_nearest".into(),
+        RenderSettings {
+            interpolation: Interpolation::Nearest,
+            ..accumulate.clone()
+        },
+    ));
+    out.push((
+        "accumulate_jitter".into(),
+        RenderSettings {
+            jitter: true,
+            jitter_seed: 7,
+            ..accumulate.clone()
+        },
+    ));
+    out.push((
+        "accumulate_back_to_front".into(),
+        RenderSettings {
+            order: Order::BackToFront,
+            ..accumulate.clone()
+        },
+    ));
+    out.push((
+        "accumulate_uncorrected".into(),
+        RenderSettings {
+            opacity_correction: false,
+            ..accumulate
+        },
+    ));
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,11 @@
+// The preview's resources: the uniform, the volume as a 3-D texture read texel by texel (the
+// core's exact trilinear weights, whatever the device's filtering precision; 8-bit data as
+// R8Unorm, everything else as R32Float, which holds 16-bit integers exactly), and the baked
+// transfer-function table (Rgba32Float, one row). Twin: src/preview/material.rs (`VolumeMaterial`).
+#define_import_path voxcast::bindings
+
+#import voxcast::types::VolumeUniform
+
+@group(#{MATERIAL_BIND_GROUP}) @binding(0) var<uniform> params: VolumeUniform;
+@group(#{MATERIAL_BIND_GROUP}) @binding(1) var volume_texture: texture_3d<f32>;
+@group(#{MATERIAL_BIND_GROUP}) @binding(2) var lut_texture: texture_2d<f32>;

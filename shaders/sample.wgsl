@@ -1,0 +1,109 @@
+// Twin: crates/voxcast_core/src/sample.rs (`cell`, `lerp`, `sample_trilinear`, `nearest_index`,
+// `sample_nearest`, `lattice_difference`, `gradient`). Texels are read one by one with
+// textureLoad and blended with the core's weights in the core's order (x, then y, then z), so the
+// preview does not depend on a device's filtering precision.
+#define_import_path voxcast::sample
+
+#import voxcast::bindings::{params, volume_texture}
+
+struct Cell {
+    lo: vec3<u32>,
+    hi: vec3<u32>,
+    t: vec3<f32>,
+}
+
+/// Locates p_voxel in the lattice, clamped to it.
+fn cell(p_voxel: vec3<f32>) -> Cell {
+    let x = min(max(p_voxel, vec3(0.0)), params.last);
+    let lo = min(vec3<u32>(x), params.max_lo);
+    return Cell(lo, lo + params.corner_step, x - vec3<f32>(lo));
+}
+
+/// a + (b − a)·t, the one interpolation formula.
+fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    return a + (b - a) * t;
+}
+
+/// The raw value of one lattice point.
+fn load_raw(i: vec3<u32>) -> f32 {
+    return textureLoad(volume_texture, vec3<i32>(i), 0).r * params.raw_scale;
+}
+
+/// Raw units to data units: raw · slope + intercept.
+fn to_data(raw: f32) -> f32 {
+    return raw * params.slope + params.intercept;
+}
+
+/// Trilinear interpolation of the raw values at p_voxel.
+fn sample_trilinear(p_voxel: vec3<f32>) -> f32 {
+    let c = cell(p_voxel);
+    let x00 = lerp(load_raw(c.lo), load_raw(vec3(c.hi.x, c.lo.y, c.lo.z)), c.t.x);
+    let x10 = lerp(load_raw(vec3(c.lo.x, c.hi.y, c.lo.z)), load_raw(vec3(c.hi.x, c.hi.y, c.lo.z)), c.t.x);
+    let x01 = lerp(load_raw(vec3(c.lo.x, c.lo.y, c.hi.z)), load_raw(vec3(c.hi.x, c.lo.y, c.hi.z)), c.t.x);
+    let x11 = lerp(load_raw(vec3(c.lo.x, c.hi.y, c.hi.z)), load_raw(c.hi), c.t.x);
+    return lerp(lerp(x00, x10, c.t.y), lerp(x01, x11, c.t.y), c.t.z);
+}
+
+/// The lattice point nearest to p_voxel (floor(x + ½), clamped).
+fn nearest_index(p_voxel: vec3<f32>) -> vec3<u32> {
+    return vec3<u32>(min(max(p_voxel + 0.5, vec3(0.0)), params.last));
+}
+
+fn sample_nearest(p_voxel: vec3<f32>) -> f32 {
+    return load_raw(nearest_index(p_voxel));
+}
+
+/// The reconstructed raw value at p_voxel.
+fn sample(p_voxel: vec3<f32>) -> f32 {
+    if (params.flags & #{FLAG_TRILINEAR}u) != 0u {
+        return sample_trilinear(p_voxel);
+    }
+    return sample_nearest(p_voxel);
+}
+
+/// The raw difference along axis a at lattice index idx, per lattice step: central inside,
+/// one-sided at the borders, zero on a one-point axis.
+fn lattice_difference(idx: vec3<u32>, a: i32) -> f32 {
+    let n_last = u32(params.last[a]);
+    let lo = select(idx[a] - 1u, 0u, idx[a] == 0u);
+    let hi = min(idx[a] + 1u, n_last);
+    if hi == lo {
+        return 0.0;
+    }
+    var p = idx;
+    var m = idx;
+    p[a] = hi;
+    m[a] = lo;
+    let inv_steps = select(0.5, 1.0, hi - lo == 1u);
+    return (load_raw(p) - load_raw(m)) * inv_steps;
+}
+
+fn lattice_differences(idx: vec3<u32>) -> vec3<f32> {
+    return vec3(lattice_difference(idx, 0), lattice_difference(idx, 1), lattice_difference(idx, 2));
+}
+
+/// The gradient at p_voxel in data units per world unit: lattice differences blended with the
+/// trilinear weights in the same order as the value, scaled at the end.
+fn gradient(p_voxel: vec3<f32>) -> vec3<f32> {
+    let scale = params.slope / params.spacing;
+    if (params.flags & #{FLAG_TRILINEAR}u) == 0u {
+        return lattice_differences(nearest_index(p_voxel)) * scale;
+    }
+    let c = cell(p_voxel);
+    let t = c.t;
+    let g000 = lattice_differences(c.lo);
+    let g100 = lattice_differences(vec3(c.hi.x, c.lo.y, c.lo.z));
+    let g010 = lattice_differences(vec3(c.lo.x, c.hi.y, c.lo.z));
+    let g110 = lattice_differences(vec3(c.hi.x, c.hi.y, c.lo.z));
+    let g001 = lattice_differences(vec3(c.lo.x, c.lo.y, c.hi.z));
+    let g101 = lattice_differences(vec3(c.hi.x, c.lo.y, c.hi.z));
+    let g011 = lattice_differences(vec3(c.lo.x, c.hi.y, c.hi.z));
+    let g111 = lattice_differences(c.hi);
+    let x00 = g000 + (g100 - g000) * t.x;
+    let x10 = g010 + (g110 - g010) * t.x;
+    let x01 = g001 + (g101 - g001) * t.x;
+    let x11 = g011 + (g111 - g011) * t.x;
+    let y0 = x00 + (x10 - x00) * t.y;
+    let y1 = x01 + (x11 - x01) * t.y;
+    return (y0 + (y1 - y0) * t.z) * scale;
+}

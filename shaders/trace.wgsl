@@ -1,0 +1,174 @@
+// Twin: crates/voxcast_core/src/trace.rs (`Marcher::march` and the methods), without the
+// empty-space skipping (which changes no result) and without recording.
+#define_import_path voxcast::trace
+
+#import voxcast::bindings::params
+#import voxcast::ray::intersect_box
+#import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction}
+#import voxcast::sample::{sample, to_data, gradient}
+#import voxcast::transfer::lut_lookup
+#import voxcast::classify::classify
+#import voxcast::shade::shade
+#import voxcast::composite::{correct_opacity, accumulate_front_to_back, accumulate_back_to_front, crosses, crossing_fraction}
+
+/// The value (data units) at voxel position pv.
+fn value_at(pv: vec3<f32>) -> f32 {
+    return to_data(sample(pv));
+}
+
+/// Colour and classified opacity of value v at pv.
+fn classified(v: f32, pv: vec3<f32>) -> vec4<f32> {
+    let rgba = lut_lookup(v);
+    if params.classification == #{CLASSIFY_TABLE}u {
+        return rgba;
+    }
+    return vec4(rgba.rgb, classify(v, rgba.a, length(gradient(pv))));
+}
+
+/// Shades colour c at pv if shading is on.
+fn shaded(c: vec3<f32>, pv: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
+    if (params.flags & #{FLAG_SHADING}u) == 0u {
+        return c;
+    }
+    return shade(c, gradient(pv), pv * params.spacing, view);
+}
+
+/// One ray through the volume: premultiplied colour (rgb) and opacity (a), before the
+/// background. `t_max` stops the ray at opaque scene geometry; `pixel` keys the jitter.
+fn trace(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, pixel: vec2<u32>) -> vec4<f32> {
+    let hit = intersect_box(origin, dir, 0.0, t_max, params.box_lo, params.box_hi);
+    if !hit.hit {
+        return vec4(0.0);
+    }
+    var jitter = 0.0;
+    if (params.flags & #{FLAG_JITTER}u) != 0u {
+        jitter = jitter_fraction(pixel.x, pixel.y, params.jitter_seed);
+    }
+    let plan = plan_steps(hit.t_enter, hit.t_exit, params.dt, jitter, params.max_samples);
+    let o_v = origin * params.inv_spacing;
+    let d_v = dir * params.inv_spacing;
+    let view = -dir;
+    if params.method == #{METHOD_ACCUMULATE}u {
+        return accumulate(plan, o_v, d_v, view);
+    }
+    if params.method == #{METHOD_FIRST}u {
+        return first(plan, o_v, d_v, view);
+    }
+    return project(plan, o_v, d_v);
+}
+
+fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
+    let back_to_front = (params.flags & #{FLAG_BACK_TO_FRONT}u) != 0u;
+    var stop_at = 3.4e38;
+    if (params.flags & #{FLAG_EARLY_TERMINATION}u) != 0u && !back_to_front {
+        stop_at = params.cutoff;
+    }
+    var acc = vec4(0.0);
+    for (var i = 0u; i < plan.count; i++) {
+        var k = i;
+        if back_to_front {
+            k = plan.count - 1u - i;
+        }
+        let t = sample_t(plan, k);
+        let pv = o_v + d_v * t;
+        let v = value_at(pv);
+        let cl = classified(v, pv);
+        if cl.a <= 0.0 {
+            continue;
+        }
+        var alpha = cl.a;
+        if (params.flags & #{FLAG_OPACITY_CORRECTION}u) != 0u {
+            alpha = correct_opacity(cl.a, segment_length(plan, k, t), params.dt_ref);
+        }
+        if alpha > 0.0 {
+            let color = shaded(cl.rgb, pv, view);
+            if back_to_front {
+                acc = accumulate_back_to_front(acc, color, alpha);
+            } else {
+                acc = accumulate_front_to_back(acc, color, alpha);
+            }
+        }
+        if acc.a >= stop_at {
+            break;
+        }
+    }
+    return acc;
+}
+
+fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
+    if plan.count == 0u {
+        return vec4(0.0);
+    }
+    var sum = 0.0;
+    var hi = -3.4e38;
+    var lo = 3.4e38;
+    for (var k = 0u; k < plan.count; k++) {
+        let v = value_at(o_v + d_v * sample_t(plan, k));
+        sum += v;
+        hi = max(hi, v);
+        lo = min(lo, v);
+    }
+    var value = sum / f32(plan.count);
+    if params.method == #{METHOD_MAXIMUM}u {
+        value = hi;
+    } else if params.method == #{METHOD_MINIMUM}u {
+        value = lo;
+    }
+    let rgba = lut_lookup(value);
+    return vec4(rgba.rgb * rgba.a, rgba.a);
+}
+
+fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
+    let target_value = params.target_value;
+    var prev_t = 0.0;
+    var prev_v = 0.0;
+    for (var k = 0u; k < plan.count; k++) {
+        let t = sample_t(plan, k);
+        let v = value_at(o_v + d_v * t);
+        var found = false;
+        if k == 0u {
+            found = v == target_value;
+        } else {
+            found = crosses(prev_v, v, target_value);
+        }
+        if found {
+            var ta = t;
+            var va = v;
+            if k > 0u {
+                ta = prev_t;
+                va = prev_v;
+            }
+            return hit(ta, va, t, v, o_v, d_v, view);
+        }
+        prev_t = t;
+        prev_v = v;
+    }
+    return vec4(0.0);
+}
+
+/// Refines the crossing in [ta, tb] by bisection then linear interpolation, and shades it.
+fn hit(ta_in: f32, va_in: f32, tb_in: f32, vb_in: f32, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
+    let target_value = params.target_value;
+    var ta = ta_in;
+    var va = va_in;
+    var tb = tb_in;
+    var vb = vb_in;
+    if tb > ta {
+        for (var i = 0u; i < params.refine_steps; i++) {
+            let tm = 0.5 * (ta + tb);
+            let vm = value_at(o_v + d_v * tm);
+            if crosses(va, vm, target_value) {
+                tb = tm;
+                vb = vm;
+            } else {
+                ta = tm;
+                va = vm;
+            }
+        }
+    }
+    let t = ta + (tb - ta) * crossing_fraction(va, vb, target_value);
+    let pv = o_v + d_v * t;
+    let rgba = lut_lookup(target_value);
+    let color = shaded(rgba.rgb, pv, view);
+    return vec4(color * rgba.a, rgba.a);
+}

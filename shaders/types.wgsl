@@ -1,0 +1,66 @@
+// Twin: src/preview/uniform.rs (`VolumeUniform`) and the conventions in crates/voxcast_core/src/lib.rs.
+//
+// Conventions (as in the core): voxel (i, j, k) sits at world (i·sx, j·sy, k·sz); the box spans
+// [0, (n−1)·s] (one spacing of thickness around a one-point axis); voxel space is world space
+// divided by the spacing; distances t along a ray are world units, directions unit length;
+// colours are linear floats in [0, 1], accumulated colour premultiplied by opacity.
+// Rust owns this layout: a test checks every member's offset against the Rust struct.
+#define_import_path voxcast::types
+
+struct VolumeUniform {
+    box_lo: vec3<f32>,
+    dt: f32,
+    box_hi: vec3<f32>,
+    dt_ref: f32,
+    inv_spacing: vec3<f32>,
+    cutoff: f32,
+    spacing: vec3<f32>,
+    target_value: f32,
+    /// n − 1 per axis, as floats (for clamping positions onto the lattice).
+    last: vec3<f32>,
+    slope: f32,
+    /// max(n − 2, 0) per axis: the largest lower cell corner.
+    max_lo: vec3<u32>,
+    intercept: f32,
+    /// 1 where an axis has more than one point, else 0.
+    corner_step: vec3<u32>,
+    lut_lo: f32,
+    lut_scale: f32,
+    /// Raw units per texel value: 255 for 8-bit data stored as R8Unorm, else 1.
+    raw_scale: f32,
+    method: u32,
+    flags: u32,
+    refine_steps: u32,
+    max_samples: u32,
+    jitter_seed: u32,
+    light_kind: u32,
+    classification: u32,
+    iso_count: u32,
+    ka: f32,
+    kd: f32,
+    ks: f32,
+    shininess: f32,
+    kc: f32,
+    kl: f32,
+    kq: f32,
+    gradient_threshold: f32,
+    /// A point light's position, or the unit direction towards a directional light.
+    light_vec: vec3<f32>,
+    iso_r: f32,
+    light_color: vec3<f32>,
+    inv_full_gradient: f32,
+    background: vec3<f32>,
+    /// 1 to stop rays at opaque scene geometry (the depth prepass), else 0.
+    depth_termination: u32,
+    iso_values: vec4<f32>,
+    iso_alphas: vec4<f32>,
+    /// The camera's rays, as the core's `ImageRays`: eye, right and up scaled to half the view,
+    /// forward, 1/width and 1/height of the image, and 1 for perspective.
+    cam_eye: vec3<f32>,
+    cam_perspective: u32,
+    cam_right: vec3<f32>,
+    cam_inv_width: f32,
+    cam_up: vec3<f32>,
+    cam_inv_height: f32,
+    cam_forward: vec3<f32>,
+}

@@ -1,0 +1,57 @@
+// The preview's fragment shader: one ray per pixel of the volume's box, traced by `trace`.
+// Twin: the image renderer, crates/voxcast_core/src/render.rs, and the camera's rays
+// (camera.rs): origin at the eye (perspective) or on the eye's plane (orthographic).
+//
+// The box is drawn back faces only, so the camera may be inside it. With the depth prepass the
+// ray stops at opaque scene geometry (prepass depth 0 means nothing was drawn there).
+//
+// Colour: the ray caster's values are display values (the CPU writes them to PNG as they are,
+// as VTK does). The preview draws into an sRGB target, which encodes linear output; so the
+// shader outputs, premultiplied, L(C + (1 − O)·bg) − (1 − O)·L(bg), with L the sRGB decoding:
+// blended over a clear colour of bg this stores exactly the CPU's C + (1 − O)·bg.
+#import bevy_pbr::forward_io::VertexOutput
+#import bevy_pbr::mesh_view_bindings::view
+#import bevy_pbr::view_transformations::{frag_coord_to_ndc, position_ndc_to_world}
+#ifdef DEPTH_PREPASS
+#import bevy_pbr::prepass_utils
+#endif
+#import voxcast::bindings::params
+#import voxcast::trace::trace
+#import voxcast::composite::blend_background
+
+/// sRGB decoding of a display value in [0, 1].
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    let lo = c / 12.92;
+    let hi = pow((c + 0.055) / 1.055, vec3(2.4));
+    return select(hi, lo, c <= vec3(0.04045));
+}
+
+@fragment
+fn fragment(mesh: VertexOutput) -> @location(0) vec4<f32> {
+    // The camera's ray through this pixel centre, computed as camera.rs computes it.
+    let pixel = mesh.position.xy - view.viewport.xy;
+    let ndc_x = 2.0 * pixel.x * params.cam_inv_width - 1.0;
+    let ndc_y = 1.0 - 2.0 * pixel.y * params.cam_inv_height;
+    let offset = params.cam_right * ndc_x + params.cam_up * ndc_y;
+    var origin = params.cam_eye;
+    var dir = params.cam_forward;
+    if params.cam_perspective != 0u {
+        dir = normalize(params.cam_forward + offset);
+    } else {
+        origin = params.cam_eye + offset;
+    }
+    let ndc = frag_coord_to_ndc(mesh.position).xy;
+    var t_max = 3.4e38;
+#ifdef DEPTH_PREPASS
+    if params.depth_termination != 0u {
+        let depth = prepass_utils::prepass_depth(mesh.position, 0u);
+        if depth > 0.0 {
+            t_max = dot(position_ndc_to_world(vec3(ndc, depth)) - origin, dir);
+        }
+    }
+#endif
+    let acc = trace(origin, dir, t_max, vec2<u32>(pixel));
+    let shown = blend_background(acc, params.background);
+    let rgb = srgb_to_linear(clamp(shown, vec3(0.0), vec3(1.0))) - (1.0 - acc.a) * srgb_to_linear(params.background);
+    return vec4(max(rgb, vec3(0.0)), acc.a);
+}

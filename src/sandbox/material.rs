@@ -1,0 +1,123 @@
+//! The volume material: the uniform, the volume texture and the transfer-function table bound for
+//! `shaders/volume.wgsl`, drawn on the back faces of the volume's box with no depth test or
+//! write, so the camera may be inside the box and opaque scene geometry stops the rays through
+//! the depth prepass instead.
+
+use super::uniform::{VolumeUniform, shader_defs};
+use bevy::asset::{RenderAssetUsages, uuid_handle};
+use bevy::mesh::MeshVertexBufferLayoutRef;
+use bevy::pbr::{MaterialPipeline, MaterialPipelineKey};
+use bevy::prelude::*;
+use bevy::render::render_resource::{
+    AsBindGroup, CompareFunction, Extent3d, Face, RenderPipelineDescriptor,
+    SpecializedMeshPipelineError, TextureDimension, TextureFormat,
+};
+use bevy::shader::ShaderRef;
+use voxcast_core::Volume;
+use voxcast_core::transfer::Lut;
+use voxcast_core::volume::{Grid, GridVisitor, ScalarType, Voxel};
+
+/// The fragment shader, `shaders/volume.wgsl`, registered under this handle.
+pub const VOLUME_SHADER: Handle<Shader> = uuid_handle!("6a1c3e0e-4f0f-4b8e-9a3a-2f4e0d1c7b55");
+
+/// The preview's material.
+#[derive(Asset, TypePath, AsBindGroup, Clone, Debug)]
+pub struct VolumeMaterial {
+    #[uniform(0)]
+    pub uniform: VolumeUniform,
+    #[texture(1, dimension = "3d", sample_type = "float", filterable = false)]
+    pub volume: Handle<Image>,
+    #[texture(2, sample_type = "float", filterable = false)]
+    pub lut: Handle<Image>,
+}
+
+impl Material for VolumeMaterial {
+    fn fragment_shader() -> ShaderRef {
+        ShaderRef::Handle(VOLUME_SHADER)
+    }
+
+    fn alpha_mode(&self) -> AlphaMode {
+        AlphaMode::Premultiplied
+    }
+
+    fn enable_prepass() -> bool {
+        false
+    }
+
+    fn enable_shadows() -> bool {
+        false
+    }
+
+    fn specialize(
+        _pipeline: &MaterialPipeline,
+        descriptor: &mut RenderPipelineDescriptor,
+        _layout: &MeshVertexBufferLayoutRef,
+        _key: MaterialPipelineKey<Self>,
+    ) -> Result<(), SpecializedMeshPipelineError> {
+        descriptor.primitive.cull_mode = Some(Face::Front);
+        if let Some(depth) = descriptor.depth_stencil.as_mut() {
+            depth.depth_write_enabled = Some(false);
+            depth.depth_compare = Some(CompareFunction::Always);
+        }
+        if let Some(fragment) = descriptor.fragment.as_mut() {
+            fragment.shader_defs.extend(shader_defs());
+        }
+        Ok(())
+    }
+}
+
+/// The volume as a 3-D texture: 8-bit data as R8Unorm, 16-bit integers and floats as R32Float
+/// (which holds every 16-bit integer exactly).
+pub fn volume_image(volume: &Volume) -> Image {
+    struct Texels;
+    impl GridVisitor for Texels {
+        type Output = (TextureFormat, Vec<u8>);
+        fn visit<T: Voxel>(self, g: Grid<'_, T>) -> Self::Output {
+            if T::TYPE == ScalarType::U8 {
+                let bytes = g.data.iter().map(|v| v.to_f32() as u8).collect();
+                (TextureFormat::R8Unorm, bytes)
+            } else {
+                let bytes = g
+                    .data
+                    .iter()
+                    .flat_map(|v| v.to_f32().to_le_bytes())
+                    .collect();
+                (TextureFormat::R32Float, bytes)
+            }
+        }
+    }
+    let (format, data) = volume.visit(Texels);
+    let d = volume.dims();
+    Image::new(
+        Extent3d {
+            width: d.x,
+            height: d.y,
+            depth_or_array_layers: d.z,
+        },
+        TextureDimension::D3,
+        data,
+        format,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+}
+
+/// The baked transfer function as one row of Rgba32Float texels.
+pub fn lut_image(lut: &Lut) -> Image {
+    let data = lut
+        .entries
+        .iter()
+        .flat_map(|e| e.to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    Image::new(
+        Extent3d {
+            width: lut.entries.len() as u32,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+        TextureDimension::D2,
+        data,
+        TextureFormat::Rgba32Float,
+        RenderAssetUsages::RENDER_WORLD | RenderAssetUsages::MAIN_WORLD,
+    )
+}

@@ -1,0 +1,178 @@
+//! The sandbox: a Bevy scene with the volume's live GPU preview, an orbit camera and the
+//! settings panel; or, with `--screenshot`, one frame of the preview saved to a PNG.
+//!
+//! One plugin per feature file; the ECS holds only what the scene needs: the main camera, the
+//! volume's box (carrying the material) and the settings as resources.
+
+mod material;
+mod orbit;
+pub mod screenshot;
+mod shaders;
+mod state;
+mod ui;
+pub mod uniform;
+
+use crate::cli::CliError;
+use crate::cli::args::{CameraArgs, SettingsArgs, VolumeArgs, parse_size};
+use bevy::core_pipeline::prepass::DepthPrepass;
+use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
+use bevy::diagnostic::FrameTimeDiagnosticsPlugin;
+use bevy::prelude::*;
+use bevy::render::RenderPlugin;
+use bevy::window::WindowResolution;
+use bevy_egui::EguiPlugin;
+use clap::Args;
+use material::VolumeMaterial;
+use orbit::Orbit;
+use state::{MainCamera, RenderState, View, VolumeState};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// Options of the sandbox itself (no subcommand).
+#[derive(Args, Debug, Clone)]
+pub struct SandboxArgs {
+    #[command(flatten)]
+    pub volume: VolumeArgs,
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// Render the preview of this view once, save it to this PNG and exit (no window needed).
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// With --screenshot DIR: one picture per method × step (1, ½ voxel) × shading (off, on),
+    /// named like `accumulate_step0.5_shaded.png` (the GPU/CPU agreement test uses this).
+    #[arg(long, requires = "screenshot")]
+    pub sweep: bool,
+    /// Window or screenshot size in pixels.
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+}
+
+/// Runs the sandbox (or takes the screenshot) and returns when it closes.
+pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
+    let loaded = args.volume.load()?;
+    let resolved = args.settings.resolve(&loaded)?;
+    for note in &resolved.notes {
+        eprintln!("note: {note}");
+    }
+    let camera = args.camera.camera(&loaded, resolved.preset.as_ref())?;
+    let volume = VolumeState {
+        volume: Arc::new(loaded.volume),
+        source: args.volume.volume.clone(),
+        preset: resolved.preset,
+    };
+    let render = RenderState {
+        transfer: resolved.transfer,
+        settings: resolved.settings,
+        depth_termination: true,
+    };
+    let mut app = App::new();
+    let render_plugin = RenderPlugin {
+        synchronous_pipeline_compilation: args.screenshot.is_some(),
+        ..default()
+    };
+    match &args.screenshot {
+        Some(path) => {
+            app.add_plugins(
+                DefaultPlugins
+                    .set(render_plugin)
+                    .set(WindowPlugin {
+                        primary_window: None,
+                        exit_condition: bevy::window::ExitCondition::DontExit,
+                        ..default()
+                    })
+                    .disable::<bevy::winit::WinitPlugin>(),
+            );
+            app.add_plugins(bevy::app::ScheduleRunnerPlugin::run_loop(
+                std::time::Duration::ZERO,
+            ));
+            if args.sweep {
+                std::fs::create_dir_all(path)
+                    .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
+            }
+            app.insert_resource(screenshot::Request {
+                path: path.clone(),
+                size: args.size,
+                sweep: args.sweep,
+            });
+            app.add_plugins(screenshot::plugin);
+        }
+        None => {
+            app.add_plugins(DefaultPlugins.set(render_plugin).set(WindowPlugin {
+                primary_window: Some(Window {
+                    title: "Voxcast".into(),
+                    resolution: WindowResolution::new(args.size.0, args.size.1),
+                    ..default()
+                }),
+                ..default()
+            }));
+            app.add_plugins((
+                EguiPlugin::default(),
+                FrameTimeDiagnosticsPlugin::default(),
+                ui::plugin,
+                orbit::plugin,
+            ));
+        }
+    }
+    app.add_plugins(MaterialPlugin::<VolumeMaterial>::default())
+        .add_plugins((shaders::plugin, state::plugin))
+        .insert_resource(ClearColor(Color::srgb(
+            render.settings.background.x,
+            render.settings.background.y,
+            render.settings.background.z,
+        )))
+        .insert_resource(volume)
+        .insert_resource(render)
+        .insert_resource(InitialView(camera));
+    if args.screenshot.is_none() {
+        app.add_systems(Startup, spawn_main_camera);
+    }
+    match app.run() {
+        AppExit::Success => Ok(()),
+        AppExit::Error(code) => Err(CliError::failed(format!(
+            "the sandbox stopped with code {code}"
+        ))),
+    }
+}
+
+/// The view the sandbox opens with (also the screenshot's).
+#[derive(Resource, Clone, Copy)]
+pub struct InitialView(pub voxcast_core::camera::Camera);
+
+/// The camera components every view of the preview uses: no tonemapping or dithering (the
+/// preview's values must equal the CPU's), no MSAA, a depth prepass for ray termination.
+pub fn preview_camera(view: &voxcast_core::camera::Camera) -> impl Bundle {
+    let projection = match view.projection {
+        voxcast_core::camera::Projection::Perspective { fov_y_deg } => {
+            Projection::Perspective(PerspectiveProjection {
+                fov: fov_y_deg.to_radians(),
+                ..default()
+            })
+        }
+        voxcast_core::camera::Projection::Orthographic { height } => {
+            Projection::Orthographic(OrthographicProjection {
+                scaling_mode: bevy::camera::ScalingMode::FixedVertical {
+                    viewport_height: height,
+                },
+                ..OrthographicProjection::default_3d()
+            })
+        }
+    };
+    (
+        Camera3d::default(),
+        projection,
+        Msaa::Off,
+        Tonemapping::None,
+        DebandDither::Disabled,
+        DepthPrepass,
+        MainCamera,
+        View(*view),
+        Transform::from_translation(view.eye).looking_at(view.target, view.up),
+    )
+}
+
+fn spawn_main_camera(mut commands: Commands, view: Res<InitialView>) {
+    let v = view.0;
+    commands.spawn((preview_camera(&v), Orbit::looking_at(v.eye, v.target, v.up)));
+}

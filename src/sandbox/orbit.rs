@@ -1,0 +1,130 @@
+//! A small orbit camera: left drag orbits around a focus point, right or middle drag pans,
+//! the wheel zooms. Input that egui wants (a panel under the pointer, a dragged slider) is left
+//! to egui.
+
+use super::state::{MainCamera, View};
+use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll, MouseScrollUnit};
+use bevy::prelude::*;
+use bevy_egui::input::EguiWantsInput;
+
+/// Where the camera looks from: spherical coordinates around `focus`.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct Orbit {
+    pub focus: Vec3,
+    pub distance: f32,
+    /// Rotation about the up axis, radians.
+    pub yaw: f32,
+    /// Elevation above the horizontal plane, radians (kept short of the poles).
+    pub pitch: f32,
+    /// The world's up for this view.
+    pub up: Vec3,
+}
+
+/// Orbit radians per pixel dragged.
+const ORBIT_SPEED: f32 = 0.006;
+/// Zoom factor per wheel line.
+const ZOOM_STEP: f32 = 0.9;
+
+impl Orbit {
+    /// The orbit that puts the camera at `eye` looking at `focus` with `up`.
+    pub fn looking_at(eye: Vec3, focus: Vec3, up: Vec3) -> Self {
+        let up = up.normalize_or(Vec3::Y);
+        let offset = eye - focus;
+        let distance = offset.length().max(1e-3);
+        let (right, forward) = basis(up);
+        let pitch = (offset.dot(up) / distance).clamp(-1.0, 1.0).asin();
+        let yaw = offset.dot(right).atan2(offset.dot(forward));
+        Self {
+            focus,
+            distance,
+            yaw,
+            pitch,
+            up,
+        }
+    }
+
+    /// The camera's transform for this orbit.
+    pub fn transform(&self) -> Transform {
+        let (right, forward) = basis(self.up);
+        let dir = (right * self.yaw.sin() + forward * self.yaw.cos()) * self.pitch.cos()
+            + self.up * self.pitch.sin();
+        Transform::from_translation(self.focus + dir * self.distance)
+            .looking_at(self.focus, self.up)
+    }
+}
+
+/// Two axes perpendicular to `up`.
+fn basis(up: Vec3) -> (Vec3, Vec3) {
+    let forward = up.any_orthonormal_vector();
+    (up.cross(forward), forward)
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.add_systems(Update, orbit_camera);
+}
+
+fn orbit_camera(
+    buttons: Res<ButtonInput<MouseButton>>,
+    motion: Res<AccumulatedMouseMotion>,
+    scroll: Res<AccumulatedMouseScroll>,
+    egui: Option<Res<EguiWantsInput>>,
+    mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
+) {
+    if egui.is_some_and(|e| e.wants_any_pointer_input()) {
+        return;
+    }
+    for (mut orbit, mut transform, mut view) in &mut cameras {
+        let delta = motion.delta;
+        let mut changed = false;
+        if buttons.pressed(MouseButton::Left) && delta != Vec2::ZERO {
+            orbit.yaw -= delta.x * ORBIT_SPEED;
+            orbit.pitch = (orbit.pitch + delta.y * ORBIT_SPEED).clamp(-1.55, 1.55);
+            changed = true;
+        }
+        if (buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle))
+            && delta != Vec2::ZERO
+        {
+            let scale = orbit.distance * 0.0015;
+            let pan = transform.right() * -delta.x * scale + transform.up() * delta.y * scale;
+            orbit.focus += pan;
+            changed = true;
+        }
+        let lines = match scroll.unit {
+            MouseScrollUnit::Line => scroll.delta.y,
+            MouseScrollUnit::Pixel => scroll.delta.y / 40.0,
+        };
+        if lines != 0.0 {
+            orbit.distance = (orbit.distance * ZOOM_STEP.powf(lines)).max(1e-3);
+            changed = true;
+        }
+        if changed {
+            *transform = orbit.transform();
+            let eye = transform.translation;
+            if let Ok(v) =
+                voxcast_core::camera::Camera::new(eye, orbit.focus, orbit.up, view.0.projection)
+            {
+                view.0 = v;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn looking_at_round_trips() {
+        let eye = Vec3::new(3.0, 4.0, 5.0);
+        let focus = Vec3::new(1.0, 0.5, -1.0);
+        for up in [Vec3::Y, Vec3::Z, Vec3::NEG_Y] {
+            let o = Orbit::looking_at(eye, focus, up);
+            let t = o.transform();
+            assert!(
+                (t.translation - eye).length() < 1e-4,
+                "{up}: {}",
+                t.translation
+            );
+        }
+    }
+}

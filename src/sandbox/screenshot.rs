@@ -1,0 +1,118 @@
+//! `voxcast --screenshot FILE`: the preview of exactly the view `voxcast render` would render,
+//! drawn once into an image (no window), saved, and the program exits.
+//!
+//! Pipelines compile synchronously in this mode; the picture is taken after a few frames, once
+//! the volume's textures are on the GPU.
+
+use super::state::RenderState;
+use super::{InitialView, preview_camera};
+use bevy::camera::RenderTarget;
+use bevy::prelude::*;
+use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use std::path::PathBuf;
+use voxcast_core::settings::RenderSettings;
+
+/// Where to save the screenshot and its size; with `sweep`, `path` is a folder that receives
+/// one picture per combination of `voxcast_core::settings::agreement_cases`.
+#[derive(Resource, Clone)]
+pub struct Request {
+    pub path: PathBuf,
+    pub size: (u32, u32),
+    pub sweep: bool,
+}
+
+/// Frames drawn before the first capture (textures uploaded, pipelines ready).
+const WARM_UP_FRAMES: u32 = 6;
+/// Frames between a settings change and its capture.
+const SETTLE_FRAMES: u32 = 3;
+
+#[derive(Resource)]
+struct Target(Handle<Image>);
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<Saved>()
+        .add_systems(Startup, spawn_image_camera)
+        .add_systems(Update, take_screenshot);
+}
+
+fn spawn_image_camera(
+    mut commands: Commands,
+    mut images: ResMut<Assets<Image>>,
+    request: Res<Request>,
+    view: Res<InitialView>,
+) {
+    let (w, h) = request.size;
+    let mut image = Image::new_target_texture(w, h, TextureFormat::Rgba8UnormSrgb, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let handle = images.add(image);
+    commands.spawn((
+        preview_camera(&view.0),
+        RenderTarget::Image(handle.clone().into()),
+    ));
+    commands.insert_resource(Target(handle));
+}
+
+fn take_screenshot(
+    mut commands: Commands,
+    mut frames: Local<u32>,
+    mut plan: Local<Option<Vec<(PathBuf, RenderSettings)>>>,
+    mut render: ResMut<RenderState>,
+    target: Res<Target>,
+    request: Res<Request>,
+) {
+    let shots = plan.get_or_insert_with(|| {
+        if request.sweep {
+            voxcast_core::settings::agreement_cases(&render.settings)
+                .into_iter()
+                .map(|(name, s)| (request.path.join(format!("{name}.png")), s))
+                .collect()
+        } else {
+            vec![(request.path.clone(), render.settings.clone())]
+        }
+    });
+    *frames += 1;
+    // Shot i: its settings applied at frame start_i, captured SETTLE_FRAMES later.
+    let Some(i) = frames
+        .checked_sub(WARM_UP_FRAMES)
+        .map(|f| (f / (SETTLE_FRAMES + 1)) as usize)
+    else {
+        return;
+    };
+    let phase = (*frames - WARM_UP_FRAMES) % (SETTLE_FRAMES + 1);
+    let Some((path, settings)) = shots.get(i).cloned() else {
+        return;
+    };
+    if phase == 0 && render.settings != settings {
+        render.settings = settings;
+    }
+    if phase != SETTLE_FRAMES {
+        return;
+    }
+    let total = shots.len();
+    commands.spawn(Screenshot::image(target.0.clone())).observe(
+        move |captured: On<ScreenshotCaptured>,
+              mut saved: ResMut<Saved>,
+              mut exit: MessageWriter<AppExit>| {
+            let result = captured
+                .image
+                .clone()
+                .try_into_dynamic()
+                .map_err(|e| e.to_string())
+                .and_then(|img| img.to_rgb8().save(&path).map_err(|e| e.to_string()));
+            if let Err(e) = result {
+                eprintln!("error: cannot save {}: {e}", path.display());
+                exit.write(AppExit::from_code(1));
+                return;
+            }
+            saved.0 += 1;
+            if saved.0 == total {
+                exit.write(AppExit::Success);
+            }
+        },
+    );
+}
+
+/// How many pictures have been written.
+#[derive(Resource, Default)]
+struct Saved(usize);

@@ -1,0 +1,192 @@
+//! The settings panel (egui). Every control's tooltip is its tunable's one documentation
+//! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
+
+use super::state::{RenderState, VolumeState};
+use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
+use bevy::prelude::*;
+use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
+use std::sync::Arc;
+use voxcast_core::builtin::{DATASETS, load_source};
+use voxcast_core::composite::Method;
+use voxcast_core::preset;
+use voxcast_core::sample::Interpolation;
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::step::Length;
+use voxcast_core::tunables::{self as t, Tunable};
+
+/// What the panel keeps between frames.
+#[derive(Resource, Default)]
+struct PanelState {
+    path: String,
+    load_error: Option<String>,
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<PanelState>()
+        .add_systems(EguiPrimaryContextPass, settings_panel);
+}
+
+/// A slider for a tunable, with its documentation as tooltip.
+fn slider(
+    ui: &mut egui::Ui,
+    value: &mut f32,
+    tunable: &Tunable,
+    range: std::ops::RangeInclusive<f32>,
+    log: bool,
+) -> bool {
+    ui.add(
+        egui::Slider::new(value, range)
+            .logarithmic(log)
+            .text(tunable.label),
+    )
+    .on_hover_text(tunable.doc)
+    .changed()
+}
+
+fn checkbox(ui: &mut egui::Ui, value: &mut bool, tunable: &Tunable) -> bool {
+    ui.checkbox(value, tunable.label)
+        .on_hover_text(tunable.doc)
+        .changed()
+}
+
+fn settings_panel(
+    mut contexts: EguiContexts,
+    mut panel: ResMut<PanelState>,
+    mut volume: ResMut<VolumeState>,
+    mut render: ResMut<RenderState>,
+    diagnostics: Res<DiagnosticsStore>,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    let mut edited = render.clone();
+    let mut load: Option<String> = None;
+    egui::Window::new("Settings").default_width(320.0).show(ctx, |ui| {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.heading("Voxcast");
+            let fps = diagnostics
+                .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
+                .and_then(|d| d.smoothed());
+            ui.label(format!("frame time: {}", fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))));
+
+            ui.separator();
+            ui.label(format!("Volume: {} ({})", volume.volume.name(), volume.source));
+            if let Some(p) = &volume.preset {
+                ui.label(egui::RichText::new(&p.description).small());
+            }
+            egui::ComboBox::from_label("Embedded")
+                .selected_text("choose…")
+                .show_ui(ui, |ui| {
+                    for (name, what) in DATASETS {
+                        if ui.selectable_label(false, *name).on_hover_text(*what).clicked() {
+                            load = Some(format!("builtin:{name}"));
+                        }
+                    }
+                });
+            ui.horizontal(|ui| {
+                ui.text_edit_singleline(&mut panel.path)
+                    .on_hover_text("A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window)");
+                if ui.button("Load").clicked() {
+                    load = Some(panel.path.clone());
+                }
+            });
+            if let Some(e) = &panel.load_error {
+                ui.colored_label(egui::Color32::LIGHT_RED, e);
+            }
+
+            ui.separator();
+            let s = &mut edited.settings;
+            egui::ComboBox::from_label("Method")
+                .selected_text(s.method.name())
+                .show_ui(ui, |ui| {
+                    for m in Method::ALL {
+                        ui.selectable_value(&mut s.method, m, m.name()).on_hover_text(m.doc());
+                    }
+                });
+            let voxel = volume.volume.spacing().min_element();
+            let mut step = s.step.voxels(voxel);
+            if slider(ui, &mut step, &t::STEP, 0.05..=4.0, true) {
+                s.step = Length::Voxels(step);
+            }
+            let mut trilinear = s.interpolation == Interpolation::Trilinear;
+            if ui.checkbox(&mut trilinear, "Trilinear interpolation")
+                .on_hover_text("Blend the 8 surrounding lattice points (off: the nearest point's value)")
+                .changed()
+            {
+                s.interpolation = if trilinear { Interpolation::Trilinear } else { Interpolation::Nearest };
+            }
+            checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION);
+            let mut reference = s.reference_step.voxels(voxel);
+            if slider(ui, &mut reference, &t::REFERENCE_STEP, 0.05..=4.0, true) {
+                s.reference_step = Length::Voxels(reference);
+            }
+            checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION);
+            slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
+            checkbox(ui, &mut s.jitter, &t::JITTER);
+            let (lo, hi) = volume.volume.value_range();
+            let mut target = s.target.unwrap_or(0.5 * (lo + hi));
+            if slider(ui, &mut target, &t::TARGET, lo..=hi, false) {
+                s.target = Some(target);
+            }
+
+            ui.separator();
+            checkbox(ui, &mut s.shading, &t::SHADING);
+            let p = &mut s.phong;
+            slider(ui, &mut p.ka, &t::AMBIENT, 0.0..=1.0, false);
+            slider(ui, &mut p.kd, &t::DIFFUSE, 0.0..=1.0, false);
+            slider(ui, &mut p.ks, &t::SPECULAR, 0.0..=1.0, false);
+            slider(ui, &mut p.shininess, &t::SHININESS, 1.0..=256.0, true);
+            checkbox(ui, &mut p.two_sided, &t::TWO_SIDED);
+
+            ui.separator();
+            ui.label("Transfer function");
+            egui::ComboBox::from_label("Preset")
+                .selected_text(edited.transfer.name.clone())
+                .show_ui(ui, |ui| {
+                    for pr in preset::all() {
+                        if ui.selectable_label(false, &pr.name).on_hover_text(&pr.description).clicked() {
+                            if let Ok(settings) = pr.settings_over(&edited.settings) {
+                                edited.settings = settings;
+                            }
+                            edited.transfer = pr.transfer.clone();
+                        }
+                    }
+                });
+            ui.checkbox(&mut edited.depth_termination, "Stop rays at scene geometry")
+                .on_hover_text("Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume");
+        });
+    });
+    if edited != *render && edited.settings.validate().is_ok() {
+        *render = edited;
+    }
+    if let Some(source) = load {
+        match load_source(&source) {
+            Ok(loaded) => {
+                let p = preset::for_volume(loaded.volume.name());
+                match p
+                    .as_ref()
+                    .map(|p| (p, p.settings_over(&RenderSettings::default())))
+                {
+                    Some((p, Ok(settings))) => {
+                        render.settings = settings;
+                        render.transfer = p.transfer.clone();
+                    }
+                    _ => {
+                        let (lo, hi) = loaded.volume.value_range();
+                        if let Ok(ramp) =
+                            voxcast_core::transfer::TransferFunction::ramp(lo, hi, 0.5)
+                        {
+                            render.transfer = ramp;
+                        }
+                    }
+                }
+                *volume = VolumeState {
+                    volume: Arc::new(loaded.volume),
+                    source,
+                    preset: p,
+                };
+                panel.load_error = None;
+            }
+            Err(e) => panel.load_error = Some(e.to_string()),
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,437 @@
+//! The preview's uniform: the core's resolved scene in the layout `shaders/types.wgsl` declares,
+//! and every constant the shaders use, defined here and passed as shader defs.
+//!
+//! Twin: `shaders/types.wgsl` (`VolumeUniform`); a test checks each member's offset.
+
+use bevy::math::{UVec3, Vec3, Vec4};
+use bevy::render::render_resource::ShaderType;
+use bevy::shader::ShaderDefVal;
+use voxcast_core::camera::ImageRays;
+use voxcast_core::classify::Classifier;
+use voxcast_core::composite::{Method, Order};
+use voxcast_core::sample::Interpolation;
+use voxcast_core::shade::{ResolvedLight, SpecularModel};
+use voxcast_core::trace::Scene;
+use voxcast_core::transfer::LUT_SIZE;
+
+/// Bit flags of [`VolumeUniform::flags`].
+pub const FLAG_OPACITY_CORRECTION: u32 = 1;
+pub const FLAG_EARLY_TERMINATION: u32 = 2;
+pub const FLAG_JITTER: u32 = 4;
+pub const FLAG_SHADING: u32 = 8;
+pub const FLAG_TRILINEAR: u32 = 16;
+pub const FLAG_TWO_SIDED: u32 = 32;
+pub const FLAG_BLINN_PHONG: u32 = 64;
+pub const FLAG_BACK_TO_FRONT: u32 = 128;
+
+/// Light kinds of [`VolumeUniform::light_kind`].
+pub const LIGHT_POINT: u32 = 0;
+pub const LIGHT_TOWARD: u32 = 1;
+
+/// Classification codes of [`VolumeUniform::classification`].
+pub const CLASSIFY_TABLE: u32 = 0;
+pub const CLASSIFY_ISO_CONTOURS: u32 = 1;
+pub const CLASSIFY_BOUNDARIES: u32 = 2;
+
+/// The most isovalues the preview classifies with (the core has no limit; more are an error
+/// in the sandbox's controls).
+pub const MAX_ISOVALUES: usize = 4;
+
+/// Every constant the WGSL uses, as shader defs.
+pub fn shader_defs() -> Vec<ShaderDefVal> {
+    let mut defs: Vec<ShaderDefVal> = vec![
+        ShaderDefVal::UInt("LUT_SIZE".into(), LUT_SIZE as u32),
+        ShaderDefVal::UInt("FLAG_OPACITY_CORRECTION".into(), FLAG_OPACITY_CORRECTION),
+        ShaderDefVal::UInt("FLAG_EARLY_TERMINATION".into(), FLAG_EARLY_TERMINATION),
+        ShaderDefVal::UInt("FLAG_JITTER".into(), FLAG_JITTER),
+        ShaderDefVal::UInt("FLAG_SHADING".into(), FLAG_SHADING),
+        ShaderDefVal::UInt("FLAG_TRILINEAR".into(), FLAG_TRILINEAR),
+        ShaderDefVal::UInt("FLAG_TWO_SIDED".into(), FLAG_TWO_SIDED),
+        ShaderDefVal::UInt("FLAG_BLINN_PHONG".into(), FLAG_BLINN_PHONG),
+        ShaderDefVal::UInt("FLAG_BACK_TO_FRONT".into(), FLAG_BACK_TO_FRONT),
+        ShaderDefVal::UInt("LIGHT_POINT".into(), LIGHT_POINT),
+        ShaderDefVal::UInt("LIGHT_TOWARD".into(), LIGHT_TOWARD),
+        ShaderDefVal::UInt("CLASSIFY_TABLE".into(), CLASSIFY_TABLE),
+        ShaderDefVal::UInt("CLASSIFY_ISO_CONTOURS".into(), CLASSIFY_ISO_CONTOURS),
+        ShaderDefVal::UInt("CLASSIFY_BOUNDARIES".into(), CLASSIFY_BOUNDARIES),
+    ];
+    for m in Method::ALL {
+        defs.push(ShaderDefVal::UInt(
+            format!("METHOD_{}", m.name().to_uppercase()),
+            m.code(),
+        ));
+    }
+    defs
+}
+
+/// The preview's uniform (see `shaders/types.wgsl` for each member's meaning).
+#[derive(Clone, Debug, Default, PartialEq, ShaderType)]
+pub struct VolumeUniform {
+    pub box_lo: Vec3,
+    pub dt: f32,
+    pub box_hi: Vec3,
+    pub dt_ref: f32,
+    pub inv_spacing: Vec3,
+    pub cutoff: f32,
+    pub spacing: Vec3,
+    pub target_value: f32,
+    pub last: Vec3,
+    pub slope: f32,
+    pub max_lo: UVec3,
+    pub intercept: f32,
+    pub corner_step: UVec3,
+    pub lut_lo: f32,
+    pub lut_scale: f32,
+    pub raw_scale: f32,
+    pub method: u32,
+    pub flags: u32,
+    pub refine_steps: u32,
+    pub max_samples: u32,
+    pub jitter_seed: u32,
+    pub light_kind: u32,
+    pub classification: u32,
+    pub iso_count: u32,
+    pub ka: f32,
+    pub kd: f32,
+    pub ks: f32,
+    pub shininess: f32,
+    pub kc: f32,
+    pub kl: f32,
+    pub kq: f32,
+    pub gradient_threshold: f32,
+    pub light_vec: Vec3,
+    pub iso_r: f32,
+    pub light_color: Vec3,
+    pub inv_full_gradient: f32,
+    pub background: Vec3,
+    pub depth_termination: u32,
+    pub iso_values: Vec4,
+    pub iso_alphas: Vec4,
+    pub cam_eye: Vec3,
+    pub cam_perspective: u32,
+    pub cam_right: Vec3,
+    pub cam_inv_width: f32,
+    pub cam_up: Vec3,
+    pub cam_inv_height: f32,
+    pub cam_forward: Vec3,
+}
+
+impl VolumeUniform {
+    /// The uniform for `scene` (whose light is already resolved for the view) seen through
+    /// `rays`, the core camera's rays for the preview's image.
+    pub fn from_scene(scene: &Scene<'_>, rays: &ImageRays, depth_termination: bool) -> Self {
+        let v = scene.volume;
+        let s = &scene.settings;
+        let dims = v.dims();
+        let (box_lo, box_hi) = scene.bounds;
+        let (slope, intercept) = v.rescale();
+        let mut flags = 0;
+        for (on, bit) in [
+            (s.opacity_correction, FLAG_OPACITY_CORRECTION),
+            (s.early_termination, FLAG_EARLY_TERMINATION),
+            (s.jitter, FLAG_JITTER),
+            (s.shading, FLAG_SHADING),
+            (s.interpolation == Interpolation::Trilinear, FLAG_TRILINEAR),
+            (s.phong.two_sided, FLAG_TWO_SIDED),
+            (s.phong.model == SpecularModel::BlinnPhong, FLAG_BLINN_PHONG),
+            (s.order == Order::BackToFront, FLAG_BACK_TO_FRONT),
+        ] {
+            if on {
+                flags |= bit;
+            }
+        }
+        let (light_kind, light_vec) = match scene.light {
+            ResolvedLight::Point(p) => (LIGHT_POINT, p),
+            ResolvedLight::Toward(d) => (LIGHT_TOWARD, d),
+        };
+        let mut u = Self {
+            box_lo,
+            dt: scene.dt,
+            box_hi,
+            dt_ref: scene.dt_ref,
+            inv_spacing: 1.0 / v.spacing(),
+            cutoff: s.cutoff,
+            spacing: v.spacing(),
+            target_value: scene.target,
+            last: (dims - 1).as_vec3(),
+            slope,
+            max_lo: dims.saturating_sub(UVec3::splat(2)),
+            intercept,
+            corner_step: UVec3::from(dims.to_array().map(|n| (n > 1) as u32)),
+            lut_lo: scene.lut.lo,
+            lut_scale: scene.lut.scale,
+            raw_scale: if v.scalar_type() == voxcast_core::volume::ScalarType::U8 {
+                255.0
+            } else {
+                1.0
+            },
+            method: s.method.code(),
+            flags,
+            refine_steps: s.refine_steps,
+            max_samples: s.max_samples,
+            jitter_seed: s.jitter_seed,
+            light_kind,
+            classification: CLASSIFY_TABLE,
+            iso_count: 0,
+            ka: s.phong.ka,
+            kd: s.phong.kd,
+            ks: s.phong.ks,
+            shininess: s.phong.shininess,
+            kc: s.phong.kc,
+            kl: s.phong.kl,
+            kq: s.phong.kq,
+            gradient_threshold: s.phong.gradient_threshold,
+            light_vec,
+            iso_r: 0.0,
+            light_color: s.phong.light_color,
+            inv_full_gradient: 0.0,
+            background: s.background,
+            depth_termination: depth_termination as u32,
+            iso_values: Vec4::ZERO,
+            iso_alphas: Vec4::ZERO,
+            cam_eye: rays.eye,
+            cam_perspective: rays.perspective as u32,
+            cam_right: rays.right,
+            cam_inv_width: rays.inv_size.0,
+            cam_up: rays.up,
+            cam_inv_height: rays.inv_size.1,
+            cam_forward: rays.forward,
+        };
+        match &scene.classifier {
+            Classifier::Table => {}
+            Classifier::IsoContours { isovalues, r } => {
+                u.classification = CLASSIFY_ISO_CONTOURS;
+                u.iso_count = isovalues.len().min(MAX_ISOVALUES) as u32;
+                for (i, &(value, alpha)) in isovalues.iter().take(MAX_ISOVALUES).enumerate() {
+                    u.iso_values[i] = value;
+                    u.iso_alphas[i] = alpha;
+                }
+                u.iso_r = *r;
+            }
+            Classifier::Boundaries { inv_full_gradient } => {
+                u.classification = CLASSIFY_BOUNDARIES;
+                u.inv_full_gradient = *inv_full_gradient;
+            }
+        }
+        u
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The WGSL is composed and validated with naga (no GPU), and the uniform's layout in WGSL
+    //! is checked member by member against the Rust struct's encoding.
+    use super::*;
+    use bevy::render::render_resource::encase::UniformBuffer;
+    use naga_oil::compose::{
+        ComposableModuleDescriptor, Composer, NagaModuleDescriptor, ShaderDefValue,
+    };
+    use std::collections::HashMap;
+
+    fn defs() -> HashMap<String, ShaderDefValue> {
+        let mut map: HashMap<String, ShaderDefValue> = shader_defs()
+            .into_iter()
+            .map(|d| match d {
+                ShaderDefVal::UInt(name, v) => (name, ShaderDefValue::UInt(v)),
+                ShaderDefVal::Int(name, v) => (name, ShaderDefValue::Int(v)),
+                ShaderDefVal::Bool(name, v) => (name, ShaderDefValue::Bool(v)),
+            })
+            .collect();
+        map.insert("MATERIAL_BIND_GROUP".into(), ShaderDefValue::UInt(3));
+        map
+    }
+
+    /// Every library module composed and a fragment entry that traces one ray, validated.
+    fn module() -> naga::Module {
+        let mut composer = Composer::default();
+        // Dependencies first.
+        for (name, source) in crate::sandbox::shaders::SOURCES {
+            if *name == "volume.wgsl" {
+                continue; // imports Bevy's view bindings; exercised on a GPU by tests/agreement.rs
+            }
+            let added = composer.add_composable_module(ComposableModuleDescriptor {
+                source,
+                file_path: name,
+                shader_defs: defs(),
+                ..Default::default()
+            });
+            if let Err(e) = added {
+                panic!("{name}: {}", e.emit_to_string(&composer));
+            }
+        }
+        let entry = "#import voxcast::trace::trace\n\
+            @fragment fn main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n\
+                return trace(vec3(0.0), vec3(0.0, 0.0, 1.0), 3.4e38, vec2<u32>(p.xy));\n\
+            }\n";
+        let module = composer
+            .make_naga_module(NagaModuleDescriptor {
+                source: entry,
+                file_path: "entry.wgsl",
+                shader_defs: defs(),
+                ..Default::default()
+            })
+            .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&composer)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::default(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("invalid WGSL: {e:?}"));
+        module
+    }
+
+    #[test]
+    fn the_wgsl_composes_and_validates() {
+        module();
+    }
+
+    /// Bytes of one member of `u`, by its WGSL name.
+    fn member_bytes(u: &VolumeUniform, name: &str) -> Vec<u8> {
+        let f = |v: f32| v.to_le_bytes().to_vec();
+        let n = |v: u32| v.to_le_bytes().to_vec();
+        let v3 = |v: Vec3| v.to_array().iter().flat_map(|x| x.to_le_bytes()).collect();
+        let u3 = |v: UVec3| v.to_array().iter().flat_map(|x| x.to_le_bytes()).collect();
+        let v4 = |v: Vec4| v.to_array().iter().flat_map(|x| x.to_le_bytes()).collect();
+        match name {
+            "box_lo" => v3(u.box_lo),
+            "dt" => f(u.dt),
+            "box_hi" => v3(u.box_hi),
+            "dt_ref" => f(u.dt_ref),
+            "inv_spacing" => v3(u.inv_spacing),
+            "cutoff" => f(u.cutoff),
+            "spacing" => v3(u.spacing),
+            "target_value" => f(u.target_value),
+            "last" => v3(u.last),
+            "slope" => f(u.slope),
+            "max_lo" => u3(u.max_lo),
+            "intercept" => f(u.intercept),
+            "corner_step" => u3(u.corner_step),
+            "lut_lo" => f(u.lut_lo),
+            "lut_scale" => f(u.lut_scale),
+            "raw_scale" => f(u.raw_scale),
+            "method" => n(u.method),
+            "flags" => n(u.flags),
+            "refine_steps" => n(u.refine_steps),
+            "max_samples" => n(u.max_samples),
+            "jitter_seed" => n(u.jitter_seed),
+            "light_kind" => n(u.light_kind),
+            "classification" => n(u.classification),
+            "iso_count" => n(u.iso_count),
+            "ka" => f(u.ka),
+            "kd" => f(u.kd),
+            "ks" => f(u.ks),
+            "shininess" => f(u.shininess),
+            "kc" => f(u.kc),
+            "kl" => f(u.kl),
+            "kq" => f(u.kq),
+            "gradient_threshold" => f(u.gradient_threshold),
+            "light_vec" => v3(u.light_vec),
+            "iso_r" => f(u.iso_r),
+            "light_color" => v3(u.light_color),
+            "inv_full_gradient" => f(u.inv_full_gradient),
+            "background" => v3(u.background),
+            "depth_termination" => n(u.depth_termination),
+            "iso_values" => v4(u.iso_values),
+            "iso_alphas" => v4(u.iso_alphas),
+            "cam_eye" => v3(u.cam_eye),
+            "cam_perspective" => n(u.cam_perspective),
+            "cam_right" => v3(u.cam_right),
+            "cam_inv_width" => f(u.cam_inv_width),
+            "cam_up" => v3(u.cam_up),
+            "cam_inv_height" => f(u.cam_inv_height),
+            "cam_forward" => v3(u.cam_forward),
+            other => panic!("WGSL member {other} has no Rust twin"),
+        }
+    }
+
+    #[test]
+    fn the_uniform_layout_matches_the_wgsl() {
+        let module = module();
+        let (members, span) = module
+            .types
+            .iter()
+            .find_map(|(_, t)| match (&t.name, &t.inner) {
+                (Some(name), naga::TypeInner::Struct { members, span })
+                    if name.contains("VolumeUniform") =>
+                {
+                    Some((members.clone(), *span))
+                }
+                _ => None,
+            })
+            .expect("VolumeUniform in the WGSL");
+        // Every member gets a distinct value, so a misplaced one cannot pass.
+        let mut counter = 0.0f32;
+        let mut next = || {
+            counter += 1.0;
+            counter
+        };
+        let u = VolumeUniform {
+            box_lo: Vec3::new(next(), next(), next()),
+            dt: next(),
+            box_hi: Vec3::new(next(), next(), next()),
+            dt_ref: next(),
+            inv_spacing: Vec3::new(next(), next(), next()),
+            cutoff: next(),
+            spacing: Vec3::new(next(), next(), next()),
+            target_value: next(),
+            last: Vec3::new(next(), next(), next()),
+            slope: next(),
+            max_lo: UVec3::new(101, 102, 103),
+            intercept: next(),
+            corner_step: UVec3::new(104, 105, 106),
+            lut_lo: next(),
+            lut_scale: next(),
+            raw_scale: next(),
+            method: 107,
+            flags: 108,
+            refine_steps: 109,
+            max_samples: 110,
+            jitter_seed: 111,
+            light_kind: 112,
+            classification: 113,
+            iso_count: 114,
+            ka: next(),
+            kd: next(),
+            ks: next(),
+            shininess: next(),
+            kc: next(),
+            kl: next(),
+            kq: next(),
+            gradient_threshold: next(),
+            light_vec: Vec3::new(next(), next(), next()),
+            iso_r: next(),
+            light_color: Vec3::new(next(), next(), next()),
+            inv_full_gradient: next(),
+            background: Vec3::new(next(), next(), next()),
+            depth_termination: 115,
+            iso_values: Vec4::new(next(), next(), next(), next()),
+            iso_alphas: Vec4::new(next(), next(), next(), next()),
+            cam_eye: Vec3::new(next(), next(), next()),
+            cam_perspective: 116,
+            cam_right: Vec3::new(next(), next(), next()),
+            cam_inv_width: next(),
+            cam_up: Vec3::new(next(), next(), next()),
+            cam_inv_height: next(),
+            cam_forward: Vec3::new(next(), next(), next()),
+        };
+        let mut buffer = UniformBuffer::new(Vec::<u8>::new());
+        buffer.write(&u).unwrap();
+        let bytes = buffer.into_inner();
+        assert_eq!(
+            bytes.len() as u32,
+            span,
+            "the Rust encoding and the WGSL struct differ in size"
+        );
+        assert_eq!(members.len(), 47, "members in the WGSL struct");
+        for m in &members {
+            let name = m.name.as_deref().unwrap();
+            let expect = member_bytes(&u, name);
+            let at = m.offset as usize;
+            assert_eq!(
+                &bytes[at..at + expect.len()],
+                &expect[..],
+                "member {name} at offset {at}"
+            );
+        }
+    }
+}
