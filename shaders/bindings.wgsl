@@ -9,3 +9,5 @@
 @group(#{MATERIAL_BIND_GROUP}) @binding(0) var<uniform> params: VolumeUniform;
 @group(#{MATERIAL_BIND_GROUP}) @binding(1) var volume_texture: texture_3d<f32>;
 @group(#{MATERIAL_BIND_GROUP}) @binding(2) var lut_texture: texture_2d<f32>;
+/// 1 for each block of cells the transfer function makes transparent (crates/voxcast_core/src/skip.rs).
+@group(#{MATERIAL_BIND_GROUP}) @binding(3) var empty_texture: texture_3d<f32>;

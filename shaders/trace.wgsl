@@ -5,7 +5,8 @@
 #import voxcast::bindings::params
 #import voxcast::ray::intersect_box
 #import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction}
-#import voxcast::sample::{sample, to_data, gradient}
+#import voxcast::sample::{sample, to_data, gradient, cell}
+#import voxcast::skip::{block_of, exit_if_empty}
 #import voxcast::transfer::lut_lookup
 #import voxcast::classify::classify
 #import voxcast::shade::shade
@@ -64,13 +65,33 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
         stop_at = params.cutoff;
     }
     var acc = vec4(0.0);
-    for (var i = 0u; i < plan.count; i++) {
+    let skip = params.skip_empty != 0u && !back_to_front;
+    let margin_t = params.skip_margin / length(d_v);
+    var checked = vec3(0xffffffffu);
+    var i = 0u;
+    while i < plan.count {
         var k = i;
         if back_to_front {
             k = plan.count - 1u - i;
         }
         let t = sample_t(plan, k);
         let pv = o_v + d_v * t;
+        if skip {
+            // The CPU's first skipping scheme: on entering a block, leave it at once if empty.
+            let b = block_of(cell(pv).lo);
+            if any(b != checked) {
+                checked = b;
+                let t_out = exit_if_empty(b, o_v, d_v);
+                if t_out >= 0.0 {
+                    let next = ceil((t_out - margin_t - plan.t_enter) / plan.dt - plan.jitter);
+                    if next > f32(k) {
+                        i = select(u32(next), plan.count, next >= f32(plan.count));
+                        continue;
+                    }
+                }
+            }
+        }
+        i += 1u;
         let v = value_at(pv);
         let cl = classified(v, pv);
         if cl.a <= 0.0 {

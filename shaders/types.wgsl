@@ -63,4 +63,10 @@ struct VolumeUniform {
     cam_up: vec3<f32>,
     cam_inv_height: f32,
     cam_forward: vec3<f32>,
+    /// 1 where Accumulate may skip empty blocks (see skip.wgsl), else 0.
+    skip_empty: u32,
+    /// Blocks per axis of the empty-block texture.
+    blocks: vec3<u32>,
+    /// How far inside an empty block (voxels) a sample must lie to be skipped.
+    skip_margin: f32,
 }

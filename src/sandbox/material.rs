@@ -14,6 +14,7 @@ use bevy::render::render_resource::{
 };
 use bevy::shader::ShaderRef;
 use voxcast_core::Volume;
+use voxcast_core::skip::EmptyBlocks;
 use voxcast_core::transfer::Lut;
 use voxcast_core::volume::{Grid, GridVisitor, ScalarType, Voxel};
 
@@ -29,6 +30,8 @@ pub struct VolumeMaterial {
     pub volume: Handle<Image>,
     #[texture(2, sample_type = "float", filterable = false)]
     pub lut: Handle<Image>,
+    #[texture(3, dimension = "3d", sample_type = "float", filterable = false)]
+    pub empty: Handle<Image>,
 }
 
 impl Material for VolumeMaterial {
@@ -97,6 +100,31 @@ pub fn volume_image(volume: &Volume) -> Image {
         TextureDimension::D3,
         data,
         format,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+}
+
+/// Which blocks are empty (1) as an R8Unorm 3-D texture; one texel when there is no skipping.
+pub fn empty_blocks_image(blocks: Option<&EmptyBlocks>) -> Image {
+    let (dims, data) = match blocks {
+        Some(b) => (
+            b.blocks(),
+            b.flags()
+                .iter()
+                .map(|&e| if e { 255u8 } else { 0 })
+                .collect(),
+        ),
+        None => ([1, 1, 1], vec![0u8]),
+    };
+    Image::new(
+        Extent3d {
+            width: dims[0] as u32,
+            height: dims[1] as u32,
+            depth_or_array_layers: dims[2] as u32,
+        },
+        TextureDimension::D3,
+        data,
+        TextureFormat::R8Unorm,
         RenderAssetUsages::RENDER_WORLD,
     )
 }

@@ -19,6 +19,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         "composite.wgsl",
         include_str!("../../shaders/composite.wgsl"),
     ),
+    ("skip.wgsl", include_str!("../../shaders/skip.wgsl")),
     ("trace.wgsl", include_str!("../../shaders/trace.wgsl")),
     ("volume.wgsl", include_str!("../../shaders/volume.wgsl")),
 ];

@@ -41,6 +41,7 @@ pub const MAX_ISOVALUES: usize = 4;
 pub fn shader_defs() -> Vec<ShaderDefVal> {
     let mut defs: Vec<ShaderDefVal> = vec![
         ShaderDefVal::UInt("LUT_SIZE".into(), LUT_SIZE as u32),
+        ShaderDefVal::UInt("BLOCK".into(), voxcast_core::skip::BLOCK as u32),
         ShaderDefVal::UInt("FLAG_OPACITY_CORRECTION".into(), FLAG_OPACITY_CORRECTION),
         ShaderDefVal::UInt("FLAG_EARLY_TERMINATION".into(), FLAG_EARLY_TERMINATION),
         ShaderDefVal::UInt("FLAG_JITTER".into(), FLAG_JITTER),
@@ -114,6 +115,9 @@ pub struct VolumeUniform {
     pub cam_up: Vec3,
     pub cam_inv_height: f32,
     pub cam_forward: Vec3,
+    pub skip_empty: u32,
+    pub blocks: UVec3,
+    pub skip_margin: f32,
 }
 
 impl VolumeUniform {
@@ -196,6 +200,9 @@ impl VolumeUniform {
             cam_up: rays.up,
             cam_inv_height: rays.inv_size.1,
             cam_forward: rays.forward,
+            skip_empty: 0,
+            blocks: UVec3::ONE,
+            skip_margin: voxcast_core::trace::SKIP_MARGIN_VOXELS,
         };
         match &scene.classifier {
             Classifier::Table => {}
@@ -340,6 +347,9 @@ mod tests {
             "cam_up" => v3(u.cam_up),
             "cam_inv_height" => f(u.cam_inv_height),
             "cam_forward" => v3(u.cam_forward),
+            "skip_empty" => n(u.skip_empty),
+            "blocks" => u3(u.blocks),
+            "skip_margin" => f(u.skip_margin),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
     }
@@ -413,6 +423,9 @@ mod tests {
             cam_up: Vec3::new(next(), next(), next()),
             cam_inv_height: next(),
             cam_forward: Vec3::new(next(), next(), next()),
+            skip_empty: 117,
+            blocks: UVec3::new(118, 119, 120),
+            skip_margin: next(),
         };
         let mut buffer = UniformBuffer::new(Vec::<u8>::new());
         buffer.write(&u).unwrap();
@@ -422,7 +435,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 47, "members in the WGSL struct");
+        assert_eq!(members.len(), 50, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

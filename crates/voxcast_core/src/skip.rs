@@ -138,6 +138,16 @@ impl EmptyBlocks {
         }
     }
 
+    /// Blocks per axis.
+    pub fn blocks(&self) -> [usize; 3] {
+        self.blocks
+    }
+
+    /// Whether each block (x fastest) is empty.
+    pub fn flags(&self) -> &[bool] {
+        &self.empty
+    }
+
     /// The fraction of blocks marked empty.
     pub fn empty_fraction(&self) -> f32 {
         self.empty.iter().filter(|&&e| e).count() as f32 / self.empty.len() as f32

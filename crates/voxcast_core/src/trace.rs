@@ -78,7 +78,7 @@ impl RayOutcome {
 }
 
 /// How far inside a transparent block (in voxels) a sample must lie to be skipped.
-const SKIP_MARGIN_VOXELS: f32 = 0.01;
+pub const SKIP_MARGIN_VOXELS: f32 = 0.01;
 
 /// Traces `ray` through the scene, recording every sample. `jitter_key` is the pixel (or
 /// sub-pixel) the ray belongs to, which decides its jitter.
