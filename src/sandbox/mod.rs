@@ -5,7 +5,9 @@
 //! volume's box (carrying the material) and the settings as resources.
 
 mod material;
+mod measure;
 mod orbit;
+mod preview;
 pub mod screenshot;
 mod shaders;
 mod state;
@@ -44,6 +46,17 @@ pub struct SandboxArgs {
     /// named like `accumulate_step0.5_shaded.png` (the GPU/CPU agreement test uses this).
     #[arg(long, requires = "screenshot")]
     pub sweep: bool,
+    /// Measure the preview's frame time over this many frames (after a warm-up), print it and
+    /// exit.
+    #[arg(long, conflicts_with = "screenshot")]
+    pub measure_frames: Option<u32>,
+    /// With --measure-frames: orbit the camera this many degrees a frame (engages adaptive
+    /// quality).
+    #[arg(long, default_value_t = 0.0, requires = "measure_frames")]
+    pub auto_orbit: f32,
+    /// With --measure-frames: turn adaptive quality off.
+    #[arg(long, requires = "measure_frames")]
+    pub no_adaptive: bool,
     /// Window or screenshot size in pixels.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -107,12 +120,39 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 }),
                 ..default()
             }));
-            app.add_plugins((
-                EguiPlugin::default(),
-                FrameTimeDiagnosticsPlugin::default(),
-                ui::plugin,
-                orbit::plugin,
-            ));
+            app.add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
+                .insert_resource(bevy_egui::EguiGlobalSettings {
+                    auto_create_primary_context: false,
+                    ..default()
+                })
+                .add_plugins((preview::plugin, ui::plugin, orbit::plugin));
+            if let Some(frames) = args.measure_frames {
+                // Draw every frame even without focus (a virtual display never gives it).
+                app.insert_resource(bevy::winit::WinitSettings::continuous());
+                app.add_plugins(measure::plugin)
+                    .insert_resource(measure::MeasureRequest {
+                        frames,
+                        orbit_degrees: args.auto_orbit,
+                        label: format!(
+                            "{}×{} {} {}, adaptive {}",
+                            args.size.0,
+                            args.size.1,
+                            render.settings.method.name(),
+                            if args.auto_orbit != 0.0 {
+                                "orbiting"
+                            } else {
+                                "resting"
+                            },
+                            if args.no_adaptive { "off" } else { "on" }
+                        ),
+                    });
+                if args.no_adaptive {
+                    app.insert_resource(preview::PreviewSettings {
+                        adaptive: false,
+                        ..default()
+                    });
+                }
+            }
         }
     }
     app.add_plugins(MaterialPlugin::<VolumeMaterial>::default())

@@ -1,7 +1,8 @@
 //! The sandbox's state: the loaded volume with its transfer function and settings (resources),
 //! the volume entity, and the one system that syncs them to the material when they change.
 
-use super::material::{VolumeMaterial, lut_image, volume_image};
+use super::material::{VolumeMaterial, empty_blocks_image, lut_image, volume_image};
+use super::preview::{Motion, PreviewSettings};
 use super::uniform::VolumeUniform;
 use bevy::prelude::*;
 use std::sync::Arc;
@@ -71,6 +72,7 @@ fn spawn_volume(
         uniform: VolumeUniform::default(),
         volume: images.add(volume_image(v)),
         lut: images.add(lut_image(&lut)),
+        empty: images.add(empty_blocks_image(None)),
     };
     commands.spawn((
         VolumeBox,
@@ -81,43 +83,95 @@ fn spawn_volume(
     ));
 }
 
+/// Images already uploaded, and what they were made from.
+#[derive(Default)]
+struct Uploaded {
+    /// The transfer function baked into the table.
+    lut: Option<TransferFunction>,
+    /// The transfer function the empty blocks were marked with (`None`: skipping off).
+    empty: Option<TransferFunction>,
+}
+
+/// The assets the system writes: the material and its images.
+#[derive(bevy::ecs::system::SystemParam)]
+struct GpuAssets<'w> {
+    materials: ResMut<'w, Assets<VolumeMaterial>>,
+    images: ResMut<'w, Assets<Image>>,
+}
+
+/// The preview's quality controls, when the preview plugin is present.
+#[derive(bevy::ecs::system::SystemParam)]
+struct Quality<'w> {
+    preview: Option<Res<'w, PreviewSettings>>,
+    motion: Option<Res<'w, Motion>>,
+}
+
+impl Quality<'_> {
+    fn changed(&self) -> bool {
+        self.preview.as_ref().is_some_and(|p| p.is_changed())
+            || self.motion.as_ref().is_some_and(|m| m.is_changed())
+    }
+
+    /// How many times longer the preview's step is than the settings' (1 without a preview).
+    fn step_multiplier(&self) -> f32 {
+        let moving = self.motion.as_ref().is_some_and(|m| m.moving);
+        self.preview.as_ref().map_or(1.0, |p| p.effective(moving).1)
+    }
+}
+
 /// Writes the settings and the view into the material, only when something changed.
 fn sync_volume_material(
     state: Res<VolumeState>,
     render: Res<RenderState>,
     views: Query<(Ref<View>, Ref<Camera>), With<MainCamera>>,
     boxes: Query<&MeshMaterial3d<VolumeMaterial>, With<VolumeBox>>,
-    mut materials: ResMut<Assets<VolumeMaterial>>,
-    mut images: ResMut<Assets<Image>>,
-    mut baked: Local<Option<voxcast_core::transfer::TransferFunction>>,
+    mut assets: GpuAssets,
+    mut uploaded: Local<Uploaded>,
+    quality: Quality,
 ) {
     let Ok((view, camera)) = views.single() else {
         return;
     };
     let view_changed = view.is_changed() || camera.is_changed();
-    if !(state.is_changed() || render.is_changed() || view_changed) {
+    if !(state.is_changed() || render.is_changed() || view_changed || quality.changed()) {
         return;
     }
+    // The preview may sample more coarsely than the settings say (never the CPU render).
+    let mut settings = render.settings.clone();
+    settings.step = settings.step.scaled(quality.step_multiplier());
     let Some(size) = camera.physical_viewport_size() else {
         return;
     };
     let Ok(handle) = boxes.single() else { return };
-    let Ok(scene) = Scene::plain(
-        &state.volume,
-        &render.transfer,
-        &render.settings,
-        view.0.forward(),
-    ) else {
+    let Ok(scene) = Scene::plain(&state.volume, &render.transfer, &settings, view.0.forward())
+    else {
         return; // the controls only produce valid settings
     };
-    let Some(mut material) = materials.get_mut(&handle.0) else {
+    let Some(mut material) = assets.materials.get_mut(&handle.0) else {
         return;
     };
     let rays = view.0.rays(size.x.max(1), size.y.max(1));
     material.uniform = VolumeUniform::from_scene(&scene, &rays, render.depth_termination);
     // The table only changes with the transfer function or the volume's value range.
-    if state.is_changed() || baked.as_ref() != Some(&render.transfer) {
-        material.lut = images.add(lut_image(&scene.lut));
-        *baked = Some(render.transfer.clone());
+    if state.is_changed() || uploaded.lut.as_ref() != Some(&render.transfer) {
+        material.lut = assets.images.add(lut_image(&scene.lut));
+        uploaded.lut = Some(render.transfer.clone());
+    }
+    // Empty-space skipping where the core would skip (Accumulate, front to back, the table or
+    // boundary classification): the same blocks, re-marked when the table changes.
+    let skippable = settings.method == voxcast_core::composite::Method::Accumulate
+        && settings.order == voxcast_core::composite::Order::FrontToBack
+        && !matches!(
+            scene.classifier,
+            voxcast_core::classify::Classifier::IsoContours { .. }
+        );
+    let blocks = state.volume.block_ranges();
+    material.uniform.blocks = UVec3::new(blocks.blocks.x, blocks.blocks.y, blocks.blocks.z);
+    material.uniform.skip_empty = skippable as u32;
+    let wanted = skippable.then(|| render.transfer.clone());
+    if state.is_changed() || uploaded.empty != wanted {
+        let empty = skippable.then(|| voxcast_core::skip::EmptyBlocks::new(blocks, &scene.lut));
+        material.empty = assets.images.add(empty_blocks_image(empty.as_ref()));
+        uploaded.empty = wanted;
     }
 }

@@ -1,6 +1,7 @@
 //! The settings panel (egui). Every control's tooltip is its tunable's one documentation
 //! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
 
+use super::preview::PreviewSettings;
 use super::state::{RenderState, VolumeState};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
@@ -55,6 +56,7 @@ fn settings_panel(
     mut volume: ResMut<VolumeState>,
     mut render: ResMut<RenderState>,
     diagnostics: Res<DiagnosticsStore>,
+    mut preview: ResMut<PreviewSettings>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
@@ -150,6 +152,19 @@ fn settings_panel(
                         }
                     }
                 });
+            ui.separator();
+            ui.label("Preview (slow hardware)");
+            let mut q = preview.clone();
+            ui.checkbox(&mut q.enabled, "Show the GPU preview")
+                .on_hover_text("Turn the live preview off (the CPU render still works)");
+            slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false);
+            slider(ui, &mut q.step_multiplier, &t::PREVIEW_STEP_MULTIPLIER, 1.0..=16.0, true);
+            checkbox(ui, &mut q.adaptive, &t::ADAPTIVE_QUALITY);
+            slider(ui, &mut q.moving_scale, &t::MOVING_SCALE, 0.05..=1.0, false);
+            slider(ui, &mut q.moving_step_multiplier, &t::MOVING_STEP_MULTIPLIER, 1.0..=16.0, true);
+            if q != *preview {
+                *preview = q;
+            }
             ui.checkbox(&mut edited.depth_termination, "Stop rays at scene geometry")
                 .on_hover_text("Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume");
         });

@@ -44,6 +44,14 @@ impl Length {
         }
     }
 
+    /// The same length `factor` times longer, in the same unit.
+    pub fn scaled(self, factor: f32) -> Length {
+        match self {
+            Length::Voxels(v) => Length::Voxels(v * factor),
+            Length::World(w) => Length::World(w * factor),
+        }
+    }
+
     /// In voxels of the smallest spacing `voxel`.
     pub fn voxels(self, voxel: f32) -> f32 {
         match self {
@@ -144,6 +152,13 @@ fn ceil(x: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn scaling_keeps_the_unit() {
+        assert_eq!(Length::Voxels(0.5).scaled(2.0), Length::Voxels(1.0));
+        assert_eq!(Length::World(0.25).scaled(4.0), Length::World(1.0));
+        assert_eq!(Length::World(3.0).scaled(2.0).world(7.0), 6.0);
+    }
 
     #[test]
     fn counts_positions_and_lengths() {

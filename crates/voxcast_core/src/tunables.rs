@@ -255,6 +255,56 @@ pub const BOUNDARY_GRADIENT: Tunable = Tunable {
     max: 3.4e38,
 };
 
+pub const PREVIEW_SCALE: Tunable = Tunable {
+    key: "preview-scale",
+    label: "Preview resolution",
+    doc: "Fraction of the window's pixels the GPU preview renders (then stretched to fill it). \
+          Halving it quarters the rays: the way to keep slow hardware interactive. Default 1.",
+    default: 1.0,
+    min: 0.05,
+    max: 1.0,
+};
+
+pub const PREVIEW_STEP_MULTIPLIER: Tunable = Tunable {
+    key: "preview-step-multiplier",
+    label: "Preview step ×",
+    doc: "The GPU preview samples this many times farther apart than the step setting (the CPU \
+          render always uses the step itself). Raising it speeds the preview up and makes it \
+          coarser. Default 1.",
+    default: 1.0,
+    min: 1.0,
+    max: 16.0,
+};
+
+pub const ADAPTIVE_QUALITY: Tunable = Tunable {
+    key: "adaptive-quality",
+    label: "Adaptive quality",
+    doc: "While the camera moves, the preview drops to the 'moving' resolution and step \
+          multiplier, and returns to full quality once it rests. Default on.",
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const MOVING_SCALE: Tunable = Tunable {
+    key: "moving-scale",
+    label: "Resolution while moving",
+    doc: "With adaptive quality: the preview's resolution fraction while the camera moves. \
+          Default 0.35.",
+    default: 0.35,
+    min: 0.05,
+    max: 1.0,
+};
+
+pub const MOVING_STEP_MULTIPLIER: Tunable = Tunable {
+    key: "moving-step-multiplier",
+    label: "Step × while moving",
+    doc: "With adaptive quality: the preview's step multiplier while the camera moves. Default 2.",
+    default: 2.0,
+    min: 1.0,
+    max: 16.0,
+};
+
 /// Every tunable, for listing and for the UI.
 pub const ALL: &[Tunable] = &[
     STEP,
@@ -279,6 +329,11 @@ pub const ALL: &[Tunable] = &[
     TWO_SIDED,
     ISO_THICKNESS,
     BOUNDARY_GRADIENT,
+    PREVIEW_SCALE,
+    PREVIEW_STEP_MULTIPLIER,
+    ADAPTIVE_QUALITY,
+    MOVING_SCALE,
+    MOVING_STEP_MULTIPLIER,
 ];
 
 #[cfg(test)]

@@ -1,0 +1,346 @@
+//! "Render image": the exact CPU render of the preview's current view — same camera, size and
+//! settings — beside a capture of the preview itself, with their difference as a heat-map, the
+//! mean and largest difference, and Save PNG.
+//!
+//! The render runs on Bevy's `AsyncComputeTaskPool` with a progress bar and Cancel, so the
+//! window keeps drawing. The preview is captured at full quality (its resting resolution and the
+//! settings' own step: see [`FullQuality`]) in the same frame as the view is taken for the CPU.
+
+use super::preview::{FullQuality, PreviewTarget};
+use super::state::{MainCamera, RenderState, View, VolumeState};
+use bevy::camera::CameraUpdateSystems;
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+use voxcast_core::camera::Camera as CoreCamera;
+use voxcast_core::image_out::{ImageDiff, LinearImage};
+use voxcast_core::render::{RenderStats, render};
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::trace::Scene;
+use voxcast_core::transfer::TransferFunction;
+
+/// Frames the preview draws at full quality before it is captured: the material's uniform and
+/// the preview image's size follow a quality change within a frame; the rest is margin.
+const SETTLE_FRAMES: u32 = 3;
+
+/// The difference drawn at full intensity in the heat-map, as a fraction of the full range
+/// (8/255: the agreement tolerance is 2/255, a quarter of the scale).
+pub const HEAT_FULL_SCALE: f32 = 8.0 / 255.0;
+
+/// The comparison's state: idle, settling, rendering, or showing a result.
+#[derive(Resource, Default)]
+pub struct Comparison {
+    /// Frames left before capture; `Some` while a capture is requested.
+    settling: Option<u32>,
+    job: Option<Job>,
+    /// The last finished comparison.
+    pub result: Option<Compared>,
+    /// Why the last request produced no result (cancelled, or an error).
+    pub message: Option<String>,
+}
+
+/// A render in flight and the preview capture it will be compared with.
+struct Job {
+    task: Task<Result<Rendered, String>>,
+    /// Tiles done and tiles in all, written by the render's worker threads.
+    progress: Arc<(AtomicUsize, AtomicUsize)>,
+    cancel: Arc<AtomicBool>,
+    /// The preview's capture once the GPU has delivered it (`Err` when there is none).
+    gpu: Arc<Mutex<Option<Result<LinearImage, String>>>>,
+    /// The CPU's image once it is finished (kept while the capture is still on its way).
+    cpu: Option<Rendered>,
+    snapshot: Snapshot,
+}
+
+/// What was rendered: compared with the current state to say when a result is out of date.
+#[derive(Clone, PartialEq)]
+pub struct Snapshot {
+    pub camera: CoreCamera,
+    pub size: UVec2,
+    pub settings: RenderSettings,
+    pub transfer: TransferFunction,
+    /// The volume's source (`builtin:NAME` or a path).
+    pub source: String,
+}
+
+struct Rendered {
+    image: LinearImage,
+    stats: RenderStats,
+    seconds: f64,
+}
+
+/// A finished comparison.
+pub struct Compared {
+    pub cpu: LinearImage,
+    /// The preview's capture, or why there is none (preview off, capture failed).
+    pub gpu: Result<LinearImage, String>,
+    /// Preview minus render, with its heat-map; `None` without a capture.
+    pub diff: Option<(ImageDiff, LinearImage)>,
+    pub stats: RenderStats,
+    pub seconds: f64,
+    pub snapshot: Snapshot,
+    /// Bumped for every new result, so views can tell when to re-upload their textures.
+    pub generation: u64,
+}
+
+impl Comparison {
+    /// Requests a comparison of the current view (ignored while one is under way).
+    pub fn start(&mut self) {
+        if !self.busy() {
+            self.settling = Some(SETTLE_FRAMES);
+            self.message = None;
+        }
+    }
+
+    /// Cancels the render under way; the previous result stays.
+    pub fn cancel(&mut self) {
+        if let Some(job) = &self.job {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+        self.settling = None;
+    }
+
+    pub fn busy(&self) -> bool {
+        self.settling.is_some() || self.job.is_some()
+    }
+
+    /// `(tiles done, tiles in all)` of the render under way.
+    pub fn progress(&self) -> Option<(usize, usize)> {
+        let job = self.job.as_ref()?;
+        let (done, total) = &*job.progress;
+        Some((done.load(Ordering::Relaxed), total.load(Ordering::Relaxed)))
+    }
+}
+
+impl Compared {
+    fn new(cpu: Rendered, gpu: Result<LinearImage, String>, snapshot: Snapshot, gen: u64) -> Self {
+        // Both sides as the 8-bit numbers a PNG would hold (the preview's target is 8-bit).
+        let cpu_image = LinearImage::from_rgb8(&cpu.image.to_rgb8());
+        let diff = gpu.as_ref().ok().and_then(|g| {
+            let d = g.diff(&cpu_image)?;
+            Some((d, g.diff_heatmap(&cpu_image, HEAT_FULL_SCALE)?))
+        });
+        let gpu = match (gpu, &diff) {
+            (Ok(g), None) => Err(format!(
+                "the capture is {}×{}, the render {}×{}",
+                g.width, g.height, cpu_image.width, cpu_image.height
+            )),
+            (gpu, _) => gpu,
+        };
+        Self {
+            cpu: cpu_image,
+            gpu,
+            diff,
+            stats: cpu.stats,
+            seconds: cpu.seconds,
+            snapshot,
+            generation: gen,
+        }
+    }
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<Comparison>().add_systems(
+        PostUpdate,
+        (start_capture, collect_result)
+            .chain()
+            .after(CameraUpdateSystems)
+            .after(super::state::SyncSystems),
+    );
+}
+
+/// Counts the settle frames down, then captures the preview and starts the CPU render of the
+/// same view in the same frame.
+#[allow(clippy::too_many_arguments)]
+fn start_capture(
+    mut commands: Commands,
+    mut comparison: ResMut<Comparison>,
+    mut full: ResMut<FullQuality>,
+    target: Option<Res<PreviewTarget>>,
+    views: Query<&View, With<MainCamera>>,
+    state: Res<VolumeState>,
+    render_state: Res<RenderState>,
+    preview_visible: Query<&Visibility, With<super::state::VolumeBox>>,
+) {
+    let Some(left) = comparison.settling else {
+        return;
+    };
+    if !full.0 {
+        full.0 = true;
+    }
+    if left > 0 {
+        comparison.settling = Some(left - 1);
+        return;
+    }
+    comparison.settling = None;
+    let (Some(target), Ok(view)) = (target, views.single()) else {
+        comparison.message = Some("no preview view to compare with yet".into());
+        full.0 = false;
+        return;
+    };
+    let snapshot = Snapshot {
+        camera: view.0,
+        size: target.size,
+        settings: render_state.settings.clone(),
+        transfer: render_state.transfer.clone(),
+        source: state.source.clone(),
+    };
+    let gpu = Arc::new(Mutex::new(None));
+    let previewing = preview_visible.iter().any(|v| *v != Visibility::Hidden);
+    if previewing {
+        let slot = gpu.clone();
+        commands.spawn(Screenshot::image(target.image.clone())).observe(
+            move |captured: On<ScreenshotCaptured>, mut full: ResMut<FullQuality>| {
+                let image = captured
+                    .image
+                    .clone()
+                    .try_into_dynamic()
+                    .map(|img| LinearImage::from_rgb8(&img.to_rgb8()))
+                    .map_err(|e| format!("the preview could not be read back: {e}"));
+                if let Ok(mut s) = slot.lock() {
+                    *s = Some(image);
+                }
+                full.0 = false;
+            },
+        );
+    } else {
+        if let Ok(mut s) = gpu.lock() {
+            *s = Some(Err("the preview is off".into()));
+        }
+        full.0 = false;
+    }
+    let progress = Arc::new((AtomicUsize::new(0), AtomicUsize::new(0)));
+    let cancel = Arc::new(AtomicBool::new(false));
+    let task = {
+        let (volume, snapshot, progress, cancel) = (
+            state.volume.clone(),
+            snapshot.clone(),
+            progress.clone(),
+            cancel.clone(),
+        );
+        AsyncComputeTaskPool::get().spawn(async move {
+            let s = &snapshot;
+            let scene = Scene::new(&volume, &s.transfer, &s.settings, s.camera.forward())
+                .map_err(|e| e.to_string())?;
+            let started = Instant::now();
+            let report = |done: usize, total: usize| {
+                progress.0.store(done, Ordering::Relaxed);
+                progress.1.store(total, Ordering::Relaxed);
+            };
+            let (image, stats) = render(&scene, &s.camera, s.size.x, s.size.y, &report, &cancel)
+                .map_err(|e| e.to_string())?;
+            Ok(Rendered {
+                image,
+                stats,
+                seconds: started.elapsed().as_secs_f64(),
+            })
+        })
+    };
+    comparison.job = Some(Job {
+        task,
+        progress,
+        cancel,
+        gpu,
+        cpu: None,
+        snapshot,
+    });
+}
+
+/// Picks up the finished render and the capture, and builds the comparison.
+fn collect_result(mut comparison: ResMut<Comparison>, mut generation: Local<u64>) {
+    let Some(job) = comparison.job.as_mut() else {
+        return;
+    };
+    if job.cpu.is_none() {
+        match check_ready(&mut job.task) {
+            None => return,
+            Some(Err(e)) => {
+                comparison.job = None;
+                comparison.message = Some(e);
+                return;
+            }
+            Some(Ok(rendered)) => job.cpu = Some(rendered),
+        }
+    }
+    let Some(gpu) = job.gpu.lock().ok().and_then(|mut s| s.take()) else {
+        return; // the capture is still on its way back from the GPU
+    };
+    let Some(job) = comparison.job.take() else {
+        return;
+    };
+    let Some(cpu) = job.cpu else { return };
+    *generation += 1;
+    comparison.result = Some(Compared::new(cpu, gpu, job.snapshot, *generation));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    fn image(w: u32, h: u32, v: f32) -> LinearImage {
+        let mut img = LinearImage::new(w, h);
+        img.pixels.fill(Vec3::splat(v));
+        img
+    }
+
+    fn snapshot() -> Snapshot {
+        Snapshot {
+            camera: CoreCamera::framing(Vec3::ZERO, Vec3::ONE, Vec3::Z, Vec3::Y).unwrap(),
+            size: UVec2::new(4, 3),
+            settings: RenderSettings::default(),
+            transfer: TransferFunction::ramp(0.0, 1.0, 0.5).unwrap(),
+            source: "builtin:bunny".into(),
+        }
+    }
+
+    fn rendered(img: LinearImage) -> Rendered {
+        Rendered {
+            image: img,
+            stats: RenderStats::default(),
+            seconds: 0.0,
+        }
+    }
+
+    #[test]
+    fn measures_the_difference_in_8_bit_steps() {
+        let cpu = rendered(image(4, 3, 0.5));
+        let gpu = image(4, 3, 129.0 / 255.0); // 0.5 is stored as 128
+        let c = Compared::new(cpu, Ok(gpu), snapshot(), 1);
+        let (d, heat) = c.diff.unwrap();
+        assert!((d.max_abs * 255.0 - 1.0).abs() < 1e-4, "{}", d.max_abs * 255.0);
+        assert_eq!((heat.width, heat.height), (4, 3));
+    }
+
+    #[test]
+    fn a_missing_or_mismatched_capture_is_reported_not_compared() {
+        let c = Compared::new(
+            rendered(image(4, 3, 0.5)),
+            Err("the preview is off".into()),
+            snapshot(),
+            1,
+        );
+        assert!(c.diff.is_none());
+        assert_eq!(c.gpu.unwrap_err(), "the preview is off");
+        let c = Compared::new(
+            rendered(image(4, 3, 0.5)),
+            Ok(image(5, 3, 0.5)),
+            snapshot(),
+            2,
+        );
+        assert!(c.diff.is_none());
+        assert!(c.gpu.unwrap_err().contains("5×3"));
+    }
+
+    #[test]
+    fn cancelling_before_the_capture_clears_the_request() {
+        let mut c = Comparison::default();
+        c.start();
+        assert!(c.busy());
+        c.cancel();
+        assert!(!c.busy());
+    }
+}

@@ -1,0 +1,67 @@
+//! `voxcast --measure-frames N [--auto-orbit DEG]`: the sandbox measures its own frame time —
+//! optionally while orbiting the camera, which engages adaptive quality — prints the mean and
+//! median over N frames after a warm-up, and exits. BENCHMARKS.md's preview figures come from it.
+
+use super::orbit::Orbit;
+use super::state::{MainCamera, View};
+use bevy::prelude::*;
+
+/// What to measure.
+#[derive(Resource, Clone)]
+pub struct MeasureRequest {
+    pub frames: u32,
+    /// Degrees of orbit per frame (0: a resting camera).
+    pub orbit_degrees: f32,
+    /// A label printed with the figures.
+    pub label: String,
+}
+
+/// Frames drawn before measuring (pipelines compiled, textures uploaded, quality settled).
+const WARM_UP: u32 = 15;
+
+pub(super) fn plugin(app: &mut App) {
+    app.add_systems(Update, measure_frames);
+}
+
+fn measure_frames(
+    request: Res<MeasureRequest>,
+    time: Res<Time<Real>>,
+    mut seen: Local<u32>,
+    mut samples: Local<Vec<f32>>,
+    mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    *seen += 1;
+    if request.orbit_degrees != 0.0 {
+        for (mut orbit, mut transform, mut view) in &mut cameras {
+            orbit.yaw += request.orbit_degrees.to_radians();
+            *transform = orbit.transform();
+            if let Ok(v) = voxcast_core::camera::Camera::new(
+                transform.translation,
+                orbit.focus,
+                orbit.up,
+                view.0.projection,
+            ) {
+                view.0 = v;
+            }
+        }
+    }
+    if *seen <= WARM_UP {
+        return;
+    }
+    // Real time: virtual time clamps a frame at 250 ms.
+    samples.push(time.delta_secs() * 1000.0);
+    if samples.len() as u32 == request.frames {
+        let mut sorted = samples.clone();
+        sorted.sort_by(f32::total_cmp);
+        let mean = sorted.iter().sum::<f32>() / sorted.len() as f32;
+        let median = sorted[sorted.len() / 2];
+        println!(
+            "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} frames",
+            request.label,
+            1000.0 / median,
+            sorted.len()
+        );
+        exit.write(AppExit::Success);
+    }
+}

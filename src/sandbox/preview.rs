@@ -1,0 +1,169 @@
+//! The preview's quality for slow hardware: it renders into an image of a fraction of the
+//! window's pixels, which egui stretches over the window beneath its panels; a step multiplier
+//! coarsens its sampling; adaptive quality lowers both while the camera moves; and it can be
+//! turned off. The CPU render is never affected.
+
+use super::state::{MainCamera, View, VolumeBox};
+use bevy::camera::RenderTarget;
+use bevy::prelude::*;
+use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::window::PrimaryWindow;
+use bevy_egui::{
+    EguiContexts, EguiPrimaryContextPass, EguiTextureHandle, PrimaryEguiContext, egui,
+};
+use voxcast_core::tunables as t;
+
+/// How the preview trades quality for speed (each documented in `voxcast_core::tunables`).
+#[derive(Resource, Clone, PartialEq)]
+pub struct PreviewSettings {
+    pub enabled: bool,
+    pub scale: f32,
+    pub step_multiplier: f32,
+    pub adaptive: bool,
+    pub moving_scale: f32,
+    pub moving_step_multiplier: f32,
+}
+
+impl Default for PreviewSettings {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            scale: t::PREVIEW_SCALE.default,
+            step_multiplier: t::PREVIEW_STEP_MULTIPLIER.default,
+            adaptive: t::ADAPTIVE_QUALITY.default != 0.0,
+            moving_scale: t::MOVING_SCALE.default,
+            moving_step_multiplier: t::MOVING_STEP_MULTIPLIER.default,
+        }
+    }
+}
+
+impl PreviewSettings {
+    /// The resolution fraction and step multiplier in effect.
+    pub fn effective(&self, moving: bool) -> (f32, f32) {
+        if self.adaptive && moving {
+            (
+                self.moving_scale.min(self.scale),
+                self.moving_step_multiplier.max(self.step_multiplier),
+            )
+        } else {
+            (self.scale, self.step_multiplier)
+        }
+    }
+}
+
+/// Whether the view changed in the last moments.
+#[derive(Resource, Default, Clone, Copy, PartialEq)]
+pub struct Motion {
+    pub moving: bool,
+    last_change: f32,
+}
+
+/// How long after the last camera change the view counts as resting, seconds.
+const REST_AFTER: f32 = 0.3;
+
+/// The image the main camera renders into, and its size in pixels.
+#[derive(Resource)]
+struct PreviewTarget {
+    image: Handle<Image>,
+    size: UVec2,
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<PreviewSettings>() // kept if already inserted (measurements)
+        .init_resource::<Motion>()
+        .add_systems(Startup, spawn_display_camera)
+        .add_systems(
+            Update,
+            (track_motion, fit_preview_target, show_or_hide_volume).chain(),
+        )
+        .add_systems(EguiPrimaryContextPass, paint_preview);
+}
+
+/// The window's camera: draws nothing but egui, which paints the preview image first.
+fn spawn_display_camera(mut commands: Commands) {
+    commands.spawn((
+        Camera2d,
+        Camera {
+            order: 1,
+            ..default()
+        },
+        PrimaryEguiContext,
+    ));
+}
+
+fn track_motion(
+    time: Res<Time>,
+    views: Query<(), (With<MainCamera>, Changed<View>)>,
+    mut motion: ResMut<Motion>,
+) {
+    let now = time.elapsed_secs();
+    if !views.is_empty() {
+        motion.last_change = now;
+    }
+    let moving = now - motion.last_change < REST_AFTER;
+    if motion.moving != moving {
+        motion.moving = moving;
+    }
+}
+
+/// Keeps the preview image at the effective fraction of the window's size.
+fn fit_preview_target(
+    mut commands: Commands,
+    window: Query<&Window, With<PrimaryWindow>>,
+    settings: Res<PreviewSettings>,
+    motion: Res<Motion>,
+    target: Option<Res<PreviewTarget>>,
+    mut images: ResMut<Assets<Image>>,
+    cameras: Query<Entity, With<MainCamera>>,
+) {
+    let Ok(window) = window.single() else { return };
+    let (scale, _) = settings.effective(motion.moving);
+    let full = UVec2::new(window.physical_width(), window.physical_height()).max(UVec2::ONE);
+    let size = (full.as_vec2() * scale).round().as_uvec2().max(UVec2::ONE);
+    if target.as_ref().is_some_and(|t| t.size == size) {
+        return;
+    }
+    let mut image = Image::new_target_texture(size.x, size.y, TextureFormat::Rgba8UnormSrgb, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let handle = images.add(image);
+    for camera in &cameras {
+        commands
+            .entity(camera)
+            .insert(RenderTarget::Image(handle.clone().into()));
+    }
+    commands.insert_resource(PreviewTarget {
+        image: handle,
+        size,
+    });
+}
+
+fn show_or_hide_volume(
+    settings: Res<PreviewSettings>,
+    mut boxes: Query<&mut Visibility, With<VolumeBox>>,
+) {
+    for mut v in &mut boxes {
+        let want = if settings.enabled {
+            Visibility::Inherited
+        } else {
+            Visibility::Hidden
+        };
+        if *v != want {
+            *v = want;
+        }
+    }
+}
+
+/// Paints the preview image over the whole window, beneath every panel.
+fn paint_preview(mut contexts: EguiContexts, target: Option<Res<PreviewTarget>>) -> Result {
+    let Some(target) = target else { return Ok(()) };
+    let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
+    let ctx = contexts.ctx_mut()?;
+    let rect = ctx.viewport_rect();
+    ctx.layer_painter(egui::LayerId::background()).image(
+        id,
+        rect,
+        egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+        egui::Color32::WHITE,
+    );
+    Ok(())
+}
