@@ -25,9 +25,63 @@ fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/agreement")
 }
 
+fn gpu_required() -> bool {
+    std::env::var_os("VOXCAST_REQUIRE_GPU").is_some_and(|v| v == "1")
+}
+
+/// Whether a failed run failed for want of a Vulkan device (and that is allowed here).
+fn skipped_for_want_of_a_gpu(stderr: &str) -> bool {
+    let missing = stderr.contains("Unable to find a GPU") || stderr.contains("adapter");
+    if missing && !gpu_required() {
+        eprintln!(
+            "note: no Vulkan device here; the GPU test is skipped (set VOXCAST_REQUIRE_GPU=1 to require it)"
+        );
+    }
+    missing && !gpu_required()
+}
+
+/// "Render image" without a window (`voxcast --compare`): the same capture, CPU render and
+/// difference the button produces, for two datasets and methods, within the tolerance, and the
+/// three pictures written.
+#[test]
+fn render_image_compares_the_preview_with_the_render() {
+    let dir = out_dir().join("compare");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (volume, method) in [("bunny", "accumulate"), ("brainsmall", "maximum")] {
+        let path = dir.join(format!("{volume}.png"));
+        let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+            .args(["--volume", &format!("builtin:{volume}"), "--method", method])
+            .args(["--size", "160x90", "--compare"])
+            .arg(&path)
+            .output()
+            .expect("the binary runs");
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        if !output.status.success() && skipped_for_want_of_a_gpu(&stderr) {
+            return;
+        }
+        assert!(output.status.success(), "{volume}: {stderr}");
+        println!("{volume} {method}: {}", stdout.lines().next().unwrap_or(""));
+        let max: f32 = stdout
+            .split("max ")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("no figures in: {stdout}"));
+        assert!(max <= TOLERANCE, "{volume} {method}: {max}/255");
+        for name in [
+            format!("{volume}.png"),
+            format!("{volume}_preview.png"),
+            format!("{volume}_diff.png"),
+        ] {
+            let img = image::open(dir.join(&name)).unwrap();
+            assert_eq!((img.width(), img.height()), (160, 90), "{name}");
+        }
+    }
+}
+
 #[test]
 fn preview_matches_the_cpu_render() {
-    let require = std::env::var_os("VOXCAST_REQUIRE_GPU").is_some_and(|v| v == "1");
     let mut worst = 0.0f32;
     let mut failures = Vec::new();
     for (name, _) in DATASETS {
@@ -47,10 +101,7 @@ fn preview_matches_the_cpu_render() {
             .expect("the binary runs");
         if !output.status.success() {
             let err = String::from_utf8_lossy(&output.stderr);
-            if !require && (err.contains("Unable to find a GPU") || err.contains("adapter")) {
-                eprintln!(
-                    "note: no Vulkan device here; the GPU agreement test is skipped (set VOXCAST_REQUIRE_GPU=1 to require it)"
-                );
+            if skipped_for_want_of_a_gpu(&err) {
                 return;
             }
             panic!("the preview of {name} failed:\n{err}");

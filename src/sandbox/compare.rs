@@ -12,6 +12,7 @@ use bevy::camera::CameraUpdateSystems;
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -116,9 +117,26 @@ impl Comparison {
 }
 
 impl Compared {
-    fn new(cpu: Rendered, gpu: Result<LinearImage, String>, snapshot: Snapshot, gen: u64) -> Self {
+    fn new(
+        cpu: Rendered,
+        gpu: Result<LinearImage, String>,
+        snapshot: Snapshot,
+        generation: u64,
+    ) -> Self {
         // Both sides as the 8-bit numbers a PNG would hold (the preview's target is 8-bit).
         let cpu_image = LinearImage::from_rgb8(&cpu.image.to_rgb8());
+        let uniform = |img: &LinearImage| img.pixels.iter().all(|p| *p == img.pixels[0]);
+        let gpu = gpu.and_then(|g| {
+            if uniform(&g) && !uniform(&cpu_image) {
+                Err(
+                    "the preview had not drawn the volume yet (its shaders may still be \
+                     compiling): render again"
+                        .to_string(),
+                )
+            } else {
+                Ok(g)
+            }
+        });
         let diff = gpu.as_ref().ok().and_then(|g| {
             let d = g.diff(&cpu_image)?;
             Some((d, g.diff_heatmap(&cpu_image, HEAT_FULL_SCALE)?))
@@ -137,9 +155,44 @@ impl Compared {
             stats: cpu.stats,
             seconds: cpu.seconds,
             snapshot,
-            generation: gen,
+            generation,
         }
     }
+}
+
+/// `stem.png` → `stem_preview.png` (beside the render's file).
+fn sibling(path: &Path, suffix: &str) -> PathBuf {
+    let stem = path.file_stem().unwrap_or_default().to_string_lossy();
+    path.with_file_name(format!("{stem}_{suffix}.png"))
+}
+
+/// Writes the render to `path` (`.png` added when it has no extension) and the capture and the
+/// heat-map beside it as `NAME_preview.png` and `NAME_diff.png`; returns what was written.
+pub fn save_pngs(result: &Compared, path: &str) -> Result<Vec<PathBuf>, String> {
+    let path = PathBuf::from(path.trim());
+    if path.file_name().is_none() {
+        return Err("give a file name ending in .png".into());
+    }
+    let path = if path.extension().is_none() {
+        path.with_extension("png")
+    } else {
+        path
+    };
+    let mut written = vec![];
+    let mut write = |img: &LinearImage, p: PathBuf| -> Result<(), String> {
+        img.save_png(&p)
+            .map_err(|e| format!("cannot save {}: {e}", p.display()))?;
+        written.push(p);
+        Ok(())
+    };
+    if let Ok(gpu) = &result.gpu {
+        write(gpu, sibling(&path, "preview"))?;
+    }
+    if let Some((_, heat)) = &result.diff {
+        write(heat, sibling(&path, "diff"))?;
+    }
+    write(&result.cpu, path)?;
+    Ok(written)
 }
 
 pub(super) fn plugin(app: &mut App) {
@@ -166,6 +219,10 @@ fn start_capture(
     preview_visible: Query<&Visibility, With<super::state::VolumeBox>>,
 ) {
     let Some(left) = comparison.settling else {
+        // Cancelled while settling: nothing will be captured, so nothing else resets it.
+        if full.0 && comparison.job.is_none() {
+            full.0 = false;
+        }
         return;
     };
     if !full.0 {
@@ -192,20 +249,22 @@ fn start_capture(
     let previewing = preview_visible.iter().any(|v| *v != Visibility::Hidden);
     if previewing {
         let slot = gpu.clone();
-        commands.spawn(Screenshot::image(target.image.clone())).observe(
-            move |captured: On<ScreenshotCaptured>, mut full: ResMut<FullQuality>| {
-                let image = captured
-                    .image
-                    .clone()
-                    .try_into_dynamic()
-                    .map(|img| LinearImage::from_rgb8(&img.to_rgb8()))
-                    .map_err(|e| format!("the preview could not be read back: {e}"));
-                if let Ok(mut s) = slot.lock() {
-                    *s = Some(image);
-                }
-                full.0 = false;
-            },
-        );
+        commands
+            .spawn(Screenshot::image(target.image.clone()))
+            .observe(
+                move |captured: On<ScreenshotCaptured>, mut full: ResMut<FullQuality>| {
+                    let image = captured
+                        .image
+                        .clone()
+                        .try_into_dynamic()
+                        .map(|img| LinearImage::from_rgb8(&img.to_rgb8()))
+                        .map_err(|e| format!("the preview could not be read back: {e}"));
+                    if let Ok(mut s) = slot.lock() {
+                        *s = Some(image);
+                    }
+                    full.0 = false;
+                },
+            );
     } else {
         if let Ok(mut s) = gpu.lock() {
             *s = Some(Err("the preview is off".into()));
@@ -231,7 +290,7 @@ fn start_capture(
                 progress.1.store(total, Ordering::Relaxed);
             };
             let (image, stats) = render(&scene, &s.camera, s.size.x, s.size.y, &report, &cancel)
-                .map_err(|e| e.to_string())?;
+                .map_err(|_| "cancelled".to_string())?;
             Ok(Rendered {
                 image,
                 stats,
@@ -311,7 +370,11 @@ mod tests {
         let gpu = image(4, 3, 129.0 / 255.0); // 0.5 is stored as 128
         let c = Compared::new(cpu, Ok(gpu), snapshot(), 1);
         let (d, heat) = c.diff.unwrap();
-        assert!((d.max_abs * 255.0 - 1.0).abs() < 1e-4, "{}", d.max_abs * 255.0);
+        assert!(
+            (d.max_abs * 255.0 - 1.0).abs() < 1e-4,
+            "{}",
+            d.max_abs * 255.0
+        );
         assert_eq!((heat.width, heat.height), (4, 3));
     }
 
@@ -333,6 +396,45 @@ mod tests {
         );
         assert!(c.diff.is_none());
         assert!(c.gpu.unwrap_err().contains("5×3"));
+    }
+
+    #[test]
+    fn a_blank_capture_of_a_visible_volume_is_not_compared() {
+        let mut cpu = image(4, 3, 0.0);
+        cpu.pixels[5] = Vec3::splat(0.5);
+        let c = Compared::new(rendered(cpu.clone()), Ok(image(4, 3, 0.0)), snapshot(), 1);
+        assert!(c.gpu.unwrap_err().contains("not drawn"));
+        // A blank render is compared with a blank capture as usual.
+        let c = Compared::new(
+            rendered(image(4, 3, 0.0)),
+            Ok(image(4, 3, 0.0)),
+            snapshot(),
+            1,
+        );
+        assert_eq!(c.diff.unwrap().0.max_abs, 0.0);
+    }
+
+    #[test]
+    fn saves_the_three_pictures_side_by_side() {
+        let dir = std::env::temp_dir().join(format!("voxcast-compare-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let c = Compared::new(
+            rendered(image(4, 3, 0.5)),
+            Ok(image(4, 3, 0.5)),
+            snapshot(),
+            1,
+        );
+        let written = save_pngs(&c, dir.join("r").to_str().unwrap()).unwrap();
+        let names: Vec<_> = written
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["r_preview.png", "r_diff.png", "r.png"]);
+        assert!(written.iter().all(|p| p.exists()));
+        let err = save_pngs(&c, dir.join("missing/r.png").to_str().unwrap()).unwrap_err();
+        assert!(err.contains("missing"), "{err}");
+        assert!(save_pngs(&c, "  ").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

@@ -4,6 +4,8 @@
 //! One plugin per feature file; the ECS holds only what the scene needs: the main camera, the
 //! volume's box (carrying the material) and the settings as resources.
 
+mod compare;
+mod compare_cli;
 mod material;
 mod measure;
 mod orbit;
@@ -46,6 +48,11 @@ pub struct SandboxArgs {
     /// named like `accumulate_step0.5_shaded.png` (the GPU/CPU agreement test uses this).
     #[arg(long, requires = "screenshot")]
     pub sweep: bool,
+    /// Capture the preview of this view and render the same view on the CPU (what the "Render
+    /// image" button does), save the render here, the capture and the difference heat-map
+    /// beside it (NAME_preview.png, NAME_diff.png), print the differences and exit.
+    #[arg(long, conflicts_with_all = ["screenshot", "measure_frames"])]
+    pub compare: Option<PathBuf>,
     /// Measure the preview's frame time over this many frames (after a warm-up), print it and
     /// exit.
     #[arg(long, conflicts_with = "screenshot")]
@@ -81,77 +88,83 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         depth_termination: true,
     };
     let mut app = App::new();
+    let headless = args.screenshot.is_some() || args.compare.is_some();
     let render_plugin = RenderPlugin {
-        synchronous_pipeline_compilation: args.screenshot.is_some(),
+        synchronous_pipeline_compilation: headless,
         ..default()
     };
-    match &args.screenshot {
-        Some(path) => {
-            app.add_plugins(
-                DefaultPlugins
-                    .set(render_plugin)
-                    .set(WindowPlugin {
-                        primary_window: None,
-                        exit_condition: bevy::window::ExitCondition::DontExit,
-                        ..default()
-                    })
-                    .disable::<bevy::winit::WinitPlugin>(),
-            );
-            app.add_plugins(bevy::app::ScheduleRunnerPlugin::run_loop(
-                std::time::Duration::ZERO,
-            ));
+    if headless {
+        app.add_plugins(
+            DefaultPlugins
+                .set(render_plugin)
+                .set(WindowPlugin {
+                    primary_window: None,
+                    exit_condition: bevy::window::ExitCondition::DontExit,
+                    ..default()
+                })
+                .disable::<bevy::winit::WinitPlugin>(),
+        );
+        app.add_plugins(bevy::app::ScheduleRunnerPlugin::run_loop(
+            std::time::Duration::ZERO,
+        ));
+        app.insert_resource(screenshot::ImageSize(args.size.0, args.size.1))
+            .add_plugins(screenshot::image_camera_plugin);
+        if let Some(path) = &args.screenshot {
             if args.sweep {
                 std::fs::create_dir_all(path)
                     .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
             }
             app.insert_resource(screenshot::Request {
                 path: path.clone(),
-                size: args.size,
                 sweep: args.sweep,
             });
             app.add_plugins(screenshot::plugin);
         }
-        None => {
-            app.add_plugins(DefaultPlugins.set(render_plugin).set(WindowPlugin {
-                primary_window: Some(Window {
-                    title: "Voxcast".into(),
-                    resolution: WindowResolution::new(args.size.0, args.size.1),
-                    ..default()
-                }),
+        if let Some(path) = &args.compare {
+            app.insert_resource(compare_cli::CompareRequest(path.clone()))
+                .init_resource::<preview::FullQuality>()
+                .add_plugins((compare::plugin, compare_cli::plugin));
+        }
+    } else {
+        app.add_plugins(DefaultPlugins.set(render_plugin).set(WindowPlugin {
+            primary_window: Some(Window {
+                title: "Voxcast".into(),
+                resolution: WindowResolution::new(args.size.0, args.size.1),
                 ..default()
-            }));
-            app.add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
-                .insert_resource(bevy_egui::EguiGlobalSettings {
-                    auto_create_primary_context: false,
+            }),
+            ..default()
+        }));
+        app.add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
+            .insert_resource(bevy_egui::EguiGlobalSettings {
+                auto_create_primary_context: false,
+                ..default()
+            })
+            .add_plugins((preview::plugin, ui::plugin, orbit::plugin, compare::plugin));
+        if let Some(frames) = args.measure_frames {
+            // Draw every frame even without focus (a virtual display never gives it).
+            app.insert_resource(bevy::winit::WinitSettings::continuous());
+            app.add_plugins(measure::plugin)
+                .insert_resource(measure::MeasureRequest {
+                    frames,
+                    orbit_degrees: args.auto_orbit,
+                    label: format!(
+                        "{}×{} {} {}, adaptive {}",
+                        args.size.0,
+                        args.size.1,
+                        render.settings.method.name(),
+                        if args.auto_orbit != 0.0 {
+                            "orbiting"
+                        } else {
+                            "resting"
+                        },
+                        if args.no_adaptive { "off" } else { "on" }
+                    ),
+                });
+            if args.no_adaptive {
+                app.insert_resource(preview::PreviewSettings {
+                    adaptive: false,
                     ..default()
-                })
-                .add_plugins((preview::plugin, ui::plugin, orbit::plugin));
-            if let Some(frames) = args.measure_frames {
-                // Draw every frame even without focus (a virtual display never gives it).
-                app.insert_resource(bevy::winit::WinitSettings::continuous());
-                app.add_plugins(measure::plugin)
-                    .insert_resource(measure::MeasureRequest {
-                        frames,
-                        orbit_degrees: args.auto_orbit,
-                        label: format!(
-                            "{}×{} {} {}, adaptive {}",
-                            args.size.0,
-                            args.size.1,
-                            render.settings.method.name(),
-                            if args.auto_orbit != 0.0 {
-                                "orbiting"
-                            } else {
-                                "resting"
-                            },
-                            if args.no_adaptive { "off" } else { "on" }
-                        ),
-                    });
-                if args.no_adaptive {
-                    app.insert_resource(preview::PreviewSettings {
-                        adaptive: false,
-                        ..default()
-                    });
-                }
+                });
             }
         }
     }
@@ -165,7 +178,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         .insert_resource(volume)
         .insert_resource(render)
         .insert_resource(InitialView(camera));
-    if args.screenshot.is_none() {
+    if !headless {
         app.add_systems(Startup, spawn_main_camera);
     }
     match app.run() {

@@ -38,9 +38,12 @@ impl Default for PreviewSettings {
 }
 
 impl PreviewSettings {
-    /// The resolution fraction and step multiplier in effect.
-    pub fn effective(&self, moving: bool) -> (f32, f32) {
-        if self.adaptive && moving {
+    /// The resolution fraction and step multiplier in effect; `full` asks for the settings'
+    /// own step at the resting resolution (while a comparison captures the preview).
+    pub fn effective(&self, moving: bool, full: bool) -> (f32, f32) {
+        if full {
+            (self.scale, 1.0)
+        } else if self.adaptive && moving {
             (
                 self.moving_scale.min(self.scale),
                 self.moving_step_multiplier.max(self.step_multiplier),
@@ -48,6 +51,40 @@ impl PreviewSettings {
         } else {
             (self.scale, self.step_multiplier)
         }
+    }
+}
+
+/// The preview's quality controls, when the preview plugin is present.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct Quality<'w> {
+    preview: Option<Res<'w, PreviewSettings>>,
+    motion: Option<Res<'w, Motion>>,
+    full: Option<Res<'w, FullQuality>>,
+}
+
+impl Quality<'_> {
+    pub fn changed(&self) -> bool {
+        self.preview.as_ref().is_some_and(|p| p.is_changed())
+            || self.motion.as_ref().is_some_and(|m| m.is_changed())
+            || self.full.as_ref().is_some_and(|f| f.is_changed())
+    }
+
+    /// The fraction of the window's pixels the preview renders (1 without a preview).
+    pub fn scale(&self) -> f32 {
+        let moving = self.motion.as_ref().is_some_and(|m| m.moving);
+        let full = self.full.as_ref().is_some_and(|f| f.0);
+        self.preview
+            .as_ref()
+            .map_or(1.0, |p| p.effective(moving, full).0)
+    }
+
+    /// How many times longer the preview's step is than the settings' (1 without a preview).
+    pub fn step_multiplier(&self) -> f32 {
+        let moving = self.motion.as_ref().is_some_and(|m| m.moving);
+        let full = self.full.as_ref().is_some_and(|f| f.0);
+        self.preview
+            .as_ref()
+            .map_or(1.0, |p| p.effective(moving, full).1)
     }
 }
 
@@ -61,16 +98,22 @@ pub struct Motion {
 /// How long after the last camera change the view counts as resting, seconds.
 const REST_AFTER: f32 = 0.3;
 
+/// Set while the preview must draw at full quality whatever the motion and step multiplier
+/// (a comparison with the CPU render is capturing it).
+#[derive(Resource, Default, Clone, Copy, PartialEq)]
+pub struct FullQuality(pub bool);
+
 /// The image the main camera renders into, and its size in pixels.
 #[derive(Resource)]
-struct PreviewTarget {
-    image: Handle<Image>,
-    size: UVec2,
+pub struct PreviewTarget {
+    pub image: Handle<Image>,
+    pub size: UVec2,
 }
 
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PreviewSettings>() // kept if already inserted (measurements)
         .init_resource::<Motion>()
+        .init_resource::<FullQuality>()
         .add_systems(Startup, spawn_display_camera)
         .add_systems(
             Update,
@@ -110,14 +153,13 @@ fn track_motion(
 fn fit_preview_target(
     mut commands: Commands,
     window: Query<&Window, With<PrimaryWindow>>,
-    settings: Res<PreviewSettings>,
-    motion: Res<Motion>,
+    quality: Quality,
     target: Option<Res<PreviewTarget>>,
     mut images: ResMut<Assets<Image>>,
     cameras: Query<Entity, With<MainCamera>>,
 ) {
     let Ok(window) = window.single() else { return };
-    let (scale, _) = settings.effective(motion.moving);
+    let scale = quality.scale();
     let full = UVec2::new(window.physical_width(), window.physical_height()).max(UVec2::ONE);
     let size = (full.as_vec2() * scale).round().as_uvec2().max(UVec2::ONE);
     if target.as_ref().is_some_and(|t| t.size == size) {

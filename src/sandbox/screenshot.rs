@@ -4,6 +4,7 @@
 //! Pipelines compile synchronously in this mode; the picture is taken after a few frames, once
 //! the volume's textures are on the GPU.
 
+use super::preview::PreviewTarget;
 use super::state::RenderState;
 use super::{InitialView, preview_camera};
 use bevy::camera::RenderTarget;
@@ -18,31 +19,38 @@ use voxcast_core::settings::RenderSettings;
 #[derive(Resource, Clone)]
 pub struct Request {
     pub path: PathBuf,
-    pub size: (u32, u32),
     pub sweep: bool,
 }
 
 /// Frames drawn before the first capture (textures uploaded, pipelines ready).
-const WARM_UP_FRAMES: u32 = 6;
+pub(super) const WARM_UP_FRAMES: u32 = 6;
 /// Frames between a settings change and its capture.
 const SETTLE_FRAMES: u32 = 3;
 
 #[derive(Resource)]
 struct Target(Handle<Image>);
 
+/// The size of the image a headless preview camera renders into.
+#[derive(Resource, Clone, Copy)]
+pub struct ImageSize(pub u32, pub u32);
+
+/// A preview camera drawing into an image of [`ImageSize`] (no window).
+pub(super) fn image_camera_plugin(app: &mut App) {
+    app.add_systems(Startup, spawn_image_camera);
+}
+
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<Saved>()
-        .add_systems(Startup, spawn_image_camera)
         .add_systems(Update, take_screenshot);
 }
 
 fn spawn_image_camera(
     mut commands: Commands,
     mut images: ResMut<Assets<Image>>,
-    request: Res<Request>,
+    size: Res<ImageSize>,
     view: Res<InitialView>,
 ) {
-    let (w, h) = request.size;
+    let ImageSize(w, h) = *size;
     let mut image = Image::new_target_texture(w, h, TextureFormat::Rgba8UnormSrgb, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let handle = images.add(image);
@@ -50,7 +58,11 @@ fn spawn_image_camera(
         preview_camera(&view.0),
         RenderTarget::Image(handle.clone().into()),
     ));
-    commands.insert_resource(Target(handle));
+    commands.insert_resource(Target(handle.clone()));
+    commands.insert_resource(PreviewTarget {
+        image: handle,
+        size: UVec2::new(w, h),
+    });
 }
 
 fn take_screenshot(

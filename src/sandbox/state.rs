@@ -2,7 +2,7 @@
 //! the volume entity, and the one system that syncs them to the material when they change.
 
 use super::material::{VolumeMaterial, empty_blocks_image, lut_image, volume_image};
-use super::preview::{Motion, PreviewSettings};
+use super::preview::Quality;
 use super::uniform::VolumeUniform;
 use bevy::prelude::*;
 use std::sync::Arc;
@@ -44,8 +44,18 @@ pub struct MainCamera;
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct View(pub voxcast_core::camera::Camera);
 
+/// The systems that write the material: after the camera's projection is updated for this
+/// frame (so the uniform's rays use this frame's view and target size).
+#[derive(SystemSet, Debug, Clone, PartialEq, Eq, Hash)]
+pub struct SyncSystems;
+
 pub(super) fn plugin(app: &mut App) {
-    app.add_systems(Update, (spawn_volume, sync_volume_material).chain());
+    app.add_systems(Update, spawn_volume).add_systems(
+        PostUpdate,
+        sync_volume_material
+            .in_set(SyncSystems)
+            .after(bevy::camera::CameraUpdateSystems),
+    );
 }
 
 /// (Re)spawns the box when a volume is loaded: a cuboid spanning the volume's bounds.
@@ -97,26 +107,6 @@ struct Uploaded {
 struct GpuAssets<'w> {
     materials: ResMut<'w, Assets<VolumeMaterial>>,
     images: ResMut<'w, Assets<Image>>,
-}
-
-/// The preview's quality controls, when the preview plugin is present.
-#[derive(bevy::ecs::system::SystemParam)]
-struct Quality<'w> {
-    preview: Option<Res<'w, PreviewSettings>>,
-    motion: Option<Res<'w, Motion>>,
-}
-
-impl Quality<'_> {
-    fn changed(&self) -> bool {
-        self.preview.as_ref().is_some_and(|p| p.is_changed())
-            || self.motion.as_ref().is_some_and(|m| m.is_changed())
-    }
-
-    /// How many times longer the preview's step is than the settings' (1 without a preview).
-    fn step_multiplier(&self) -> f32 {
-        let moving = self.motion.as_ref().is_some_and(|m| m.moving);
-        self.preview.as_ref().map_or(1.0, |p| p.effective(moving).1)
-    }
 }
 
 /// Writes the settings and the view into the material, only when something changed.

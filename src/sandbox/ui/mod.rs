@@ -1,6 +1,9 @@
 //! The settings panel (egui). Every control's tooltip is its tunable's one documentation
 //! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
 
+mod compare;
+
+use super::compare::Comparison;
 use super::preview::PreviewSettings;
 use super::state::{RenderState, VolumeState};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
@@ -24,7 +27,11 @@ struct PanelState {
 
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PanelState>()
-        .add_systems(EguiPrimaryContextPass, settings_panel);
+        .init_resource::<compare::CompareWindow>()
+        .add_systems(
+            EguiPrimaryContextPass,
+            (settings_panel, compare::compare_window).chain(),
+        );
 }
 
 /// A slider for a tunable, with its documentation as tooltip.
@@ -57,6 +64,7 @@ fn settings_panel(
     mut render: ResMut<RenderState>,
     diagnostics: Res<DiagnosticsStore>,
     mut preview: ResMut<PreviewSettings>,
+    mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
@@ -67,7 +75,16 @@ fn settings_panel(
             let fps = diagnostics
                 .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
                 .and_then(|d| d.smoothed());
-            ui.label(format!("frame time: {}", fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))));
+            ui.horizontal(|ui| {
+                ui.label(format!("frame time: {}", fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))));
+                if ui.button("Render image…")
+                    .on_hover_text("Render this view exactly on the CPU and compare it with the preview")
+                    .clicked()
+                {
+                    comparison.0.open = true;
+                    comparison.1.start();
+                }
+            });
 
             ui.separator();
             ui.label(format!("Volume: {} ({})", volume.volume.name(), volume.source));

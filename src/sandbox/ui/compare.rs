@@ -1,0 +1,195 @@
+//! The "Render image" window: starts the exact CPU render of the current view, shows its
+//! progress with Cancel, then the preview's capture, the render and their difference heat-map
+//! side by side with the figures, and saves them as PNGs.
+
+use crate::sandbox::compare::{Compared, Comparison, HEAT_FULL_SCALE, Snapshot, save_pngs};
+use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
+use bevy::prelude::*;
+use bevy_egui::{EguiContexts, egui};
+use voxcast_core::image_out::LinearImage;
+
+/// The window's own state: open or not, the textures of the shown result, the save path.
+#[derive(Resource)]
+pub(super) struct CompareWindow {
+    pub open: bool,
+    /// Uploaded textures (preview, render, heat-map) and the result generation they show.
+    textures: Option<(u64, [Option<egui::TextureHandle>; 3])>,
+    path: String,
+    saved: Option<Result<String, String>>,
+}
+
+impl Default for CompareWindow {
+    fn default() -> Self {
+        Self {
+            open: false,
+            textures: None,
+            path: "voxcast_render.png".into(),
+            saved: None,
+        }
+    }
+}
+
+fn texture(ctx: &egui::Context, name: &str, img: &LinearImage) -> egui::TextureHandle {
+    let rgb = img.to_rgb8();
+    let color = egui::ColorImage::from_rgb([img.width as usize, img.height as usize], rgb.as_raw());
+    ctx.load_texture(name, color, egui::TextureOptions::NEAREST)
+}
+
+/// Whether the shown result still describes what is on screen.
+fn is_current(
+    snapshot: &Snapshot,
+    view: Option<&View>,
+    render: &RenderState,
+    volume: &VolumeState,
+) -> bool {
+    view.is_some_and(|v| v.0 == snapshot.camera)
+        && render.settings == snapshot.settings
+        && render.transfer == snapshot.transfer
+        && volume.source == snapshot.source
+}
+
+pub(super) fn compare_window(
+    mut contexts: EguiContexts,
+    mut window: ResMut<CompareWindow>,
+    mut comparison: ResMut<Comparison>,
+    views: Query<&View, With<MainCamera>>,
+    render: Res<RenderState>,
+    volume: Res<VolumeState>,
+) -> Result {
+    if !window.open {
+        return Ok(());
+    }
+    let ctx = contexts.ctx_mut()?.clone();
+    let mut open = window.open;
+    egui::Window::new("Render image")
+        .open(&mut open)
+        .default_width(720.0)
+        .show(&ctx, |ui| {
+            ui.horizontal(|ui| {
+                let button = ui.add_enabled(!comparison.busy(), egui::Button::new("Render image"));
+                if button
+                    .on_hover_text(
+                        "Render the current view on the CPU (the exact reference) and compare \
+                         it with the preview",
+                    )
+                    .clicked()
+                {
+                    comparison.start();
+                }
+                if comparison.busy() {
+                    let (done, total) = comparison.progress().unwrap_or((0, 0));
+                    let fraction = if total == 0 {
+                        0.0
+                    } else {
+                        done as f32 / total as f32
+                    };
+                    ui.add(egui::ProgressBar::new(fraction).show_percentage());
+                    if ui.button("Cancel").clicked() {
+                        comparison.cancel();
+                    }
+                }
+            });
+            if let Some(message) = &comparison.message {
+                ui.colored_label(egui::Color32::LIGHT_RED, message);
+            }
+            let Some(result) = &comparison.result else {
+                ui.label("No render yet.");
+                return;
+            };
+            result_view(ui, &mut window, result);
+            if !is_current(&result.snapshot, views.single().ok(), &render, &volume) {
+                ui.colored_label(
+                    egui::Color32::YELLOW,
+                    "The view or settings changed since this render: render again to compare.",
+                );
+            }
+        });
+    window.open = open;
+    Ok(())
+}
+
+fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared) {
+    let ctx = ui.ctx().clone();
+    if window.textures.as_ref().map(|t| t.0) != Some(result.generation) {
+        let gpu = result
+            .gpu
+            .as_ref()
+            .ok()
+            .map(|g| texture(&ctx, "preview", g));
+        let cpu = Some(texture(&ctx, "render", &result.cpu));
+        let heat = result.diff.as_ref().map(|(_, h)| texture(&ctx, "heat", h));
+        window.textures = Some((result.generation, [gpu, cpu, heat]));
+        window.saved = None;
+    }
+    let s = &result.stats;
+    let size = result.snapshot.size;
+    ui.label(format!(
+        "{}×{} on the CPU in {:.3} s: {} rays, {} samples ({:.1} M samples/s)",
+        size.x,
+        size.y,
+        result.seconds,
+        s.rays,
+        s.samples,
+        s.samples as f64 / result.seconds.max(1e-9) / 1e6
+    ));
+    match &result.diff {
+        Some((d, _)) => ui.label(format!(
+            "preview − render: max {:.1}/255, mean {:.3}/255, RMSE {:.3}/255 (heat-map: white at {:.0}/255)",
+            d.max_abs * 255.0,
+            d.mean_abs * 255.0,
+            d.rmse * 255.0,
+            HEAT_FULL_SCALE * 255.0
+        )),
+        None => ui.label(format!(
+            "No comparison: {}",
+            result.gpu.as_ref().err().map_or("", |e| e.as_str())
+        )),
+    };
+    let Some((_, textures)) = &window.textures else {
+        return;
+    };
+    let width = ((ui.available_width() - 16.0) / 3.0).max(64.0);
+    let height = width * size.y as f32 / size.x.max(1) as f32;
+    ui.horizontal(|ui| {
+        for (label, tex) in ["GPU preview", "CPU render", "difference"]
+            .iter()
+            .zip(textures)
+        {
+            ui.vertical(|ui| {
+                ui.label(*label);
+                match tex {
+                    Some(t) => {
+                        ui.add(
+                            egui::Image::new(egui::load::SizedTexture::from_handle(t))
+                                .fit_to_exact_size(egui::vec2(width, height)),
+                        );
+                    }
+                    None => {
+                        ui.allocate_space(egui::vec2(width, height));
+                    }
+                }
+            });
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.text_edit_singleline(&mut window.path).on_hover_text(
+            "The render's PNG; the preview and the heat-map are saved beside it as \
+             NAME_preview.png and NAME_diff.png",
+        );
+        if ui.button("Save PNG").clicked() {
+            window.saved = Some(save_pngs(result, &window.path).map(|written| {
+                let names: Vec<_> = written.iter().map(|p| p.display().to_string()).collect();
+                format!("saved {}", names.join(", "))
+            }));
+        }
+    });
+    match &window.saved {
+        Some(Ok(m)) => {
+            ui.label(m);
+        }
+        Some(Err(e)) => {
+            ui.colored_label(egui::Color32::LIGHT_RED, e);
+        }
+        None => {}
+    }
+}
