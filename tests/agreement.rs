@@ -42,14 +42,23 @@ fn skipped_for_want_of_a_gpu(stderr: &str) -> bool {
 
 /// "Render image" without a window (`voxcast --compare`): the same capture, CPU render and
 /// difference the button produces, for two datasets and methods, within the tolerance, and the
-/// three pictures written.
+/// three pictures written; the third case has the camera inside the volume.
 #[test]
 fn render_image_compares_the_preview_with_the_render() {
     let dir = out_dir().join("compare");
     std::fs::create_dir_all(&dir).unwrap();
-    for (volume, method) in [("bunny", "accumulate"), ("brainsmall", "maximum")] {
+    let inside = "eye=40,30,20,target=10,35,50,up=0,1,0,fov=70";
+    for (volume, method, camera) in [
+        ("bunny", "accumulate", None),
+        ("brainsmall", "maximum", None),
+        ("shells", "accumulate", Some(inside)),
+    ] {
         let path = dir.join(format!("{volume}.png"));
-        let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        let mut command = Command::new(env!("CARGO_BIN_EXE_voxcast"));
+        if let Some(c) = camera {
+            command.args(["--camera", c]);
+        }
+        let output = command
             .args(["--volume", &format!("builtin:{volume}"), "--method", method])
             .args(["--size", "160x90", "--compare"])
             .arg(&path)

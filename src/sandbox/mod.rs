@@ -6,6 +6,7 @@
 
 mod compare;
 mod compare_cli;
+mod light;
 mod material;
 mod measure;
 mod orbit;
@@ -64,6 +65,10 @@ pub struct SandboxArgs {
     /// With --measure-frames: turn adaptive quality off.
     #[arg(long, requires = "measure_frames")]
     pub no_adaptive: bool,
+    /// Let preview rays pass through scene geometry (the light's marker) instead of stopping
+    /// at it (the depth prepass is ignored).
+    #[arg(long)]
+    pub no_depth_termination: bool,
     /// Window or screenshot size in pixels.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -85,7 +90,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
     let render = RenderState {
         transfer: resolved.transfer,
         settings: resolved.settings,
-        depth_termination: true,
+        depth_termination: !args.no_depth_termination,
     };
     let mut app = App::new();
     let headless = args.screenshot.is_some() || args.compare.is_some();
@@ -139,7 +144,13 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 auto_create_primary_context: false,
                 ..default()
             })
-            .add_plugins((preview::plugin, ui::plugin, orbit::plugin, compare::plugin));
+            .add_plugins((
+                preview::plugin,
+                ui::plugin,
+                orbit::plugin,
+                compare::plugin,
+                light::plugin,
+            ));
         if let Some(frames) = args.measure_frames {
             // Draw every frame even without focus (a virtual display never gives it).
             app.insert_resource(bevy::winit::WinitSettings::continuous());
@@ -169,7 +180,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         }
     }
     app.add_plugins(MaterialPlugin::<VolumeMaterial>::default())
-        .add_plugins((shaders::plugin, state::plugin))
+        .add_plugins((shaders::plugin, state::plugin, light::marker_plugin))
         .insert_resource(ClearColor(Color::srgb(
             render.settings.background.x,
             render.settings.background.y,

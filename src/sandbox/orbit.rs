@@ -2,6 +2,7 @@
 //! the wheel zooms. Input that egui wants (a panel under the pointer, a dragged slider) is left
 //! to egui.
 
+use super::light::LightDrag;
 use super::state::{MainCamera, View};
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll, MouseScrollUnit};
 use bevy::prelude::*;
@@ -60,7 +61,7 @@ fn basis(up: Vec3) -> (Vec3, Vec3) {
 }
 
 pub(super) fn plugin(app: &mut App) {
-    app.add_systems(Update, orbit_camera);
+    app.add_systems(Update, orbit_camera.after(super::light::drag_light));
 }
 
 fn orbit_camera(
@@ -68,9 +69,10 @@ fn orbit_camera(
     motion: Res<AccumulatedMouseMotion>,
     scroll: Res<AccumulatedMouseScroll>,
     egui: Option<Res<EguiWantsInput>>,
+    light_drag: Option<Res<LightDrag>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
 ) {
-    if egui.is_some_and(|e| e.wants_any_pointer_input()) {
+    if egui.is_some_and(|e| e.wants_any_pointer_input()) || light_drag.is_some_and(|d| d.active()) {
         return;
     }
     for (mut orbit, mut transform, mut view) in &mut cameras {

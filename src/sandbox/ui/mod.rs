@@ -2,6 +2,7 @@
 //! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
 
 mod compare;
+mod light;
 
 use super::compare::Comparison;
 use super::preview::PreviewSettings;
@@ -154,6 +155,8 @@ fn settings_panel(
             slider(ui, &mut p.ks, &t::SPECULAR, 0.0..=1.0, false);
             slider(ui, &mut p.shininess, &t::SHININESS, 1.0..=256.0, true);
             checkbox(ui, &mut p.two_sided, &t::TWO_SIDED);
+            let (lo, hi) = volume.volume.bounds();
+            light::light_controls(ui, p, lo, hi);
 
             ui.separator();
             ui.label("Transfer function");

@@ -1,0 +1,101 @@
+//! The light's controls: kind (headlight, point, directional), its position or direction
+//! (also dragged in the scene by its marker), colour, and the point light's attenuation.
+
+use super::slider;
+use bevy::prelude::Vec3;
+use bevy_egui::egui;
+use voxcast_core::marker::direction_from_marker;
+use voxcast_core::shade::{Light, Phong};
+use voxcast_core::tunables as t;
+
+/// Where a newly chosen point light stands: above and to the side of the volume, outside it.
+fn default_point(lo: Vec3, hi: Vec3) -> Vec3 {
+    (lo + hi) * 0.5 + (hi - lo) * Vec3::new(0.8, 0.9, 0.7)
+}
+
+/// Draws the controls; `lo..hi` are the volume's bounds (for defaults and slider ranges).
+pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec3) {
+    let names = ["Headlight", "Point", "Directional"];
+    let current = match p.light {
+        Light::Headlight => 0,
+        Light::Point(_) => 1,
+        Light::Directional(_) => 2,
+    };
+    let mut chosen = current;
+    egui::ComboBox::from_label("Light")
+        .selected_text(names[current])
+        .show_ui(ui, |ui| {
+            let docs = [
+                "Shines along the view direction, wherever the camera goes",
+                "A point in the scene (drag its marker); its light falls off with distance",
+                "Parallel light from far away along a fixed direction (drag its marker)",
+            ];
+            for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
+                ui.selectable_value(&mut chosen, i, *name)
+                    .on_hover_text(doc);
+            }
+        });
+    if chosen != current {
+        let point = match p.light {
+            Light::Point(q) => q,
+            _ => default_point(lo, hi),
+        };
+        p.light = match chosen {
+            0 => Light::Headlight,
+            1 => Light::Point(point),
+            _ => Light::Directional(direction_from_marker(point, lo, hi).unwrap_or(Vec3::NEG_Y)),
+        };
+    }
+    let diagonal = (hi - lo).length().max(f32::MIN_POSITIVE);
+    match &mut p.light {
+        Light::Headlight => {}
+        Light::Point(q) => {
+            ui.horizontal(|ui| {
+                ui.label("at");
+                for v in [&mut q.x, &mut q.y, &mut q.z] {
+                    ui.add(egui::DragValue::new(v).speed(diagonal * 0.005));
+                }
+            })
+            .response
+            .on_hover_text("The point light's world position (or drag its marker in the scene)");
+        }
+        Light::Directional(d) => {
+            let mut e = *d;
+            ui.horizontal(|ui| {
+                ui.label("along");
+                for v in [&mut e.x, &mut e.y, &mut e.z] {
+                    ui.add(egui::DragValue::new(v).speed(0.01));
+                }
+            })
+            .response
+            .on_hover_text("The direction the light shines along (or drag its marker)");
+            if e != *d && e.length_squared() > 0.0 {
+                *d = e;
+            }
+        }
+    }
+    let mut color = p.light_color.to_array();
+    ui.horizontal(|ui| {
+        ui.color_edit_button_rgb(&mut color)
+            .on_hover_text("The light's colour and intensity (linear RGB)");
+        ui.label("Light colour");
+    });
+    p.light_color = Vec3::from_array(color);
+    if let Light::Point(_) = p.light {
+        slider(ui, &mut p.kc, &t::ATTENUATION_CONSTANT, 0.0..=4.0, false);
+        slider(
+            ui,
+            &mut p.kl,
+            &t::ATTENUATION_LINEAR,
+            0.0..=10.0 / diagonal,
+            true,
+        );
+        slider(
+            ui,
+            &mut p.kq,
+            &t::ATTENUATION_QUADRATIC,
+            0.0..=100.0 / (diagonal * diagonal),
+            true,
+        );
+    }
+}
