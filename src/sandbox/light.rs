@@ -221,4 +221,153 @@ mod tests {
         // From inside the sphere the ray hits its far side.
         assert!(hits_sphere(&ray, Vec3::ZERO, 1.0));
     }
+
+    use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
+    use bevy::window::WindowResolution;
+    use std::sync::Arc;
+    use voxcast_core::camera::Camera;
+    use voxcast_core::settings::RenderSettings;
+
+    const W: u32 = 400;
+    const H: u32 = 300;
+
+    /// The light systems with a window, the main camera's view and the marker, as the sandbox
+    /// has them; the light starts as a point at `start`.
+    fn app(start: Light) -> (App, Camera) {
+        let volume = voxcast_core::builtin::load_builtin("bunny").unwrap().volume;
+        let (lo, hi) = volume.bounds();
+        let camera = Camera::framing(lo, hi, Vec3::new(0.3, 0.2, 1.0), Vec3::Y).unwrap();
+        let mut settings = RenderSettings::default();
+        settings.phong.light = start;
+        let mut app = App::new();
+        app.insert_resource(VolumeState {
+            volume: Arc::new(volume),
+            source: "builtin:bunny".into(),
+            preset: None,
+        })
+        .insert_resource(RenderState {
+            transfer: voxcast_core::transfer::TransferFunction::ramp(0.0, 1.0, 0.5).unwrap(),
+            settings,
+            depth_termination: true,
+        })
+        .init_resource::<LightDrag>()
+        .init_resource::<ButtonInput<MouseButton>>()
+        .add_systems(Update, (drag_light, place_marker).chain());
+        app.world_mut().spawn((MainCamera, View(camera)));
+        app.world_mut()
+            .spawn((LightMarker, Transform::default(), Visibility::Hidden));
+        app.world_mut().spawn((
+            Window {
+                resolution: WindowResolution::new(W, H).with_scale_factor_override(1.0),
+                ..default()
+            },
+            PrimaryWindow,
+        ));
+        app.update(); // places the marker
+        (app, camera)
+    }
+
+    /// The pixel whose ray passes closest to `p`.
+    fn pixel_of(camera: &Camera, p: Vec3) -> Vec2 {
+        let rays = camera.rays(W, H);
+        let mut best = (f32::INFINITY, Vec2::ZERO);
+        for y in 0..H {
+            for x in 0..W {
+                let r = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
+                let d = (p - r.origin).cross(r.dir).length();
+                if d < best.0 {
+                    best = (d, Vec2::new(x as f32 + 0.5, y as f32 + 0.5));
+                }
+            }
+        }
+        best.1
+    }
+
+    fn set_cursor(app: &mut App, at: Vec2) {
+        let mut q = app.world_mut().query::<&mut Window>();
+        let mut window = q.single_mut(app.world_mut()).unwrap();
+        window.set_physical_cursor_position(Some(at.as_dvec2()));
+    }
+
+    fn press(app: &mut App, down: bool) {
+        let mut buttons = app.world_mut().resource_mut::<ButtonInput<MouseButton>>();
+        buttons.clear();
+        if down {
+            buttons.press(MouseButton::Left);
+        } else {
+            buttons.release(MouseButton::Left);
+        }
+    }
+
+    fn light(app: &App) -> Light {
+        app.world().resource::<RenderState>().settings.phong.light
+    }
+
+    fn marker(app: &mut App) -> Vec3 {
+        let mut q = app
+            .world_mut()
+            .query_filtered::<&Transform, With<LightMarker>>();
+        q.single(app.world()).unwrap().translation
+    }
+
+    #[test]
+    fn dragging_the_marker_moves_the_point_light_in_the_facing_plane() {
+        let start = Vec3::new(120.0, 130.0, 110.0);
+        let (mut app, camera) = app(Light::Point(start));
+        assert_eq!(marker(&mut app), start);
+        let at = pixel_of(&camera, start);
+        set_cursor(&mut app, at);
+        press(&mut app, true);
+        app.update();
+        assert!(app.world().resource::<LightDrag>().active());
+        set_cursor(&mut app, at + Vec2::new(60.0, -20.0));
+        press(&mut app, true); // held: no longer just pressed
+        app.update();
+        let Light::Point(moved) = light(&app) else {
+            panic!("still a point light")
+        };
+        let (right, up, forward) = camera.basis();
+        let delta = moved - start;
+        assert!(delta.dot(forward).abs() < 1e-2 * delta.length(), "{delta}");
+        assert!(delta.dot(right) > 0.0 && delta.dot(up) > 0.0, "{delta}");
+        // The light now lies under the cursor, and the marker stands there.
+        assert!((pixel_of(&camera, moved) - (at + Vec2::new(60.0, -20.0))).length() <= 1.0);
+        assert_eq!(marker(&mut app), moved);
+        press(&mut app, false);
+        app.update();
+        assert!(!app.world().resource::<LightDrag>().active());
+    }
+
+    #[test]
+    fn a_press_beside_the_marker_does_not_grab_it() {
+        let start = Vec3::new(120.0, 130.0, 110.0);
+        let (mut app, camera) = app(Light::Point(start));
+        set_cursor(&mut app, pixel_of(&camera, start) + Vec2::new(80.0, 0.0));
+        press(&mut app, true);
+        app.update();
+        assert!(!app.world().resource::<LightDrag>().active());
+        assert_eq!(light(&app), Light::Point(start));
+    }
+
+    #[test]
+    fn a_directional_lights_marker_turns_it() {
+        // Shining back towards the camera's side, so the marker stands in view.
+        let (mut app, camera) = app(Light::Directional(Vec3::new(-0.6, -0.3, -1.0)));
+        let from = marker(&mut app);
+        let at = pixel_of(&camera, from);
+        set_cursor(&mut app, at);
+        press(&mut app, true);
+        app.update();
+        assert!(app.world().resource::<LightDrag>().active());
+        set_cursor(&mut app, at + Vec2::new(-50.0, 0.0));
+        press(&mut app, true);
+        app.update();
+        let Light::Directional(d) = light(&app) else {
+            panic!("still directional")
+        };
+        let (lo, hi) = app.world().resource::<VolumeState>().volume.bounds();
+        let now = marker(&mut app);
+        assert!((d - direction_from_marker(now, lo, hi).unwrap()).length() < 1e-5);
+        assert!((now - from).dot(camera.basis().0) < 0.0);
+    }
 }

@@ -70,8 +70,10 @@ fn settings_panel(
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
     let mut load: Option<String> = None;
+    // The panel may use the window's height; it scrolls beyond that.
+    let tall = (ctx.viewport_rect().height() - 80.0).max(200.0);
     egui::Window::new("Settings").default_width(320.0).show(ctx, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| {
+        egui::ScrollArea::vertical().max_height(tall).show(ui, |ui| {
             ui.heading("Voxcast");
             let fps = diagnostics
                 .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
