@@ -3,6 +3,7 @@
 
 mod compare;
 mod light;
+mod transfer;
 
 use super::compare::Comparison;
 use super::preview::PreviewSettings;
@@ -24,6 +25,7 @@ use voxcast_core::tunables::{self as t, Tunable};
 struct PanelState {
     path: String,
     load_error: Option<String>,
+    editor: transfer::TransferEditor,
 }
 
 pub(super) fn plugin(app: &mut App) {
@@ -33,6 +35,157 @@ pub(super) fn plugin(app: &mut App) {
             EguiPrimaryContextPass,
             (settings_panel, compare::compare_window).chain(),
         );
+}
+
+/// A collapsible section of the panel.
+fn section(ui: &mut egui::Ui, title: &str, open: bool, body: impl FnOnce(&mut egui::Ui)) {
+    egui::CollapsingHeader::new(title)
+        .default_open(open)
+        .show(ui, body);
+}
+
+/// The volume's name and description, the embedded list and the path field; returns the
+/// source to load, if one was chosen.
+fn dataset_section(
+    ui: &mut egui::Ui,
+    panel: &mut PanelState,
+    volume: &VolumeState,
+) -> Option<String> {
+    let mut load = None;
+    ui.label(format!("{} ({})", volume.volume.name(), volume.source));
+    if let Some(p) = &volume.preset {
+        ui.label(egui::RichText::new(&p.description).small());
+    }
+    egui::ComboBox::from_label("Embedded")
+        .selected_text("choose…")
+        .show_ui(ui, |ui| {
+            for (name, what) in DATASETS {
+                if ui
+                    .selectable_label(false, *name)
+                    .on_hover_text(*what)
+                    .clicked()
+                {
+                    load = Some(format!("builtin:{name}"));
+                }
+            }
+        });
+    ui.horizontal(|ui| {
+        ui.text_edit_singleline(&mut panel.path).on_hover_text(
+            "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window)",
+        );
+        if ui.button("Load").clicked() {
+            load = Some(panel.path.clone());
+        }
+    });
+    if let Some(e) = &panel.load_error {
+        ui.colored_label(egui::Color32::LIGHT_RED, e);
+    }
+    load
+}
+
+/// Method, step, interpolation, opacity correction, termination, jitter and the target.
+fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState) {
+    egui::ComboBox::from_label("Method")
+        .selected_text(s.method.name())
+        .show_ui(ui, |ui| {
+            for m in Method::ALL {
+                ui.selectable_value(&mut s.method, m, m.name())
+                    .on_hover_text(m.doc());
+            }
+        });
+    let voxel = volume.volume.spacing().min_element();
+    let mut step = s.step.voxels(voxel);
+    if slider(ui, &mut step, &t::STEP, 0.05..=4.0, true) {
+        s.step = Length::Voxels(step);
+    }
+    let mut trilinear = s.interpolation == Interpolation::Trilinear;
+    if ui
+        .checkbox(&mut trilinear, "Trilinear interpolation")
+        .on_hover_text("Blend the 8 surrounding lattice points (off: the nearest point's value)")
+        .changed()
+    {
+        s.interpolation = if trilinear {
+            Interpolation::Trilinear
+        } else {
+            Interpolation::Nearest
+        };
+    }
+    checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION);
+    let mut reference = s.reference_step.voxels(voxel);
+    if slider(ui, &mut reference, &t::REFERENCE_STEP, 0.05..=4.0, true) {
+        s.reference_step = Length::Voxels(reference);
+    }
+    checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION);
+    slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
+    checkbox(ui, &mut s.jitter, &t::JITTER);
+    let (lo, hi) = volume.volume.value_range();
+    let mut target = s.target.unwrap_or(0.5 * (lo + hi));
+    if slider(ui, &mut target, &t::TARGET, lo..=hi, false) {
+        s.target = Some(target);
+    }
+}
+
+/// Phong's coefficients and the light.
+fn shading_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState) {
+    checkbox(ui, &mut s.shading, &t::SHADING);
+    let p = &mut s.phong;
+    slider(ui, &mut p.ka, &t::AMBIENT, 0.0..=1.0, false);
+    slider(ui, &mut p.kd, &t::DIFFUSE, 0.0..=1.0, false);
+    slider(ui, &mut p.ks, &t::SPECULAR, 0.0..=1.0, false);
+    slider(ui, &mut p.shininess, &t::SHININESS, 1.0..=256.0, true);
+    checkbox(ui, &mut p.two_sided, &t::TWO_SIDED);
+    let (lo, hi) = volume.volume.bounds();
+    light::light_controls(ui, p, lo, hi);
+}
+
+/// The presets: each sets the transfer function and the settings it was made for.
+fn preset_menu(ui: &mut egui::Ui, edited: &mut RenderState) {
+    egui::ComboBox::from_label("Preset")
+        .selected_text(edited.transfer.name.clone())
+        .show_ui(ui, |ui| {
+            for pr in preset::all() {
+                if ui
+                    .selectable_label(false, &pr.name)
+                    .on_hover_text(&pr.description)
+                    .clicked()
+                {
+                    if let Ok(settings) = pr.settings_over(&edited.settings) {
+                        edited.settings = settings;
+                    }
+                    edited.transfer = pr.transfer.clone();
+                }
+            }
+        });
+}
+
+/// The preview's quality controls and depth termination.
+fn preview_section(ui: &mut egui::Ui, preview: &mut PreviewSettings, depth: &mut bool) {
+    let mut q = preview.clone();
+    ui.checkbox(&mut q.enabled, "Show the GPU preview")
+        .on_hover_text("Turn the live preview off (the CPU render still works)");
+    slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false);
+    slider(
+        ui,
+        &mut q.step_multiplier,
+        &t::PREVIEW_STEP_MULTIPLIER,
+        1.0..=16.0,
+        true,
+    );
+    checkbox(ui, &mut q.adaptive, &t::ADAPTIVE_QUALITY);
+    slider(ui, &mut q.moving_scale, &t::MOVING_SCALE, 0.05..=1.0, false);
+    slider(
+        ui,
+        &mut q.moving_step_multiplier,
+        &t::MOVING_STEP_MULTIPLIER,
+        1.0..=16.0,
+        true,
+    );
+    if q != *preview {
+        *preview = q;
+    }
+    ui.checkbox(depth, "Stop rays at scene geometry").on_hover_text(
+        "Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume",
+    );
 }
 
 /// A slider for a tunable, with its documentation as tooltip.
@@ -58,6 +211,9 @@ fn checkbox(ui: &mut egui::Ui, value: &mut bool, tunable: &Tunable) -> bool {
         .changed()
 }
 
+/// The settings panel's width, in points.
+const PANEL_WIDTH: f32 = 340.0;
+
 fn settings_panel(
     mut contexts: EguiContexts,
     mut panel: ResMut<PanelState>,
@@ -72,125 +228,53 @@ fn settings_panel(
     let mut load: Option<String> = None;
     // The panel may use the window's height; it scrolls beyond that.
     let tall = (ctx.viewport_rect().height() - 80.0).max(200.0);
-    egui::Window::new("Settings").default_width(320.0).show(ctx, |ui| {
-        egui::ScrollArea::vertical().max_height(tall).show(ui, |ui| {
-            ui.heading("Voxcast");
-            let fps = diagnostics
-                .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
-                .and_then(|d| d.smoothed());
-            ui.horizontal(|ui| {
-                ui.label(format!("frame time: {}", fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))));
-                if ui.button("Render image…")
-                    .on_hover_text("Render this view exactly on the CPU and compare it with the preview")
+    egui::Window::new("Settings")
+        .resizable(false)
+        .min_height(tall)
+        .show(ctx, |ui| {
+            egui::ScrollArea::vertical()
+                .max_height(tall)
+                .show(ui, |ui| {
+                    ui.set_width(PANEL_WIDTH);
+                    let fps = diagnostics
+                        .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
+                        .and_then(|d| d.smoothed());
+                    ui.horizontal(|ui| {
+                        ui.label(format!(
+                            "frame time: {}",
+                            fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
+                        ));
+                        if ui
+                    .button("Render image…")
+                    .on_hover_text(
+                        "Render this view exactly on the CPU and compare it with the preview",
+                    )
                     .clicked()
                 {
                     comparison.0.open = true;
                     comparison.1.start();
                 }
-            });
-
-            ui.separator();
-            ui.label(format!("Volume: {} ({})", volume.volume.name(), volume.source));
-            if let Some(p) = &volume.preset {
-                ui.label(egui::RichText::new(&p.description).small());
-            }
-            egui::ComboBox::from_label("Embedded")
-                .selected_text("choose…")
-                .show_ui(ui, |ui| {
-                    for (name, what) in DATASETS {
-                        if ui.selectable_label(false, *name).on_hover_text(*what).clicked() {
-                            load = Some(format!("builtin:{name}"));
-                        }
-                    }
+                    });
+                    section(ui, "Dataset", true, |ui| {
+                        load = dataset_section(ui, &mut panel, &volume);
+                    });
+                    section(ui, "Ray casting", true, |ui| {
+                        ray_section(ui, &mut edited.settings, &volume)
+                    });
+                    section(ui, "Shading and light", false, |ui| {
+                        shading_section(ui, &mut edited.settings, &volume)
+                    });
+                    section(ui, "Transfer function", true, |ui| {
+                        preset_menu(ui, &mut edited);
+                        panel
+                            .editor
+                            .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
+                    });
+                    section(ui, "Preview (slow hardware)", false, |ui| {
+                        preview_section(ui, &mut preview, &mut edited.depth_termination)
+                    });
                 });
-            ui.horizontal(|ui| {
-                ui.text_edit_singleline(&mut panel.path)
-                    .on_hover_text("A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window)");
-                if ui.button("Load").clicked() {
-                    load = Some(panel.path.clone());
-                }
-            });
-            if let Some(e) = &panel.load_error {
-                ui.colored_label(egui::Color32::LIGHT_RED, e);
-            }
-
-            ui.separator();
-            let s = &mut edited.settings;
-            egui::ComboBox::from_label("Method")
-                .selected_text(s.method.name())
-                .show_ui(ui, |ui| {
-                    for m in Method::ALL {
-                        ui.selectable_value(&mut s.method, m, m.name()).on_hover_text(m.doc());
-                    }
-                });
-            let voxel = volume.volume.spacing().min_element();
-            let mut step = s.step.voxels(voxel);
-            if slider(ui, &mut step, &t::STEP, 0.05..=4.0, true) {
-                s.step = Length::Voxels(step);
-            }
-            let mut trilinear = s.interpolation == Interpolation::Trilinear;
-            if ui.checkbox(&mut trilinear, "Trilinear interpolation")
-                .on_hover_text("Blend the 8 surrounding lattice points (off: the nearest point's value)")
-                .changed()
-            {
-                s.interpolation = if trilinear { Interpolation::Trilinear } else { Interpolation::Nearest };
-            }
-            checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION);
-            let mut reference = s.reference_step.voxels(voxel);
-            if slider(ui, &mut reference, &t::REFERENCE_STEP, 0.05..=4.0, true) {
-                s.reference_step = Length::Voxels(reference);
-            }
-            checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION);
-            slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
-            checkbox(ui, &mut s.jitter, &t::JITTER);
-            let (lo, hi) = volume.volume.value_range();
-            let mut target = s.target.unwrap_or(0.5 * (lo + hi));
-            if slider(ui, &mut target, &t::TARGET, lo..=hi, false) {
-                s.target = Some(target);
-            }
-
-            ui.separator();
-            checkbox(ui, &mut s.shading, &t::SHADING);
-            let p = &mut s.phong;
-            slider(ui, &mut p.ka, &t::AMBIENT, 0.0..=1.0, false);
-            slider(ui, &mut p.kd, &t::DIFFUSE, 0.0..=1.0, false);
-            slider(ui, &mut p.ks, &t::SPECULAR, 0.0..=1.0, false);
-            slider(ui, &mut p.shininess, &t::SHININESS, 1.0..=256.0, true);
-            checkbox(ui, &mut p.two_sided, &t::TWO_SIDED);
-            let (lo, hi) = volume.volume.bounds();
-            light::light_controls(ui, p, lo, hi);
-
-            ui.separator();
-            ui.label("Transfer function");
-            egui::ComboBox::from_label("Preset")
-                .selected_text(edited.transfer.name.clone())
-                .show_ui(ui, |ui| {
-                    for pr in preset::all() {
-                        if ui.selectable_label(false, &pr.name).on_hover_text(&pr.description).clicked() {
-                            if let Ok(settings) = pr.settings_over(&edited.settings) {
-                                edited.settings = settings;
-                            }
-                            edited.transfer = pr.transfer.clone();
-                        }
-                    }
-                });
-            ui.separator();
-            ui.label("Preview (slow hardware)");
-            let mut q = preview.clone();
-            ui.checkbox(&mut q.enabled, "Show the GPU preview")
-                .on_hover_text("Turn the live preview off (the CPU render still works)");
-            slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false);
-            slider(ui, &mut q.step_multiplier, &t::PREVIEW_STEP_MULTIPLIER, 1.0..=16.0, true);
-            checkbox(ui, &mut q.adaptive, &t::ADAPTIVE_QUALITY);
-            slider(ui, &mut q.moving_scale, &t::MOVING_SCALE, 0.05..=1.0, false);
-            slider(ui, &mut q.moving_step_multiplier, &t::MOVING_STEP_MULTIPLIER, 1.0..=16.0, true);
-            if q != *preview {
-                *preview = q;
-            }
-            ui.checkbox(&mut edited.depth_termination, "Stop rays at scene geometry")
-                .on_hover_text("Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume");
         });
-    });
     if edited != *render && edited.settings.validate().is_ok() {
         *render = edited;
     }

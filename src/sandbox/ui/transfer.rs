@@ -1,0 +1,389 @@
+//! The transfer-function editor: the opacity curve and its control points drawn over the
+//! volume's histogram (linear or log counts), the colour the function gives each value in a
+//! strip beneath. Click to add a point on the curve, drag to move one, right-click to delete;
+//! the selected point's value, opacity and colour are edited below. Save and load as JSON.
+//!
+//! Every edit goes through the core's `TransferFunction::with_point_*`, so the editor can only
+//! produce a valid function.
+
+use bevy_egui::egui::{self, Color32, Pos2, Rect, Sense, Stroke, pos2, vec2};
+use voxcast_core::histogram::{Histogram, HistogramScale};
+use voxcast_core::transfer::TransferFunction;
+
+/// Histogram bins drawn under the curve.
+const BINS: usize = 128;
+/// Height of the curve's plot and of the colour strip, in points.
+const PLOT_HEIGHT: f32 = 140.0;
+const STRIP_HEIGHT: f32 = 14.0;
+/// How near (points) the pointer must be to grab a control point.
+const GRAB_RADIUS: f32 = 8.0;
+
+/// The editor's own state.
+pub(super) struct TransferEditor {
+    /// The histogram and the volume source it was counted for.
+    histogram: Option<(String, Histogram)>,
+    log: bool,
+    selected: Option<usize>,
+    dragging: Option<usize>,
+    path: String,
+    message: Option<Result<String, String>>,
+}
+
+impl Default for TransferEditor {
+    fn default() -> Self {
+        Self {
+            histogram: None,
+            log: true,
+            selected: None,
+            dragging: None,
+            path: "transfer.json".into(),
+            message: None,
+        }
+    }
+}
+
+/// Display colour of a transfer-function colour (its values are display values).
+fn color32(c: [f32; 3]) -> Color32 {
+    let [r, g, b] = voxcast_core::image_out::to_u8(glam::Vec3::from_array(c));
+    Color32::from_rgb(r, g, b)
+}
+
+/// Maps between data values/opacities and the plot's points.
+struct Plot {
+    rect: Rect,
+    lo: f32,
+    hi: f32,
+}
+
+impl Plot {
+    fn x(&self, value: f32) -> f32 {
+        self.rect.left() + (value - self.lo) / (self.hi - self.lo) * self.rect.width()
+    }
+    fn y(&self, alpha: f32) -> f32 {
+        self.rect.bottom() - alpha * self.rect.height()
+    }
+    fn at(&self, value: f32, alpha: f32) -> Pos2 {
+        pos2(self.x(value), self.y(alpha))
+    }
+    /// Value and opacity under `p`, clamped to the plot.
+    fn value_alpha(&self, p: Pos2) -> (f32, f32) {
+        let fx = ((p.x - self.rect.left()) / self.rect.width()).clamp(0.0, 1.0);
+        let fy = ((self.rect.bottom() - p.y) / self.rect.height()).clamp(0.0, 1.0);
+        (self.lo + fx * (self.hi - self.lo), fy)
+    }
+    /// The point within reach of `p`.
+    fn grab(&self, tf: &TransferFunction, p: Pos2) -> Option<usize> {
+        let (v, a) = self.value_alpha(p);
+        let h = self.rect.height();
+        let scale = self.rect.width() / h / (self.hi - self.lo);
+        tf.point_near(v, a, scale, GRAB_RADIUS / h)
+    }
+}
+
+impl TransferEditor {
+    /// Draws the editor for `tf` over the histogram of the volume `source`; returns true when
+    /// `tf` was changed.
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        tf: &mut TransferFunction,
+        volume: &voxcast_core::Volume,
+        source: &str,
+    ) -> bool {
+        if self.histogram.as_ref().is_none_or(|(s, _)| s != source) {
+            self.histogram = Some((source.to_string(), Histogram::of(volume, BINS)));
+            self.selected = None;
+        }
+        let mut changed = false;
+        let mut edited = tf.clone();
+        let (lo, hi) = volume.value_range();
+        let hi = if hi > lo { hi } else { lo + 1.0 };
+        let width = ui.available_width().max(120.0);
+        let (response, painter) = ui.allocate_painter(
+            vec2(width, PLOT_HEIGHT + STRIP_HEIGHT),
+            Sense::click_and_drag(),
+        );
+        let full = response.rect;
+        let plot = Plot {
+            rect: Rect::from_min_max(full.min, pos2(full.max.x, full.max.y - STRIP_HEIGHT)),
+            lo,
+            hi,
+        };
+        painter.rect_filled(plot.rect, 0.0, Color32::from_gray(24));
+        if let Some((_, h)) = &self.histogram {
+            let scale = if self.log {
+                HistogramScale::Log
+            } else {
+                HistogramScale::Linear
+            };
+            let bar = plot.rect.width() / h.counts.len() as f32;
+            for (i, height) in h.heights(scale).iter().enumerate() {
+                let x = plot.rect.left() + i as f32 * bar;
+                let top = plot.rect.bottom() - height * plot.rect.height();
+                painter.rect_filled(
+                    Rect::from_min_max(pos2(x, top), pos2(x + bar, plot.rect.bottom())),
+                    0.0,
+                    Color32::from_gray(70),
+                );
+            }
+        }
+        // Pointer interaction.
+        let pointer = response.interact_pointer_pos();
+        if response.drag_started()
+            && let Some(p) = pointer
+        {
+            self.dragging = plot.grab(&edited, p);
+            if self.dragging.is_some() {
+                self.selected = self.dragging;
+            }
+        }
+        if response.dragged()
+            && let (Some(i), Some(p)) = (self.dragging, pointer)
+        {
+            let (v, a) = plot.value_alpha(p);
+            if let Ok((moved, j)) = edited.with_point_moved(i, v, a) {
+                edited = moved;
+                self.dragging = Some(j);
+                self.selected = Some(j);
+            }
+        }
+        if response.drag_stopped() {
+            self.dragging = None;
+        }
+        if response.clicked()
+            && let Some(p) = pointer
+        {
+            match plot.grab(&edited, p) {
+                Some(i) => self.selected = Some(i),
+                None => {
+                    let (v, a) = plot.value_alpha(p);
+                    if let Ok((added, i)) = edited.with_point_added(v, a) {
+                        edited = added;
+                        self.selected = Some(i);
+                    }
+                }
+            }
+        }
+        if response.secondary_clicked()
+            && let Some(i) = pointer.and_then(|p| plot.grab(&edited, p))
+        {
+            match edited.with_point_removed(i) {
+                Ok(removed) => {
+                    edited = removed;
+                    self.selected = None;
+                }
+                Err(e) => self.message = Some(Err(e.to_string())),
+            }
+        }
+        // The curve, its points and the colour strip.
+        let points = edited.points();
+        let mut line = vec![plot.at(lo, points[0].alpha)];
+        line.extend(
+            points
+                .iter()
+                .map(|p| plot.at(p.value.clamp(lo, hi), p.alpha)),
+        );
+        line.push(plot.at(hi, points[points.len() - 1].alpha));
+        painter.add(egui::Shape::line(line, Stroke::new(1.5, Color32::WHITE)));
+        for (i, p) in points.iter().enumerate() {
+            let selected = self.selected == Some(i);
+            painter.circle(
+                plot.at(p.value.clamp(lo, hi), p.alpha),
+                if selected { 6.0 } else { 4.5 },
+                color32(p.color),
+                Stroke::new(
+                    if selected { 2.5 } else { 1.0 },
+                    if selected {
+                        Color32::YELLOW
+                    } else {
+                        Color32::WHITE
+                    },
+                ),
+            );
+        }
+        let strip_top = plot.rect.bottom();
+        let columns = (full.width() / 2.0).ceil() as usize;
+        for c in 0..columns {
+            let x0 = full.left() + c as f32 * 2.0;
+            let v = lo + (c as f32 + 0.5) / columns as f32 * (hi - lo);
+            let rgba = edited.evaluate(v);
+            painter.rect_filled(
+                Rect::from_min_max(pos2(x0, strip_top), pos2(x0 + 2.0, full.bottom())),
+                0.0,
+                color32([rgba.x, rgba.y, rgba.z]),
+            );
+        }
+        response.on_hover_text(
+            "Opacity (up) against value (across), over the histogram. Click: add a point · \
+             drag: move it · right-click: delete it. The strip shows each value's colour.",
+        );
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.log, "log counts")
+                .on_hover_text("Histogram heights as ln(1 + count): rare values stay visible");
+            ui.label(format!("{lo} … {hi}"));
+        });
+        changed |= self.selected_point(ui, &mut edited, lo, hi);
+        changed |= self.save_load(ui, &mut edited);
+        if edited != *tf {
+            *tf = edited;
+            changed = true;
+        }
+        changed
+    }
+
+    /// The selected point's value, opacity and colour, and Delete.
+    fn selected_point(
+        &mut self,
+        ui: &mut egui::Ui,
+        tf: &mut TransferFunction,
+        lo: f32,
+        hi: f32,
+    ) -> bool {
+        let Some(i) = self.selected.filter(|&i| i < tf.points().len()) else {
+            self.selected = None;
+            return false;
+        };
+        let p = tf.points()[i];
+        let (mut value, mut alpha, mut color) = (p.value, p.alpha, p.color);
+        let mut delete = false;
+        ui.horizontal(|ui| {
+            ui.label(format!("point {}:", i + 1));
+            ui.add(
+                egui::DragValue::new(&mut value)
+                    .speed((hi - lo) / 500.0)
+                    .prefix("value "),
+            )
+            .on_hover_text("Where the point sits, in data units");
+            ui.add(
+                egui::DragValue::new(&mut alpha)
+                    .speed(0.005)
+                    .range(0.0..=1.0)
+                    .prefix("opacity "),
+            )
+            .on_hover_text("Opacity per reference step at this value");
+            ui.color_edit_button_rgb(&mut color)
+                .on_hover_text("The colour at this value");
+            delete = ui.button("Delete").clicked();
+        });
+        let mut next = tf.clone();
+        if delete {
+            match tf.with_point_removed(i) {
+                Ok(t) => {
+                    *tf = t;
+                    self.selected = None;
+                    return true;
+                }
+                Err(e) => self.message = Some(Err(e.to_string())),
+            }
+        }
+        if (value, alpha) != (p.value, p.alpha)
+            && let Ok((moved, j)) = next.with_point_moved(i, value, alpha)
+        {
+            next = moved;
+            self.selected = Some(j);
+        }
+        if color != p.color
+            && let Some(j) = self.selected
+            && let Ok(t) = next.with_point_color(j, color.map(|c| c.clamp(0.0, 1.0)))
+        {
+            next = t;
+        }
+        let changed = next != *tf;
+        *tf = next;
+        changed
+    }
+
+    fn save_load(&mut self, ui: &mut egui::Ui, tf: &mut TransferFunction) -> bool {
+        let mut changed = false;
+        ui.horizontal(|ui| {
+            ui.text_edit_singleline(&mut self.path)
+                .on_hover_text("A transfer-function JSON file ({\"name\", \"points\": [...]})");
+            if ui.button("Save").clicked() {
+                self.message = Some(save(tf, &self.path));
+            }
+            if ui.button("Load").clicked() {
+                match load(&self.path) {
+                    Ok(t) => {
+                        *tf = t;
+                        self.selected = None;
+                        changed = true;
+                        self.message = Some(Ok(format!("loaded {}", self.path)));
+                    }
+                    Err(e) => self.message = Some(Err(e)),
+                }
+            }
+        });
+        match &self.message {
+            Some(Ok(m)) => {
+                ui.label(m);
+            }
+            Some(Err(e)) => {
+                ui.colored_label(Color32::LIGHT_RED, e);
+            }
+            None => {}
+        }
+        changed
+    }
+}
+
+/// Writes `tf` as JSON through a temporary file and a rename (a failed write loses nothing).
+fn save(tf: &TransferFunction, path: &str) -> Result<String, String> {
+    let path = std::path::Path::new(path.trim());
+    if path.file_name().is_none() {
+        return Err("give a file name".into());
+    }
+    let tmp = path.with_extension("json.tmp");
+    std::fs::write(&tmp, tf.to_json())
+        .and_then(|_| std::fs::rename(&tmp, path))
+        .map_err(|e| format!("cannot save {}: {e}", path.display()))?;
+    Ok(format!("saved {}", path.display()))
+}
+
+fn load(path: &str) -> Result<TransferFunction, String> {
+    let path = path.trim();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+    TransferFunction::from_json(&text).map_err(|e| format!("{path}: {e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn save_and_load_round_trip_and_errors_are_reported() {
+        let dir = std::env::temp_dir().join(format!("voxcast-tf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("t.json");
+        let tf = TransferFunction::ramp(0.0, 10.0, 0.3).unwrap();
+        save(&tf, path.to_str().unwrap()).unwrap();
+        assert_eq!(load(path.to_str().unwrap()).unwrap(), tf);
+        std::fs::write(&path, "{\"points\": []}").unwrap();
+        assert!(
+            load(path.to_str().unwrap())
+                .unwrap_err()
+                .contains("at least one")
+        );
+        assert!(load(dir.join("none.json").to_str().unwrap()).is_err());
+        assert!(save(&tf, dir.join("no/such/dir.json").to_str().unwrap()).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_plot_maps_both_ways_and_grabs_nearby_points() {
+        let plot = Plot {
+            rect: Rect::from_min_size(pos2(10.0, 20.0), vec2(200.0, 100.0)),
+            lo: 0.0,
+            hi: 100.0,
+        };
+        let p = plot.at(25.0, 0.5);
+        assert_eq!(p, pos2(60.0, 70.0));
+        assert_eq!(plot.value_alpha(p), (25.0, 0.5));
+        assert_eq!(plot.value_alpha(pos2(-50.0, 500.0)), (0.0, 0.0));
+        let tf = TransferFunction::ramp(0.0, 100.0, 1.0).unwrap();
+        assert_eq!(
+            plot.grab(&tf, plot.at(100.0, 1.0) + vec2(-5.0, 3.0)),
+            Some(1)
+        );
+        assert_eq!(plot.grab(&tf, plot.at(50.0, 0.5)), None);
+    }
+}
