@@ -7,6 +7,7 @@
 mod compare;
 mod compare_cli;
 mod light;
+mod loading;
 mod material;
 mod measure;
 mod orbit;
@@ -150,6 +151,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 orbit::plugin,
                 compare::plugin,
                 light::plugin,
+                loading::plugin,
             ));
         if let Some(frames) = args.measure_frames {
             // Draw every frame even without focus (a virtual display never gives it).

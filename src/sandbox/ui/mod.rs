@@ -6,13 +6,13 @@ mod light;
 mod transfer;
 
 use super::compare::Comparison;
+use super::loading::Loading;
 use super::preview::PreviewSettings;
 use super::state::{RenderState, VolumeState};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
-use std::sync::Arc;
-use voxcast_core::builtin::{DATASETS, load_source};
+use voxcast_core::builtin::DATASETS;
 use voxcast_core::composite::Method;
 use voxcast_core::preset;
 use voxcast_core::sample::Interpolation;
@@ -24,7 +24,6 @@ use voxcast_core::tunables::{self as t, Tunable};
 #[derive(Resource, Default)]
 struct PanelState {
     path: String,
-    load_error: Option<String>,
     editor: transfer::TransferEditor,
 }
 
@@ -50,6 +49,7 @@ fn dataset_section(
     ui: &mut egui::Ui,
     panel: &mut PanelState,
     volume: &VolumeState,
+    loading: &mut Loading,
 ) -> Option<String> {
     let mut load = None;
     ui.label(format!("{} ({})", volume.volume.name(), volume.source));
@@ -77,7 +77,18 @@ fn dataset_section(
             load = Some(panel.path.clone());
         }
     });
-    if let Some(e) = &panel.load_error {
+    if let Some((what, seconds)) = loading.under_way() {
+        let mut cancel = false;
+        ui.horizontal(|ui| {
+            ui.spinner();
+            ui.label(format!("loading {what} … {seconds:.1} s"));
+            cancel = ui.button("Cancel").clicked();
+        });
+        if cancel {
+            loading.cancel();
+        }
+    }
+    if let Some(e) = &loading.error {
         ui.colored_label(egui::Color32::LIGHT_RED, e);
     }
     load
@@ -217,7 +228,7 @@ const PANEL_WIDTH: f32 = 340.0;
 fn settings_panel(
     mut contexts: EguiContexts,
     mut panel: ResMut<PanelState>,
-    mut volume: ResMut<VolumeState>,
+    (volume, mut loading): (Res<VolumeState>, ResMut<Loading>),
     mut render: ResMut<RenderState>,
     diagnostics: Res<DiagnosticsStore>,
     mut preview: ResMut<PreviewSettings>,
@@ -256,7 +267,7 @@ fn settings_panel(
                 }
                     });
                     section(ui, "Dataset", true, |ui| {
-                        load = dataset_section(ui, &mut panel, &volume);
+                        load = dataset_section(ui, &mut panel, &volume, &mut loading);
                     });
                     section(ui, "Ray casting", true, |ui| {
                         ray_section(ui, &mut edited.settings, &volume)
@@ -279,35 +290,7 @@ fn settings_panel(
         *render = edited;
     }
     if let Some(source) = load {
-        match load_source(&source) {
-            Ok(loaded) => {
-                let p = preset::for_volume(loaded.volume.name());
-                match p
-                    .as_ref()
-                    .map(|p| (p, p.settings_over(&RenderSettings::default())))
-                {
-                    Some((p, Ok(settings))) => {
-                        render.settings = settings;
-                        render.transfer = p.transfer.clone();
-                    }
-                    _ => {
-                        let (lo, hi) = loaded.volume.value_range();
-                        if let Ok(ramp) =
-                            voxcast_core::transfer::TransferFunction::ramp(lo, hi, 0.5)
-                        {
-                            render.transfer = ramp;
-                        }
-                    }
-                }
-                *volume = VolumeState {
-                    volume: Arc::new(loaded.volume),
-                    source,
-                    preset: p,
-                };
-                panel.load_error = None;
-            }
-            Err(e) => panel.load_error = Some(e.to_string()),
-        }
+        loading.start(source);
     }
     Ok(())
 }
