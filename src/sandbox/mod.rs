@@ -17,6 +17,7 @@ mod shaders;
 mod state;
 mod ui;
 pub mod uniform;
+mod virtual_camera;
 
 use crate::cli::CliError;
 use crate::cli::args::{CameraArgs, SettingsArgs, VolumeArgs, parse_size};
@@ -152,6 +153,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 compare::plugin,
                 light::plugin,
                 loading::plugin,
+                virtual_camera::plugin,
             ));
         if let Some(frames) = args.measure_frames {
             // Draw every frame even without focus (a virtual display never gives it).

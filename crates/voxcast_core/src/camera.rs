@@ -185,6 +185,24 @@ impl Camera {
         }
     }
 
+    /// Where the ray through image position `(x, y)` crosses the image plane `distance` in front
+    /// of the eye (the plane the sandbox draws the pixel grid on).
+    pub fn image_plane_point(
+        &self,
+        x: f32,
+        y: f32,
+        width: u32,
+        height: u32,
+        distance: f32,
+    ) -> Vec3 {
+        let ray = self.ray(x, y, width, height);
+        let forward = self.forward();
+        // Perspective rays reach the plane after distance / cos; orthographic ones start on the
+        // eye's plane and travel straight along forward.
+        ray.origin
+            + ray.dir * ((distance - (ray.origin - self.eye).dot(forward)) / ray.dir.dot(forward))
+    }
+
     /// The ray through the centre of pixel `(px, py)`.
     pub fn pixel_ray(&self, px: u32, py: u32, width: u32, height: u32) -> Ray {
         self.ray(px as f32 + 0.5, py as f32 + 0.5, width, height)
@@ -229,6 +247,29 @@ impl ImageRays {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_image_plane_holds_the_pixel_grid() {
+        for projection in [
+            Projection::Perspective { fov_y_deg: 50.0 },
+            Projection::Orthographic { height: 4.0 },
+        ] {
+            let c = Camera::new(Vec3::new(1.0, 2.0, 9.0), Vec3::ZERO, Vec3::Y, projection).unwrap();
+            let f = c.forward();
+            let centre = c.image_plane_point(2.0, 1.5, 4, 3, 2.5);
+            assert!(
+                (centre - (c.eye + f * 2.5)).length() < 1e-4,
+                "{projection:?}"
+            );
+            for (x, y) in [(0.0, 0.0), (4.0, 0.0), (0.0, 3.0), (4.0, 3.0), (1.3, 2.2)] {
+                let p = c.image_plane_point(x, y, 4, 3, 2.5);
+                assert!(((p - c.eye).dot(f) - 2.5).abs() < 1e-4);
+                // On the pixel's ray.
+                let r = c.ray(x, y, 4, 3);
+                assert!((p - r.origin).cross(r.dir).length() < 1e-4);
+            }
+        }
+    }
 
     fn cam() -> Camera {
         Camera::new(

@@ -255,6 +255,17 @@ pub const BOUNDARY_GRADIENT: Tunable = Tunable {
     max: 3.4e38,
 };
 
+pub const VIRTUAL_RESOLUTION: Tunable = Tunable {
+    key: "virtual-resolution",
+    label: "Virtual camera pixels",
+    doc: "Pixels across each edge of the virtual camera's image: one ray per pixel, drawn in the \
+          scene and traced in the inspector. Small, so every ray and sample stays visible. \
+          Default 8.",
+    default: 8.0,
+    min: 1.0,
+    max: 64.0,
+};
+
 pub const PREVIEW_SCALE: Tunable = Tunable {
     key: "preview-scale",
     label: "Preview resolution",
@@ -307,6 +318,7 @@ pub const MOVING_STEP_MULTIPLIER: Tunable = Tunable {
 
 /// Every tunable, for listing and for the UI.
 pub const ALL: &[Tunable] = &[
+    VIRTUAL_RESOLUTION,
     STEP,
     REFERENCE_STEP,
     OPACITY_CORRECTION,

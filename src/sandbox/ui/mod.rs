@@ -8,7 +8,8 @@ mod transfer;
 use super::compare::Comparison;
 use super::loading::Loading;
 use super::preview::PreviewSettings;
-use super::state::{RenderState, VolumeState};
+use super::state::{MainCamera, RenderState, View, VolumeState};
+use super::virtual_camera::VirtualCamera;
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
@@ -169,6 +170,60 @@ fn preset_menu(ui: &mut egui::Ui, edited: &mut RenderState) {
         });
 }
 
+/// The virtual camera: shown or not, its resolution and field of view, and where it stands.
+fn virtual_camera_section(
+    ui: &mut egui::Ui,
+    vc: &mut Mut<VirtualCamera>,
+    main: Option<voxcast_core::camera::Camera>,
+    volume: &VolumeState,
+) {
+    let mut edited = **vc;
+    ui.checkbox(&mut edited.shown, "Show the virtual camera")
+        .on_hover_text("Its body, frustum and pixel grid in the scene");
+    let range = t::VIRTUAL_RESOLUTION.min as u32..=t::VIRTUAL_RESOLUTION.max as u32;
+    for (value, axis) in [(&mut edited.width, "across"), (&mut edited.height, "down")] {
+        ui.add(egui::Slider::new(value, range.clone()).text(format!("pixels {axis}")))
+            .on_hover_text(t::VIRTUAL_RESOLUTION.doc);
+    }
+    if let Some(mut fov) = super::virtual_camera::fov(&edited.view) {
+        let changed = ui
+            .add(egui::Slider::new(&mut fov, 5.0..=120.0).text("field of view (°)"))
+            .on_hover_text("The virtual camera's vertical opening angle")
+            .changed();
+        if changed
+            && let Ok(v) = voxcast_core::camera::Camera::new(
+                edited.view.eye,
+                edited.view.target,
+                edited.view.up,
+                voxcast_core::camera::Projection::Perspective { fov_y_deg: fov },
+            )
+        {
+            edited.view = v;
+        }
+    }
+    ui.horizontal(|ui| {
+        if let Some(view) = main
+            && ui
+                .button("Place at the main camera")
+                .on_hover_text("Move the virtual camera to where you are looking from")
+                .clicked()
+        {
+            edited.view = view;
+        }
+        if ui
+            .button("Reset")
+            .on_hover_text("Frame the volume from the default side")
+            .clicked()
+            && let Some(framed) = VirtualCamera::framing(volume, main.as_ref())
+        {
+            edited.view = framed.view;
+        }
+    });
+    if edited != **vc {
+        **vc = edited;
+    }
+}
+
 /// The preview's quality controls and depth termination.
 fn preview_section(ui: &mut egui::Ui, preview: &mut PreviewSettings, depth: &mut bool) {
     let mut q = preview.clone();
@@ -233,6 +288,7 @@ fn settings_panel(
     diagnostics: Res<DiagnosticsStore>,
     mut preview: ResMut<PreviewSettings>,
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
+    (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
@@ -281,6 +337,12 @@ fn settings_panel(
                             .editor
                             .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
                     });
+                    if let Ok(mut vc) = virtual_cameras.single_mut() {
+                        section(ui, "Virtual camera", false, |ui| {
+                            let main = main_views.single().ok().map(|v| v.0);
+                            virtual_camera_section(ui, &mut vc, main, &volume)
+                        });
+                    }
                     section(ui, "Preview (slow hardware)", false, |ui| {
                         preview_section(ui, &mut preview, &mut edited.depth_termination)
                     });
