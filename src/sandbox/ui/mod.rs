@@ -285,8 +285,7 @@ fn settings_panel(
     mut panel: ResMut<PanelState>,
     (volume, mut loading): (Res<VolumeState>, ResMut<Loading>),
     mut render: ResMut<RenderState>,
-    diagnostics: Res<DiagnosticsStore>,
-    mut preview: ResMut<PreviewSettings>,
+    (diagnostics, mut preview): (Res<DiagnosticsStore>, ResMut<PreviewSettings>),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
     (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
 ) -> Result {
