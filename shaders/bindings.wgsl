@@ -11,3 +11,6 @@
 @group(#{MATERIAL_BIND_GROUP}) @binding(2) var lut_texture: texture_2d<f32>;
 /// 1 for each block of cells the transfer function makes transparent (crates/voxcast_core/src/skip.rs).
 @group(#{MATERIAL_BIND_GROUP}) @binding(3) var empty_texture: texture_3d<f32>;
+/// Each block's value range (lo, hi) with a one-point apron, in data units
+/// (crates/voxcast_core/src/skip.rs, `BlockRanges`).
+@group(#{MATERIAL_BIND_GROUP}) @binding(4) var range_texture: texture_3d<f32>;

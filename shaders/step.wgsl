@@ -28,6 +28,19 @@ fn sample_t(plan: StepPlan, k: u32) -> f32 {
     return min(plan.t_enter + (plan.jitter + f32(k)) * plan.dt, plan.t_exit);
 }
 
+/// The index of the first sample at or after t, at most count: where a ray resumes after
+/// skipping to t.
+fn first_index_from(plan: StepPlan, t: f32) -> u32 {
+    let k = ceil((t - plan.t_enter) / plan.dt - plan.jitter);
+    if k <= 0.0 {
+        return 0u;
+    }
+    if k >= f32(plan.count) {
+        return plan.count;
+    }
+    return u32(k);
+}
+
 /// The length of ray sample k (at t_k) stands for: its cell between the midpoints to its
 /// neighbours, the first starting at t_enter and the last ending at t_exit.
 fn segment_length(plan: StepPlan, k: u32, t_k: f32) -> f32 {

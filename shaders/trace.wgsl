@@ -4,9 +4,9 @@
 
 #import voxcast::bindings::params
 #import voxcast::ray::intersect_box
-#import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction}
+#import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction, first_index_from}
 #import voxcast::sample::{sample, to_data, gradient, cell}
-#import voxcast::skip::{block_of, exit_if_empty}
+#import voxcast::skip::{block_of, block_exit, block_range, exit_if_empty}
 #import voxcast::transfer::lut_lookup
 #import voxcast::classify::classify
 #import voxcast::shade::shade
@@ -120,19 +120,50 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
     if plan.count == 0u {
         return vec4(0.0);
     }
+    let maximum = params.method == #{METHOD_MAXIMUM}u;
+    let extreme = maximum || params.method == #{METHOD_MINIMUM}u;
+    // The CPU's block skipping for Maximum and Minimum (trace.rs, `project_extreme`): a block
+    // whose range cannot beat the running extreme is passed without sampling.
+    let skip = params.skip_ranges != 0u && extreme;
+    let ties = params.ties_skippable != 0u;
+    let margin_t = params.skip_margin / length(d_v);
+    var checked = vec3(0xffffffffu);
     var sum = 0.0;
     var hi = -3.4e38;
     var lo = 3.4e38;
-    for (var k = 0u; k < plan.count; k++) {
-        let v = value_at(o_v + d_v * sample_t(plan, k));
+    var taken = 0u;
+    var k = 0u;
+    while k < plan.count {
+        let pv = o_v + d_v * sample_t(plan, k);
+        if skip && taken > 0u {
+            let b = block_of(cell(pv).lo);
+            if any(b != checked) {
+                checked = b;
+                let r = block_range(b);
+                var useless = r.x > lo || (ties && r.x == lo);
+                if maximum {
+                    useless = r.y < hi || (ties && r.y == hi);
+                }
+                if useless {
+                    let next = first_index_from(plan, block_exit(b, o_v, d_v) - margin_t);
+                    if next > k {
+                        k = next;
+                        continue;
+                    }
+                }
+            }
+        }
+        let v = value_at(pv);
         sum += v;
         hi = max(hi, v);
         lo = min(lo, v);
+        taken += 1u;
+        k += 1u;
     }
     var value = sum / f32(plan.count);
-    if params.method == #{METHOD_MAXIMUM}u {
+    if maximum {
         value = hi;
-    } else if params.method == #{METHOD_MINIMUM}u {
+    } else if extreme {
         value = lo;
     }
     let rgba = lut_lookup(value);
@@ -141,21 +172,48 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
 
 fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
     let target_value = params.target_value;
+    // The CPU's block skipping for First (trace.rs, `first_skipping`): a block whose values all
+    // lie on the previous sample's side of the target holds no crossing; only its last sample
+    // is read, as the previous sample for the next comparison.
+    let skip = params.skip_ranges != 0u;
+    let margin_t = params.skip_margin / length(d_v);
+    var checked = vec3(0xffffffffu);
+    var have_prev = false;
     var prev_t = 0.0;
     var prev_v = 0.0;
-    for (var k = 0u; k < plan.count; k++) {
+    var k = 0u;
+    while k < plan.count {
         let t = sample_t(plan, k);
-        let v = value_at(o_v + d_v * t);
+        let pv = o_v + d_v * t;
+        if skip && have_prev {
+            let b = block_of(cell(pv).lo);
+            if any(b != checked) {
+                checked = b;
+                let r = block_range(b);
+                let below = r.y < target_value && prev_v < target_value;
+                let above = r.x > target_value && prev_v > target_value;
+                if below || above {
+                    let next = first_index_from(plan, block_exit(b, o_v, d_v) - margin_t);
+                    if next > k {
+                        prev_t = sample_t(plan, next - 1u);
+                        prev_v = value_at(o_v + d_v * prev_t);
+                        k = next;
+                        continue;
+                    }
+                }
+            }
+        }
+        let v = value_at(pv);
         var found = false;
-        if k == 0u {
-            found = v == target_value;
-        } else {
+        if have_prev {
             found = crosses(prev_v, v, target_value);
+        } else {
+            found = v == target_value;
         }
         if found {
             var ta = t;
             var va = v;
-            if k > 0u {
+            if have_prev {
                 ta = prev_t;
                 va = prev_v;
             }
@@ -163,6 +221,8 @@ fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec
         }
         prev_t = t;
         prev_v = v;
+        have_prev = true;
+        k += 1u;
     }
     return vec4(0.0);
 }

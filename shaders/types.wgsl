@@ -69,4 +69,8 @@ struct VolumeUniform {
     blocks: vec3<u32>,
     /// How far inside an empty block (voxels) a sample must lie to be skipped.
     skip_margin: f32,
+    /// 1 where First, Maximum and Minimum may pass blocks by their value ranges, else 0.
+    skip_ranges: u32,
+    /// 1 where a block that can only tie the running extreme may be passed (integer data).
+    ties_skippable: u32,
 }

@@ -14,7 +14,7 @@ use bevy::render::render_resource::{
 };
 use bevy::shader::ShaderRef;
 use voxcast_core::Volume;
-use voxcast_core::skip::EmptyBlocks;
+use voxcast_core::skip::{BlockRanges, EmptyBlocks};
 use voxcast_core::transfer::Lut;
 use voxcast_core::volume::{Grid, GridVisitor, ScalarType, Voxel};
 
@@ -32,6 +32,8 @@ pub struct VolumeMaterial {
     pub lut: Handle<Image>,
     #[texture(3, dimension = "3d", sample_type = "float", filterable = false)]
     pub empty: Handle<Image>,
+    #[texture(4, dimension = "3d", sample_type = "float", filterable = false)]
+    pub ranges: Handle<Image>,
 }
 
 impl Material for VolumeMaterial {
@@ -125,6 +127,28 @@ pub fn empty_blocks_image(blocks: Option<&EmptyBlocks>) -> Image {
         TextureDimension::D3,
         data,
         TextureFormat::R8Unorm,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+}
+
+/// Each block's value range `(lo, hi)` (data units, apron included) as an Rg32Float 3-D
+/// texture, for First, Maximum and Minimum to pass blocks by.
+pub fn block_ranges_image(ranges: &BlockRanges) -> Image {
+    let data = ranges
+        .ranges
+        .iter()
+        .flat_map(|&(lo, hi)| [lo, hi])
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    Image::new(
+        Extent3d {
+            width: ranges.blocks.x,
+            height: ranges.blocks.y,
+            depth_or_array_layers: ranges.blocks.z,
+        },
+        TextureDimension::D3,
+        data,
+        TextureFormat::Rg32Float,
         RenderAssetUsages::RENDER_WORLD,
     )
 }

@@ -1,7 +1,9 @@
 //! The sandbox's state: the loaded volume with its transfer function and settings (resources),
 //! the volume entity, and the one system that syncs them to the material when they change.
 
-use super::material::{VolumeMaterial, empty_blocks_image, lut_image, volume_image};
+use super::material::{
+    VolumeMaterial, block_ranges_image, empty_blocks_image, lut_image, volume_image,
+};
 use super::preview::Quality;
 use super::uniform::VolumeUniform;
 use bevy::prelude::*;
@@ -83,6 +85,7 @@ fn spawn_volume(
         volume: images.add(volume_image(v)),
         lut: images.add(lut_image(&lut)),
         empty: images.add(empty_blocks_image(None)),
+        ranges: images.add(block_ranges_image(v.block_ranges())),
     };
     commands.spawn((
         VolumeBox,
@@ -158,6 +161,14 @@ fn sync_volume_material(
     let blocks = state.volume.block_ranges();
     material.uniform.blocks = UVec3::new(blocks.blocks.x, blocks.blocks.y, blocks.blocks.z);
     material.uniform.skip_empty = skippable as u32;
+    // First, Maximum and Minimum pass blocks by their value ranges, as the core does.
+    use voxcast_core::composite::Method;
+    material.uniform.skip_ranges = matches!(
+        settings.method,
+        Method::First | Method::Maximum | Method::Minimum
+    ) as u32;
+    material.uniform.ties_skippable =
+        (state.volume.scalar_type() != voxcast_core::volume::ScalarType::F32) as u32;
     let wanted = skippable.then(|| render.transfer.clone());
     if state.is_changed() || uploaded.empty != wanted {
         let empty = skippable.then(|| voxcast_core::skip::EmptyBlocks::new(blocks, &scene.lut));

@@ -118,6 +118,10 @@ pub struct VolumeUniform {
     pub skip_empty: u32,
     pub blocks: UVec3,
     pub skip_margin: f32,
+    /// 1 where First, Maximum and Minimum may pass blocks by their value ranges.
+    pub skip_ranges: u32,
+    /// 1 where a block that can only tie the running extreme may be passed (integer data).
+    pub ties_skippable: u32,
 }
 
 impl VolumeUniform {
@@ -203,6 +207,8 @@ impl VolumeUniform {
             skip_empty: 0,
             blocks: UVec3::ONE,
             skip_margin: voxcast_core::trace::SKIP_MARGIN_VOXELS,
+            skip_ranges: 0,
+            ties_skippable: 0,
         };
         match &scene.classifier {
             Classifier::Table => {}
@@ -350,6 +356,8 @@ mod tests {
             "skip_empty" => n(u.skip_empty),
             "blocks" => u3(u.blocks),
             "skip_margin" => f(u.skip_margin),
+            "skip_ranges" => n(u.skip_ranges),
+            "ties_skippable" => n(u.ties_skippable),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
     }
@@ -426,6 +434,8 @@ mod tests {
             skip_empty: 117,
             blocks: UVec3::new(118, 119, 120),
             skip_margin: next(),
+            skip_ranges: 121,
+            ties_skippable: 122,
         };
         let mut buffer = UniformBuffer::new(Vec::<u8>::new());
         buffer.write(&u).unwrap();
@@ -435,7 +445,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 50, "members in the WGSL struct");
+        assert_eq!(members.len(), 52, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);
