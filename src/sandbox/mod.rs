@@ -6,6 +6,7 @@
 
 mod compare;
 mod compare_cli;
+mod inspect;
 mod light;
 mod loading;
 mod material;
@@ -154,6 +155,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 light::plugin,
                 loading::plugin,
                 virtual_camera::plugin,
+                inspect::plugin,
             ));
         if let Some(frames) = args.measure_frames {
             // Draw every frame even without focus (a virtual display never gives it).

@@ -196,7 +196,10 @@ fn show_or_hide_volume(
 }
 
 /// Paints the preview image over the whole window, beneath every panel.
-fn paint_preview(mut contexts: EguiContexts, target: Option<Res<PreviewTarget>>) -> Result {
+pub(super) fn paint_preview(
+    mut contexts: EguiContexts,
+    target: Option<Res<PreviewTarget>>,
+) -> Result {
     let Some(target) = target else { return Ok(()) };
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
     let ctx = contexts.ctx_mut()?;

@@ -203,6 +203,33 @@ impl Camera {
             + ray.dir * ((distance - (ray.origin - self.eye).dot(forward)) / ray.dir.dot(forward))
     }
 
+    /// The image position `(x, y)` in pixels (from the top-left corner) of the world point `p`
+    /// in a `width × height` image: the inverse of [`Camera::ray`]. `None` for a point on or
+    /// behind the eye's plane (perspective) — nothing there reaches the image.
+    pub fn project(&self, p: Vec3, width: u32, height: u32) -> Option<(f32, f32)> {
+        let rays = self.rays(width, height);
+        let d = p - self.eye;
+        let depth = d.dot(rays.forward);
+        let (nx, ny) = if rays.perspective {
+            if depth <= 0.0 {
+                return None;
+            }
+            (
+                d.dot(rays.right) / rays.right.length_squared() / depth,
+                d.dot(rays.up) / rays.up.length_squared() / depth,
+            )
+        } else {
+            (
+                d.dot(rays.right) / rays.right.length_squared(),
+                d.dot(rays.up) / rays.up.length_squared(),
+            )
+        };
+        Some((
+            (nx + 1.0) * 0.5 * width as f32,
+            (1.0 - ny) * 0.5 * height as f32,
+        ))
+    }
+
     /// The ray through the centre of pixel `(px, py)`.
     pub fn pixel_ray(&self, px: u32, py: u32, width: u32, height: u32) -> Ray {
         self.ray(px as f32 + 0.5, py as f32 + 0.5, width, height)
@@ -247,6 +274,30 @@ impl ImageRays {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn projection_inverts_the_rays() {
+        for projection in [
+            Projection::Perspective { fov_y_deg: 70.0 },
+            Projection::Orthographic { height: 5.0 },
+        ] {
+            let c =
+                Camera::new(Vec3::new(3.0, -2.0, 9.0), Vec3::ZERO, Vec3::Z, projection).unwrap();
+            for (x, y, t) in [(0.0, 0.0, 1.0), (320.0, 240.0, 7.5), (12.5, 470.0, 30.0)] {
+                let p = c.ray(x, y, 640, 480).at(t);
+                let (px, py) = c.project(p, 640, 480).unwrap();
+                assert!(
+                    (px - x).abs() < 1e-2 && (py - y).abs() < 1e-2,
+                    "{projection:?}: {px},{py}"
+                );
+            }
+        }
+        let c = cam();
+        assert!(
+            c.project(c.eye - c.forward(), 10, 10).is_none(),
+            "behind the eye"
+        );
+    }
 
     #[test]
     fn the_image_plane_holds_the_pixel_grid() {

@@ -266,6 +266,26 @@ pub const VIRTUAL_RESOLUTION: Tunable = Tunable {
     max: 64.0,
 };
 
+pub const SAMPLE_BUDGET: Tunable = Tunable {
+    key: "sample-budget",
+    label: "Sample budget",
+    doc: "The most sample spheres the scene shows for the virtual camera's rays; beyond it the \
+          rays are drawn without their samples and a message says so. Default 20000.",
+    default: 20000.0,
+    min: 100.0,
+    max: 200000.0,
+};
+
+pub const RAY_SPEED: Tunable = Tunable {
+    key: "ray-speed",
+    label: "Ray speed",
+    doc: "How fast the virtual camera's rays grow outwards, in volume diagonals per second; \
+          samples appear as a ray passes them. Default 0.5.",
+    default: 0.5,
+    min: 0.02,
+    max: 10.0,
+};
+
 pub const PREVIEW_SCALE: Tunable = Tunable {
     key: "preview-scale",
     label: "Preview resolution",
@@ -319,6 +339,8 @@ pub const MOVING_STEP_MULTIPLIER: Tunable = Tunable {
 /// Every tunable, for listing and for the UI.
 pub const ALL: &[Tunable] = &[
     VIRTUAL_RESOLUTION,
+    SAMPLE_BUDGET,
+    RAY_SPEED,
     STEP,
     REFERENCE_STEP,
     OPACITY_CORRECTION,

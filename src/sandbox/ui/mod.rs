@@ -2,6 +2,7 @@
 //! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
 
 mod compare;
+pub mod inspector;
 mod light;
 mod transfer;
 
@@ -31,9 +32,18 @@ struct PanelState {
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PanelState>()
         .init_resource::<compare::CompareWindow>()
+        .init_resource::<inspector::BreakdownState>()
+        .add_systems(Update, inspector::follow_selection)
         .add_systems(
             EguiPrimaryContextPass,
-            (settings_panel, compare::compare_window).chain(),
+            (
+                inspector::ray_overlay.after(super::preview::paint_preview),
+                settings_panel,
+                inspector::rays_window,
+                inspector::breakdown_window,
+                compare::compare_window,
+            )
+                .chain(),
         );
 }
 

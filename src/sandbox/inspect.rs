@@ -1,0 +1,493 @@
+//! The virtual camera's rays and samples: one ray per pixel of its image, traced by the core
+//! (`trace_ray`, which records every sample), its pixels rendered by the core, and every sample
+//! shown in the scene as a small sphere in its transfer-function colour. The spheres are real
+//! meshes drawn from a pool (shared mesh, one material per quantised colour), so they write
+//! depth and the preview's rays stop at them. Nothing is recomputed unless the virtual camera,
+//! the settings or the volume changed.
+//!
+//! Rays grow outwards from the camera at an adjustable speed and samples appear as a ray passes
+//! them; the animation can be skipped. The lines themselves are painted over the preview by
+//! the inspector's overlay (`ui/inspector.rs`), so they stay readable inside the volume.
+
+use super::state::{RenderState, VolumeState};
+use super::virtual_camera::VirtualCamera;
+use bevy::prelude::*;
+use std::collections::HashMap;
+use std::sync::atomic::AtomicBool;
+use voxcast_core::image_out::LinearImage;
+use voxcast_core::ray::intersect_box;
+use voxcast_core::render::render;
+use voxcast_core::trace::{RayTrace, Scene, trace_ray};
+use voxcast_core::tunables as t;
+
+/// One ray of the virtual camera: where it starts, its direction and its stretch in the box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayPath {
+    pub origin: Vec3,
+    pub dir: Vec3,
+    /// `[t_enter, t_exit]` in the volume's box, if the ray meets it.
+    pub interval: Option<(f32, f32)>,
+}
+
+/// The virtual camera's rays, their traces and its image, as last computed.
+#[derive(Resource, Default)]
+pub struct Inspection {
+    /// Image size in pixels.
+    pub size: UVec2,
+    /// One per pixel, row by row.
+    pub paths: Vec<RayPath>,
+    /// Every ray's recorded trace, row by row; `None` when the samples exceed the budget.
+    pub traces: Option<Vec<RayTrace>>,
+    /// Samples over all rays, when traced; else how many were traced before the budget ran out.
+    pub samples: usize,
+    /// The virtual camera's image, rendered by the core.
+    pub image: Option<LinearImage>,
+    /// Why the samples are not shown (the budget), if they are not.
+    pub message: Option<String>,
+    /// Bumped at every recomputation.
+    pub generation: u64,
+}
+
+/// The pixel (ray) under the pointer in the image window, and the one selected.
+#[derive(Resource, Default, Clone, Copy, PartialEq)]
+pub struct RaySelection {
+    pub hovered: Option<UVec2>,
+    pub selected: Option<UVec2>,
+}
+
+impl RaySelection {
+    /// The selected ray's index in [`Inspection::paths`].
+    pub fn selected_index(&self, size: UVec2) -> Option<usize> {
+        self.selected.map(|p| (p.y * size.x + p.x) as usize)
+    }
+}
+
+/// How the rays and samples are shown.
+#[derive(Resource, Clone, PartialEq)]
+pub struct InspectSettings {
+    pub shown: bool,
+    /// Volume diagonals per second ([`t::RAY_SPEED`]).
+    pub speed: f32,
+    /// Sphere transparency follows the sample's opacity.
+    pub show_opacity: bool,
+    pub budget: usize,
+}
+
+impl Default for InspectSettings {
+    fn default() -> Self {
+        Self {
+            shown: true,
+            speed: t::RAY_SPEED.default,
+            show_opacity: false,
+            budget: t::SAMPLE_BUDGET.default as usize,
+        }
+    }
+}
+
+/// How far the rays have grown, world units from their origins.
+#[derive(Resource, Default)]
+pub struct RayAnimation {
+    pub distance: f32,
+}
+
+impl RayAnimation {
+    /// Shows every ray whole at once.
+    pub fn skip(&mut self) {
+        self.distance = f32::INFINITY;
+    }
+    pub fn replay(&mut self) {
+        self.distance = 0.0;
+    }
+}
+
+/// One pooled sphere: which ray it shows a sample of.
+#[derive(Component)]
+pub struct SampleSphere {
+    pub ray: usize,
+    /// Distance of the sample along its ray (when it appears).
+    t: f32,
+}
+
+/// The spheres' shared mesh and materials.
+#[derive(Resource, Default)]
+struct Pool {
+    entities: Vec<Entity>,
+    mesh: Option<Handle<Mesh>>,
+    /// One material per quantised colour (and opacity, when it is shown).
+    materials: HashMap<[u8; 4], Handle<StandardMaterial>>,
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<Inspection>()
+        .init_resource::<InspectSettings>()
+        .init_resource::<RaySelection>()
+        .init_resource::<RayAnimation>()
+        .init_resource::<Pool>()
+        .add_systems(
+            Update,
+            (recompute, place_spheres, grow_rays, show_spheres).chain(),
+        );
+}
+
+/// Traces the virtual camera's rays when something they depend on changed.
+fn recompute(
+    volume: Res<VolumeState>,
+    render_state: Res<RenderState>,
+    settings: Res<InspectSettings>,
+    cameras: Query<Ref<VirtualCamera>>,
+    (mut inspection, mut selection): (ResMut<Inspection>, ResMut<RaySelection>),
+    mut animation: ResMut<RayAnimation>,
+) {
+    let Ok(vc) = cameras.single() else { return };
+    let changed = vc.is_changed()
+        || volume.is_changed()
+        || render_state.is_changed()
+        || settings.is_changed();
+    if !changed {
+        return;
+    }
+    let replay = vc.is_changed() || volume.is_changed();
+    let size = inspection.size;
+    compute(
+        &volume,
+        &render_state,
+        &vc,
+        settings.budget,
+        &mut inspection,
+    );
+    if inspection.size != size {
+        *selection = RaySelection::default();
+    }
+    if replay {
+        animation.replay();
+    }
+}
+
+/// Fills `inspection` for the virtual camera `vc` (the systems' work, callable from tests).
+pub fn compute(
+    volume: &VolumeState,
+    render_state: &RenderState,
+    vc: &VirtualCamera,
+    budget: usize,
+    inspection: &mut Inspection,
+) {
+    let (w, h) = (vc.width.max(1), vc.height.max(1));
+    let v = &volume.volume;
+    let (lo, hi) = v.bounds();
+    let view = vc.view;
+    inspection.size = UVec2::new(w, h);
+    inspection.generation += 1;
+    let rays = view.rays(w, h);
+    inspection.paths = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let r = rays.ray(x as f32 + 0.5, y as f32 + 0.5);
+            RayPath {
+                origin: r.origin,
+                dir: r.dir,
+                interval: intersect_box(&r, lo, hi),
+            }
+        })
+        .collect();
+    let Ok(scene) = Scene::new(
+        v,
+        &render_state.transfer,
+        &render_state.settings,
+        view.forward(),
+    ) else {
+        inspection.traces = None;
+        inspection.image = None;
+        inspection.message = Some("these settings cannot be traced".into());
+        return;
+    };
+    inspection.image = render(&scene, &view, w, h, &|_, _| {}, &AtomicBool::new(false))
+        .ok()
+        .map(|(img, _)| img);
+    let mut traces = Vec::with_capacity((w * h) as usize);
+    let mut samples = 0usize;
+    for y in 0..h {
+        for x in 0..w {
+            let trace = trace_ray(&scene, &view.pixel_ray(x, y, w, h), [x, y]);
+            samples += trace.samples.len();
+            if samples > budget {
+                break;
+            }
+            traces.push(trace);
+        }
+        if samples > budget {
+            break;
+        }
+    }
+    inspection.samples = samples;
+    if samples > budget {
+        inspection.traces = None;
+        inspection.message = Some(format!(
+            "More than {budget} samples ({w}×{h} rays): the rays are drawn without them. Lower \
+             the virtual camera's pixels, lengthen the step, or raise the sample budget."
+        ));
+    } else {
+        inspection.traces = Some(traces);
+        inspection.message = None;
+    }
+}
+
+/// The sphere radius: a third of the step, so neighbouring samples stay apart.
+fn sphere_radius(volume: &VolumeState, render_state: &RenderState) -> f32 {
+    let voxel = volume.volume.spacing().min_element();
+    let step = render_state.settings.step.world(voxel);
+    (step * 0.3).clamp(voxel * 0.05, voxel * 0.6)
+}
+
+/// The material key: display colour in 5-bit steps, and opacity when it is shown.
+fn color_key(rgba: [f32; 4], show_opacity: bool) -> [u8; 4] {
+    let q = |c: f32| ((c.clamp(0.0, 1.0) * 31.0).round() as u8) * 8;
+    let a = if show_opacity {
+        q(rgba[3].max(0.1))
+    } else {
+        255
+    };
+    [q(rgba[0]), q(rgba[1]), q(rgba[2]), a]
+}
+
+/// Puts a pooled sphere on every sample after a recomputation (or a change of look).
+#[allow(clippy::too_many_arguments)]
+fn place_spheres(
+    mut commands: Commands,
+    inspection: Res<Inspection>,
+    settings: Res<InspectSettings>,
+    volume: Res<VolumeState>,
+    render_state: Res<RenderState>,
+    mut pool: ResMut<Pool>,
+    mut meshes: ResMut<Assets<Mesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    if !(inspection.is_changed() || settings.is_changed()) {
+        return;
+    }
+    let radius = sphere_radius(&volume, &render_state);
+    let mesh = pool
+        .mesh
+        .get_or_insert_with(|| meshes.add(Sphere::new(1.0).mesh().ico(1).unwrap()))
+        .clone();
+    let samples: Vec<(usize, Vec3, f32, [f32; 4])> = inspection
+        .traces
+        .iter()
+        .flatten()
+        .enumerate()
+        .flat_map(|(r, trace)| {
+            trace
+                .samples
+                .iter()
+                .map(move |rec| (r, Vec3::from_array(rec.p_world), rec.t, rec.tf_rgba))
+        })
+        .collect();
+    // Grow the pool as needed; spare spheres are hidden.
+    while pool.entities.len() < samples.len() {
+        let e = commands
+            .spawn((
+                Mesh3d(mesh.clone()),
+                Transform::default(),
+                Visibility::Hidden,
+            ))
+            .id();
+        pool.entities.push(e);
+    }
+    let show_opacity = settings.show_opacity;
+    for (i, &entity) in pool.entities.clone().iter().enumerate() {
+        let Some(&(ray, p, t, rgba)) = samples.get(i) else {
+            commands
+                .entity(entity)
+                .insert(Visibility::Hidden)
+                .remove::<SampleSphere>();
+            continue;
+        };
+        let key = color_key(rgba, show_opacity);
+        let material = pool
+            .materials
+            .entry(key)
+            .or_insert_with(|| {
+                let c = key.map(|v| v as f32 / 255.0);
+                materials.add(StandardMaterial {
+                    base_color: Color::srgba(c[0], c[1], c[2], c[3]),
+                    unlit: true,
+                    alpha_mode: if key[3] == 255 {
+                        AlphaMode::Opaque
+                    } else {
+                        AlphaMode::Blend
+                    },
+                    ..default()
+                })
+            })
+            .clone();
+        commands.entity(entity).insert((
+            SampleSphere { ray, t },
+            MeshMaterial3d(material),
+            Transform::from_translation(p).with_scale(Vec3::splat(radius)),
+        ));
+    }
+}
+
+/// Grows the rays while the animation runs.
+fn grow_rays(
+    time: Res<Time>,
+    settings: Res<InspectSettings>,
+    volume: Res<VolumeState>,
+    mut animation: ResMut<RayAnimation>,
+) {
+    if animation.distance.is_finite() {
+        let (lo, hi) = volume.volume.bounds();
+        animation.distance += settings.speed * (hi - lo).length() * time.delta_secs();
+    }
+}
+
+/// Shows the spheres the rays have reached (only the selected ray's while one is selected).
+fn show_spheres(
+    inspection: Res<Inspection>,
+    selection: Res<RaySelection>,
+    settings: Res<InspectSettings>,
+    animation: Res<RayAnimation>,
+    cameras: Query<&VirtualCamera>,
+    mut spheres: Query<(&SampleSphere, &mut Visibility)>,
+) {
+    let vc_shown = cameras.single().is_ok_and(|c| c.shown);
+    let selected = selection.selected_index(inspection.size);
+    for (s, mut visibility) in &mut spheres {
+        let show = settings.shown
+            && vc_shown
+            && s.t <= animation.distance
+            && selected.is_none_or(|r| r == s.ray);
+        visibility.set_if_neq(if show {
+            Visibility::Visible
+        } else {
+            Visibility::Hidden
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+    use voxcast_core::builtin::load_builtin;
+    use voxcast_core::settings::RenderSettings;
+
+    pub(crate) fn scene(name: &str) -> (VolumeState, RenderState) {
+        let volume = load_builtin(name).unwrap().volume;
+        let p = voxcast_core::preset::for_volume(volume.name()).unwrap();
+        let render_state = RenderState {
+            transfer: p.transfer.clone(),
+            settings: p.settings_over(&RenderSettings::default()).unwrap(),
+            depth_termination: true,
+        };
+        let volume = VolumeState {
+            volume: Arc::new(volume),
+            source: format!("builtin:{name}"),
+            preset: Some(p),
+        };
+        (volume, render_state)
+    }
+
+    #[test]
+    fn every_pixel_gets_the_cores_trace_and_pixel() {
+        let (volume, render_state) = scene("bucky");
+        let vc = VirtualCamera::framing(&volume, None).unwrap();
+        let mut inspection = Inspection::default();
+        compute(&volume, &render_state, &vc, 1_000_000, &mut inspection);
+        let traces = inspection.traces.as_ref().unwrap();
+        assert_eq!(traces.len(), 64);
+        let scene = Scene::new(
+            &volume.volume,
+            &render_state.transfer,
+            &render_state.settings,
+            vc.view.forward(),
+        )
+        .unwrap();
+        let image = inspection.image.as_ref().unwrap();
+        for (i, trace) in traces.iter().enumerate() {
+            let (x, y) = (i as u32 % 8, i as u32 / 8);
+            let want = trace_ray(&scene, &vc.view.pixel_ray(x, y, 8, 8), [x, y]);
+            assert_eq!(*trace, want);
+            assert_eq!(image.get(x, y).to_array(), trace.pixel, "pixel {x},{y}");
+        }
+        assert_eq!(
+            inspection.samples,
+            traces.iter().map(|t| t.samples.len()).sum::<usize>()
+        );
+    }
+
+    #[test]
+    fn the_budget_drops_the_samples_with_a_message() {
+        let (volume, render_state) = scene("bucky");
+        let vc = VirtualCamera::framing(&volume, None).unwrap();
+        let mut inspection = Inspection::default();
+        compute(&volume, &render_state, &vc, 50, &mut inspection);
+        assert!(inspection.traces.is_none());
+        assert!(inspection.message.as_ref().unwrap().contains("50"));
+        assert_eq!(inspection.paths.len(), 64, "the rays are still drawn");
+    }
+
+    /// The systems as the sandbox runs them, without rendering.
+    fn app(width: u32) -> App {
+        let (volume, render_state) = scene("bucky");
+        let mut vc = VirtualCamera::framing(&volume, None).unwrap();
+        vc.width = width;
+        vc.height = width;
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, AssetPlugin::default()))
+            .init_asset::<Mesh>()
+            .init_asset::<StandardMaterial>()
+            .insert_resource(volume)
+            .insert_resource(render_state)
+            .add_plugins(plugin);
+        app.world_mut().spawn(vc);
+        app
+    }
+
+    fn spheres(app: &mut App) -> (usize, usize) {
+        let mut q = app.world_mut().query::<(&SampleSphere, &Visibility)>();
+        let all: Vec<_> = q.iter(app.world()).map(|(_, v)| *v).collect();
+        let shown = all.iter().filter(|v| **v == Visibility::Visible).count();
+        (all.len(), shown)
+    }
+
+    #[test]
+    fn sphere_entities_follow_the_samples_and_the_animation() {
+        let mut app = app(4);
+        app.update();
+        let expected = app.world().resource::<Inspection>().samples;
+        assert!(expected > 0);
+        let (n, shown) = spheres(&mut app);
+        assert_eq!(n, expected);
+        assert!(shown < n, "the rays have only just started");
+        app.world_mut().resource_mut::<RayAnimation>().skip();
+        app.update();
+        assert_eq!(spheres(&mut app).1, expected);
+        // More pixels: more spheres; fewer again: the spare ones leave the samples.
+        for w in [6, 2] {
+            let mut q = app.world_mut().query::<&mut VirtualCamera>();
+            q.single_mut(app.world_mut()).unwrap().width = w;
+            app.update();
+            let want = app.world().resource::<Inspection>().samples;
+            assert_eq!(spheres(&mut app).0, want, "{w} pixels across");
+        }
+    }
+
+    #[test]
+    fn selecting_a_ray_shows_only_its_samples() {
+        let mut app = app(4);
+        app.update();
+        app.world_mut().resource_mut::<RayAnimation>().skip();
+        let pixel = UVec2::new(2, 1);
+        app.world_mut().resource_mut::<RaySelection>().selected = Some(pixel);
+        app.update();
+        let own = app
+            .world()
+            .resource::<Inspection>()
+            .traces
+            .as_ref()
+            .unwrap()[6]
+            .samples
+            .len();
+        assert_eq!(spheres(&mut app).1, own);
+    }
+}
