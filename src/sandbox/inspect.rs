@@ -267,7 +267,7 @@ fn place_spheres(
     let radius = sphere_radius(&volume, &render_state);
     let mesh = pool
         .mesh
-        .get_or_insert_with(|| meshes.add(Sphere::new(1.0).mesh().ico(1).unwrap()))
+        .get_or_insert_with(|| meshes.add(Sphere::new(1.0).mesh().ico(0).unwrap()))
         .clone();
     let samples: Vec<(usize, Vec3, f32, [f32; 4])> = inspection
         .traces
@@ -390,7 +390,8 @@ mod tests {
     #[test]
     fn every_pixel_gets_the_cores_trace_and_pixel() {
         let (volume, render_state) = scene("bucky");
-        let vc = VirtualCamera::framing(&volume, None).unwrap();
+        let mut vc = VirtualCamera::framing(&volume, None).unwrap();
+        (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();
         compute(&volume, &render_state, &vc, 1_000_000, &mut inspection);
         let traces = inspection.traces.as_ref().unwrap();
@@ -418,7 +419,8 @@ mod tests {
     #[test]
     fn the_budget_drops_the_samples_with_a_message() {
         let (volume, render_state) = scene("bucky");
-        let vc = VirtualCamera::framing(&volume, None).unwrap();
+        let mut vc = VirtualCamera::framing(&volume, None).unwrap();
+        (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();
         compute(&volume, &render_state, &vc, 50, &mut inspection);
         assert!(inspection.traces.is_none());

@@ -1,6 +1,7 @@
 //! `voxcast --measure-frames N [--auto-orbit DEG]`: the sandbox measures its own frame time —
 //! optionally while orbiting the camera, which engages adaptive quality — prints the mean and
 //! median over N frames after a warm-up, and exits. BENCHMARKS.md's preview figures come from it.
+//! The virtual camera's rays are shown whole (no growing animation), with all their samples.
 
 use super::orbit::Orbit;
 use super::state::{MainCamera, View};
@@ -30,8 +31,15 @@ fn measure_frames(
     mut samples: Local<Vec<f32>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut exit: MessageWriter<AppExit>,
+    animation: Option<ResMut<super::inspect::RayAnimation>>,
 ) {
     *seen += 1;
+    // Every ray and sample on screen from the start: the cost of the whole scene.
+    if let Some(mut a) = animation
+        && a.distance.is_finite()
+    {
+        a.skip();
+    }
     if request.orbit_degrees != 0.0 {
         for (mut orbit, mut transform, mut view) in &mut cameras {
             orbit.yaw += request.orbit_degrees.to_radians();

@@ -72,6 +72,12 @@ pub struct SandboxArgs {
     /// at it (the depth prepass is ignored).
     #[arg(long)]
     pub no_depth_termination: bool,
+    /// The virtual camera's pixels across and down (one ray each).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub rays: u32,
+    /// The most sample spheres shown for the virtual camera's rays (see the Rays window).
+    #[arg(long, default_value_t = voxcast_core::tunables::SAMPLE_BUDGET.default as usize)]
+    pub sample_budget: usize,
     /// Window or screenshot size in pixels.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -156,7 +162,12 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 loading::plugin,
                 virtual_camera::plugin,
                 inspect::plugin,
-            ));
+            ))
+            .insert_resource(virtual_camera::InitialResolution(args.rays))
+            .insert_resource(inspect::InspectSettings {
+                budget: args.sample_budget,
+                ..default()
+            });
         if let Some(frames) = args.measure_frames {
             // Draw every frame even without focus (a virtual display never gives it).
             app.insert_resource(bevy::winit::WinitSettings::continuous());
@@ -165,10 +176,12 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                     frames,
                     orbit_degrees: args.auto_orbit,
                     label: format!(
-                        "{}×{} {} {}, adaptive {}",
+                        "{}×{} {} rays {}×{} {}, adaptive {}",
                         args.size.0,
                         args.size.1,
                         render.settings.method.name(),
+                        args.rays,
+                        args.rays,
                         if args.auto_orbit != 0.0 {
                             "orbiting"
                         } else {

@@ -82,6 +82,10 @@ impl VirtualCamera {
     }
 }
 
+/// The resolution the virtual camera starts with (`--rays`).
+#[derive(Resource, Clone, Copy)]
+pub struct InitialResolution(pub u32);
+
 /// Marks the virtual camera's body.
 #[derive(Component)]
 struct Body;
@@ -99,6 +103,7 @@ fn frame_on_new_volume(
     volume: Res<VolumeState>,
     main: Query<&super::state::View, With<super::state::MainCamera>>,
     mut cameras: Query<&mut VirtualCamera>,
+    initial: Option<Res<InitialResolution>>,
     bodies: Query<Entity, With<Body>>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
@@ -107,12 +112,15 @@ fn frame_on_new_volume(
         return;
     }
     let main = main.single().ok().map(|v| v.0);
-    let Some(framed) = VirtualCamera::framing(&volume, main.as_ref()) else {
+    let Some(mut framed) = VirtualCamera::framing(&volume, main.as_ref()) else {
         return;
     };
     if let Ok(mut vc) = cameras.single_mut() {
         vc.view = framed.view;
     } else {
+        if let Some(n) = initial {
+            (framed.width, framed.height) = (n.0, n.0);
+        }
         commands.spawn((framed, Transform::default(), Visibility::default()));
     }
     // The body's size follows the volume.
@@ -224,7 +232,8 @@ mod tests {
             preset: None,
         };
         let c = VirtualCamera::framing(&volume, None).unwrap();
-        assert_eq!((c.width, c.height), (8, 8));
+        let n = t::VIRTUAL_RESOLUTION.default as u32;
+        assert_eq!((c.width, c.height), (n, n));
         let (lo, hi) = volume.volume.bounds();
         assert!((c.view.target - (lo + hi) * 0.5).length() < 1e-3);
         // Beside a main camera: in front of it, within its view (turned sideways: within the

@@ -259,9 +259,9 @@ pub const VIRTUAL_RESOLUTION: Tunable = Tunable {
     key: "virtual-resolution",
     label: "Virtual camera pixels",
     doc: "Pixels across each edge of the virtual camera's image: one ray per pixel, drawn in the \
-          scene and traced in the inspector. Small, so every ray and sample stays visible. \
-          Default 8.",
-    default: 8.0,
+          scene and traced in the inspector. Small, so every ray and sample stays visible \
+          (and the scene light: each sample is a sphere). Default 4.",
+    default: 4.0,
     min: 1.0,
     max: 64.0,
 };

@@ -515,16 +515,26 @@ fn formula(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) {
             )
         }
         (Method::First, Some(s)) => match &t.first_hit {
-            Some(h) => format!(
-                "First: the target is crossed between t = {} and t = {}; {} refinement steps \
-                 end at t = {} (value {}), shaded colour {}",
-                h.bracket[0],
-                h.bracket[1],
-                h.refinement.len(),
-                h.t,
-                h.value,
-                v3(h.color)
-            ),
+            Some(h) => {
+                let steps: Vec<String> = h
+                    .refinement
+                    .iter()
+                    .map(|r| format!("t = {} (v = {})", r.t, r.value))
+                    .collect();
+                format!(
+                    "First: the target is crossed between the samples at t = {} and t = {};\n\
+                     refinement (bisection, then linear interpolation): {}\n\
+                     hit at t = {}, position {}, value {}, TF rgba {:?}, shaded colour {}",
+                    h.bracket[0],
+                    h.bracket[1],
+                    steps.join(" → "),
+                    h.t,
+                    v3(h.p_world),
+                    h.value,
+                    h.tf_rgba,
+                    v3(h.color)
+                )
+            }
             None => format!(
                 "First: no crossing of the target up to sample {} (v = {})",
                 s.index, s.reconstruction.value
@@ -692,6 +702,62 @@ mod tests {
     use super::*;
     use crate::sandbox::inspect::compute;
 
+    /// The pixel grid driven by the pointer events egui receives from a user: moving over a
+    /// pixel hovers its ray, a click selects it, a second click lets it go.
+    #[test]
+    fn pointer_events_on_the_pixel_grid_hover_and_select_rays() {
+        let volume = VolumeState {
+            volume: std::sync::Arc::new(
+                voxcast_core::builtin::load_builtin("bucky").unwrap().volume,
+            ),
+            source: "builtin:bucky".into(),
+            preset: None,
+        };
+        let render = RenderState {
+            transfer: voxcast_core::transfer::TransferFunction::ramp(0.0, 255.0, 0.5).unwrap(),
+            settings: voxcast_core::settings::RenderSettings::default(),
+            depth_termination: true,
+        };
+        let mut vc = VirtualCamera::framing(&volume, None).unwrap();
+        (vc.width, vc.height) = (8, 8);
+        let mut inspection = Inspection::default();
+        compute(&volume, &render, &vc, 1_000_000, &mut inspection);
+        let ctx = egui::Context::default();
+        let mut selection = RaySelection::default();
+        let origin = std::cell::Cell::new(Pos2::ZERO);
+        let mut frame = |events: Vec<egui::Event>, selection: &mut RaySelection| {
+            let input = egui::RawInput {
+                events,
+                screen_rect: Some(egui::Rect::from_min_size(Pos2::ZERO, vec2(800.0, 600.0))),
+                ..Default::default()
+            };
+            let output = ctx.run_ui(input, |ui| {
+                origin.set(ui.cursor().min);
+                pixel_grid(ui, &inspection, selection);
+            });
+            output.drop_without_applying_deltas();
+        };
+        frame(vec![], &mut selection);
+        let cell = 256.0 / 8.0;
+        let at = origin.get() + vec2(2.5, 5.5) * cell;
+        let click = |pressed| egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        };
+        frame(vec![egui::Event::PointerMoved(at)], &mut selection);
+        assert_eq!(selection.hovered, Some(UVec2::new(2, 5)));
+        assert_eq!(selection.selected, None);
+        frame(vec![click(true)], &mut selection);
+        frame(vec![click(false)], &mut selection);
+        assert_eq!(selection.selected, Some(UVec2::new(2, 5)));
+        assert_eq!(selection.selected_index(inspection.size), Some(5 * 8 + 2));
+        frame(vec![click(true)], &mut selection);
+        frame(vec![click(false)], &mut selection);
+        assert_eq!(selection.selected, None, "a second click lets the ray go");
+    }
+
     #[test]
     fn the_breakdown_is_the_cores_trace_and_exports_as_the_cli_does() {
         let volume = VolumeState {
@@ -709,7 +775,8 @@ mod tests {
                 .unwrap(),
             depth_termination: true,
         };
-        let vc = VirtualCamera::framing(&volume, None).unwrap();
+        let mut vc = VirtualCamera::framing(&volume, None).unwrap();
+        (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();
         compute(&volume, &render, &vc, 1_000_000, &mut inspection);
         let pixel = UVec2::new(4, 3);
