@@ -105,8 +105,7 @@ fn frame_on_new_volume(
     mut cameras: Query<&mut VirtualCamera>,
     initial: Option<Res<InitialResolution>>,
     bodies: Query<Entity, With<Body>>,
-    mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
+    (mut meshes, mut materials): (ResMut<Assets<Mesh>>, ResMut<Assets<StandardMaterial>>),
 ) {
     if !volume.is_changed() {
         return;

@@ -725,7 +725,7 @@ mod tests {
         let ctx = egui::Context::default();
         let mut selection = RaySelection::default();
         let origin = std::cell::Cell::new(Pos2::ZERO);
-        let mut frame = |events: Vec<egui::Event>, selection: &mut RaySelection| {
+        let frame = |events: Vec<egui::Event>, selection: &mut RaySelection| {
             let input = egui::RawInput {
                 events,
                 screen_rect: Some(egui::Rect::from_min_size(Pos2::ZERO, vec2(800.0, 600.0))),
