@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates BENCHMARKS.md's preview section: the sandbox's frame time per method at 640×360
 # and 1280×720 — resting at full quality, orbiting at full quality, orbiting with adaptive
-# quality — next to the exact CPU render of the same view with the same settings.
+# quality — next to the exact CPU render of the same view with the same settings. The virtual
+# camera's rays are hidden (--no-rays): benches/rays.sh measures what they add.
 #
 #   bash benches/frames.sh [VOLUME]        (default builtin:bunny)
 #
@@ -24,7 +25,7 @@ bin=./target/release/voxcast
 
 # Median frame time in ms of one sandbox run.
 frame_ms() {
-    "$bin" --volume "$VOLUME" "$@" 2>/tmp/voxcast_frames.log | sed -n 's/.*median \([0-9.]*\) ms.*/\1/p'
+    "$bin" --volume "$VOLUME" --no-rays "$@" 2>/tmp/voxcast_frames.log | sed -n 's/.*median \([0-9.]*\) ms.*/\1/p'
 }
 # Median CPU render time in ms.
 render_ms() {
@@ -39,7 +40,7 @@ table=$(mktemp)
 {
     echo "<!-- bench:preview -->"
     echo "$VOLUME, default view, step ½ voxel, $(nproc) cores, preview on ${adapter:-an unknown adapter}."
-    echo "Frame times are medians over $FRAMES frames after a warm-up (\`voxcast --measure-frames\`);"
+    echo "Frame times are medians over $FRAMES frames after a warm-up (\`voxcast --no-rays --measure-frames\`);"
     echo "the CPU render is \`voxcast render\` of the same view, median of 5."
     echo
     echo "| size | method | resting, full (ms) | orbiting, full (ms) | orbiting, adaptive (ms) | adaptive fps | CPU render (ms) |"

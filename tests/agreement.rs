@@ -42,7 +42,9 @@ fn skipped_for_want_of_a_gpu(stderr: &str) -> bool {
 
 /// "Render image" without a window (`voxcast --compare`): the same capture, CPU render and
 /// difference the button produces, for two datasets and methods, within the tolerance, and the
-/// three pictures written; the third case has the camera inside the volume.
+/// three pictures written; the third case has the camera inside the volume, the fourth a point
+/// light whose marker (an opaque sphere) stands in the volume: hidden while the preview is
+/// captured, since the CPU render has no meshes.
 #[test]
 fn render_image_compares_the_preview_with_the_render() {
     let dir = out_dir().join("compare");
@@ -52,11 +54,18 @@ fn render_image_compares_the_preview_with_the_render() {
         ("bunny", "accumulate", None),
         ("brainsmall", "maximum", None),
         ("shells", "accumulate", Some(inside)),
+        ("bucky", "accumulate", Some("light")),
     ] {
         let path = dir.join(format!("{volume}.png"));
         let mut command = Command::new(env!("CARGO_BIN_EXE_voxcast"));
-        if let Some(c) = camera {
-            command.args(["--camera", c]);
+        match camera {
+            Some("light") => {
+                command.args(["--light", "point:15.5,15.5,15.5"]);
+            }
+            Some(c) => {
+                command.args(["--camera", c]);
+            }
+            None => {}
         }
         let output = command
             .args(["--volume", &format!("builtin:{volume}"), "--method", method])

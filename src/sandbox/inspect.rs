@@ -344,6 +344,7 @@ fn grow_rays(
 fn show_spheres(
     inspection: Res<Inspection>,
     selection: Res<RaySelection>,
+    full: Option<Res<super::preview::FullQuality>>,
     settings: Res<InspectSettings>,
     animation: Res<RayAnimation>,
     cameras: Query<&VirtualCamera>,
@@ -351,8 +352,11 @@ fn show_spheres(
 ) {
     let vc_shown = cameras.single().is_ok_and(|c| c.shown);
     let selected = selection.selected_index(inspection.size);
+    // Hidden while a comparison captures the preview: the CPU render has no meshes.
+    let capturing = full.is_some_and(|f| f.0);
     for (s, mut visibility) in &mut spheres {
-        let show = settings.shown
+        let show = !capturing
+            && settings.shown
             && vc_shown
             && s.t <= animation.distance
             && selected.is_none_or(|r| r == s.ray);
@@ -472,6 +476,23 @@ mod tests {
             let want = app.world().resource::<Inspection>().samples;
             assert_eq!(spheres(&mut app).0, want, "{w} pixels across");
         }
+    }
+
+    #[test]
+    fn nothing_is_traced_again_unless_something_changed() {
+        let mut app = app(4);
+        app.update();
+        let first = app.world().resource::<Inspection>().generation;
+        for _ in 0..3 {
+            app.update();
+        }
+        assert_eq!(app.world().resource::<Inspection>().generation, first);
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .cutoff = 0.5;
+        app.update();
+        assert_eq!(app.world().resource::<Inspection>().generation, first + 1);
     }
 
     #[test]

@@ -75,6 +75,10 @@ pub struct SandboxArgs {
     /// The virtual camera's pixels across and down (one ray each).
     #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=64))]
     pub rays: u32,
+    /// Start with the virtual camera, its rays and samples hidden (the preview alone; they can
+    /// be shown from the panel).
+    #[arg(long)]
+    pub no_rays: bool,
     /// The most sample spheres shown for the virtual camera's rays (see the Rays window).
     #[arg(long, default_value_t = voxcast_core::tunables::SAMPLE_BUDGET.default as usize)]
     pub sample_budget: usize,
@@ -163,7 +167,10 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 virtual_camera::plugin,
                 inspect::plugin,
             ))
-            .insert_resource(virtual_camera::InitialResolution(args.rays))
+            .insert_resource(virtual_camera::InitialResolution {
+                pixels: args.rays,
+                shown: !args.no_rays,
+            })
             .insert_resource(inspect::InspectSettings {
                 budget: args.sample_budget,
                 ..default()

@@ -117,7 +117,13 @@ pub(super) fn plugin(app: &mut App) {
         .add_systems(Startup, spawn_display_camera)
         .add_systems(
             Update,
-            (track_motion, fit_preview_target, show_or_hide_volume).chain(),
+            (
+                track_motion,
+                fit_preview_target,
+                show_or_hide_volume,
+                gizmos_off_while_capturing,
+            )
+                .chain(),
         )
         .add_systems(EguiPrimaryContextPass, paint_preview);
 }
@@ -191,6 +197,15 @@ fn show_or_hide_volume(
         };
         if *v != want {
             *v = want;
+        }
+    }
+}
+
+/// Turns gizmo lines off while a comparison captures the preview (the CPU render has none).
+fn gizmos_off_while_capturing(full: Res<FullQuality>, mut store: ResMut<GizmoConfigStore>) {
+    if full.is_changed() {
+        for (_, config, _) in store.iter_mut() {
+            config.enabled = !full.0;
         }
     }
 }

@@ -82,9 +82,13 @@ impl VirtualCamera {
     }
 }
 
-/// The resolution the virtual camera starts with (`--rays`).
+/// The resolution the virtual camera starts with (`--rays`), and whether it is shown
+/// (`--no-rays`).
 #[derive(Resource, Clone, Copy)]
-pub struct InitialResolution(pub u32);
+pub struct InitialResolution {
+    pub pixels: u32,
+    pub shown: bool,
+}
 
 /// Marks the virtual camera's body.
 #[derive(Component)]
@@ -118,7 +122,8 @@ fn frame_on_new_volume(
         vc.view = framed.view;
     } else {
         if let Some(n) = initial {
-            (framed.width, framed.height) = (n.0, n.0);
+            (framed.width, framed.height) = (n.pixels, n.pixels);
+            framed.shown = n.shown;
         }
         commands.spawn((framed, Transform::default(), Visibility::default()));
     }
@@ -142,17 +147,25 @@ fn frame_on_new_volume(
 }
 
 fn place_body(
-    cameras: Query<&VirtualCamera, Changed<VirtualCamera>>,
-    mut bodies: Query<(&mut Transform, &mut Visibility), With<Body>>,
+    cameras: Query<Ref<VirtualCamera>>,
+    full: Option<Res<super::preview::FullQuality>>,
+    mut bodies: Query<(Ref<Body>, &mut Transform, &mut Visibility)>,
 ) {
     let Ok(vc) = cameras.single() else { return };
+    // Hidden while a comparison captures the preview: the CPU render has no meshes.
+    let capturing = full.as_ref().is_some_and(|f| f.0);
+    let full_changed = full.as_ref().is_some_and(|f| f.is_changed());
+    let body_new = bodies.iter().any(|(b, _, _)| b.is_added());
+    if !(vc.is_changed() || full_changed || body_new) {
+        return;
+    }
     let v = vc.view;
-    for (mut transform, mut visibility) in &mut bodies {
+    for (_, mut transform, mut visibility) in &mut bodies {
         // The body sits just behind the eye so it never hides the first rays.
         let (_, _, forward) = v.basis();
         let back = (v.target - v.eye).length() * 0.02;
         *transform = Transform::from_translation(v.eye - forward * back).looking_at(v.target, v.up);
-        visibility.set_if_neq(if vc.shown {
+        visibility.set_if_neq(if vc.shown && !capturing {
             Visibility::Visible
         } else {
             Visibility::Hidden

@@ -137,7 +137,7 @@ impl Projector {
 pub(super) fn ray_overlay(
     mut contexts: EguiContexts,
     inspection: Res<Inspection>,
-    selection: Res<RaySelection>,
+    mut selection: ResMut<RaySelection>,
     settings: Res<InspectSettings>,
     animation: Res<RayAnimation>,
     views: Query<&View, With<MainCamera>>,
@@ -164,6 +164,10 @@ pub(super) fn ray_overlay(
         .hovered
         .map(|p| (p.y * inspection.size.x + p.x) as usize);
     let grown = animation.distance;
+    // A click on the scene (not on a window) picks the ray drawn nearest to it.
+    let (clicked, pointer) = ctx.input(|i| (i.pointer.primary_clicked(), i.pointer.interact_pos()));
+    let pick_at = pointer.filter(|_| clicked && !ctx.is_pointer_over_egui());
+    let mut nearest: Option<(f32, usize)> = None;
     for (i, path) in inspection.paths.iter().enumerate() {
         let dim = selected.is_some_and(|s| s != i);
         let (width, inside_color) = if selected == Some(i) {
@@ -190,8 +194,23 @@ pub(super) fn ray_overlay(
                 projector.segment(path.origin + path.dir * a, path.origin + path.dir * b)
             {
                 painter.line_segment(seg, Stroke::new(w, color));
+                if let Some(p) = pick_at {
+                    let d = distance_to_segment(p, seg);
+                    if d <= PICK_RADIUS && nearest.is_none_or(|(best, _)| d < best) {
+                        nearest = Some((d, i));
+                    }
+                }
             }
         }
+    }
+    if let Some((_, i)) = nearest {
+        let w = inspection.size.x.max(1) as usize;
+        let p = UVec2::new((i % w) as u32, (i / w) as u32);
+        selection.selected = if selection.selected == Some(p) {
+            None
+        } else {
+            Some(p)
+        };
     }
     // The opened sample's cell: its 12 edges and its 8 corners, sized by their weights.
     let opened = breakdown
@@ -203,6 +222,16 @@ pub(super) fn ray_overlay(
         draw_cell(&painter, &projector, s, volume.volume.spacing());
     }
     Ok(())
+}
+
+/// How near (points) a click must fall to a ray's line to pick it.
+const PICK_RADIUS: f32 = 6.0;
+
+/// Distance from `p` to the segment `[a, b]`, in points.
+fn distance_to_segment(p: Pos2, [a, b]: [Pos2; 2]) -> f32 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_sq().max(f32::MIN_POSITIVE)).clamp(0.0, 1.0);
+    (a + ab * t - p).length()
 }
 
 fn draw_cell(painter: &egui::Painter, projector: &Projector, s: &SampleRecord, spacing: Vec3) {
@@ -701,6 +730,17 @@ fn save(t: &RayTrace, path: &str, ext: &str) -> Result<String, String> {
 mod tests {
     use super::*;
     use crate::sandbox::inspect::compute;
+
+    #[test]
+    fn distance_to_a_segment() {
+        let seg = [pos2(0.0, 0.0), pos2(10.0, 0.0)];
+        assert_eq!(distance_to_segment(pos2(5.0, 3.0), seg), 3.0);
+        assert_eq!(distance_to_segment(pos2(13.0, 4.0), seg), 5.0);
+        assert_eq!(
+            distance_to_segment(pos2(2.0, 0.0), [pos2(2.0, 0.0), pos2(2.0, 0.0)]),
+            0.0
+        );
+    }
 
     /// The pixel grid driven by the pointer events egui receives from a user: moving over a
     /// pixel hovers its ray, a click selects it, a second click lets it go.

@@ -1,6 +1,7 @@
 //! The settings panel (egui). Every control's tooltip is its tunable's one documentation
 //! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
 
+mod classify;
 mod compare;
 pub mod inspector;
 mod light;
@@ -27,6 +28,7 @@ use voxcast_core::tunables::{self as t, Tunable};
 struct PanelState {
     path: String,
     editor: transfer::TransferEditor,
+    classify: classify::ClassifyText,
 }
 
 pub(super) fn plugin(app: &mut App) {
@@ -345,6 +347,14 @@ fn settings_panel(
                         panel
                             .editor
                             .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
+                        let (lo, hi) = volume.volume.value_range();
+                        classify::classification_controls(
+                            ui,
+                            &mut edited.settings.classification,
+                            &mut panel.classify,
+                            lo,
+                            hi,
+                        );
                     });
                     if let Ok(mut vc) = virtual_cameras.single_mut() {
                         section(ui, "Virtual camera", false, |ui| {

@@ -1,0 +1,153 @@
+//! Classification: the transfer function's own opacity, or Levoy's isovalue contours (opacity
+//! from the distance to chosen values, scaled by the gradient) or region boundaries (opacity
+//! scaled by the gradient magnitude).
+
+use super::slider;
+use bevy_egui::egui;
+use voxcast_core::classify::Classification;
+use voxcast_core::tunables as t;
+
+/// The panel's text for the isovalue list, kept while it does not parse.
+#[derive(Default)]
+pub(super) struct ClassifyText {
+    isovalues: String,
+    error: Option<String>,
+}
+
+/// Draws the controls; `lo..hi` is the volume's value range (data units).
+pub(super) fn classification_controls(
+    ui: &mut egui::Ui,
+    c: &mut Classification,
+    text: &mut ClassifyText,
+    lo: f32,
+    hi: f32,
+) {
+    let names = [
+        "Transfer function",
+        "Iso-contours (Levoy)",
+        "Boundaries (Levoy)",
+    ];
+    let docs = [
+        "Opacity is the transfer function's",
+        "Opacity peaks at each isovalue and falls off with the distance to it, measured in \
+         gradient steps: thin, even surfaces",
+        "The table's opacity scaled by the gradient magnitude: region boundaries show, \
+         homogeneous insides fade",
+    ];
+    let current = match c {
+        Classification::Table => 0,
+        Classification::IsoContours { .. } => 1,
+        Classification::Boundaries { .. } => 2,
+    };
+    let mut chosen = current;
+    egui::ComboBox::from_label("Classification")
+        .selected_text(names[current])
+        .show_ui(ui, |ui| {
+            for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
+                ui.selectable_value(&mut chosen, i, *name)
+                    .on_hover_text(doc);
+            }
+        });
+    if chosen != current {
+        *c = match chosen {
+            0 => Classification::Table,
+            1 => {
+                let mid = 0.5 * (lo + hi);
+                text.isovalues = mid.to_string();
+                text.error = None;
+                Classification::IsoContours {
+                    isovalues: vec![mid],
+                    thickness_voxels: t::ISO_THICKNESS.default,
+                }
+            }
+            _ => Classification::Boundaries {
+                full_gradient: None,
+            },
+        };
+    }
+    match c {
+        Classification::Table => {}
+        Classification::IsoContours {
+            isovalues,
+            thickness_voxels,
+        } => {
+            if text.isovalues.is_empty() {
+                text.isovalues = join(isovalues);
+            }
+            ui.horizontal(|ui| {
+                ui.label("isovalues");
+                if ui
+                    .text_edit_singleline(&mut text.isovalues)
+                    .on_hover_text("Values (data units) to show as surfaces, separated by commas")
+                    .changed()
+                {
+                    match parse(&text.isovalues) {
+                        Ok(v) => {
+                            *isovalues = v;
+                            text.error = None;
+                        }
+                        Err(e) => text.error = Some(e),
+                    }
+                }
+            });
+            if let Some(e) = &text.error {
+                ui.colored_label(egui::Color32::LIGHT_RED, e);
+            }
+            slider(ui, thickness_voxels, &t::ISO_THICKNESS, 0.1..=8.0, true);
+        }
+        Classification::Boundaries { full_gradient } => {
+            let mut auto = full_gradient.is_none();
+            ui.checkbox(&mut auto, "automatic full-opacity gradient")
+                .on_hover_text(t::BOUNDARY_GRADIENT.doc);
+            if auto {
+                *full_gradient = None;
+            } else {
+                let mut g = full_gradient.unwrap_or(0.1 * (hi - lo).max(1e-6));
+                let top = (hi - lo).max(1e-6) * 2.0;
+                slider(ui, &mut g, &t::BOUNDARY_GRADIENT, top * 1e-4..=top, true);
+                *full_gradient = Some(g);
+            }
+        }
+    }
+}
+
+fn join(values: &[f32]) -> String {
+    values
+        .iter()
+        .map(f32::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Comma-separated finite numbers, at least one.
+fn parse(text: &str) -> Result<Vec<f32>, String> {
+    let values = text
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse::<f32>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("'{s}' is not a number"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    if values.is_empty() {
+        return Err("give at least one isovalue".into());
+    }
+    Ok(values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn isovalue_lists_parse_or_say_why_not() {
+        assert_eq!(parse("80, 120.5 ,200").unwrap(), vec![80.0, 120.5, 200.0]);
+        assert!(parse("80, bone").unwrap_err().contains("bone"));
+        assert!(parse(" , ").is_err());
+        assert!(parse("inf").is_err());
+        assert_eq!(join(&[1.0, 2.5]), "1, 2.5");
+    }
+}
