@@ -61,7 +61,35 @@ fn basis(up: Vec3) -> (Vec3, Vec3) {
 }
 
 pub(super) fn plugin(app: &mut App) {
-    app.add_systems(Update, orbit_camera.after(super::light::drag_light));
+    app.add_systems(
+        Update,
+        (
+            orbit_camera.after(super::light::drag_light),
+            reframe_on_new_volume,
+        ),
+    );
+}
+
+/// Frames a newly loaded volume from the direction the camera looked from, so a small volume
+/// after a large one (or the reverse) fills the view.
+pub(super) fn reframe_on_new_volume(
+    volume: Res<super::state::VolumeState>,
+    mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
+) {
+    if !volume.is_changed() || volume.is_added() {
+        return;
+    }
+    let (lo, hi) = volume.volume.bounds();
+    for (mut orbit, mut transform, mut view) in &mut cameras {
+        let v = view.0;
+        let Ok(framed) = voxcast_core::camera::Camera::framing(lo, hi, v.eye - v.target, v.up)
+        else {
+            continue;
+        };
+        *orbit = Orbit::looking_at(framed.eye, framed.target, framed.up);
+        *transform = orbit.transform();
+        view.0 = framed;
+    }
 }
 
 fn orbit_camera(
@@ -114,6 +142,46 @@ fn orbit_camera(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sandbox::state::VolumeState;
+    use std::sync::Arc;
+
+    fn state(name: &str) -> VolumeState {
+        VolumeState {
+            volume: Arc::new(voxcast_core::builtin::load_builtin(name).unwrap().volume),
+            source: format!("builtin:{name}"),
+            preset: None,
+        }
+    }
+
+    #[test]
+    fn a_new_volume_is_framed_from_the_same_side() {
+        let bunny = state("bunny");
+        let (lo, hi) = bunny.volume.bounds();
+        let view = voxcast_core::camera::Camera::framing(lo, hi, Vec3::X, Vec3::Y).unwrap();
+        let mut app = App::new();
+        app.insert_resource(bunny)
+            .add_systems(Update, reframe_on_new_volume);
+        app.world_mut().spawn((
+            MainCamera,
+            View(view),
+            Orbit::looking_at(view.eye, view.target, view.up),
+            Transform::default(),
+        ));
+        app.update();
+        *app.world_mut().resource_mut::<VolumeState>() = state("bucky");
+        app.update();
+        let (lo, hi) = app.world().resource::<VolumeState>().volume.bounds();
+        let mut q = app.world_mut().query::<&View>();
+        let v = q.single(app.world()).unwrap().0;
+        let want = voxcast_core::camera::Camera::framing(lo, hi, Vec3::X, Vec3::Y).unwrap();
+        assert!(
+            (v.eye - want.eye).length() < 1e-3,
+            "{} vs {}",
+            v.eye,
+            want.eye
+        );
+        assert!((v.target - (lo + hi) * 0.5).length() < 1e-3);
+    }
 
     #[test]
     fn looking_at_round_trips() {

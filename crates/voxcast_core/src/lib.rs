@@ -44,6 +44,7 @@ pub mod hash;
 pub mod histogram;
 pub mod image_out;
 pub mod io;
+pub mod level;
 pub mod marker;
 pub mod peer;
 pub mod preset;

@@ -4,6 +4,7 @@
 mod classify;
 mod compare;
 pub mod inspector;
+mod levels;
 mod light;
 mod transfer;
 
@@ -35,7 +36,8 @@ pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PanelState>()
         .init_resource::<compare::CompareWindow>()
         .init_resource::<inspector::BreakdownState>()
-        .add_systems(Update, inspector::follow_selection)
+        .insert_resource(levels::Lessons::new(levels::progress_path()))
+        .add_systems(Update, (inspector::follow_selection, levels::set_up_scene))
         .add_systems(
             EguiPrimaryContextPass,
             (
@@ -43,6 +45,7 @@ pub(super) fn plugin(app: &mut App) {
                 settings_panel,
                 inspector::rays_window,
                 inspector::breakdown_window,
+                levels::levels_window,
                 compare::compare_window,
             )
                 .chain(),

@@ -1,0 +1,303 @@
+//! Tutorial levels as data (`assets/levels/*.json`): what a level's scene holds, its steps'
+//! text, the control each step is about, and the objective that unlocks the next step — plus
+//! the objective checks and the player's saved progress.
+//!
+//! Text never contradicts the code: a step's text may quote a tunable as `{tunable:KEY}` (its
+//! default) and is filled in from `crate::tunables` when the level is read; an unknown key is
+//! an error, and a test reads every embedded level.
+
+use crate::composite::Method;
+use crate::error::SettingsError;
+use crate::tunables;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The embedded levels, in the order they are taught.
+const EMBEDDED: &[&str] = &[
+    include_str!("../../../assets/levels/01_rays.json"),
+    include_str!("../../../assets/levels/02_sampling.json"),
+    include_str!("../../../assets/levels/03_methods.json"),
+];
+
+/// What a level's scene holds: only what it teaches.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LevelScene {
+    /// `builtin:NAME` or a path.
+    pub volume: String,
+    /// Whether the live GPU preview is drawn.
+    #[serde(default)]
+    pub preview: bool,
+    /// The virtual camera's pixels across and down (`None`: no virtual camera).
+    #[serde(default)]
+    pub rays: Option<u32>,
+}
+
+/// A panel control a step is about (highlighted while the step is shown).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Control {
+    Method,
+    Step,
+    VirtualPixels,
+    PixelGrid,
+    Breakdown,
+}
+
+/// What the player must do to go on.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Objective {
+    /// Only reading: Next is open at once.
+    Read,
+    /// Select any ray (a pixel of the virtual camera's image).
+    SelectRay,
+    /// Set the virtual camera to at least this many pixels across.
+    VirtualPixelsAtLeast { pixels: u32 },
+    /// Set the step to at most this many voxels.
+    StepAtMost { voxels: f32 },
+    /// Choose this compositing method.
+    Method { method: Method },
+    /// Open the sample with the highest value on the selected ray.
+    OpenHighestSample,
+}
+
+/// One step of a level.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Step {
+    pub text: String,
+    #[serde(default)]
+    pub control: Option<Control>,
+    pub objective: Objective,
+}
+
+/// A level: an id (its progress key), a title, the concept it teaches, its scene and steps.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Level {
+    pub id: String,
+    pub title: String,
+    pub concept: String,
+    pub scene: LevelScene,
+    pub steps: Vec<Step>,
+}
+
+/// The state an objective is checked against, as the sandbox sees it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Situation {
+    pub method: Option<Method>,
+    /// The step in voxels.
+    pub step_voxels: f32,
+    pub virtual_pixels: u32,
+    pub ray_selected: bool,
+    /// Values of the selected ray's samples, and the index of the opened one.
+    pub ray_values: Vec<f32>,
+    pub opened_sample: Option<usize>,
+}
+
+impl Objective {
+    /// Whether `s` meets the objective.
+    pub fn met(&self, s: &Situation) -> bool {
+        match self {
+            Objective::Read => true,
+            Objective::SelectRay => s.ray_selected,
+            Objective::VirtualPixelsAtLeast { pixels } => s.virtual_pixels >= *pixels,
+            // A slider lands on 0.25 as 0.2500001: a thousandth of a voxel is allowed.
+            Objective::StepAtMost { voxels } => s.step_voxels <= voxels + 1e-3,
+            Objective::Method { method } => s.method == Some(*method),
+            Objective::OpenHighestSample => {
+                let highest = s
+                    .ray_values
+                    .iter()
+                    .copied()
+                    .fold(f32::NEG_INFINITY, f32::max);
+                s.opened_sample
+                    .and_then(|k| s.ray_values.get(k))
+                    .is_some_and(|v| *v == highest)
+            }
+        }
+    }
+}
+
+/// `{tunable:KEY}` replaced by that tunable's default (as the code has it).
+fn fill_in(text: &str) -> Result<String, SettingsError> {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(start) = rest.find("{tunable:") {
+        out.push_str(&rest[..start]);
+        let after = &rest[start + "{tunable:".len()..];
+        let end = after.find('}').ok_or_else(|| {
+            SettingsError::Invalid(format!("unclosed {{tunable:…}} in level text: {text}"))
+        })?;
+        let key = &after[..end];
+        let t = tunables::ALL
+            .iter()
+            .find(|t| t.key == key)
+            .ok_or_else(|| SettingsError::Invalid(format!("no tunable '{key}' (level text)")))?;
+        out.push_str(&t.default.to_string());
+        rest = &after[end + 1..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+impl Level {
+    /// Reads a level's JSON, fills in quoted tunables and checks it has steps.
+    pub fn from_json(text: &str) -> Result<Self, SettingsError> {
+        let mut level: Level = serde_json::from_str(text)
+            .map_err(|e| SettingsError::Invalid(format!("level: {e}")))?;
+        if level.steps.is_empty() {
+            return Err(SettingsError::Invalid(format!(
+                "level {}: no steps",
+                level.id
+            )));
+        }
+        for step in &mut level.steps {
+            step.text = fill_in(&step.text)?;
+        }
+        Ok(level)
+    }
+
+    /// The embedded levels, in teaching order.
+    pub fn all() -> Vec<Level> {
+        EMBEDDED
+            .iter()
+            .map(|text| Level::from_json(text).expect("embedded levels are valid (tested)"))
+            .collect()
+    }
+}
+
+/// Steps completed per level id.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Progress {
+    pub completed: BTreeMap<String, usize>,
+}
+
+impl Progress {
+    /// Reads progress from `path`. A missing file is a fresh start; a corrupt one too, with a
+    /// message saying so (the file is left for the player to inspect, until the next save).
+    pub fn load(path: &Path) -> (Self, Option<String>) {
+        match std::fs::read_to_string(path) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => (Self::default(), None),
+            Err(e) => (
+                Self::default(),
+                Some(format!(
+                    "cannot read {}: {e}; starting afresh",
+                    path.display()
+                )),
+            ),
+            Ok(text) => match serde_json::from_str(&text) {
+                Ok(p) => (p, None),
+                Err(e) => (
+                    Self::default(),
+                    Some(format!(
+                        "{} is damaged ({e}); starting afresh",
+                        path.display()
+                    )),
+                ),
+            },
+        }
+    }
+
+    /// Writes progress atomically: to a temporary file beside it, then renamed over it.
+    pub fn save(&self, path: &Path) -> std::io::Result<()> {
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)?;
+        }
+        let tmp = path.with_extension("json.tmp");
+        let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
+        std::fs::write(&tmp, text)?;
+        std::fs::rename(&tmp, path)
+    }
+
+    /// Records that `steps` steps of level `id` are done (never lowers it).
+    pub fn record(&mut self, id: &str, steps: usize) {
+        let done = self.completed.entry(id.to_string()).or_default();
+        *done = (*done).max(steps);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_embedded_level_reads_and_quotes_only_real_tunables() {
+        let levels = Level::all();
+        assert_eq!(levels.len(), EMBEDDED.len());
+        let mut ids = std::collections::HashSet::new();
+        for l in &levels {
+            assert!(ids.insert(l.id.clone()), "duplicate level id {}", l.id);
+            for s in &l.steps {
+                assert!(!s.text.contains("{tunable:"), "{}: {}", l.id, s.text);
+            }
+            assert!(
+                crate::builtin::load_source(&l.scene.volume).is_ok(),
+                "{}: volume {}",
+                l.id,
+                l.scene.volume
+            );
+        }
+    }
+
+    #[test]
+    fn quoted_tunables_are_filled_in_and_unknown_ones_refused() {
+        let t = fill_in("the step is {tunable:step} voxel").unwrap();
+        assert_eq!(t, format!("the step is {} voxel", tunables::STEP.default));
+        assert!(fill_in("{tunable:nonsense}").is_err());
+        assert!(fill_in("{tunable:step").is_err());
+    }
+
+    #[test]
+    fn objectives_check_the_situation() {
+        let mut s = Situation {
+            step_voxels: 0.5,
+            virtual_pixels: 4,
+            ray_values: vec![1.0, 7.0, 3.0],
+            ..Default::default()
+        };
+        assert!(Objective::Read.met(&s));
+        assert!(!Objective::SelectRay.met(&s));
+        assert!(!Objective::StepAtMost { voxels: 0.25 }.met(&s));
+        s.step_voxels = 0.2500001;
+        assert!(Objective::StepAtMost { voxels: 0.25 }.met(&s));
+        assert!(!Objective::VirtualPixelsAtLeast { pixels: 8 }.met(&s));
+        assert!(
+            !Objective::Method {
+                method: Method::Maximum
+            }
+            .met(&s)
+        );
+        s.method = Some(Method::Maximum);
+        assert!(
+            Objective::Method {
+                method: Method::Maximum
+            }
+            .met(&s)
+        );
+        s.opened_sample = Some(2);
+        assert!(!Objective::OpenHighestSample.met(&s));
+        s.opened_sample = Some(1);
+        assert!(Objective::OpenHighestSample.met(&s));
+    }
+
+    #[test]
+    fn progress_survives_a_round_trip_and_a_damaged_file_starts_afresh() {
+        let dir = std::env::temp_dir().join(format!("voxcast-progress-{}", std::process::id()));
+        let path = dir.join("sub/progress.json");
+        let (fresh, note) = Progress::load(&path);
+        assert_eq!((fresh, note), (Progress::default(), None));
+        let mut p = Progress::default();
+        p.record("rays", 3);
+        p.record("rays", 1);
+        p.save(&path).unwrap();
+        assert_eq!(Progress::load(&path).0.completed["rays"], 3);
+        std::fs::write(&path, "{ not json").unwrap();
+        let (fresh, note) = Progress::load(&path);
+        assert_eq!(fresh, Progress::default());
+        assert!(note.unwrap().contains("damaged"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
