@@ -18,6 +18,9 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/01_rays.json"),
     include_str!("../../../assets/levels/02_sampling.json"),
     include_str!("../../../assets/levels/03_methods.json"),
+    include_str!("../../../assets/levels/04_opacity.json"),
+    include_str!("../../../assets/levels/05_first_hit.json"),
+    include_str!("../../../assets/levels/06_levoy.json"),
 ];
 
 /// What a level's scene holds: only what it teaches.
@@ -43,6 +46,11 @@ pub enum Control {
     VirtualPixels,
     PixelGrid,
     Breakdown,
+    OpacityCorrection,
+    EarlyTermination,
+    Target,
+    Shading,
+    Classification,
 }
 
 /// What the player must do to go on.
@@ -61,6 +69,16 @@ pub enum Objective {
     Method { method: Method },
     /// Open the sample with the highest value on the selected ray.
     OpenHighestSample,
+    /// Turn early ray termination on or off.
+    EarlyTermination { on: bool },
+    /// Turn opacity correction on or off.
+    OpacityCorrection { on: bool },
+    /// Turn shading on or off.
+    Shading { on: bool },
+    /// Set First's target value within `[lo, hi]` (data units).
+    TargetBetween { lo: f32, hi: f32 },
+    /// Choose a classification: `table`, `iso-contours` or `boundaries`.
+    Classification { mode: String },
 }
 
 /// One step of a level.
@@ -95,6 +113,12 @@ pub struct Situation {
     /// Values of the selected ray's samples, and the index of the opened one.
     pub ray_values: Vec<f32>,
     pub opened_sample: Option<usize>,
+    pub early_termination: bool,
+    pub opacity_correction: bool,
+    pub shading: bool,
+    pub target: Option<f32>,
+    /// `table`, `iso-contours` or `boundaries`.
+    pub classification: &'static str,
 }
 
 impl Objective {
@@ -117,7 +141,21 @@ impl Objective {
                     .and_then(|k| s.ray_values.get(k))
                     .is_some_and(|v| *v == highest)
             }
+            Objective::EarlyTermination { on } => s.early_termination == *on,
+            Objective::OpacityCorrection { on } => s.opacity_correction == *on,
+            Objective::Shading { on } => s.shading == *on,
+            Objective::TargetBetween { lo, hi } => s.target.is_some_and(|t| t >= *lo && t <= *hi),
+            Objective::Classification { mode } => s.classification == mode,
         }
+    }
+}
+
+/// The name [`Objective::Classification`] uses for `c`.
+pub fn classification_mode(c: &crate::classify::Classification) -> &'static str {
+    match c {
+        crate::classify::Classification::Table => "table",
+        crate::classify::Classification::IsoContours { .. } => "iso-contours",
+        crate::classify::Classification::Boundaries { .. } => "boundaries",
     }
 }
 
@@ -281,6 +319,39 @@ mod tests {
         assert!(!Objective::OpenHighestSample.met(&s));
         s.opened_sample = Some(1);
         assert!(Objective::OpenHighestSample.met(&s));
+        assert!(Objective::EarlyTermination { on: false }.met(&s));
+        assert!(!Objective::Shading { on: true }.met(&s));
+        s.target = Some(128.0);
+        assert!(
+            Objective::TargetBetween {
+                lo: 120.0,
+                hi: 136.0
+            }
+            .met(&s)
+        );
+        assert!(!Objective::TargetBetween { lo: 0.0, hi: 100.0 }.met(&s));
+        s.classification = "boundaries";
+        assert!(
+            Objective::Classification {
+                mode: "boundaries".into()
+            }
+            .met(&s)
+        );
+    }
+
+    #[test]
+    fn classification_objectives_name_real_modes() {
+        for l in Level::all() {
+            for step in &l.steps {
+                if let Objective::Classification { mode } = &step.objective {
+                    assert!(
+                        ["table", "iso-contours", "boundaries"].contains(&mode.as_str()),
+                        "{}: {mode}",
+                        l.id
+                    );
+                }
+            }
+        }
     }
 
     #[test]

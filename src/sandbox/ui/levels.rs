@@ -119,6 +119,11 @@ pub(super) fn situation(
             .map(|t| t.samples.iter().map(|s| s.reconstruction.value).collect())
             .unwrap_or_default(),
         opened_sample: breakdown.opened,
+        early_termination: render.settings.early_termination,
+        opacity_correction: render.settings.opacity_correction,
+        shading: render.settings.shading,
+        target: render.settings.target,
+        classification: voxcast_core::level::classification_mode(&render.settings.classification),
     }
 }
 
@@ -167,6 +172,11 @@ fn control_name(c: Control) -> &'static str {
         Control::VirtualPixels => "Settings › Virtual camera › pixels",
         Control::PixelGrid => "the Rays window's image",
         Control::Breakdown => "the ray's breakdown window",
+        Control::OpacityCorrection => "Settings › Ray casting › Opacity correction",
+        Control::EarlyTermination => "Settings › Ray casting › Early ray termination",
+        Control::Target => "Settings › Ray casting › Target value (First)",
+        Control::Shading => "Settings › Shading and light › Shading",
+        Control::Classification => "Settings › Transfer function › Classification",
     }
 }
 
@@ -299,6 +309,17 @@ mod tests {
                         sit.ray_selected = true;
                         sit.ray_values = vec![3.0, 9.0, 1.0];
                         sit.opened_sample = Some(1);
+                    }
+                    Objective::EarlyTermination { on } => sit.early_termination = on,
+                    Objective::OpacityCorrection { on } => sit.opacity_correction = on,
+                    Objective::Shading { on } => sit.shading = on,
+                    Objective::TargetBetween { lo, hi } => sit.target = Some(0.5 * (lo + hi)),
+                    Objective::Classification { ref mode } => {
+                        sit.classification = match mode.as_str() {
+                            "iso-contours" => "iso-contours",
+                            "boundaries" => "boundaries",
+                            _ => "table",
+                        }
                     }
                 }
                 assert!(step.objective.met(&sit), "{:?}", step.objective);
