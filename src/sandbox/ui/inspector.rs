@@ -12,6 +12,7 @@ use bevy_egui::EguiContexts;
 use bevy_egui::egui::{self, Color32, Pos2, Sense, Stroke, pos2, vec2};
 use voxcast_core::breakdown::{self, SampleRecord};
 use voxcast_core::composite::Method;
+use voxcast_core::level::Control;
 use voxcast_core::trace::{RayTrace, Scene, trace_ray};
 use voxcast_core::tunables as t;
 
@@ -279,8 +280,9 @@ pub(super) fn rays_window(
     inspection: Res<Inspection>,
     mut selection: ResMut<RaySelection>,
     mut settings: ResMut<InspectSettings>,
-    mut animation: ResMut<RayAnimation>,
+    (mut animation, lessons): (ResMut<RayAnimation>, Res<super::levels::Lessons>),
 ) -> Result {
+    let spot = lessons.step().and_then(|s| s.control);
     let ctx = contexts.ctx_mut()?;
     let mut edited = settings.clone();
     let mut new_selection = *selection;
@@ -346,7 +348,9 @@ pub(super) fn rays_window(
                 )
                 .small(),
             );
-            pixel_grid(ui, &inspection, &mut new_selection);
+            super::marked(ui, spot, Control::PixelGrid, |ui| {
+                pixel_grid(ui, &inspection, &mut new_selection)
+            });
         });
     if edited != *settings {
         *settings = edited;
@@ -421,10 +425,12 @@ pub(super) fn breakdown_window(
     mut contexts: EguiContexts,
     mut state: ResMut<BreakdownState>,
     mut selection: ResMut<RaySelection>,
+    lessons: Res<super::levels::Lessons>,
 ) -> Result {
     let Some(pixel) = selection.selected else {
         return Ok(());
     };
+    let spot = lessons.step().and_then(|s| s.control);
     let ctx = contexts.ctx_mut()?;
     let mut open = true;
     let state = &mut *state;
@@ -441,7 +447,9 @@ pub(super) fn breakdown_window(
             ui.separator();
             formula(ui, trace, state.opened);
             ui.separator();
-            let opened = sample_table(ui, trace, state.opened);
+            let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
+                sample_table(ui, trace, state.opened)
+            });
             if opened != state.opened {
                 state.opened = opened;
             }

@@ -135,7 +135,8 @@ pub(super) fn set_up_scene(
     mut preview: ResMut<PreviewSettings>,
     mut cameras: Query<&mut VirtualCamera>,
 ) {
-    if !lessons.pending_scene {
+    // The virtual camera is spawned with the first volume: wait for it.
+    if !lessons.pending_scene || cameras.is_empty() {
         return;
     }
     lessons.pending_scene = false;
@@ -255,7 +256,10 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize, s: usize, sit:
     ui.label(format!("Step {} of {}", s + 1, level.steps.len()));
     ui.label(&step.text);
     if let Some(c) = step.control {
-        ui.colored_label(egui::Color32::LIGHT_BLUE, format!("→ {}", control_name(c)));
+        ui.colored_label(
+            egui::Color32::LIGHT_BLUE,
+            format!("Look at: {} (framed in yellow)", control_name(c)),
+        );
     }
     let met = step.objective.met(sit);
     let reading = step.objective == Objective::Read;

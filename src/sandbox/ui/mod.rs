@@ -18,6 +18,7 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use voxcast_core::builtin::DATASETS;
 use voxcast_core::composite::Method;
+use voxcast_core::level::Control;
 use voxcast_core::preset;
 use voxcast_core::sample::Interpolation;
 use voxcast_core::settings::RenderSettings;
@@ -52,11 +53,37 @@ pub(super) fn plugin(app: &mut App) {
         );
 }
 
-/// A collapsible section of the panel.
-fn section(ui: &mut egui::Ui, title: &str, open: bool, body: impl FnOnce(&mut egui::Ui)) {
-    egui::CollapsingHeader::new(title)
-        .default_open(open)
-        .show(ui, body);
+/// A collapsible section of the panel; `force` opens it (it holds the control a level step is
+/// about).
+fn section(
+    ui: &mut egui::Ui,
+    title: &str,
+    open: bool,
+    force: bool,
+    body: impl FnOnce(&mut egui::Ui),
+) {
+    let mut header = egui::CollapsingHeader::new(title).default_open(open);
+    if force {
+        header = header.open(Some(true));
+    }
+    header.show(ui, body);
+}
+
+/// The control the current level step is about, if any.
+type Spot = Option<Control>;
+
+/// Draws `add` and, when it is the control `spot` names, a frame around it.
+fn marked<R>(ui: &mut egui::Ui, spot: Spot, c: Control, add: impl FnOnce(&mut egui::Ui) -> R) -> R {
+    let r = ui.scope(add);
+    if spot == Some(c) {
+        ui.painter().rect_stroke(
+            r.response.rect.expand(2.0),
+            3.0,
+            egui::Stroke::new(2.0, egui::Color32::YELLOW),
+            egui::StrokeKind::Outside,
+        );
+    }
+    r.inner
 }
 
 /// The volume's name and description, the embedded list and the path field; returns the
@@ -111,18 +138,22 @@ fn dataset_section(
 }
 
 /// Method, step, interpolation, opacity correction, termination, jitter and the target.
-fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState) {
-    egui::ComboBox::from_label("Method")
-        .selected_text(s.method.name())
-        .show_ui(ui, |ui| {
-            for m in Method::ALL {
-                ui.selectable_value(&mut s.method, m, m.name())
-                    .on_hover_text(m.doc());
-            }
-        });
+fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, spot: Spot) {
+    marked(ui, spot, Control::Method, |ui| {
+        egui::ComboBox::from_label("Method")
+            .selected_text(s.method.name())
+            .show_ui(ui, |ui| {
+                for m in Method::ALL {
+                    ui.selectable_value(&mut s.method, m, m.name())
+                        .on_hover_text(m.doc());
+                }
+            })
+    });
     let voxel = volume.volume.spacing().min_element();
     let mut step = s.step.voxels(voxel);
-    if slider(ui, &mut step, &t::STEP, 0.05..=4.0, true) {
+    if marked(ui, spot, Control::Step, |ui| {
+        slider(ui, &mut step, &t::STEP, 0.05..=4.0, true)
+    }) {
         s.step = Length::Voxels(step);
     }
     let mut trilinear = s.interpolation == Interpolation::Trilinear;
@@ -137,24 +168,32 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState) 
             Interpolation::Nearest
         };
     }
-    checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION);
+    marked(ui, spot, Control::OpacityCorrection, |ui| {
+        checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION)
+    });
     let mut reference = s.reference_step.voxels(voxel);
     if slider(ui, &mut reference, &t::REFERENCE_STEP, 0.05..=4.0, true) {
         s.reference_step = Length::Voxels(reference);
     }
-    checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION);
+    marked(ui, spot, Control::EarlyTermination, |ui| {
+        checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION)
+    });
     slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
     checkbox(ui, &mut s.jitter, &t::JITTER);
     let (lo, hi) = volume.volume.value_range();
     let mut target = s.target.unwrap_or(0.5 * (lo + hi));
-    if slider(ui, &mut target, &t::TARGET, lo..=hi, false) {
+    if marked(ui, spot, Control::Target, |ui| {
+        slider(ui, &mut target, &t::TARGET, lo..=hi, false)
+    }) {
         s.target = Some(target);
     }
 }
 
 /// Phong's coefficients and the light.
-fn shading_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState) {
-    checkbox(ui, &mut s.shading, &t::SHADING);
+fn shading_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, spot: Spot) {
+    marked(ui, spot, Control::Shading, |ui| {
+        checkbox(ui, &mut s.shading, &t::SHADING)
+    });
     let p = &mut s.phong;
     slider(ui, &mut p.ka, &t::AMBIENT, 0.0..=1.0, false);
     slider(ui, &mut p.kd, &t::DIFFUSE, 0.0..=1.0, false);
@@ -191,15 +230,18 @@ fn virtual_camera_section(
     vc: &mut Mut<VirtualCamera>,
     main: Option<voxcast_core::camera::Camera>,
     volume: &VolumeState,
+    spot: Spot,
 ) {
     let mut edited = **vc;
     ui.checkbox(&mut edited.shown, "Show the virtual camera")
         .on_hover_text("Its body, frustum and pixel grid in the scene");
     let range = t::VIRTUAL_RESOLUTION.min as u32..=t::VIRTUAL_RESOLUTION.max as u32;
-    for (value, axis) in [(&mut edited.width, "across"), (&mut edited.height, "down")] {
-        ui.add(egui::Slider::new(value, range.clone()).text(format!("pixels {axis}")))
-            .on_hover_text(t::VIRTUAL_RESOLUTION.doc);
-    }
+    marked(ui, spot, Control::VirtualPixels, |ui| {
+        for (value, axis) in [(&mut edited.width, "across"), (&mut edited.height, "down")] {
+            ui.add(egui::Slider::new(value, range.clone()).text(format!("pixels {axis}")))
+                .on_hover_text(t::VIRTUAL_RESOLUTION.doc);
+        }
+    });
     if let Some(mut fov) = super::virtual_camera::fov(&edited.view) {
         let changed = ui
             .add(egui::Slider::new(&mut fov, 5.0..=120.0).text("field of view (°)"))
@@ -298,7 +340,7 @@ const PANEL_WIDTH: f32 = 340.0;
 fn settings_panel(
     mut contexts: EguiContexts,
     mut panel: ResMut<PanelState>,
-    (volume, mut loading): (Res<VolumeState>, ResMut<Loading>),
+    (volume, mut loading, lessons): (Res<VolumeState>, ResMut<Loading>, Res<levels::Lessons>),
     mut render: ResMut<RenderState>,
     (diagnostics, mut preview): (Res<DiagnosticsStore>, ResMut<PreviewSettings>),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
@@ -307,6 +349,8 @@ fn settings_panel(
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
     let mut load: Option<String> = None;
+    let spot: Spot = lessons.step().and_then(|s| s.control);
+    let about = |cs: &[Control]| spot.is_some_and(|c| cs.contains(&c));
     // The panel may use the window's height; it scrolls beyond that.
     let tall = (ctx.viewport_rect().height() - 80.0).max(200.0);
     egui::Window::new("Settings")
@@ -336,36 +380,64 @@ fn settings_panel(
                     comparison.1.start();
                 }
                     });
-                    section(ui, "Dataset", true, |ui| {
+                    section(ui, "Dataset", true, false, |ui| {
                         load = dataset_section(ui, &mut panel, &volume, &mut loading);
                     });
-                    section(ui, "Ray casting", true, |ui| {
-                        ray_section(ui, &mut edited.settings, &volume)
+                    let ray_controls = [
+                        Control::Method,
+                        Control::Step,
+                        Control::OpacityCorrection,
+                        Control::EarlyTermination,
+                        Control::Target,
+                    ];
+                    section(ui, "Ray casting", true, about(&ray_controls), |ui| {
+                        ray_section(ui, &mut edited.settings, &volume, spot)
                     });
-                    section(ui, "Shading and light", false, |ui| {
-                        shading_section(ui, &mut edited.settings, &volume)
-                    });
-                    section(ui, "Transfer function", true, |ui| {
-                        preset_menu(ui, &mut edited);
-                        panel
-                            .editor
-                            .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
-                        let (lo, hi) = volume.volume.value_range();
-                        classify::classification_controls(
-                            ui,
-                            &mut edited.settings.classification,
-                            &mut panel.classify,
-                            lo,
-                            hi,
-                        );
-                    });
+                    section(
+                        ui,
+                        "Shading and light",
+                        false,
+                        about(&[Control::Shading]),
+                        |ui| shading_section(ui, &mut edited.settings, &volume, spot),
+                    );
+                    section(
+                        ui,
+                        "Transfer function",
+                        true,
+                        about(&[Control::Classification]),
+                        |ui| {
+                            preset_menu(ui, &mut edited);
+                            panel.editor.show(
+                                ui,
+                                &mut edited.transfer,
+                                &volume.volume,
+                                &volume.source,
+                            );
+                            let (lo, hi) = volume.volume.value_range();
+                            marked(ui, spot, Control::Classification, |ui| {
+                                classify::classification_controls(
+                                    ui,
+                                    &mut edited.settings.classification,
+                                    &mut panel.classify,
+                                    lo,
+                                    hi,
+                                )
+                            });
+                        },
+                    );
                     if let Ok(mut vc) = virtual_cameras.single_mut() {
-                        section(ui, "Virtual camera", false, |ui| {
-                            let main = main_views.single().ok().map(|v| v.0);
-                            virtual_camera_section(ui, &mut vc, main, &volume)
-                        });
+                        section(
+                            ui,
+                            "Virtual camera",
+                            false,
+                            about(&[Control::VirtualPixels]),
+                            |ui| {
+                                let main = main_views.single().ok().map(|v| v.0);
+                                virtual_camera_section(ui, &mut vc, main, &volume, spot)
+                            },
+                        );
                     }
-                    section(ui, "Preview (slow hardware)", false, |ui| {
+                    section(ui, "Preview (slow hardware)", false, false, |ui| {
                         preview_section(ui, &mut preview, &mut edited.depth_termination)
                     });
                 });
