@@ -21,6 +21,8 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/04_opacity.json"),
     include_str!("../../../assets/levels/05_first_hit.json"),
     include_str!("../../../assets/levels/06_levoy.json"),
+    include_str!("../../../assets/levels/07_transfer.json"),
+    include_str!("../../../assets/levels/08_preview_render.json"),
 ];
 
 /// What a level's scene holds: only what it teaches.
@@ -51,6 +53,9 @@ pub enum Control {
     Target,
     Shading,
     Classification,
+    TransferFunction,
+    RenderImage,
+    Light,
 }
 
 /// What the player must do to go on.
@@ -79,6 +84,20 @@ pub enum Objective {
     TargetBetween { lo: f32, hi: f32 },
     /// Choose a classification: `table`, `iso-contours` or `boundaries`.
     Classification { mode: String },
+    /// Make the transfer function's opacity at `value` at most `alpha`.
+    TfAlphaAtMost { value: f32, alpha: f32 },
+    /// Make the transfer function's colour at `value` within `tolerance` (per channel) of
+    /// `color`, with opacity at least `alpha`.
+    TfColorNear {
+        value: f32,
+        color: [f32; 3],
+        tolerance: f32,
+        alpha: f32,
+    },
+    /// Render the view on the CPU and compare: largest difference at most `max` (/255).
+    Compared { max: f32 },
+    /// Put the point light inside the volume's box.
+    LightInsideVolume,
 }
 
 /// One step of a level.
@@ -119,6 +138,10 @@ pub struct Situation {
     pub target: Option<f32>,
     /// `table`, `iso-contours` or `boundaries`.
     pub classification: &'static str,
+    pub transfer: Option<crate::transfer::TransferFunction>,
+    /// The largest preview/render difference of the last comparison (/255), if current.
+    pub compared_max: Option<f32>,
+    pub light_inside_volume: bool,
 }
 
 impl Objective {
@@ -146,6 +169,21 @@ impl Objective {
             Objective::Shading { on } => s.shading == *on,
             Objective::TargetBetween { lo, hi } => s.target.is_some_and(|t| t >= *lo && t <= *hi),
             Objective::Classification { mode } => s.classification == mode,
+            Objective::TfAlphaAtMost { value, alpha } => s
+                .transfer
+                .as_ref()
+                .is_some_and(|t| t.evaluate(*value).w <= *alpha),
+            Objective::TfColorNear {
+                value,
+                color,
+                tolerance,
+                alpha,
+            } => s.transfer.as_ref().is_some_and(|t| {
+                let c = t.evaluate(*value);
+                c.w >= *alpha && (0..3).all(|i| (c[i] - color[i]).abs() <= *tolerance)
+            }),
+            Objective::Compared { max } => s.compared_max.is_some_and(|m| m <= *max),
+            Objective::LightInsideVolume => s.light_inside_volume,
         }
     }
 }

@@ -36,7 +36,7 @@ fn texture(ctx: &egui::Context, name: &str, img: &LinearImage) -> egui::TextureH
 }
 
 /// Whether the shown result still describes what is on screen.
-fn is_current(
+pub(super) fn is_current(
     snapshot: &Snapshot,
     view: Option<&View>,
     render: &RenderState,

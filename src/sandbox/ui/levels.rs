@@ -6,10 +6,11 @@
 //! file starts afresh with a message.
 
 use super::inspector::BreakdownState;
+use crate::sandbox::compare::Comparison;
 use crate::sandbox::inspect::RaySelection;
 use crate::sandbox::loading::Loading;
 use crate::sandbox::preview::PreviewSettings;
-use crate::sandbox::state::{RenderState, VolumeState};
+use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
@@ -106,8 +107,17 @@ pub(super) fn situation(
     vc: Option<&VirtualCamera>,
     selection: &RaySelection,
     breakdown: &BreakdownState,
+    (comparison, view): (&Comparison, Option<&View>),
 ) -> Situation {
     let voxel = volume.volume.spacing().min_element();
+    let (lo, hi) = volume.volume.bounds();
+    let compared_max = comparison
+        .result
+        .as_ref()
+        .filter(|r| super::compare::is_current(&r.snapshot, view, render, volume))
+        .and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0));
+    let light_inside_volume = matches!(render.settings.phong.light,
+        voxcast_core::shade::Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all());
     Situation {
         method: Some(render.settings.method),
         step_voxels: render.settings.step.voxels(voxel),
@@ -124,6 +134,9 @@ pub(super) fn situation(
         shading: render.settings.shading,
         target: render.settings.target,
         classification: voxcast_core::level::classification_mode(&render.settings.classification),
+        transfer: Some(render.transfer.clone()),
+        compared_max,
+        light_inside_volume,
     }
 }
 
@@ -178,6 +191,9 @@ fn control_name(c: Control) -> &'static str {
         Control::Target => "Settings › Ray casting › Target value (First)",
         Control::Shading => "Settings › Shading and light › Shading",
         Control::Classification => "Settings › Transfer function › Classification",
+        Control::TransferFunction => "Settings › Transfer function (the editor)",
+        Control::RenderImage => "the Render image… button",
+        Control::Light => "Settings › Shading and light › Light",
     }
 }
 
@@ -189,8 +205,8 @@ pub(super) fn levels_window(
     render: Res<RenderState>,
     volume: Res<VolumeState>,
     cameras: Query<&VirtualCamera>,
-    selection: Res<RaySelection>,
-    breakdown: Res<BreakdownState>,
+    (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
+    (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
     let sit = situation(
@@ -199,6 +215,7 @@ pub(super) fn levels_window(
         cameras.single().ok(),
         &selection,
         &breakdown,
+        (&comparison, views.single().ok()),
     );
     let lessons = &mut *lessons;
     egui::Window::new("Levels")
@@ -318,6 +335,27 @@ mod tests {
                     Objective::OpacityCorrection { on } => sit.opacity_correction = on,
                     Objective::Shading { on } => sit.shading = on,
                     Objective::TargetBetween { lo, hi } => sit.target = Some(0.5 * (lo + hi)),
+                    Objective::TfAlphaAtMost { value, alpha } => {
+                        let t = sit.transfer.take().unwrap_or_else(|| {
+                            voxcast_core::transfer::TransferFunction::ramp(0.0, 255.0, 1.0).unwrap()
+                        });
+                        let (t, _) = t.with_point_added(value, alpha).unwrap();
+                        sit.transfer = Some(t);
+                    }
+                    Objective::TfColorNear {
+                        value,
+                        color,
+                        alpha,
+                        ..
+                    } => {
+                        let t = sit.transfer.take().unwrap_or_else(|| {
+                            voxcast_core::transfer::TransferFunction::ramp(0.0, 255.0, 1.0).unwrap()
+                        });
+                        let (t, i) = t.with_point_added(value, alpha).unwrap();
+                        sit.transfer = Some(t.with_point_color(i, color).unwrap());
+                    }
+                    Objective::Compared { max } => sit.compared_max = Some(max * 0.5),
+                    Objective::LightInsideVolume => sit.light_inside_volume = true,
                     Objective::Classification { ref mode } => {
                         sit.classification = match mode.as_str() {
                             "iso-contours" => "iso-contours",

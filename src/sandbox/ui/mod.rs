@@ -201,7 +201,9 @@ fn shading_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeSta
     slider(ui, &mut p.shininess, &t::SHININESS, 1.0..=256.0, true);
     checkbox(ui, &mut p.two_sided, &t::TWO_SIDED);
     let (lo, hi) = volume.volume.bounds();
-    light::light_controls(ui, p, lo, hi);
+    marked(ui, spot, Control::Light, |ui| {
+        light::light_controls(ui, p, lo, hi)
+    });
 }
 
 /// The presets: each sets the transfer function and the settings it was made for.
@@ -369,16 +371,18 @@ fn settings_panel(
                             "frame time: {}",
                             fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
                         ));
-                        if ui
-                    .button("Render image…")
-                    .on_hover_text(
-                        "Render this view exactly on the CPU and compare it with the preview",
-                    )
-                    .clicked()
-                {
-                    comparison.0.open = true;
-                    comparison.1.start();
-                }
+                        let clicked = marked(ui, spot, Control::RenderImage, |ui| {
+                            ui.button("Render image…")
+                                .on_hover_text(
+                                    "Render this view exactly on the CPU and compare it with \
+                                     the preview",
+                                )
+                                .clicked()
+                        });
+                        if clicked {
+                            comparison.0.open = true;
+                            comparison.1.start();
+                        }
                     });
                     section(ui, "Dataset", true, false, |ui| {
                         load = dataset_section(ui, &mut panel, &volume, &mut loading);
