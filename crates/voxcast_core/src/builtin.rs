@@ -41,6 +41,10 @@ pub const DATASETS: &[(&str, &str)] = &[
         "bucky",
         "buckyball-like cage of 60 Gaussian atoms (32³, uint8)",
     ),
+    (
+        "voxel",
+        "one unit voxel with the lecture's 8 corner values, for trilinear interpolation (2³, float32)",
+    ),
 ];
 
 const BUNNY: &[u8] = include_bytes!("../../../assets/volumes/bunny_sdf.nrrd");
@@ -66,6 +70,7 @@ pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
         "shells" => Ok(generated(shells())),
         "marschner-lobb" => Ok(generated(marschner_lobb())),
         "bucky" => Ok(generated(bucky())),
+        "voxel" => Ok(generated(worked_voxel())),
         other => {
             let names: Vec<&str> = DATASETS.iter().map(|d| d.0).collect();
             Err(LoadError::new(
@@ -168,6 +173,17 @@ pub fn truncated_icosahedron() -> Vec<Vec3> {
 }
 
 /// The bucky-like cage (see module docs).
+/// The worked example of the ray-casting lecture (seed 003): a unit voxel whose corners hold
+/// f1 … f8 = 5.0, 5.1, 5.2, 4.6, 4.9, 5.1, 5.3, 4.7, numbered as the lecture's trilinear
+/// formula numbers them (f1 at the origin, f2 along x, f3 along x and y, f4 along y, then the
+/// same four one unit along z).
+pub fn worked_voxel() -> Volume {
+    // x fastest: (0,0,0) (1,0,0) (0,1,0) (1,1,0) (0,0,1) (1,0,1) (0,1,1) (1,1,1).
+    let data = vec![5.0, 5.1, 4.6, 5.2, 4.9, 5.1, 4.7, 5.3];
+    Volume::new("voxel", UVec3::splat(2), Vec3::ONE, VoxelData::F32(data))
+        .expect("valid by construction")
+}
+
 pub fn bucky() -> Volume {
     let n = 32;
     let c = Vec3::splat((n - 1) as f32 * 0.5);
@@ -191,6 +207,36 @@ pub fn bucky() -> Volume {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The lecture's formula at P2 = (0.5, 0.5, 0.5): every weight 1/8, the mean of the corners.
+    #[test]
+    fn the_worked_voxel_interpolates_as_the_lecture_does() {
+        let v = worked_voxel();
+        let f = [5.0f32, 5.1, 5.2, 4.6, 4.9, 5.1, 5.3, 4.7];
+        let lecture = |p: f32, q: f32, r: f32| {
+            f[0] * (1.0 - p) * (1.0 - q) * (1.0 - r)
+                + f[1] * p * (1.0 - q) * (1.0 - r)
+                + f[2] * p * q * (1.0 - r)
+                + f[3] * (1.0 - p) * q * (1.0 - r)
+                + f[4] * (1.0 - p) * (1.0 - q) * r
+                + f[5] * p * (1.0 - q) * r
+                + f[6] * p * q * r
+                + f[7] * (1.0 - p) * q * r
+        };
+        for (p, q, r) in [(0.2, 0.3, 0.8), (0.5, 0.5, 0.5), (0.8, 0.7, 0.2)] {
+            let at = Vec3::new(p, q, r);
+            let got =
+                crate::sample::detail_at(&v, at, crate::sample::Interpolation::Trilinear).value;
+            assert!((got - lecture(p, q, r)).abs() < 1e-5, "{p},{q},{r}: {got}");
+        }
+        let mid = crate::sample::detail_at(
+            &v,
+            Vec3::splat(0.5),
+            crate::sample::Interpolation::Trilinear,
+        );
+        assert!((mid.value - 4.9875).abs() < 1e-5);
+        assert!(mid.weights.iter().all(|w| (*w - 0.125).abs() < 1e-6));
+    }
 
     #[test]
     fn every_builtin_loads() {

@@ -17,6 +17,7 @@ use std::path::Path;
 const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/01_rays.json"),
     include_str!("../../../assets/levels/02_sampling.json"),
+    include_str!("../../../assets/levels/09_trilinear.json"),
     include_str!("../../../assets/levels/03_methods.json"),
     include_str!("../../../assets/levels/04_opacity.json"),
     include_str!("../../../assets/levels/05_first_hit.json"),
@@ -98,6 +99,8 @@ pub enum Objective {
     Compared { max: f32 },
     /// Put the point light inside the volume's box.
     LightInsideVolume,
+    /// Predict the interpolated value at `point` (voxel coordinates) to within `tolerance`.
+    PredictValue { point: [f32; 3], tolerance: f32 },
 }
 
 /// One step of a level.
@@ -142,6 +145,8 @@ pub struct Situation {
     /// The largest preview/render difference of the last comparison (/255), if current.
     pub compared_max: Option<f32>,
     pub light_inside_volume: bool,
+    /// The value the player typed and the true value at the step's point.
+    pub prediction: Option<(f32, f32)>,
 }
 
 impl Objective {
@@ -184,6 +189,9 @@ impl Objective {
             }),
             Objective::Compared { max } => s.compared_max.is_some_and(|m| m <= *max),
             Objective::LightInsideVolume => s.light_inside_volume,
+            Objective::PredictValue { tolerance, .. } => s
+                .prediction
+                .is_some_and(|(typed, truth)| (typed - truth).abs() <= *tolerance),
         }
     }
 }

@@ -361,6 +361,23 @@ pub struct SampleDetail {
     pub value: f32,
 }
 
+/// [`sample_detail`] of a whole volume at `p_voxel` (voxel coordinates), for one-off questions
+/// such as a tutorial's "what is the value here?".
+pub fn detail_at(
+    volume: &crate::volume::Volume,
+    p_voxel: Vec3,
+    interpolation: Interpolation,
+) -> SampleDetail {
+    struct At(Vec3, Interpolation);
+    impl crate::volume::GridVisitor for At {
+        type Output = SampleDetail;
+        fn visit<T: Voxel>(self, g: Grid<'_, T>) -> SampleDetail {
+            sample_detail(&g, self.0, self.1)
+        }
+    }
+    volume.visit(At(p_voxel, interpolation))
+}
+
 /// The full breakdown of the reconstruction at `p_voxel`.
 pub fn sample_detail<T: Voxel>(
     g: &Grid<'_, T>,

@@ -29,6 +29,8 @@ pub struct Lessons {
     message: Option<String>,
     /// The scene still has to be set up for the level just chosen.
     pending_scene: bool,
+    /// What the player typed as a prediction.
+    pub prediction: String,
 }
 
 impl Lessons {
@@ -45,6 +47,7 @@ impl Lessons {
             path,
             message,
             pending_scene: false,
+            prediction: String::new(),
         }
     }
 
@@ -78,6 +81,7 @@ impl Lessons {
         {
             self.message = Some(format!("progress not saved: {e}"));
         }
+        self.prediction.clear();
         self.current = if s + 1 < self.levels[l].steps.len() {
             Some((l, s + 1))
         } else {
@@ -137,6 +141,7 @@ pub(super) fn situation(
         transfer: Some(render.transfer.clone()),
         compared_max,
         light_inside_volume,
+        prediction: None,
     }
 }
 
@@ -209,7 +214,7 @@ pub(super) fn levels_window(
     (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
-    let sit = situation(
+    let mut sit = situation(
         &render,
         &volume,
         cameras.single().ok(),
@@ -217,6 +222,21 @@ pub(super) fn levels_window(
         &breakdown,
         (&comparison, views.single().ok()),
     );
+    // A prediction step: the typed value against the core's value at the step's point.
+    let point = match lessons.step().map(|s| &s.objective) {
+        Some(Objective::PredictValue { point, .. }) => Some(Vec3::from_array(*point)),
+        _ => None,
+    };
+    let detail = point.map(|p| {
+        voxcast_core::sample::detail_at(
+            &volume.volume,
+            p,
+            voxcast_core::sample::Interpolation::Trilinear,
+        )
+    });
+    if let (Some(d), Ok(typed)) = (&detail, lessons.prediction.trim().parse::<f32>()) {
+        sit.prediction = Some((typed, d.value));
+    }
     let lessons = &mut *lessons;
     egui::Window::new("Levels")
         .default_pos(egui::pos2(ctx.viewport_rect().center().x - 200.0, 20.0))
@@ -227,7 +247,7 @@ pub(super) fn levels_window(
             }
             match lessons.current {
                 None => level_list(ui, lessons),
-                Some((l, s)) => level_step(ui, lessons, l, s, &sit),
+                Some((l, s)) => level_step(ui, lessons, l, s, &sit, detail.as_ref()),
             }
         });
     Ok(())
@@ -262,7 +282,14 @@ fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons) {
     }
 }
 
-fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize, s: usize, sit: &Situation) {
+fn level_step(
+    ui: &mut egui::Ui,
+    lessons: &mut Lessons,
+    l: usize,
+    s: usize,
+    sit: &Situation,
+    detail: Option<&voxcast_core::sample::SampleDetail>,
+) {
     let Some(step) = lessons.step().cloned() else {
         return;
     };
@@ -280,6 +307,30 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize, s: usize, sit:
     }
     let met = step.objective.met(sit);
     let reading = step.objective == Objective::Read;
+    if let Some(d) = detail {
+        ui.horizontal(|ui| {
+            ui.label("your value:");
+            ui.text_edit_singleline(&mut lessons.prediction);
+        });
+        if met {
+            // The answer: each corner, its weight and its share.
+            egui::Grid::new("prediction").striped(true).show(ui, |ui| {
+                for h in ["corner", "value", "weight", "weight × value"] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                for i in 0..8 {
+                    let c = d.corners[i];
+                    ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
+                    ui.label(d.values[i].to_string());
+                    ui.label(d.weights[i].to_string());
+                    ui.label((d.values[i] * d.weights[i]).to_string());
+                    ui.end_row();
+                }
+            });
+            ui.label(format!("value = {}", d.value));
+        }
+    }
     if !reading {
         ui.label(if met { "✔ done" } else { "… not yet" });
     }
@@ -356,6 +407,27 @@ mod tests {
                     }
                     Objective::Compared { max } => sit.compared_max = Some(max * 0.5),
                     Objective::LightInsideVolume => sit.light_inside_volume = true,
+                    Objective::PredictValue { point, .. } => {
+                        let v = voxcast_core::builtin::worked_voxel();
+                        let truth = voxcast_core::sample::detail_at(
+                            &v,
+                            Vec3::from_array(point),
+                            voxcast_core::sample::Interpolation::Trilinear,
+                        )
+                        .value;
+                        // The lecture's formula, worked by hand.
+                        let f = [5.0f32, 5.1, 5.2, 4.6, 4.9, 5.1, 5.3, 4.7];
+                        let [p, q, r] = point;
+                        let by_hand = f[0] * (1.0 - p) * (1.0 - q) * (1.0 - r)
+                            + f[1] * p * (1.0 - q) * (1.0 - r)
+                            + f[2] * p * q * (1.0 - r)
+                            + f[3] * (1.0 - p) * q * (1.0 - r)
+                            + f[4] * (1.0 - p) * (1.0 - q) * r
+                            + f[5] * p * (1.0 - q) * r
+                            + f[6] * p * q * r
+                            + f[7] * (1.0 - p) * q * r;
+                        sit.prediction = Some((by_hand, truth));
+                    }
                     Objective::Classification { ref mode } => {
                         sit.classification = match mode.as_str() {
                             "iso-contours" => "iso-contours",
