@@ -12,16 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 VOLUME=${1:-builtin:bunny}
 FRAMES=${FRAMES:-12}
-cargo build --release --quiet
-if [ -z "${DISPLAY:-}" ]; then
-    Xvfb :78 -screen 0 1400x900x24 >/dev/null 2>&1 &
-    XVFB=$!
-    trap 'kill $XVFB' EXIT
-    export DISPLAY=:78
-    sleep 2
-fi
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)}
-bin=./target/release/voxcast
+source benches/common.sh
 
 # Median frame time in ms of one sandbox run.
 frame_ms() {
@@ -58,15 +49,4 @@ table=$(mktemp)
     echo "<!-- /bench:preview -->"
 } >"$table"
 cat "$table"
-python3 - "$table" <<'PY'
-import re, sys
-table = open(sys.argv[1]).read().strip()
-path = "BENCHMARKS.md"
-text = open(path).read()
-pattern = re.compile(r"<!-- bench:preview -->.*?<!-- /bench:preview -->", re.S)
-if pattern.search(text):
-    text = pattern.sub(lambda _: table, text)
-else:
-    text = text.rstrip() + "\n\n## Sandbox preview\n\n" + table + "\n"
-open(path, "w").write(text)
-PY
+write_section preview "Sandbox preview" "$table"

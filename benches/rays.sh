@@ -11,16 +11,7 @@ cd "$(dirname "$0")/.."
 VOLUME=${1:-builtin:bunny}
 FRAMES=${FRAMES:-8}
 STEP=${STEP:-1}
-cargo build --release --quiet
-if [ -z "${DISPLAY:-}" ]; then
-    Xvfb :78 -screen 0 1400x900x24 >/dev/null 2>&1 &
-    XVFB=$!
-    trap 'kill $XVFB' EXIT
-    export DISPLAY=:78
-    sleep 2
-fi
-export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)}
-bin=./target/release/voxcast
+source benches/common.sh
 frame_ms() {
     "$bin" --volume "$VOLUME" --step "$STEP" --size 640x360 --sample-budget 1000000 "$@" \
         2>/dev/null | sed -n 's/.*median \([0-9.]*\) ms.*/\1/p'
@@ -42,15 +33,4 @@ table=$(mktemp)
     echo "<!-- /bench:rays -->"
 } >"$table"
 cat "$table"
-python3 - "$table" <<'PY'
-import re, sys
-table = open(sys.argv[1]).read().strip()
-path = "BENCHMARKS.md"
-text = open(path).read()
-pattern = re.compile(r"<!-- bench:rays -->.*?<!-- /bench:rays -->", re.S)
-if pattern.search(text):
-    text = pattern.sub(lambda _: table, text)
-else:
-    text = text.rstrip() + "\n\n## Ray inspection\n\n" + table + "\n"
-open(path, "w").write(text)
-PY
+write_section rays "Ray inspection" "$table"
