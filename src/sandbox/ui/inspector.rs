@@ -1,6 +1,6 @@
 //! The ray inspector: the virtual camera's rays painted over the preview (before, inside and
-//! after the volume, growing with the animation), the "Rays" window with its image as a pixel
-//! grid (hover highlights a ray, click selects it), and the breakdown window that follows the
+//! after the volume, growing with the animation), the "Rays" window (while the virtual camera
+//! is shown) with its image as a pixel grid (hover highlights a ray, click selects it), and the breakdown window that follows the
 //! selected ray's calculation sample by sample — with the 8 corners of an opened sample drawn
 //! in the scene — and exports it as JSON or CSV, the same text as `voxcast trace`.
 
@@ -281,7 +281,12 @@ pub(super) fn rays_window(
     mut selection: ResMut<RaySelection>,
     mut settings: ResMut<InspectSettings>,
     (mut animation, lessons): (ResMut<RayAnimation>, Res<super::levels::Lessons>),
+    cameras: Query<&VirtualCamera>,
 ) -> Result {
+    // No virtual camera shown (a level without one, or turned off in the panel): no window.
+    if !cameras.single().is_ok_and(|c| c.shown) {
+        return Ok(());
+    }
     let spot = lessons.step().and_then(|s| s.control);
     let ctx = contexts.ctx_mut()?;
     let mut edited = settings.clone();
