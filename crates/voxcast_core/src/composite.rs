@@ -124,6 +124,26 @@ pub enum Order {
     BackToFront,
 }
 
+impl Order {
+    /// How the sandbox names the order.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Order::FrontToBack => "front to back",
+            Order::BackToFront => "back to front",
+        }
+    }
+
+    /// One line for tooltips and help.
+    pub const fn doc(self) -> &'static str {
+        match self {
+            Order::FrontToBack => "From the camera outwards; allows early ray termination.",
+            Order::BackToFront => {
+                "From the far end towards the camera (Levoy's formulation); visits every sample."
+            }
+        }
+    }
+}
+
 /// `α' = 1 − (1 − α)^(ds/ds_ref)`: the opacity of a sample standing for path length `ds`
 /// when the transfer function's `α` is for `ds_ref`. Exact at α = 0 and α = 1.
 #[inline(always)]

@@ -22,6 +22,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/04_opacity.json"),
     include_str!("../../../assets/levels/05_first_hit.json"),
     include_str!("../../../assets/levels/06_levoy.json"),
+    include_str!("../../../assets/levels/10_light.json"),
     include_str!("../../../assets/levels/07_transfer.json"),
     include_str!("../../../assets/levels/08_preview_render.json"),
 ];
@@ -57,6 +58,7 @@ pub enum Control {
     TransferFunction,
     RenderImage,
     Light,
+    Order,
 }
 
 /// What the player must do to go on.
@@ -101,6 +103,12 @@ pub enum Objective {
     LightInsideVolume,
     /// Predict the interpolated value at `point` (voxel coordinates) to within `tolerance`.
     PredictValue { point: [f32; 3], tolerance: f32 },
+    /// Composite back to front (`true`) or front to back.
+    BackToFront { on: bool },
+    /// Choose the light: `headlight`, `point` or `directional`.
+    LightKind { light: String },
+    /// Give the point light a falloff with distance (kl or kq above zero).
+    Attenuated,
 }
 
 /// One step of a level.
@@ -147,6 +155,11 @@ pub struct Situation {
     pub light_inside_volume: bool,
     /// The value the player typed and the true value at the step's point.
     pub prediction: Option<(f32, f32)>,
+    pub back_to_front: bool,
+    /// `headlight`, `point` or `directional`.
+    pub light_kind: &'static str,
+    /// kl or kq above zero.
+    pub attenuated: bool,
 }
 
 impl Objective {
@@ -192,7 +205,19 @@ impl Objective {
             Objective::PredictValue { tolerance, .. } => s
                 .prediction
                 .is_some_and(|(typed, truth)| (typed - truth).abs() <= *tolerance),
+            Objective::BackToFront { on } => s.back_to_front == *on,
+            Objective::LightKind { light } => s.light_kind == light,
+            Objective::Attenuated => s.attenuated,
         }
+    }
+}
+
+/// The name [`Objective::LightKind`] uses for `l`.
+pub fn light_kind(l: &crate::shade::Light) -> &'static str {
+    match l {
+        crate::shade::Light::Headlight => "headlight",
+        crate::shade::Light::Point(_) => "point",
+        crate::shade::Light::Directional(_) => "directional",
     }
 }
 
@@ -386,13 +411,20 @@ mod tests {
     }
 
     #[test]
-    fn classification_objectives_name_real_modes() {
+    fn named_objectives_name_real_modes() {
         for l in Level::all() {
             for step in &l.steps {
                 if let Objective::Classification { mode } = &step.objective {
                     assert!(
                         ["table", "iso-contours", "boundaries"].contains(&mode.as_str()),
                         "{}: {mode}",
+                        l.id
+                    );
+                }
+                if let Objective::LightKind { light } = &step.objective {
+                    assert!(
+                        ["headlight", "point", "directional"].contains(&light.as_str()),
+                        "{}: {light}",
                         l.id
                     );
                 }

@@ -142,6 +142,9 @@ pub(super) fn situation(
         compared_max,
         light_inside_volume,
         prediction: None,
+        back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
+        light_kind: voxcast_core::level::light_kind(&render.settings.phong.light),
+        attenuated: render.settings.phong.kl > 0.0 || render.settings.phong.kq > 0.0,
     }
 }
 
@@ -199,6 +202,7 @@ fn control_name(c: Control) -> &'static str {
         Control::TransferFunction => "Settings › Transfer function (the editor)",
         Control::RenderImage => "the Render image… button",
         Control::Light => "Settings › Shading and light › Light",
+        Control::Order => "Settings › Ray casting › Order",
     }
 }
 
@@ -407,6 +411,15 @@ mod tests {
                     }
                     Objective::Compared { max } => sit.compared_max = Some(max * 0.5),
                     Objective::LightInsideVolume => sit.light_inside_volume = true,
+                    Objective::BackToFront { on } => sit.back_to_front = on,
+                    Objective::LightKind { ref light } => {
+                        sit.light_kind = if light == "point" {
+                            "point"
+                        } else {
+                            "directional"
+                        }
+                    }
+                    Objective::Attenuated => sit.attenuated = true,
                     Objective::PredictValue { point, .. } => {
                         // The player types the value the core computes (its agreement with
                         // the lecture's formula is tested in voxcast_core::builtin).

@@ -17,7 +17,7 @@ use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use voxcast_core::builtin::DATASETS;
-use voxcast_core::composite::Method;
+use voxcast_core::composite::{Method, Order};
 use voxcast_core::level::Control;
 use voxcast_core::preset;
 use voxcast_core::sample::Interpolation;
@@ -177,6 +177,16 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
     }
     marked(ui, spot, Control::EarlyTermination, |ui| {
         checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION)
+    });
+    marked(ui, spot, Control::Order, |ui| {
+        egui::ComboBox::from_label("Order")
+            .selected_text(s.order.name())
+            .show_ui(ui, |ui| {
+                for o in [Order::FrontToBack, Order::BackToFront] {
+                    ui.selectable_value(&mut s.order, o, o.name())
+                        .on_hover_text(o.doc());
+                }
+            })
     });
     slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
     checkbox(ui, &mut s.jitter, &t::JITTER);
@@ -388,6 +398,7 @@ fn settings_panel(
                         load = dataset_section(ui, &mut panel, &volume, &mut loading);
                     });
                     let ray_controls = [
+                        Control::Order,
                         Control::Method,
                         Control::Step,
                         Control::OpacityCorrection,
