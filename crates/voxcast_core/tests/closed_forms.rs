@@ -179,20 +179,8 @@ fn lecture_worked_example() {
     // The slides number the corners f1 (0,0,0), f2 (1,0,0), f3 (1,1,0), f4 (0,1,0),
     // f5 (0,0,1), f6 (1,0,1), f7 (1,1,1), f8 (0,1,1).
     let f = [5.0f64, 5.1, 5.2, 4.6, 4.9, 5.1, 5.3, 4.7];
-    let at = |p: Vec3| -> f32 {
-        let value = |q: [u8; 3]| match q {
-            [0, 0, 0] => f[0],
-            [1, 0, 0] => f[1],
-            [1, 1, 0] => f[2],
-            [0, 1, 0] => f[3],
-            [0, 0, 1] => f[4],
-            [1, 0, 1] => f[5],
-            [1, 1, 1] => f[6],
-            _ => f[7],
-        };
-        value([p.x as u8, p.y as u8, p.z as u8]) as f32
-    };
-    let v = field([2, 2, 2], Vec3::ONE, at);
+    // The embedded `builtin:voxel` holds exactly these corners (the tutorial's volume).
+    let v = voxcast_core::builtin::worked_voxel();
     // The slides' formula, in f64.
     let formula = |p: f64, q: f64, r: f64| {
         f[0] * (1.0 - p) * (1.0 - q) * (1.0 - r)
