@@ -58,8 +58,24 @@ pub struct RaySelection {
 impl RaySelection {
     /// The selected ray's index in [`Inspection::paths`].
     pub fn selected_index(&self, size: UVec2) -> Option<usize> {
-        self.selected.map(|p| (p.y * size.x + p.x) as usize)
+        self.selected.map(|p| ray_index(p, size))
     }
+
+    /// The hovered ray's index in [`Inspection::paths`].
+    pub fn hovered_index(&self, size: UVec2) -> Option<usize> {
+        self.hovered.map(|p| ray_index(p, size))
+    }
+}
+
+/// Index of pixel `p`'s ray in an image of `size` (rows in order, x fastest).
+pub fn ray_index(p: UVec2, size: UVec2) -> usize {
+    (p.y * size.x + p.x) as usize
+}
+
+/// The pixel of ray `i` in an image of `size`: the inverse of [`ray_index`].
+pub fn ray_pixel(i: usize, size: UVec2) -> UVec2 {
+    let w = size.x.max(1) as usize;
+    UVec2::new((i % w) as u32, (i / w) as u32)
 }
 
 /// How the rays and samples are shown.
@@ -476,6 +492,15 @@ mod tests {
             let want = app.world().resource::<Inspection>().samples;
             assert_eq!(spheres(&mut app).0, want, "{w} pixels across");
         }
+    }
+
+    #[test]
+    fn ray_indices_and_pixels_invert_each_other() {
+        let size = UVec2::new(5, 3);
+        for i in 0..15 {
+            assert_eq!(ray_index(ray_pixel(i, size), size), i);
+        }
+        assert_eq!(ray_pixel(7, size), UVec2::new(2, 1));
     }
 
     #[test]

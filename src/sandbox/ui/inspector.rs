@@ -4,7 +4,7 @@
 //! selected ray's calculation sample by sample — with the 8 corners of an opened sample drawn
 //! in the scene — and exports it as JSON or CSV, the same text as `voxcast trace`.
 
-use crate::sandbox::inspect::{InspectSettings, Inspection, RayAnimation, RaySelection};
+use crate::sandbox::inspect::{InspectSettings, Inspection, RayAnimation, RaySelection, ray_pixel};
 use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
@@ -161,9 +161,7 @@ pub(super) fn ray_overlay(
     let (lo, hi) = volume.volume.bounds();
     let reach = (vc.view.target - vc.view.eye).length() + (hi - lo).length();
     let selected = selection.selected_index(inspection.size);
-    let hovered = selection
-        .hovered
-        .map(|p| (p.y * inspection.size.x + p.x) as usize);
+    let hovered = selection.hovered_index(inspection.size);
     let grown = animation.distance;
     // A click on the scene (not on a window) picks the ray drawn nearest to it.
     let (clicked, pointer) = ctx.input(|i| (i.pointer.primary_clicked(), i.pointer.interact_pos()));
@@ -205,8 +203,7 @@ pub(super) fn ray_overlay(
         }
     }
     if let Some((_, i)) = nearest {
-        let w = inspection.size.x.max(1) as usize;
-        let p = UVec2::new((i % w) as u32, (i / w) as u32);
+        let p = ray_pixel(i, inspection.size);
         selection.selected = if selection.selected == Some(p) {
             None
         } else {
