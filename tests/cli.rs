@@ -52,7 +52,7 @@ fn render_writes_a_png_and_reports_speed() {
 
 #[test]
 fn every_method_renders_every_builtin() {
-    for volume in ["bunny", "brainsmall", "shells", "marschner-lobb", "bucky"] {
+    for (volume, _) in voxcast_core::builtin::DATASETS {
         for method in ["accumulate", "first", "average", "maximum", "minimum"] {
             let png = out_dir().join(format!("{volume}_{method}.png"));
             let o = voxcast(&[
@@ -145,6 +145,14 @@ fn info_and_list_describe_what_there_is() {
         t.contains("marschner-lobb") && t.contains("ct_skin_bone"),
         "{t}"
     );
+    // The help names every embedded dataset and preset.
+    let help = text(&voxcast(&["render", "--help"]));
+    for (name, _) in voxcast_core::builtin::DATASETS {
+        assert!(help.contains(name), "--help lacks builtin {name}");
+    }
+    for p in voxcast_core::preset::all() {
+        assert!(help.contains(&p.name), "--help lacks preset {}", p.name);
+    }
 }
 
 #[test]

@@ -11,6 +11,9 @@
 //!   reconstruction and step-size artefact.
 //! * `bucky` — a buckminsterfullerene-like cage: Gaussian blobs on the 60 vertices of a
 //!   truncated icosahedron (32³, u8).
+//! * `head` — a CT-like head phantom: nested ellipsoids of scalp, skull, brain and two
+//!   ventricles at CT-like levels ([`HEAD_SKIN`] … [`HEAD_BONE`]) with soft edges 1.5 voxels wide
+//!   (64³, u8): a low isovalue shows the skin, one between skin and bone the skull.
 
 use crate::error::LoadError;
 use crate::io::{Loaded, load, nrrd};
@@ -42,6 +45,10 @@ pub const DATASETS: &[(&str, &str)] = &[
         "buckyball-like cage of 60 Gaussian atoms (32³, uint8)",
     ),
     (
+        "head",
+        "CT-like head phantom: scalp, skull, brain, ventricles (64³, uint8)",
+    ),
+    (
         "voxel",
         "one unit voxel with the lecture's 8 corner values, for trilinear interpolation (2³, float32)",
     ),
@@ -71,6 +78,7 @@ pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
         "marschner-lobb" => Ok(generated(marschner_lobb())),
         "bucky" => Ok(generated(bucky())),
         "voxel" => Ok(generated(worked_voxel())),
+        "head" => Ok(generated(head())),
         other => {
             let names: Vec<&str> = DATASETS.iter().map(|d| d.0).collect();
             Err(LoadError::new(
@@ -114,6 +122,50 @@ pub fn shells() -> Volume {
         }
     });
     Volume::new("shells", UVec3::splat(n), Vec3::ONE, VoxelData::U8(data))
+        .expect("valid by construction")
+}
+
+/// The head phantom's levels (u8, CT-like order: CSF < scalp < brain < bone).
+pub const HEAD_CSF: f32 = 60.0;
+pub const HEAD_SKIN: f32 = 80.0;
+pub const HEAD_BRAIN: f32 = 110.0;
+pub const HEAD_BONE: f32 = 220.0;
+/// The head phantom's ellipsoids, semi-axes as fractions of the half-size: the scalp's outside,
+/// the skull's outside and inside (the brain's surface); the ventricles' centres and semi-axes.
+pub const HEAD_SCALP: Vec3 = Vec3::new(0.80, 0.92, 0.85);
+pub const HEAD_SKULL: Vec3 = Vec3::new(0.72, 0.84, 0.77);
+pub const HEAD_BRAIN_AXES: Vec3 = Vec3::new(0.64, 0.76, 0.69);
+const HEAD_VENTRICLE: Vec3 = Vec3::new(0.07, 0.2, 0.12);
+const HEAD_VENTRICLE_X: f32 = 0.12;
+/// The width of the head phantom's soft edges, in voxels (a sharper edge shows rings).
+const HEAD_EDGE: f32 = 1.5;
+/// The head phantom's size in voxels.
+const HEAD_N: u32 = 64;
+
+/// The head phantom's value at `p` (voxel coordinates of the 64³ lattice).
+pub fn head_at(p: Vec3) -> f32 {
+    let half = (HEAD_N - 1) as f32 * 0.5;
+    let u = (p - Vec3::splat(half)) / half;
+    // Inside-ness of an ellipsoid, 1 inside and 0 outside, over HEAD_EDGE voxels.
+    let inside = |centre: Vec3, axes: Vec3| {
+        let r = ((u - centre) / axes).length();
+        let voxels = (r - 1.0) * axes.min_element() * half;
+        (0.5 - voxels / HEAD_EDGE).clamp(0.0, 1.0)
+    };
+    let ventricles = inside(Vec3::new(-HEAD_VENTRICLE_X, 0.05, 0.0), HEAD_VENTRICLE)
+        + inside(Vec3::new(HEAD_VENTRICLE_X, 0.05, 0.0), HEAD_VENTRICLE);
+    HEAD_SKIN * inside(Vec3::ZERO, HEAD_SCALP)
+        + (HEAD_BONE - HEAD_SKIN) * inside(Vec3::ZERO, HEAD_SKULL)
+        + (HEAD_BRAIN - HEAD_BONE) * inside(Vec3::ZERO, HEAD_BRAIN_AXES)
+        + (HEAD_CSF - HEAD_BRAIN) * ventricles
+}
+
+/// The head phantom (see module docs).
+pub fn head() -> Volume {
+    let data = lattice(HEAD_N, |i, j, k| {
+        head_at(Vec3::new(i as f32, j as f32, k as f32)).round() as u8
+    });
+    Volume::new("head", UVec3::splat(HEAD_N), Vec3::ONE, VoxelData::U8(data))
         .expect("valid by construction")
 }
 

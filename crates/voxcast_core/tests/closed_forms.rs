@@ -172,6 +172,42 @@ fn first_hit_finds_the_sphere() {
     }
 }
 
+/// The head phantom's isovalues: along the axes, First stops on the scalp below the scalp's
+/// level, on the skull between the scalp's and the bone's, and nowhere above the bone's (the
+/// ellipsoids' surfaces, within the phantom's one-voxel soft edge).
+#[test]
+fn the_head_phantoms_isovalue_picks_skin_or_skull() {
+    use voxcast_core::builtin::{HEAD_BONE, HEAD_SCALP, HEAD_SKIN, HEAD_SKULL, head};
+    let v = head();
+    let tf = white(1.0);
+    let half = 31.5f32;
+    let c = Vec3::splat(half);
+    for (axis, dir) in [(2, Vec3::NEG_Z), (0, Vec3::X), (1, Vec3::NEG_Y)] {
+        for (target, surface) in [
+            (0.5 * HEAD_SKIN, Some(HEAD_SCALP[axis])),
+            (0.5 * (HEAD_SKIN + HEAD_BONE), Some(HEAD_SKULL[axis])),
+            (HEAD_BONE + 10.0, None),
+        ] {
+            let mut s = plain(0.5);
+            s.method = Method::First;
+            s.target = Some(target);
+            let t = trace(&v, &tf, &s, c - dir * 60.0, dir);
+            match surface {
+                Some(f) => {
+                    let hit = Vec3::from(t.first_hit.expect("a hit").p_world);
+                    close(
+                        (hit - c).length(),
+                        f * half,
+                        1.0,
+                        &format!("{dir}, {target}"),
+                    );
+                }
+                None => assert!(t.first_hit.is_none(), "{dir}, {target}"),
+            }
+        }
+    }
+}
+
 /// The lecture's worked example: one unit voxel with corner values f1..f8, a ray sampled at
 /// P1(0.2,0.3,0.8), P2(0.5,0.5,0.5), P3(0.8,0.7,0.2), composited back to front.
 #[test]
