@@ -57,6 +57,7 @@ pub mod shade;
 pub mod skip;
 pub mod step;
 pub mod trace;
+pub mod trade;
 pub mod transfer;
 pub mod transfer_edit;
 pub mod tunables;

@@ -1,0 +1,150 @@
+//! Measuring the step size's trade in the sandbox: the main camera's view rendered by the core
+//! at the sampling level's steps and the player's own, against a fine reference
+//! (`voxcast_core::trade`), on the `AsyncComputeTaskPool` with progress and Cancel. A result
+//! remembers what it measured, so the panel can say when it no longer matches.
+
+use super::state::{MainCamera, RenderState, View, VolumeState};
+use bevy::prelude::*;
+use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use voxcast_core::camera::Camera as CoreCamera;
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::step::Length;
+use voxcast_core::trade::{STEPS, Trade, TradeError, step_trade};
+
+/// The measured image's size: small, so the five renders and the reference take moments.
+pub const TRADE_SIZE: (u32, u32) = (192, 108);
+
+/// What a trade measured: the view, the settings but their step, the transfer function and
+/// the volume.
+#[derive(Clone, PartialEq)]
+pub struct TradeKey {
+    camera: CoreCamera,
+    settings: RenderSettings,
+    transfer: voxcast_core::transfer::TransferFunction,
+    source: String,
+}
+
+impl TradeKey {
+    fn of(camera: CoreCamera, render: &RenderState, volume: &VolumeState) -> Self {
+        let mut settings = render.settings.clone();
+        settings.step = Length::Voxels(0.0);
+        Self {
+            camera,
+            settings,
+            transfer: render.transfer.clone(),
+            source: volume.source.clone(),
+        }
+    }
+}
+
+/// The measurement under way and the last result.
+#[derive(Resource, Default)]
+pub struct StepTrade {
+    job: Option<Job>,
+    pub result: Option<(Trade, TradeKey)>,
+    pub error: Option<String>,
+    /// Set by the panel's button; the next update starts the job.
+    requested: bool,
+}
+
+struct Job {
+    task: Task<Result<Trade, TradeError>>,
+    done: Arc<(AtomicUsize, AtomicUsize)>,
+    cancel: Arc<AtomicBool>,
+    key: TradeKey,
+}
+
+impl StepTrade {
+    pub fn request(&mut self) {
+        self.requested = true;
+    }
+    pub fn cancel(&mut self) {
+        if let Some(job) = self.job.take() {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+    /// Renders done and in all, while measuring.
+    pub fn progress(&self) -> Option<(usize, usize)> {
+        let j = self.job.as_ref()?;
+        Some((
+            j.done.0.load(Ordering::Relaxed),
+            j.done.1.load(Ordering::Relaxed),
+        ))
+    }
+    /// The result, if it was measured for what is on screen now (any step).
+    pub fn current(
+        &self,
+        view: Option<&View>,
+        render: &RenderState,
+        volume: &VolumeState,
+    ) -> Option<&Trade> {
+        let (trade, key) = self.result.as_ref()?;
+        let view = view?;
+        (*key == TradeKey::of(view.0, render, volume)).then_some(trade)
+    }
+}
+
+pub(crate) fn plugin(app: &mut App) {
+    app.init_resource::<StepTrade>()
+        .add_systems(Update, (start, finish).chain());
+}
+
+fn start(
+    mut trade: ResMut<StepTrade>,
+    views: Query<&View, With<MainCamera>>,
+    (render, volume): (Res<RenderState>, Res<VolumeState>),
+) {
+    if !std::mem::take(&mut trade.requested) || trade.job.is_some() {
+        return;
+    }
+    let Ok(view) = views.single() else {
+        trade.error = Some("no view to measure".into());
+        return;
+    };
+    let key = TradeKey::of(view.0, &render, &volume);
+    let voxel = volume.volume.spacing().min_element();
+    let mut steps = STEPS.to_vec();
+    steps.push(render.settings.step.voxels(voxel));
+    let done = Arc::new((AtomicUsize::new(0), AtomicUsize::new(steps.len() + 1)));
+    let cancel = Arc::new(AtomicBool::new(false));
+    let task = {
+        let (v, tf, s, camera) = (
+            volume.volume.clone(),
+            render.transfer.clone(),
+            render.settings.clone(),
+            view.0,
+        );
+        let (done, cancel) = (done.clone(), cancel.clone());
+        AsyncComputeTaskPool::get().spawn(async move {
+            let report = |d: usize, total: usize| {
+                done.0.store(d, Ordering::Relaxed);
+                done.1.store(total, Ordering::Relaxed);
+            };
+            step_trade(&v, &tf, &s, &camera, TRADE_SIZE, &steps, &report, &cancel)
+        })
+    };
+    trade.error = None;
+    trade.job = Some(Job {
+        task,
+        done,
+        cancel,
+        key,
+    });
+}
+
+fn finish(mut trade: ResMut<StepTrade>) {
+    let Some(job) = trade.job.as_mut() else {
+        return;
+    };
+    let Some(result) = check_ready(&mut job.task) else {
+        return;
+    };
+    let key = job.key.clone();
+    trade.job = None;
+    match result {
+        Ok(t) => trade.result = Some((t, key)),
+        Err(e) => trade.error = Some(e.to_string()),
+    }
+}
