@@ -127,13 +127,15 @@ pub struct SampleSphere {
 /// The spheres' shared mesh and materials.
 #[derive(Resource, Default)]
 struct Pool {
+    /// The virtual camera the spheres belong to: they are its children and leave with it.
+    owner: Option<Entity>,
     entities: Vec<Entity>,
     mesh: Option<Handle<Mesh>>,
     /// One material per quantised colour (and opacity, when it is shown).
     materials: HashMap<[u8; 4], Handle<StandardMaterial>>,
 }
 
-pub(super) fn plugin(app: &mut App) {
+pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<Inspection>()
         .init_resource::<InspectSettings>()
         .init_resource::<RaySelection>()
@@ -154,7 +156,20 @@ fn recompute(
     (mut inspection, mut selection): (ResMut<Inspection>, ResMut<RaySelection>),
     mut animation: ResMut<RayAnimation>,
 ) {
-    let Ok(vc) = cameras.single() else { return };
+    let Ok(vc) = cameras.single() else {
+        // The mode has no virtual camera: nothing to inspect.
+        if inspection.size != UVec2::ZERO {
+            *inspection = Inspection {
+                generation: inspection.generation + 1,
+                ..default()
+            };
+            *selection = RaySelection::default();
+        }
+        return;
+    };
+    if vc.is_added() {
+        *selection = RaySelection::default();
+    }
     let changed = vc.is_changed()
         || volume.is_changed()
         || render_state.is_changed()
@@ -274,12 +289,20 @@ fn place_spheres(
     volume: Res<VolumeState>,
     render_state: Res<RenderState>,
     mut pool: ResMut<Pool>,
+    cameras: Query<Entity, With<VirtualCamera>>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
     if !(inspection.is_changed() || settings.is_changed()) {
         return;
     }
+    // A new camera (a new mode): the old spheres left with the old one.
+    let owner = cameras.single().ok();
+    if pool.owner != owner {
+        pool.owner = owner;
+        pool.entities.clear();
+    }
+    let Some(owner) = owner else { return };
     let radius = sphere_radius(&volume, &render_state);
     let mesh = pool
         .mesh
@@ -304,6 +327,7 @@ fn place_spheres(
                 Mesh3d(mesh.clone()),
                 Transform::default(),
                 Visibility::Hidden,
+                ChildOf(owner),
             ))
             .id();
         pool.entities.push(e);
@@ -385,7 +409,7 @@ fn show_spheres(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use std::sync::Arc;
     use voxcast_core::builtin::load_builtin;

@@ -6,6 +6,7 @@
 //! The marker is a real mesh: inside the volume it writes depth and the preview's rays stop at
 //! it. It is hidden while a comparison captures the preview (the CPU render has no meshes).
 
+use super::mode::{Mode, Stage};
 use super::preview::FullQuality;
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
@@ -37,7 +38,7 @@ impl LightDrag {
 const GRAB_SLACK: f32 = 1.8;
 
 /// The marker, in the window and headless alike.
-pub(super) fn marker_plugin(app: &mut App) {
+pub(crate) fn marker_plugin(app: &mut App) {
     app.add_systems(Update, (spawn_marker, place_marker).chain());
 }
 
@@ -57,19 +58,24 @@ fn marker_position(light: Light, volume: &VolumeState) -> Option<Vec3> {
     }
 }
 
-/// (Re)spawns the sphere when a volume is loaded (its size follows the volume).
+/// (Re)spawns the sphere when the mode changes (if its scene has one; it leaves with the mode)
+/// or a volume is loaded (its size follows the volume).
 fn spawn_marker(
     mut commands: Commands,
     volume: Res<VolumeState>,
+    (mode, stage): (Res<State<Mode>>, Res<Stage>),
     existing: Query<Entity, With<LightMarker>>,
     mut meshes: ResMut<Assets<Mesh>>,
     mut materials: ResMut<Assets<StandardMaterial>>,
 ) {
-    if !volume.is_changed() {
+    if !(volume.is_changed() || mode.is_changed()) {
         return;
     }
     for e in &existing {
         commands.entity(e).despawn();
+    }
+    if !stage.light_marker {
+        return;
     }
     let (lo, hi) = volume.volume.bounds();
     let c = LIGHT_MARKER_COLOR;
@@ -90,6 +96,7 @@ fn spawn_marker(
         })),
         Transform::default(),
         Visibility::Hidden,
+        DespawnOnExit(*mode.get()),
     ));
 }
 

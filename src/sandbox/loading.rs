@@ -15,6 +15,7 @@ use voxcast_core::io::Loaded;
 use voxcast_core::preset;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::transfer::TransferFunction;
+use voxcast_core::volume::Volume;
 
 /// The load under way, if any, and the last load's error.
 #[derive(Resource, Default)]
@@ -57,7 +58,7 @@ impl Loading {
     }
 }
 
-pub(super) fn plugin(app: &mut App) {
+pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<Loading>()
         .add_systems(Update, (load_dropped_files, finish_loading).chain());
 }
@@ -85,11 +86,7 @@ fn finish_loading(
     loading.job = None;
     match result {
         Ok(loaded) => {
-            let (transfer, settings) = defaults_for(&loaded);
-            render.transfer = transfer;
-            if let Some(s) = settings {
-                render.settings = s;
-            }
+            reset_to_defaults(&loaded.volume, &mut render);
             *volume = VolumeState {
                 preset: preset::for_volume(loaded.volume.name()),
                 volume: Arc::new(loaded.volume),
@@ -100,15 +97,25 @@ fn finish_loading(
     }
 }
 
-/// The transfer function (and settings, when it has a preset) a newly loaded volume starts
-/// with: its preset's, or a grey ramp over its value range.
-fn defaults_for(loaded: &Loaded) -> (TransferFunction, Option<RenderSettings>) {
-    if let Some(p) = preset::for_volume(loaded.volume.name())
+/// Gives `render` the transfer function (and settings, when it has a preset) `volume` starts
+/// with: a newly loaded volume, or a level's.
+pub fn reset_to_defaults(volume: &Volume, render: &mut RenderState) {
+    let (transfer, settings) = defaults_for(volume);
+    render.transfer = transfer;
+    if let Some(s) = settings {
+        render.settings = s;
+    }
+}
+
+/// The transfer function (and settings, when it has a preset) `volume` starts with: its
+/// preset's, or a grey ramp over its value range.
+fn defaults_for(volume: &Volume) -> (TransferFunction, Option<RenderSettings>) {
+    if let Some(p) = preset::for_volume(volume.name())
         && let Ok(settings) = p.settings_over(&RenderSettings::default())
     {
         return (p.transfer, Some(settings));
     }
-    let (lo, hi) = loaded.volume.value_range();
+    let (lo, hi) = volume.value_range();
     let ramp = TransferFunction::ramp(lo, hi, 0.5)
         .or_else(|_| TransferFunction::constant([1.0; 3], 0.5))
         .expect("a constant transfer function is valid");
@@ -124,7 +131,7 @@ mod tests {
         AsyncComputeTaskPool::get_or_init(TaskPool::new);
         let mut app = App::new();
         let loaded = voxcast_core::builtin::load_builtin("bucky").unwrap();
-        let (transfer, settings) = defaults_for(&loaded);
+        let (transfer, settings) = defaults_for(&loaded.volume);
         app.insert_resource(VolumeState {
             volume: Arc::new(loaded.volume),
             source: "builtin:bucky".into(),

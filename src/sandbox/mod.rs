@@ -11,11 +11,14 @@ mod light;
 mod loading;
 mod material;
 mod measure;
+pub mod mode;
 mod orbit;
 mod preview;
 pub mod screenshot;
+mod script;
 mod shaders;
 mod state;
+mod trade;
 mod ui;
 pub mod uniform;
 mod virtual_camera;
@@ -82,6 +85,13 @@ pub struct SandboxArgs {
     /// The most sample spheres shown for the virtual camera's rays (see the Rays window).
     #[arg(long, default_value_t = voxcast_core::tunables::SAMPLE_BUDGET.default as usize)]
     pub sample_budget: usize,
+    /// Play every level to the end in the window as a player would, save a screenshot of each
+    /// level's first step in this folder (with the progress file and report.txt) and exit;
+    /// the exit code says whether every objective behaved.
+    #[arg(long, conflicts_with_all = ["screenshot", "compare", "measure_frames"])]
+    pub play_levels: Option<PathBuf>,
+    #[arg(long, help = voxcast_core::tunables::PREVIEW_SCALE.doc, value_parser = parse_preview_scale)]
+    pub preview_scale: Option<f32>,
     /// Window or screenshot size in pixels.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -105,10 +115,15 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         settings: resolved.settings,
         depth_termination: !args.no_depth_termination,
     };
+    let free_play = mode::FreePlay(mode::Stage {
+        rays: Some(args.rays),
+        rays_shown: !args.no_rays,
+        ..default()
+    });
     let mut app = App::new();
     let headless = args.screenshot.is_some() || args.compare.is_some();
     let render_plugin = RenderPlugin {
-        synchronous_pipeline_compilation: headless,
+        synchronous_pipeline_compilation: headless || args.play_levels.is_some(),
         ..default()
     };
     if headless {
@@ -166,15 +181,22 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 loading::plugin,
                 virtual_camera::plugin,
                 inspect::plugin,
+                trade::plugin,
             ))
-            .insert_resource(virtual_camera::InitialResolution {
-                pixels: args.rays,
-                shown: !args.no_rays,
-            })
+            .insert_resource(free_play)
+            .insert_resource(free_play.0)
             .insert_resource(inspect::InspectSettings {
                 budget: args.sample_budget,
                 ..default()
             });
+        if let Some(dir) = &args.play_levels {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| CliError::failed(format!("{}: {e}", dir.display())))?;
+            app.insert_resource(bevy::winit::WinitSettings::continuous())
+                .insert_resource(ui::levels::Lessons::new(Some(dir.join("progress.json"))))
+                .insert_resource(script::PlayLevels(dir.clone()))
+                .add_plugins(script::plugin);
+        }
         if let Some(frames) = args.measure_frames {
             // Draw every frame even without focus (a virtual display never gives it).
             app.insert_resource(bevy::winit::WinitSettings::continuous());
@@ -197,16 +219,22 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                         if args.no_adaptive { "off" } else { "on" }
                     ),
                 });
-            if args.no_adaptive {
-                app.insert_resource(preview::PreviewSettings {
-                    adaptive: false,
-                    ..default()
-                });
-            }
         }
+        app.insert_resource(preview::PreviewSettings {
+            adaptive: !args.no_adaptive,
+            scale: args
+                .preview_scale
+                .unwrap_or(voxcast_core::tunables::PREVIEW_SCALE.default),
+            ..default()
+        });
     }
     app.add_plugins(MaterialPlugin::<VolumeMaterial>::default())
-        .add_plugins((shaders::plugin, state::plugin, light::marker_plugin))
+        .add_plugins((
+            shaders::plugin,
+            state::plugin,
+            mode::plugin,
+            light::marker_plugin,
+        ))
         .insert_resource(ClearColor(Color::srgb(
             render.settings.background.x,
             render.settings.background.y,
@@ -223,6 +251,15 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         AppExit::Error(code) => Err(CliError::failed(format!(
             "the sandbox stopped with code {code}"
         ))),
+    }
+}
+
+/// `--preview-scale`: a fraction within the tunable's range.
+fn parse_preview_scale(s: &str) -> Result<f32, String> {
+    let t = &voxcast_core::tunables::PREVIEW_SCALE;
+    match s.parse::<f32>() {
+        Ok(v) if (t.min..=t.max).contains(&v) => Ok(v),
+        _ => Err(format!("give a number from {} to {}", t.min, t.max)),
     }
 }
 

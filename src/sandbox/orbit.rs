@@ -70,13 +70,16 @@ pub(super) fn plugin(app: &mut App) {
     );
 }
 
-/// Frames a newly loaded volume from the direction the camera looked from, so a small volume
-/// after a large one (or the reverse) fills the view.
+/// Frames a newly loaded volume (and the volume again when a level or free play starts) from
+/// the direction the camera looked from, so a small volume after a large one (or the reverse)
+/// fills the view, whatever the player zoomed or panned to before.
 pub(super) fn reframe_on_new_volume(
     volume: Res<super::state::VolumeState>,
+    mode: Option<Res<State<super::mode::Mode>>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
 ) {
-    if !volume.is_changed() || volume.is_added() {
+    let new_mode = mode.is_some_and(|m| m.is_changed() && !m.is_added());
+    if !(volume.is_changed() && !volume.is_added() || new_mode) {
         return;
     }
     let (lo, hi) = volume.volume.bounds();

@@ -3,6 +3,7 @@
 //! (one ray per pixel, through the pixel's centre; the inspector traces them). Its view is a
 //! core camera, so the grid drawn here is exactly where the core's rays pass.
 
+use super::mode::{Mode, Stage};
 use super::state::VolumeState;
 use bevy::prelude::*;
 use voxcast_core::camera::{Camera as CoreCamera, Projection};
@@ -82,50 +83,58 @@ impl VirtualCamera {
     }
 }
 
-/// The resolution the virtual camera starts with (`--rays`), and whether it is shown
-/// (`--no-rays`).
-#[derive(Resource, Clone, Copy)]
-pub struct InitialResolution {
-    pub pixels: u32,
-    pub shown: bool,
-}
-
 /// Marks the virtual camera's body.
 #[derive(Component)]
-struct Body;
+pub(crate) struct Body;
 
 pub(super) fn plugin(app: &mut App) {
     app.add_systems(
         Update,
-        (frame_on_new_volume, place_body, draw_gizmos).chain(),
+        (
+            // Beside the main camera as it is framed for the new volume or mode.
+            stage_camera.after(super::orbit::reframe_on_new_volume),
+            place_body,
+            draw_gizmos,
+        )
+            .chain(),
     );
 }
 
-/// Spawns the camera with the first volume and frames each newly loaded one.
-fn frame_on_new_volume(
+/// Spawns the camera when a mode whose scene has one starts (it leaves with the mode), and
+/// frames each newly loaded volume.
+pub(crate) fn stage_camera(
     mut commands: Commands,
     volume: Res<VolumeState>,
+    (mode, stage): (Res<State<Mode>>, Res<Stage>),
     main: Query<&super::state::View, With<super::state::MainCamera>>,
     mut cameras: Query<&mut VirtualCamera>,
-    initial: Option<Res<InitialResolution>>,
     bodies: Query<Entity, With<Body>>,
     (mut meshes, mut materials): (ResMut<Assets<Mesh>>, ResMut<Assets<StandardMaterial>>),
 ) {
-    if !volume.is_changed() {
+    if !(volume.is_changed() || mode.is_changed()) {
         return;
     }
     let main = main.single().ok().map(|v| v.0);
     let Some(mut framed) = VirtualCamera::framing(&volume, main.as_ref()) else {
         return;
     };
-    if let Ok(mut vc) = cameras.single_mut() {
+    if let Ok(mut vc) = cameras.single_mut()
+        && !mode.is_changed()
+    {
         vc.view = framed.view;
+    } else if mode.is_changed()
+        && let Some(n) = stage.rays
+    {
+        (framed.width, framed.height) = (n, n);
+        framed.shown = stage.rays_shown;
+        commands.spawn((
+            framed,
+            Transform::default(),
+            Visibility::default(),
+            DespawnOnExit(*mode.get()),
+        ));
     } else {
-        if let Some(n) = initial {
-            (framed.width, framed.height) = (n.pixels, n.pixels);
-            framed.shown = n.shown;
-        }
-        commands.spawn((framed, Transform::default(), Visibility::default()));
+        return;
     }
     // The body's size follows the volume.
     for b in &bodies {
@@ -143,6 +152,7 @@ fn frame_on_new_volume(
         })),
         Transform::default(),
         Visibility::Hidden,
+        DespawnOnExit(*mode.get()),
     ));
 }
 

@@ -39,6 +39,10 @@ pub struct LevelScene {
     /// The virtual camera's pixels across and down (`None`: no virtual camera).
     #[serde(default)]
     pub rays: Option<u32>,
+    /// Whether the light's marker sphere is in the scene (levels about a point light or about
+    /// depth against geometry).
+    #[serde(default)]
+    pub light: bool,
 }
 
 /// A panel control a step is about (highlighted while the step is shown).
@@ -59,6 +63,7 @@ pub enum Control {
     RenderImage,
     Light,
     Order,
+    StepTrade,
 }
 
 /// What the player must do to go on.
@@ -109,6 +114,8 @@ pub enum Objective {
     LightKind { light: String },
     /// Give the point light a falloff with distance (kl or kq above zero).
     Attenuated,
+    /// Measure the step size's trade for the view on screen.
+    TradeMeasured,
 }
 
 /// One step of a level.
@@ -160,6 +167,8 @@ pub struct Situation {
     pub light_kind: &'static str,
     /// kl or kq above zero.
     pub attenuated: bool,
+    /// A step-trade measurement matches the view and settings on screen.
+    pub trade_measured: bool,
 }
 
 impl Objective {
@@ -208,6 +217,7 @@ impl Objective {
             Objective::BackToFront { on } => s.back_to_front == *on,
             Objective::LightKind { light } => s.light_kind == light,
             Objective::Attenuated => s.attenuated,
+            Objective::TradeMeasured => s.trade_measured,
         }
     }
 }
@@ -349,6 +359,56 @@ mod tests {
                 l.scene.volume
             );
         }
+    }
+
+    /// The first-hit level quotes the head phantom's levels, and its isovalue objective lies
+    /// between the scalp's and the bone's (where the skull appears; tested in closed_forms).
+    #[test]
+    fn the_skull_level_matches_the_phantom() {
+        use crate::builtin::{HEAD_BONE, HEAD_BRAIN, HEAD_SKIN};
+        let level = Level::all()
+            .into_iter()
+            .find(|l| l.id == "first-hit")
+            .unwrap();
+        assert_eq!(level.scene.volume, "builtin:head");
+        let text: String = level.steps.iter().map(|s| s.text.as_str()).collect();
+        for v in [HEAD_SKIN, HEAD_BRAIN, HEAD_BONE] {
+            assert!(text.contains(&format!("{v}")), "the text quotes {v}");
+        }
+        let (lo, hi) = level
+            .steps
+            .iter()
+            .find_map(|s| match s.objective {
+                Objective::TargetBetween { lo, hi } => Some((lo, hi)),
+                _ => None,
+            })
+            .unwrap();
+        assert!(HEAD_SKIN < lo && hi < HEAD_BONE);
+        // The preset starts below the scalp: the skin shows until the player acts.
+        let p = crate::preset::for_volume("head").unwrap();
+        let s = p
+            .settings_over(&crate::settings::RenderSettings::default())
+            .unwrap();
+        assert!(s.target.unwrap() < HEAD_SKIN);
+    }
+
+    /// The sampling level quotes the steps and the reference the trade measures.
+    #[test]
+    fn the_sampling_level_quotes_the_trades_steps() {
+        let level = Level::all()
+            .into_iter()
+            .find(|l| l.id == "sampling")
+            .unwrap();
+        let step = level
+            .steps
+            .iter()
+            .find(|s| s.objective == Objective::TradeMeasured)
+            .unwrap();
+        for v in crate::trade::STEPS {
+            assert!(step.text.contains(&format!("{v}")), "{v}");
+        }
+        assert_eq!(crate::trade::REFERENCE, 1.0 / 16.0);
+        assert!(step.text.contains("1/16 voxel"));
     }
 
     #[test]

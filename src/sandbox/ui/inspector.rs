@@ -18,7 +18,7 @@ use voxcast_core::tunables as t;
 
 /// The breakdown window's state: the selected ray's trace and the opened sample.
 #[derive(Resource)]
-pub(super) struct BreakdownState {
+pub(crate) struct BreakdownState {
     /// The pixel and the inspection generation the trace belongs to.
     key: Option<(UVec2, u64)>,
     pub trace: Option<RayTrace>,
@@ -284,7 +284,7 @@ pub(super) fn rays_window(
     if !cameras.single().is_ok_and(|c| c.shown) {
         return Ok(());
     }
-    let spot = lessons.step().and_then(|s| s.control);
+    let spot = lessons.spot;
     let ctx = contexts.ctx_mut()?;
     let mut edited = settings.clone();
     let mut new_selection = *selection;
@@ -432,7 +432,7 @@ pub(super) fn breakdown_window(
     let Some(pixel) = selection.selected else {
         return Ok(());
     };
-    let spot = lessons.step().and_then(|s| s.control);
+    let spot = lessons.spot;
     let ctx = contexts.ctx_mut()?;
     let mut open = true;
     let state = &mut *state;

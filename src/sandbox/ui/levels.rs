@@ -1,36 +1,53 @@
-//! Guided levels: the "Levels" window lists the levels with the player's progress and Free
-//! Play; a level sets up its scene (its volume, preview on or off, the virtual camera and its
-//! pixels), shows one step at a time with the control it is about, and opens Next when the
-//! step's objective — checked by the core's `Objective::met` against what the player did — is
-//! met. Progress is saved to the config directory after every step (atomically); a damaged
-//! file starts afresh with a message.
+//! Guided levels, the logic: the levels and the player's progress, the commands the Levels
+//! window sends (start a level, Next, free play), the scene each mode sets up, and the check of
+//! the current step's objective — the core's `Objective::met` against what the player did.
+//! The mode itself is the [`Mode`] state; what a level spawned leaves with it. Progress is saved
+//! to the config directory after every step (atomically); a damaged file starts afresh with a
+//! message.
 
 use super::inspector::BreakdownState;
 use crate::sandbox::compare::Comparison;
 use crate::sandbox::inspect::RaySelection;
-use crate::sandbox::loading::Loading;
+use crate::sandbox::loading::{Loading, reset_to_defaults};
+use crate::sandbox::mode::{FreePlay, Mode, Stage};
 use crate::sandbox::preview::PreviewSettings;
 use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
+use crate::sandbox::trade::StepTrade;
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
-use bevy_egui::{EguiContexts, egui};
 use std::path::PathBuf;
-use voxcast_core::level::{Control, Level, Objective, Progress, Situation};
+use voxcast_core::level::{Control, Level, Objective, Progress, Situation, Step};
+use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
 
-/// The levels, the one being played and the player's progress.
+/// The levels, the step being played and the player's progress.
 #[derive(Resource)]
 pub struct Lessons {
     pub levels: Vec<Level>,
-    /// `(level, step)` being played; `None` in free play.
-    pub current: Option<(usize, usize)>,
+    /// The step being played in the current level (the level is the [`Mode`]).
+    pub step: usize,
     pub progress: Progress,
     /// Where progress is saved (`None`: not saved, as in tests).
     path: Option<PathBuf>,
-    message: Option<String>,
-    /// The scene still has to be set up for the level just chosen.
-    pending_scene: bool,
+    pub message: Option<String>,
     /// What the player typed as a prediction.
     pub prediction: String,
+    /// Whether the current step's objective is met (checked every frame).
+    pub met: bool,
+    /// The control the current step is about (framed in the panel).
+    pub spot: Option<Control>,
+    /// For a prediction step: the core's reconstruction at the step's point.
+    pub detail: Option<SampleDetail>,
+}
+
+/// What the Levels window asks for (a scripted run sends the same).
+#[derive(Message, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LevelCommand {
+    /// Start level `i` at its first step.
+    Start(usize),
+    /// The current step is done (refused unless its objective is met).
+    Next,
+    /// Leave the level for free play.
+    FreePlay,
 }
 
 impl Lessons {
@@ -42,54 +59,33 @@ impl Lessons {
         };
         Self {
             levels: Level::all(),
-            current: None,
+            step: 0,
             progress,
             path,
             message,
-            pending_scene: false,
             prediction: String::new(),
+            met: false,
+            spot: None,
+            detail: None,
         }
     }
 
-    /// Starts level `i` at its first step.
-    pub fn start(&mut self, i: usize) {
-        if i < self.levels.len() {
-            self.current = Some((i, 0));
-            self.pending_scene = true;
+    /// The step being played in `mode`.
+    pub fn step_in(&self, mode: Mode) -> Option<&Step> {
+        match mode {
+            Mode::Level(l) => self.levels.get(l)?.steps.get(self.step),
+            Mode::FreePlay => None,
         }
     }
 
-    /// Back to free play (everything on).
-    pub fn free_play(&mut self) {
-        self.current = None;
-        self.pending_scene = true;
-    }
-
-    /// The step being played.
-    pub fn step(&self) -> Option<&voxcast_core::level::Step> {
-        let (l, s) = self.current?;
-        self.levels.get(l)?.steps.get(s)
-    }
-
-    /// Records the step as done, saves, and moves on (to free play after the last).
-    pub fn next(&mut self) {
-        let Some((l, s)) = self.current else { return };
+    /// Records the current step of level `l` as done and saves.
+    fn record(&mut self, l: usize) {
         let id = self.levels[l].id.clone();
-        self.progress.record(&id, s + 1);
+        self.progress.record(&id, self.step + 1);
         if let Some(path) = &self.path
             && let Err(e) = self.progress.save(path)
         {
             self.message = Some(format!("progress not saved: {e}"));
-        }
-        self.prediction.clear();
-        self.current = if s + 1 < self.levels[l].steps.len() {
-            Some((l, s + 1))
-        } else {
-            self.message = Some(format!("“{}” done!", self.levels[l].title));
-            None
-        };
-        if self.current.is_none() {
-            self.pending_scene = true;
         }
     }
 }
@@ -104,6 +100,125 @@ pub fn progress_path() -> Option<PathBuf> {
     Some(dir.join("progress.json"))
 }
 
+/// The logic, without the window: commands, scene set-up and the objective check.
+pub(crate) fn plugin(app: &mut App) {
+    app.add_message::<LevelCommand>().add_systems(
+        Update,
+        (
+            apply_commands,
+            set_up_scene.run_if(state_changed::<Mode>),
+            check_objective,
+        )
+            .chain(),
+    );
+}
+
+/// Carries out the window's commands: the next mode and its stage, progress.
+fn apply_commands(
+    mut commands: MessageReader<LevelCommand>,
+    mut lessons: ResMut<Lessons>,
+    mode: Res<State<Mode>>,
+    (mut next, mut stage, free): (ResMut<NextState<Mode>>, ResMut<Stage>, Res<FreePlay>),
+) {
+    for command in commands.read() {
+        match *command {
+            LevelCommand::Start(i) => {
+                let Some(level) = lessons.levels.get(i) else {
+                    continue;
+                };
+                *stage = Stage::of(&level.scene);
+                lessons.step = 0;
+                lessons.message = None;
+                next.set(Mode::Level(i));
+            }
+            LevelCommand::Next => {
+                let Mode::Level(l) = *mode.get() else {
+                    continue;
+                };
+                if !lessons.met || lessons.step >= lessons.levels[l].steps.len() {
+                    continue;
+                }
+                lessons.record(l);
+                lessons.met = false;
+                lessons.step += 1;
+                if lessons.step == lessons.levels[l].steps.len() {
+                    lessons.message = Some(format!("“{}” done!", lessons.levels[l].title));
+                    *stage = free.0;
+                    next.set(Mode::FreePlay);
+                }
+            }
+            LevelCommand::FreePlay => {
+                *stage = free.0;
+                next.set(Mode::FreePlay);
+            }
+        }
+        lessons.prediction.clear();
+    }
+}
+
+/// Sets up the scene of the mode just entered: the preview on or off, and a level's volume
+/// with its default settings (so no objective is met before the player acts). The virtual
+/// camera and the light marker are spawned by their own plugins from the [`Stage`].
+fn set_up_scene(
+    mode: Res<State<Mode>>,
+    lessons: Res<Lessons>,
+    stage: Res<Stage>,
+    (volume, mut render): (Res<VolumeState>, ResMut<RenderState>),
+    (mut loading, mut preview): (ResMut<Loading>, ResMut<PreviewSettings>),
+) {
+    preview.enabled = stage.preview;
+    let Mode::Level(l) = *mode.get() else { return };
+    let Some(level) = lessons.levels.get(l) else {
+        return;
+    };
+    if level.scene.volume != volume.source {
+        // The load brings the volume's defaults with it.
+        loading.start(level.scene.volume.clone());
+    } else {
+        loading.cancel();
+        reset_to_defaults(&volume.volume, &mut render);
+    }
+}
+
+/// Checks the current step's objective against what the player has done.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn check_objective(
+    mode: Res<State<Mode>>,
+    mut lessons: ResMut<Lessons>,
+    (render, volume): (Res<RenderState>, Res<VolumeState>),
+    cameras: Query<&VirtualCamera>,
+    (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
+    (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
+    trade: Res<StepTrade>,
+) {
+    let step = lessons.step_in(*mode.get()).cloned();
+    let spot = step.as_ref().and_then(|s| s.control);
+    let detail = match step.as_ref().map(|s| &s.objective) {
+        Some(Objective::PredictValue { point, .. }) => Some(detail_at(
+            &volume.volume,
+            Vec3::from_array(*point),
+            Interpolation::Trilinear,
+        )),
+        _ => None,
+    };
+    let met = step.is_some_and(|step| {
+        let mut sit = situation(
+            &render,
+            &volume,
+            cameras.single().ok(),
+            &selection,
+            &breakdown,
+            (&comparison, views.single().ok()),
+            &trade,
+        );
+        if let (Some(d), Ok(typed)) = (&detail, lessons.prediction.trim().parse::<f32>()) {
+            sit.prediction = Some((typed, d.value));
+        }
+        step.objective.met(&sit)
+    });
+    (lessons.met, lessons.spot, lessons.detail) = (met, spot, detail);
+}
+
 /// What the player has done, as the objectives see it.
 pub(super) fn situation(
     render: &RenderState,
@@ -112,6 +227,7 @@ pub(super) fn situation(
     selection: &RaySelection,
     breakdown: &BreakdownState,
     (comparison, view): (&Comparison, Option<&View>),
+    trade: &StepTrade,
 ) -> Situation {
     let voxel = volume.volume.spacing().min_element();
     let (lo, hi) = volume.volume.bounds();
@@ -145,312 +261,187 @@ pub(super) fn situation(
         back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
         light_kind: voxcast_core::level::light_kind(&render.settings.phong.light),
         attenuated: render.settings.phong.kl > 0.0 || render.settings.phong.kq > 0.0,
-    }
-}
-
-/// Sets up the scene a level asks for (or free play's) once, when it is chosen.
-pub(super) fn set_up_scene(
-    mut lessons: ResMut<Lessons>,
-    volume: Res<VolumeState>,
-    mut loading: ResMut<Loading>,
-    mut preview: ResMut<PreviewSettings>,
-    mut cameras: Query<&mut VirtualCamera>,
-) {
-    // The virtual camera is spawned with the first volume: wait for it.
-    if !lessons.pending_scene || cameras.is_empty() {
-        return;
-    }
-    lessons.pending_scene = false;
-    let scene = lessons
-        .current
-        .and_then(|(l, _)| lessons.levels.get(l))
-        .map(|l| l.scene.clone());
-    let (preview_on, rays) = match &scene {
-        Some(s) => {
-            if s.volume != volume.source {
-                loading.start(s.volume.clone());
-            }
-            (s.preview, s.rays)
-        }
-        None => (true, None),
-    };
-    preview.enabled = preview_on;
-    if let Ok(mut vc) = cameras.single_mut() {
-        match (&scene, rays) {
-            (Some(_), Some(n)) => {
-                vc.shown = true;
-                (vc.width, vc.height) = (n, n);
-            }
-            (Some(_), None) => vc.shown = false,
-            (None, _) => vc.shown = true,
-        }
-    }
-}
-
-fn control_name(c: Control) -> &'static str {
-    match c {
-        Control::Method => "Settings › Ray casting › Method",
-        Control::Step => "Settings › Ray casting › Step size",
-        Control::VirtualPixels => "Settings › Virtual camera › pixels",
-        Control::PixelGrid => "the Rays window's image",
-        Control::Breakdown => "the ray's breakdown window",
-        Control::OpacityCorrection => "Settings › Ray casting › Opacity correction",
-        Control::EarlyTermination => "Settings › Ray casting › Early ray termination",
-        Control::Target => "Settings › Ray casting › Target value (First)",
-        Control::Shading => "Settings › Shading and light › Shading",
-        Control::Classification => "Settings › Transfer function › Classification",
-        Control::TransferFunction => "Settings › Transfer function (the editor)",
-        Control::RenderImage => "the Render image… button",
-        Control::Light => "Settings › Shading and light › Light",
-        Control::Order => "Settings › Ray casting › Order",
-    }
-}
-
-/// The Levels window: the list with progress and Free Play, or the current step.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn levels_window(
-    mut contexts: EguiContexts,
-    mut lessons: ResMut<Lessons>,
-    render: Res<RenderState>,
-    volume: Res<VolumeState>,
-    cameras: Query<&VirtualCamera>,
-    (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
-    (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
-) -> Result {
-    let ctx = contexts.ctx_mut()?;
-    let mut sit = situation(
-        &render,
-        &volume,
-        cameras.single().ok(),
-        &selection,
-        &breakdown,
-        (&comparison, views.single().ok()),
-    );
-    // A prediction step: the typed value against the core's value at the step's point.
-    let point = match lessons.step().map(|s| &s.objective) {
-        Some(Objective::PredictValue { point, .. }) => Some(Vec3::from_array(*point)),
-        _ => None,
-    };
-    let detail = point.map(|p| {
-        voxcast_core::sample::detail_at(
-            &volume.volume,
-            p,
-            voxcast_core::sample::Interpolation::Trilinear,
-        )
-    });
-    if let (Some(d), Ok(typed)) = (&detail, lessons.prediction.trim().parse::<f32>()) {
-        sit.prediction = Some((typed, d.value));
-    }
-    let lessons = &mut *lessons;
-    egui::Window::new("Levels")
-        .default_pos(egui::pos2(ctx.viewport_rect().center().x - 200.0, 20.0))
-        .default_width(400.0)
-        .show(ctx, |ui| {
-            if let Some(m) = &lessons.message {
-                ui.colored_label(egui::Color32::YELLOW, m);
-            }
-            match lessons.current {
-                None => level_list(ui, lessons),
-                Some((l, s)) => level_step(ui, lessons, l, s, &sit, detail.as_ref()),
-            }
-        });
-    Ok(())
-}
-
-fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons) {
-    ui.label("One concept per level. Free play: everything on, as it is now.");
-    let mut chosen = None;
-    for (i, level) in lessons.levels.iter().enumerate() {
-        let done = lessons
-            .progress
-            .completed
-            .get(&level.id)
-            .copied()
-            .unwrap_or(0);
-        let total = level.steps.len();
-        ui.horizontal(|ui| {
-            let mark = if done >= total { "✔" } else { " " };
-            if ui
-                .button(format!("{mark} {}. {}", i + 1, level.title))
-                .on_hover_text(&level.concept)
-                .clicked()
-            {
-                chosen = Some(i);
-            }
-            ui.label(format!("{}/{} steps", done.min(total), total));
-        });
-    }
-    if let Some(i) = chosen {
-        lessons.message = None;
-        lessons.start(i);
-    }
-}
-
-fn level_step(
-    ui: &mut egui::Ui,
-    lessons: &mut Lessons,
-    l: usize,
-    s: usize,
-    sit: &Situation,
-    detail: Option<&voxcast_core::sample::SampleDetail>,
-) {
-    let Some(step) = lessons.step().cloned() else {
-        return;
-    };
-    let level = &lessons.levels[l];
-    ui.heading(&level.title);
-    ui.label(egui::RichText::new(&level.concept).italics());
-    ui.separator();
-    ui.label(format!("Step {} of {}", s + 1, level.steps.len()));
-    ui.label(&step.text);
-    if let Some(c) = step.control {
-        ui.colored_label(
-            egui::Color32::LIGHT_BLUE,
-            format!("Look at: {} (framed in yellow)", control_name(c)),
-        );
-    }
-    let met = step.objective.met(sit);
-    let reading = step.objective == Objective::Read;
-    if let Some(d) = detail {
-        ui.horizontal(|ui| {
-            ui.label("your value:");
-            ui.text_edit_singleline(&mut lessons.prediction);
-        });
-        if met {
-            // The answer: each corner, its weight and its share.
-            egui::Grid::new("prediction").striped(true).show(ui, |ui| {
-                for h in ["corner", "value", "weight", "weight × value"] {
-                    ui.strong(h);
-                }
-                ui.end_row();
-                for i in 0..8 {
-                    let c = d.corners[i];
-                    ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
-                    ui.label(d.values[i].to_string());
-                    ui.label(d.weights[i].to_string());
-                    ui.label((d.values[i] * d.weights[i]).to_string());
-                    ui.end_row();
-                }
-            });
-            ui.label(format!("value = {}", d.value));
-        }
-    }
-    if !reading {
-        ui.label(if met { "✔ done" } else { "… not yet" });
-    }
-    let mut next = false;
-    let mut leave = false;
-    ui.horizontal(|ui| {
-        next = ui
-            .add_enabled(
-                met,
-                egui::Button::new(if reading { "Next" } else { "Next ✔" }),
-            )
-            .clicked();
-        leave = ui.button("Free play").clicked();
-    });
-    if next {
-        lessons.next();
-    } else if leave {
-        lessons.free_play();
+        trade_measured: trade.current(view, render, volume).is_some(),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sandbox::inspect::{Inspection, SampleSphere};
+    use crate::sandbox::light::LightMarker;
+    use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
+    use bevy::window::FileDragAndDrop;
+    use voxcast_core::composite::Method;
 
-    /// Every level played through: each objective met by doing what it asks in the state a
-    /// user's controls change, and Next then moves on; progress is recorded per step.
+    /// The sandbox's level logic and spawners without a window or a GPU.
+    fn app(progress: PathBuf) -> App {
+        AsyncComputeTaskPool::get_or_init(TaskPool::new);
+        let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
+        let mut app = App::new();
+        app.add_plugins((MinimalPlugins, bevy::state::app::StatesPlugin))
+            .insert_resource(volume)
+            .insert_resource(render)
+            .init_resource::<Assets<Mesh>>()
+            .init_resource::<Assets<StandardMaterial>>()
+            .add_message::<FileDragAndDrop>()
+            .init_resource::<PreviewSettings>()
+            .init_resource::<BreakdownState>()
+            .init_resource::<Comparison>()
+            .insert_resource(Lessons::new(Some(progress)))
+            .add_plugins((
+                crate::sandbox::mode::plugin,
+                crate::sandbox::loading::plugin,
+                crate::sandbox::inspect::plugin,
+                crate::sandbox::light::marker_plugin,
+                crate::sandbox::trade::plugin,
+                plugin,
+            ))
+            .add_systems(Update, crate::sandbox::virtual_camera::stage_camera);
+        app
+    }
+
+    /// Runs frames until `done` holds (a level's volume loads on the task pool).
+    fn until(app: &mut App, done: impl Fn(&mut App) -> bool) {
+        for _ in 0..500 {
+            app.update();
+            if done(app) {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        panic!("not reached");
+    }
+
+    fn entities<C: Component>(app: &mut App) -> Vec<Entity> {
+        let mut q = app.world_mut().query_filtered::<Entity, With<C>>();
+        q.iter(app.world()).collect()
+    }
+
+    fn mode(app: &App) -> Mode {
+        *app.world().resource::<State<Mode>>().get()
+    }
+
+    fn level(app: &App, id: &str) -> usize {
+        let lessons = app.world().resource::<Lessons>();
+        lessons.levels.iter().position(|l| l.id == id).unwrap()
+    }
+
+    fn send(app: &mut App, c: LevelCommand) {
+        app.world_mut().write_message(c);
+        app.update();
+        app.update();
+    }
+
+    /// Levels are states: starting one spawns only what its scene holds, and what free play
+    /// spawned (virtual camera, body, sample spheres, light marker) leaves; Next is refused
+    /// until the objective is met by the state a control edits; the last Next records the
+    /// progress on disk and returns to free play, which spawns its own scene again.
     #[test]
-    fn every_level_can_be_completed() {
+    fn a_level_spawns_its_scene_and_everything_leaves_with_it() {
         let dir = std::env::temp_dir().join(format!("voxcast-levels-{}", std::process::id()));
         let path = dir.join("progress.json");
-        let mut lessons = Lessons::new(Some(path.clone()));
-        for l in 0..lessons.levels.len() {
-            lessons.start(l);
-            let mut sit = Situation {
-                step_voxels: 0.5,
-                virtual_pixels: 4,
-                ..Default::default()
-            };
-            while let Some(step) = lessons.step().cloned() {
-                match step.objective {
-                    Objective::Read => {}
-                    Objective::SelectRay => sit.ray_selected = true,
-                    Objective::VirtualPixelsAtLeast { pixels } => sit.virtual_pixels = pixels,
-                    Objective::StepAtMost { voxels } => sit.step_voxels = voxels,
-                    Objective::Method { method } => sit.method = Some(method),
-                    Objective::OpenHighestSample => {
-                        sit.ray_selected = true;
-                        sit.ray_values = vec![3.0, 9.0, 1.0];
-                        sit.opened_sample = Some(1);
-                    }
-                    Objective::EarlyTermination { on } => sit.early_termination = on,
-                    Objective::OpacityCorrection { on } => sit.opacity_correction = on,
-                    Objective::Shading { on } => sit.shading = on,
-                    Objective::TargetBetween { lo, hi } => sit.target = Some(0.5 * (lo + hi)),
-                    Objective::TfAlphaAtMost { value, alpha } => {
-                        let t = sit.transfer.take().unwrap_or_else(|| {
-                            voxcast_core::transfer::TransferFunction::ramp(0.0, 255.0, 1.0).unwrap()
-                        });
-                        let (t, _) = t.with_point_added(value, alpha).unwrap();
-                        sit.transfer = Some(t);
-                    }
-                    Objective::TfColorNear {
-                        value,
-                        color,
-                        alpha,
-                        ..
-                    } => {
-                        let t = sit.transfer.take().unwrap_or_else(|| {
-                            voxcast_core::transfer::TransferFunction::ramp(0.0, 255.0, 1.0).unwrap()
-                        });
-                        let (t, i) = t.with_point_added(value, alpha).unwrap();
-                        sit.transfer = Some(t.with_point_color(i, color).unwrap());
-                    }
-                    Objective::Compared { max } => sit.compared_max = Some(max * 0.5),
-                    Objective::LightInsideVolume => sit.light_inside_volume = true,
-                    Objective::BackToFront { on } => sit.back_to_front = on,
-                    Objective::LightKind { ref light } => {
-                        sit.light_kind = if light == "point" {
-                            "point"
-                        } else {
-                            "directional"
-                        }
-                    }
-                    Objective::Attenuated => sit.attenuated = true,
-                    Objective::PredictValue { point, .. } => {
-                        // The player types the value the core computes (its agreement with
-                        // the lecture's formula is tested in voxcast_core::builtin).
-                        let v = voxcast_core::builtin::worked_voxel();
-                        let truth = voxcast_core::sample::detail_at(
-                            &v,
-                            Vec3::from_array(point),
-                            voxcast_core::sample::Interpolation::Trilinear,
-                        )
-                        .value;
-                        sit.prediction = Some((truth, truth));
-                    }
-                    Objective::Classification { ref mode } => {
-                        sit.classification = match mode.as_str() {
-                            "iso-contours" => "iso-contours",
-                            "boundaries" => "boundaries",
-                            _ => "table",
-                        }
-                    }
-                }
-                assert!(step.objective.met(&sit), "{:?}", step.objective);
-                lessons.next();
-            }
-            let id = &lessons.levels[l].id;
-            assert_eq!(
-                lessons.progress.completed[id],
-                lessons.levels[l].steps.len()
+        let mut app = app(path.clone());
+        until(&mut app, |a| !entities::<SampleSphere>(a).is_empty());
+        assert_eq!(mode(&app), Mode::FreePlay);
+        let free: Vec<Entity> = [
+            entities::<VirtualCamera>(&mut app),
+            entities::<LightMarker>(&mut app),
+            entities::<SampleSphere>(&mut app),
+        ]
+        .concat();
+        assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
+        assert_eq!(entities::<LightMarker>(&mut app).len(), 1);
+
+        // The trilinear level: the 2³ voxel, one ray, no preview, no light marker.
+        let trilinear = level(&app, "trilinear");
+        send(&mut app, LevelCommand::Start(trilinear));
+        until(&mut app, |a| {
+            a.world().resource::<VolumeState>().source == "builtin:voxel"
+                && !entities::<SampleSphere>(a).is_empty()
+        });
+        assert_eq!(mode(&app), Mode::Level(trilinear));
+        for e in &free {
+            assert!(
+                app.world().get_entity(*e).is_err(),
+                "{e} left with free play"
             );
         }
-        // Saved: a new session sees the same progress.
-        assert_eq!(Lessons::new(Some(path)).progress, lessons.progress);
+        let vcs = entities::<VirtualCamera>(&mut app);
+        assert_eq!(vcs.len(), 1);
+        let vc = *app.world().get::<VirtualCamera>(vcs[0]).unwrap();
+        assert_eq!((vc.width, vc.height), (1, 1));
+        assert!(entities::<LightMarker>(&mut app).is_empty());
+        assert!(!app.world().resource::<PreviewSettings>().enabled);
+        assert_eq!(app.world().resource::<Inspection>().size, UVec2::ONE);
+
+        // The methods level: no virtual camera at all, so nothing is inspected.
+        let methods = level(&app, "methods");
+        send(&mut app, LevelCommand::Start(methods));
+        until(&mut app, |a| {
+            a.world().resource::<VolumeState>().source == "builtin:brainsmall"
+        });
+        app.update();
+        assert!(entities::<VirtualCamera>(&mut app).is_empty());
+        assert!(entities::<SampleSphere>(&mut app).is_empty());
+        assert_eq!(app.world().resource::<Inspection>().size, UVec2::ZERO);
+        assert!(app.world().resource::<PreviewSettings>().enabled);
+        // Its steps: Next is refused until the method is chosen, as the panel's menu does.
+        let steps = app.world().resource::<Lessons>().levels[methods]
+            .steps
+            .clone();
+        let mut last = Method::Accumulate;
+        for (k, step) in steps.iter().enumerate() {
+            let method = match step.objective {
+                Objective::Read => {
+                    send(&mut app, LevelCommand::Next);
+                    assert_eq!(app.world().resource::<Lessons>().step, k + 1, "read on");
+                    continue;
+                }
+                Objective::Method { method } => method,
+                _ => panic!("the methods level asks for methods"),
+            };
+            last = method;
+            assert!(
+                !app.world().resource::<Lessons>().met,
+                "step {k} met at once"
+            );
+            send(&mut app, LevelCommand::Next);
+            assert_eq!(app.world().resource::<Lessons>().step, k, "Next refused");
+            app.world_mut()
+                .resource_mut::<RenderState>()
+                .settings
+                .method = method;
+            app.update();
+            assert!(app.world().resource::<Lessons>().met);
+            send(&mut app, LevelCommand::Next);
+        }
+        // Done: back in free play, with its scene, and the progress saved.
+        assert_eq!(mode(&app), Mode::FreePlay);
+        assert_eq!(app.world().resource::<RenderState>().settings.method, last);
+        until(&mut app, |a| !entities::<SampleSphere>(a).is_empty());
+        assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
+        assert_eq!(entities::<LightMarker>(&mut app).len(), 1);
+        let saved = Progress::load(&path).0;
+        assert_eq!(saved.completed["methods"], steps.len());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Entering a level resets the settings to its volume's defaults, so a choice made in free
+    /// play does not meet its objectives before the player acts.
+    #[test]
+    fn a_level_starts_from_its_volumes_defaults() {
+        let dir = std::env::temp_dir().join(format!("voxcast-reset-{}", std::process::id()));
+        let mut app = app(dir.join("progress.json"));
+        app.update();
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .method = Method::Maximum;
+        let sampling = level(&app, "sampling");
+        send(&mut app, LevelCommand::Start(sampling));
+        let s = &app.world().resource::<RenderState>().settings;
+        assert_eq!(s.method, Method::Accumulate);
+        assert!(!dir.exists(), "nothing saved before a step is done");
     }
 }

@@ -4,8 +4,10 @@
 mod classify;
 mod compare;
 pub mod inspector;
-mod levels;
+pub(crate) mod levels;
+mod levels_window;
 mod light;
+mod trade;
 mod transfer;
 
 use super::compare::Comparison;
@@ -38,7 +40,11 @@ pub(super) fn plugin(app: &mut App) {
         .init_resource::<compare::CompareWindow>()
         .init_resource::<inspector::BreakdownState>()
         .insert_resource(levels::Lessons::new(levels::progress_path()))
-        .add_systems(Update, (inspector::follow_selection, levels::set_up_scene))
+        .add_plugins(levels::plugin)
+        .add_systems(
+            Update,
+            inspector::follow_selection.before(levels::check_objective),
+        )
         .add_systems(
             EguiPrimaryContextPass,
             (
@@ -46,7 +52,7 @@ pub(super) fn plugin(app: &mut App) {
                 settings_panel,
                 inspector::rays_window,
                 inspector::breakdown_window,
-                levels::levels_window,
+                levels_window::levels_window,
                 compare::compare_window,
             )
                 .chain(),
@@ -353,7 +359,7 @@ fn settings_panel(
     mut contexts: EguiContexts,
     mut panel: ResMut<PanelState>,
     (volume, mut loading, lessons): (Res<VolumeState>, ResMut<Loading>, Res<levels::Lessons>),
-    mut render: ResMut<RenderState>,
+    (mut render, mut step_trade): (ResMut<RenderState>, ResMut<super::trade::StepTrade>),
     (diagnostics, mut preview): (Res<DiagnosticsStore>, ResMut<PreviewSettings>),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
     (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
@@ -361,10 +367,14 @@ fn settings_panel(
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
     let mut load: Option<String> = None;
-    let spot: Spot = lessons.step().and_then(|s| s.control);
+    let spot: Spot = lessons.spot;
     let about = |cs: &[Control]| spot.is_some_and(|c| cs.contains(&c));
     // The panel may use the window's height; it scrolls beyond that.
     let tall = (ctx.viewport_rect().height() - 80.0).max(200.0);
+    let trade_current = step_trade
+        .current(main_views.single().ok(), &render, &volume)
+        .is_some();
+    let voxel = volume.volume.spacing().min_element();
     egui::Window::new("Settings")
         .resizable(false)
         .min_height(tall)
@@ -408,6 +418,21 @@ fn settings_panel(
                     section(ui, "Ray casting", true, about(&ray_controls), |ui| {
                         ray_section(ui, &mut edited.settings, &volume, spot)
                     });
+                    section(
+                        ui,
+                        "Speed against accuracy",
+                        false,
+                        about(&[Control::StepTrade]),
+                        |ui| {
+                            trade::trade_section(
+                                ui,
+                                &mut step_trade,
+                                trade_current,
+                                edited.settings.step.voxels(voxel),
+                                spot,
+                            )
+                        },
+                    );
                     section(
                         ui,
                         "Shading and light",

@@ -1,0 +1,309 @@
+//! `voxcast --play-levels DIR`: plays every level to the end in the real window, as a player
+//! would — the Levels window's commands (start, Next), then for each step the change its
+//! control makes (a method chosen, a slider moved, a ray clicked, a point added to the transfer
+//! function, Render image pressed) — and takes a window screenshot of each level's first step
+//! (`DIR/NN_id.png`). It checks that no objective is met before the player acts and that each is
+//! met after; `DIR/report.txt` lists every step, and the exit code is non-zero on a failure.
+
+use super::compare::Comparison;
+use super::inspect::{Inspection, RayAnimation, RaySelection};
+use super::loading::Loading;
+use super::mode::Mode;
+use super::state::{RenderState, VolumeState};
+use super::trade::StepTrade;
+use super::ui::inspector::BreakdownState;
+use super::ui::levels::{Lessons, LevelCommand};
+use super::virtual_camera::VirtualCamera;
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+use std::path::PathBuf;
+use voxcast_core::classify::Classification;
+use voxcast_core::level::Objective;
+use voxcast_core::shade::Light;
+use voxcast_core::step::Length;
+
+/// Frames a new scene is drawn before its screenshot (pipelines compile synchronously here).
+const SETTLE_FRAMES: u32 = 8;
+/// Frames a screenshot is given to arrive.
+const SHOT_FRAMES: u32 = 4;
+/// Frames an objective is given to be met after acting (a comparison renders meanwhile).
+const MET_FRAMES: u32 = 600;
+
+/// Where the screenshots and the report go.
+#[derive(Resource)]
+pub struct PlayLevels(pub PathBuf);
+
+/// Where the run is.
+#[derive(Resource, Default)]
+struct Run {
+    level: usize,
+    phase: Phase,
+    frames: u32,
+    report: Vec<String>,
+    failed: bool,
+    /// When the run started (the report gives each level's seconds).
+    started: Option<std::time::Instant>,
+    /// When the current level was asked for (the report gives how long its scene took).
+    asked: Option<std::time::Instant>,
+}
+
+#[derive(Default, Clone, Copy, PartialEq, Debug)]
+enum Phase {
+    /// Ask for the level.
+    #[default]
+    Start,
+    /// Wait for its scene, then screenshot.
+    Settle,
+    /// Wait for the screenshot.
+    Shot,
+    /// Check the step is not met yet, then act until it is.
+    Act { acted: bool },
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<Run>()
+        .add_systems(Update, drive.after(super::ui::levels::check_objective));
+}
+
+/// What the player's hands change.
+#[derive(bevy::ecs::system::SystemParam)]
+struct Hands<'w, 's> {
+    render: ResMut<'w, RenderState>,
+    selection: ResMut<'w, RaySelection>,
+    breakdown: ResMut<'w, BreakdownState>,
+    comparison: ResMut<'w, Comparison>,
+    animation: ResMut<'w, RayAnimation>,
+    trade: ResMut<'w, StepTrade>,
+    cameras: Query<'w, 's, &'static mut VirtualCamera>,
+    inspection: Res<'w, Inspection>,
+    volume: Res<'w, VolumeState>,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn drive(
+    mut commands: Commands,
+    mut run: ResMut<Run>,
+    mut lessons: ResMut<Lessons>,
+    mode: Res<State<Mode>>,
+    loading: Res<Loading>,
+    request: Res<PlayLevels>,
+    mut hands: Hands,
+    (mut send, mut exit): (MessageWriter<LevelCommand>, MessageWriter<AppExit>),
+) {
+    let run = &mut *run;
+    run.frames += 1;
+    if run.level >= lessons.levels.len() {
+        finish(run, &request.0, &mut exit);
+        return;
+    }
+    let level = lessons.levels[run.level].clone();
+    match run.phase {
+        Phase::Start => {
+            run.started.get_or_insert_with(std::time::Instant::now);
+            send.write(LevelCommand::Start(run.level));
+            run.asked = Some(std::time::Instant::now());
+            (run.phase, run.frames) = (Phase::Settle, 0);
+        }
+        Phase::Settle => {
+            let ready = *mode.get() == Mode::Level(run.level)
+                && hands.volume.source == level.scene.volume
+                && loading.under_way().is_none();
+            if !ready {
+                run.frames = 0;
+                return;
+            }
+            if let Some(asked) = run.asked.take() {
+                run.report.push(format!(
+                    "{}: scene set up in {:.2} s",
+                    level.id,
+                    asked.elapsed().as_secs_f32()
+                ));
+            }
+            // The rays drawn whole, not growing.
+            hands.animation.skip();
+            if run.frames >= SETTLE_FRAMES {
+                let path = request
+                    .0
+                    .join(format!("{:02}_{}.png", run.level + 1, level.id));
+                commands
+                    .spawn(Screenshot::primary_window())
+                    .observe(save_to_disk(path));
+                (run.phase, run.frames) = (Phase::Shot, 0);
+            }
+        }
+        Phase::Shot => {
+            if run.frames >= SHOT_FRAMES {
+                (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
+            }
+        }
+        Phase::Act { acted } => {
+            // Leaving the level (its last Next) ends it.
+            if *mode.get() != Mode::Level(run.level) {
+                let seconds = run
+                    .started
+                    .get_or_insert_with(std::time::Instant::now)
+                    .elapsed();
+                run.report.push(format!(
+                    "{}: done at {:.1} s",
+                    level.id,
+                    seconds.as_secs_f32()
+                ));
+                run.level += 1;
+                (run.phase, run.frames) = (Phase::Start, 0);
+                return;
+            }
+            let Some(step) = level.steps.get(lessons.step).cloned() else {
+                return;
+            };
+            let what = format!("{} step {}", level.id, lessons.step + 1);
+            if !acted && run.frames < 2 {
+                // The check runs once the scene is set: give it a frame.
+                return;
+            }
+            if !acted {
+                if lessons.met && step.objective != Objective::Read {
+                    run.report
+                        .push(format!("{what}: FAILED, met before the player acted"));
+                    run.failed = true;
+                }
+                run.phase = Phase::Act { acted: true };
+                run.frames = 0;
+            }
+            if lessons.met {
+                run.report
+                    .push(format!("{what}: ok after {} frames", run.frames));
+                send.write(LevelCommand::Next);
+                (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
+                return;
+            }
+            if run.frames > MET_FRAMES {
+                run.report
+                    .push(format!("{what}: FAILED, not met after acting ({step:?})"));
+                run.failed = true;
+                send.write(LevelCommand::FreePlay);
+                return;
+            }
+            act(&step.objective, &mut hands, &mut lessons);
+        }
+    }
+}
+
+/// Does what the objective asks, through the state the step's control edits. Called every
+/// frame until the objective is met (each action is idempotent).
+fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
+    let s = &mut hands.render.settings;
+    let (lo, hi) = hands.volume.volume.bounds();
+    let centre = (lo + hi) * 0.5;
+    match objective {
+        Objective::Read => {}
+        Objective::SelectRay => select_centre(hands),
+        Objective::VirtualPixelsAtLeast { pixels } => {
+            for mut vc in &mut hands.cameras {
+                (vc.width, vc.height) = (*pixels, *pixels);
+            }
+        }
+        Objective::StepAtMost { voxels } => s.step = Length::Voxels(*voxels),
+        Objective::Method { method } => s.method = *method,
+        Objective::OpenHighestSample => {
+            // Click a ray, then the row of its highest value.
+            let highest = hands.breakdown.trace.as_ref().and_then(|t| {
+                (0..t.samples.len()).max_by(|&a, &b| {
+                    let v = |i: usize| t.samples[i].reconstruction.value;
+                    v(a).total_cmp(&v(b))
+                })
+            });
+            match highest {
+                Some(i) => hands.breakdown.opened = Some(i),
+                None => select_centre(hands),
+            }
+        }
+        Objective::EarlyTermination { on } => s.early_termination = *on,
+        Objective::OpacityCorrection { on } => s.opacity_correction = *on,
+        Objective::Shading { on } => s.shading = *on,
+        Objective::TargetBetween { lo, hi } => s.target = Some(0.5 * (lo + hi)),
+        Objective::Classification { mode } => {
+            s.classification = match mode.as_str() {
+                "iso-contours" => Classification::IsoContours {
+                    isovalues: vec![s.target.unwrap_or(128.0)],
+                    thickness_voxels: 1.0,
+                },
+                "boundaries" => Classification::Boundaries {
+                    full_gradient: None,
+                },
+                _ => Classification::Table,
+            }
+        }
+        Objective::TfAlphaAtMost { value, alpha } => {
+            if let Ok((t, _)) = hands.render.transfer.with_point_added(*value, *alpha) {
+                hands.render.transfer = t;
+            }
+        }
+        Objective::TfColorNear {
+            value,
+            color,
+            alpha,
+            ..
+        } => {
+            if let Ok((t, i)) = hands.render.transfer.with_point_added(*value, *alpha)
+                && let Ok(t) = t.with_point_color(i, *color)
+            {
+                hands.render.transfer = t;
+            }
+        }
+        Objective::Compared { .. } => {
+            if !hands.comparison.busy() {
+                hands.comparison.start();
+            }
+        }
+        Objective::LightInsideVolume => s.phong.light = Light::Point(centre),
+        Objective::PredictValue { .. } => {
+            // The player works the lecture's formula out; here the core's answer is typed.
+            if let Some(d) = &lessons.detail {
+                lessons.prediction = d.value.to_string();
+            }
+        }
+        Objective::BackToFront { on } => {
+            s.order = if *on {
+                voxcast_core::composite::Order::BackToFront
+            } else {
+                voxcast_core::composite::Order::FrontToBack
+            }
+        }
+        Objective::LightKind { light } => {
+            s.phong.light = match light.as_str() {
+                "point" => Light::Point(hi + (hi - lo) * 0.25),
+                "directional" => Light::Directional(Vec3::new(-1.0, -1.0, -1.0).normalize()),
+                _ => Light::Headlight,
+            }
+        }
+        Objective::Attenuated => s.phong.kl = 0.5,
+        Objective::TradeMeasured => {
+            if hands.trade.progress().is_none() {
+                hands.trade.request();
+            }
+        }
+    }
+}
+
+/// Clicks the pixel in the middle of the virtual camera's image.
+fn select_centre(hands: &mut Hands) {
+    let size = hands.inspection.size;
+    if size != UVec2::ZERO && hands.selection.selected.is_none() {
+        hands.selection.selected = Some(size / 2);
+    }
+}
+
+/// Writes the report and exits (non-zero on a failure).
+fn finish(run: &mut Run, dir: &std::path::Path, exit: &mut MessageWriter<AppExit>) {
+    let text = run.report.join("\n") + "\n";
+    print!("{text}");
+    let written = std::fs::write(dir.join("report.txt"), &text);
+    if let Err(e) = &written {
+        eprintln!("error: cannot write the report: {e}");
+    }
+    exit.write(if run.failed || written.is_err() {
+        AppExit::from_code(1)
+    } else {
+        AppExit::Success
+    });
+}

@@ -1,0 +1,309 @@
+//! The Levels window: the start screen's list of levels with progress and Free Play, or the
+//! current step — its text, the control it is about, a prediction field where the step asks for
+//! one, and Next, open once the objective is met. It only sends [`LevelCommand`]s; the logic is
+//! in `levels`.
+
+use super::levels::{Lessons, LevelCommand};
+use crate::sandbox::mode::Mode;
+use bevy::prelude::*;
+use bevy_egui::{EguiContexts, egui};
+use voxcast_core::level::{Control, Objective};
+
+/// Where a step's control is, in the words of the panel.
+fn control_name(c: Control) -> &'static str {
+    match c {
+        Control::Method => "Settings › Ray casting › Method",
+        Control::Step => "Settings › Ray casting › Step size",
+        Control::VirtualPixels => "Settings › Virtual camera › pixels",
+        Control::PixelGrid => "the Rays window's image",
+        Control::Breakdown => "the ray's breakdown window",
+        Control::OpacityCorrection => "Settings › Ray casting › Opacity correction",
+        Control::EarlyTermination => "Settings › Ray casting › Early ray termination",
+        Control::Target => "Settings › Ray casting › Target value (First)",
+        Control::Shading => "Settings › Shading and light › Shading",
+        Control::Classification => "Settings › Transfer function › Classification",
+        Control::TransferFunction => "Settings › Transfer function (the editor)",
+        Control::RenderImage => "the Render image… button",
+        Control::Light => "Settings › Shading and light › Light",
+        Control::Order => "Settings › Ray casting › Order",
+        Control::StepTrade => "Settings › Speed against accuracy › Measure",
+    }
+}
+
+pub(super) fn levels_window(
+    mut contexts: EguiContexts,
+    mut lessons: ResMut<Lessons>,
+    mode: Res<State<Mode>>,
+    mut commands: MessageWriter<LevelCommand>,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    let mut command = None;
+    egui::Window::new("Levels")
+        .default_pos(egui::pos2(ctx.viewport_rect().center().x - 200.0, 20.0))
+        .default_width(400.0)
+        .show(ctx, |ui| command = levels_ui(ui, &mut lessons, *mode.get()));
+    if let Some(c) = command {
+        commands.write(c);
+    }
+    Ok(())
+}
+
+/// The window's contents; returns what the player asked for.
+pub(super) fn levels_ui(
+    ui: &mut egui::Ui,
+    lessons: &mut Lessons,
+    mode: Mode,
+) -> Option<LevelCommand> {
+    if let Some(m) = &lessons.message {
+        ui.colored_label(egui::Color32::YELLOW, m);
+    }
+    match mode {
+        Mode::FreePlay => level_list(ui, lessons),
+        Mode::Level(l) => level_step(ui, lessons, l),
+    }
+}
+
+fn level_list(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
+    ui.label("One concept per level. Free play: everything on, as it is now.");
+    let mut chosen = None;
+    for (i, level) in lessons.levels.iter().enumerate() {
+        let done = lessons
+            .progress
+            .completed
+            .get(&level.id)
+            .copied()
+            .unwrap_or(0);
+        let total = level.steps.len();
+        ui.horizontal(|ui| {
+            let mark = if done >= total { "✔" } else { " " };
+            if ui
+                .button(format!("{mark} {}. {}", i + 1, level.title))
+                .on_hover_text(&level.concept)
+                .clicked()
+            {
+                chosen = Some(LevelCommand::Start(i));
+            }
+            ui.label(format!("{}/{} steps", done.min(total), total));
+        });
+    }
+    chosen
+}
+
+fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<LevelCommand> {
+    let step = lessons.step_in(Mode::Level(l))?.clone();
+    let level = &lessons.levels[l];
+    ui.heading(&level.title);
+    ui.label(egui::RichText::new(&level.concept).italics());
+    ui.separator();
+    ui.label(format!(
+        "Step {} of {}",
+        lessons.step + 1,
+        level.steps.len()
+    ));
+    ui.label(&step.text);
+    if let Some(c) = step.control {
+        ui.colored_label(
+            egui::Color32::LIGHT_BLUE,
+            format!("Look at: {} (framed in yellow)", control_name(c)),
+        );
+    }
+    let met = lessons.met;
+    let reading = step.objective == Objective::Read;
+    if let Some(d) = lessons.detail.clone() {
+        ui.horizontal(|ui| {
+            ui.label("your value:");
+            ui.text_edit_singleline(&mut lessons.prediction);
+        });
+        if met {
+            // The answer: each corner, its weight and its share.
+            egui::Grid::new("prediction").striped(true).show(ui, |ui| {
+                for h in ["corner", "value", "weight", "weight × value"] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                for i in 0..8 {
+                    let c = d.corners[i];
+                    ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
+                    ui.label(d.values[i].to_string());
+                    ui.label(d.weights[i].to_string());
+                    ui.label((d.values[i] * d.weights[i]).to_string());
+                    ui.end_row();
+                }
+            });
+            ui.label(format!("value = {}", d.value));
+        }
+    }
+    if !reading {
+        ui.label(if met { "✔ done" } else { "… not yet" });
+    }
+    let mut command = None;
+    ui.horizontal(|ui| {
+        let label = if reading { "Next" } else { "Next ✔" };
+        if ui.add_enabled(met, egui::Button::new(label)).clicked() {
+            command = Some(LevelCommand::Next);
+        }
+        if ui.button("Free play").clicked() {
+            command = Some(LevelCommand::FreePlay);
+        }
+    });
+    command
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use egui::{Pos2, Rect, vec2};
+
+    /// Drives the window's contents with the pointer events a player's clicks make.
+    struct Harness {
+        ctx: egui::Context,
+    }
+
+    impl Harness {
+        fn new() -> Self {
+            let ctx = egui::Context::default();
+            // Debug builds then record each widget's label, to find buttons by their text.
+            ctx.all_styles_mut(|s| s.debug.show_interactive_widgets = true);
+            Self { ctx }
+        }
+
+        fn frame(
+            &self,
+            lessons: &mut Lessons,
+            mode: Mode,
+            events: Vec<egui::Event>,
+        ) -> Option<LevelCommand> {
+            let input = egui::RawInput {
+                events,
+                screen_rect: Some(Rect::from_min_size(Pos2::ZERO, vec2(600.0, 900.0))),
+                ..Default::default()
+            };
+            let mut command = None;
+            self.ctx
+                .run_ui(input, |ui| command = levels_ui(ui, lessons, mode))
+                .drop_without_applying_deltas();
+            command
+        }
+
+        /// The rectangle and enabled state of the widget labelled `label` in the last frame.
+        fn find(&self, label: &str) -> Option<(Rect, bool)> {
+            self.ctx.viewport(|v| {
+                let widgets = &v.prev_pass.widgets;
+                widgets.layers().find_map(|(_, rects)| {
+                    rects.iter().find_map(|r| {
+                        let info = widgets.info(r.id)?;
+                        (info.label.as_deref() == Some(label)).then_some((r.rect, r.enabled))
+                    })
+                })
+            })
+        }
+
+        /// Clicks the widget labelled `label` (press and release over two frames).
+        fn click(&self, lessons: &mut Lessons, mode: Mode, label: &str) -> Option<LevelCommand> {
+            self.frame(lessons, mode, vec![]);
+            let (rect, _) = self.find(label).unwrap_or_else(|| panic!("no “{label}”"));
+            let at = rect.center();
+            let button = |pressed| egui::Event::PointerButton {
+                pos: at,
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers: Default::default(),
+            };
+            let pressed = self.frame(
+                lessons,
+                mode,
+                vec![egui::Event::PointerMoved(at), button(true)],
+            );
+            pressed.or(self.frame(lessons, mode, vec![button(false)]))
+        }
+    }
+
+    /// The start screen lists every level with its progress; a click starts one; Next is
+    /// greyed out and does nothing until the objective is met, then moves on; Free play leaves.
+    #[test]
+    fn clicks_on_the_window_send_the_levels_commands() {
+        let h = Harness::new();
+        let mut lessons = Lessons::new(None);
+        lessons.progress.record("sampling", 2);
+        let title = format!("  2. {}", lessons.levels[1].title);
+        h.frame(&mut lessons, Mode::FreePlay, vec![]);
+        for (i, level) in lessons.levels.iter().enumerate() {
+            // None done: no ✔ before the number.
+            assert!(
+                h.find(&format!("  {}. {}", i + 1, level.title)).is_some(),
+                "{} listed",
+                level.id
+            );
+        }
+        assert_eq!(
+            h.click(&mut lessons, Mode::FreePlay, &title),
+            Some(LevelCommand::Start(1))
+        );
+        // In the level, at a step with an objective not yet met.
+        let mode = Mode::Level(1);
+        lessons.step = 1;
+        lessons.met = false;
+        h.frame(&mut lessons, mode, vec![]);
+        assert_eq!(h.find("Next ✔").map(|f| f.1), Some(false), "greyed out");
+        assert_eq!(h.click(&mut lessons, mode, "Next ✔"), None);
+        lessons.met = true;
+        assert_eq!(
+            h.click(&mut lessons, mode, "Next ✔"),
+            Some(LevelCommand::Next)
+        );
+        assert_eq!(
+            h.click(&mut lessons, mode, "Free play"),
+            Some(LevelCommand::FreePlay)
+        );
+    }
+
+    /// A prediction step takes the typed value through the text field's own events.
+    #[test]
+    fn a_prediction_is_typed_into_the_field() {
+        let h = Harness::new();
+        let mut lessons = Lessons::new(None);
+        let l = lessons
+            .levels
+            .iter()
+            .position(|l| l.id == "trilinear")
+            .unwrap();
+        lessons.step = lessons.levels[l]
+            .steps
+            .iter()
+            .position(|s| matches!(s.objective, Objective::PredictValue { .. }))
+            .unwrap();
+        let v = voxcast_core::builtin::worked_voxel();
+        lessons.detail = Some(voxcast_core::sample::detail_at(
+            &v,
+            Vec3::splat(0.5),
+            voxcast_core::sample::Interpolation::Trilinear,
+        ));
+        let mode = Mode::Level(l);
+        h.frame(&mut lessons, mode, vec![]);
+        let field = h.ctx.viewport(|v| {
+            let w = &v.prev_pass.widgets;
+            w.layers()
+                .flat_map(|(_, r)| r.iter())
+                .find(|r| {
+                    w.info(r.id)
+                        .is_some_and(|i| i.typ == egui::WidgetType::TextEdit)
+                })
+                .map(|r| r.rect.center())
+        });
+        let at = field.expect("a text field");
+        let button = |pressed| egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        };
+        h.frame(
+            &mut lessons,
+            mode,
+            vec![egui::Event::PointerMoved(at), button(true)],
+        );
+        h.frame(&mut lessons, mode, vec![button(false)]);
+        h.frame(&mut lessons, mode, vec![egui::Event::Text("4.5".into())]);
+        assert_eq!(lessons.prediction, "4.5");
+    }
+}

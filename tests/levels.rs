@@ -1,0 +1,85 @@
+//! Every level played to the end in the real window on lavapipe (`voxcast --play-levels`): the
+//! commands the Levels window sends and, for each step, the change its control makes; a window
+//! screenshot of each level's first step. Needs an X display: the test uses `$DISPLAY`, or
+//! starts one with `xvfb-run`; without either (or without a Vulkan device) it says so and
+//! passes, unless `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use voxcast_core::level::Level;
+
+fn out_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/levels")
+}
+
+fn required() -> bool {
+    std::env::var_os("VOXCAST_REQUIRE_GPU").is_some_and(|v| v == "1")
+}
+
+/// The sandbox's command, inside `xvfb-run` when there is no display.
+fn windowed() -> Option<Command> {
+    let exe = env!("CARGO_BIN_EXE_voxcast");
+    if std::env::var_os("DISPLAY").is_some() {
+        return Some(Command::new(exe));
+    }
+    let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
+    has_xvfb.then(|| {
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "-s", "-screen 0 1280x800x24", exe]);
+        c
+    })
+}
+
+#[test]
+fn every_level_plays_through_with_a_screenshot_of_its_first_step() {
+    let Some(mut command) = windowed() else {
+        assert!(!required(), "no X display and no xvfb-run");
+        eprintln!("note: no X display or xvfb-run here; the level play-through is skipped");
+        return;
+    };
+    let dir = out_dir();
+    let _ = std::fs::remove_dir_all(&dir);
+    let output = command
+        .arg("--play-levels")
+        .arg(&dir)
+        // Small and at half resolution: every frame is drawn by lavapipe on the CPU.
+        .args(["--size", "1024x576", "--preview-scale", "0.5"])
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .expect("the binary runs");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if !output.status.success()
+        && !required()
+        && (stderr.contains("Unable to find a GPU") || stderr.contains("adapter"))
+    {
+        eprintln!("note: no Vulkan device here; the level play-through is skipped");
+        return;
+    }
+    assert!(output.status.success(), "{stdout}\n{stderr}");
+    let report = std::fs::read_to_string(dir.join("report.txt")).unwrap();
+    assert!(!report.contains("FAILED"), "{report}");
+    let levels = Level::all();
+    let progress = std::fs::read_to_string(dir.join("progress.json")).unwrap();
+    let progress: voxcast_core::level::Progress = serde_json::from_str(&progress).unwrap();
+    for (i, level) in levels.iter().enumerate() {
+        for k in 1..=level.steps.len() {
+            assert!(
+                report.contains(&format!("{} step {k}: ok", level.id)),
+                "{}: step {k}\n{report}",
+                level.id
+            );
+        }
+        assert_eq!(progress.completed[&level.id], level.steps.len());
+        // The screenshot: the window, with more than a blank background in it.
+        let shot = dir.join(format!("{:02}_{}.png", i + 1, level.id));
+        let img = image::open(&shot)
+            .unwrap_or_else(|e| panic!("{}: {e}", shot.display()))
+            .to_rgb8();
+        assert_eq!(img.dimensions(), (1024, 576), "{}", shot.display());
+        let mut colours: Vec<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+        colours.sort_unstable();
+        colours.dedup();
+        assert!(colours.len() > 50, "{} is nearly blank", shot.display());
+    }
+}
