@@ -11,6 +11,8 @@
 //!   reconstruction and step-size artefact.
 //! * `bucky` — a buckminsterfullerene-like cage: Gaussian blobs on the 60 vertices of a
 //!   truncated icosahedron (32³, u8).
+//! * `blobs` — two Gaussian blobs, one brighter, on an 8³ grid (u8): small enough that every
+//!   voxel, ray and sample can be seen and counted.
 //! * `head` — a CT-like head phantom: nested ellipsoids of scalp, skull, brain and two
 //!   ventricles at CT-like levels ([`HEAD_SKIN`] … [`HEAD_BONE`]) with soft edges 1.5 voxels wide
 //!   (64³, u8): a low isovalue shows the skin, one between skin and bone the skull.
@@ -43,6 +45,10 @@ pub const DATASETS: &[(&str, &str)] = &[
     (
         "bucky",
         "buckyball-like cage of 60 Gaussian atoms (32³, uint8)",
+    ),
+    (
+        "blobs",
+        "two Gaussian blobs on an 8³ grid, small enough to see every voxel and sample (uint8)",
     ),
     (
         "head",
@@ -79,6 +85,7 @@ pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
         "bucky" => Ok(generated(bucky())),
         "voxel" => Ok(generated(worked_voxel())),
         "head" => Ok(generated(head())),
+        "blobs" => Ok(generated(blobs())),
         other => {
             let names: Vec<&str> = DATASETS.iter().map(|d| d.0).collect();
             Err(LoadError::new(
@@ -122,6 +129,18 @@ pub fn shells() -> Volume {
         }
     });
     Volume::new("shells", UVec3::splat(n), Vec3::ONE, VoxelData::U8(data))
+        .expect("valid by construction")
+}
+
+/// The blobs (see module docs): peaks 1 and 0.6 of the full range, σ = 1.2 voxels.
+pub fn blobs() -> Volume {
+    let (a, b) = (Vec3::new(2.5, 3.5, 3.5), Vec3::new(5.5, 4.0, 3.0));
+    let g = |p: Vec3, c: Vec3| (-(p - c).length_squared() / (2.0 * 1.2f32 * 1.2)).exp();
+    let data = lattice(8, |i, j, k| {
+        let p = Vec3::new(i as f32, j as f32, k as f32);
+        to_u8(g(p, a) + 0.6 * g(p, b))
+    });
+    Volume::new("blobs", UVec3::splat(8), Vec3::ONE, VoxelData::U8(data))
         .expect("valid by construction")
 }
 

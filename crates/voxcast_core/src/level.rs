@@ -409,6 +409,16 @@ mod tests {
         }
         assert_eq!(crate::trade::REFERENCE, 1.0 / 16.0);
         assert!(step.text.contains("1/16 voxel"));
+        // The grid it names is the one it loads.
+        let v = crate::builtin::load_source(&level.scene.volume)
+            .unwrap()
+            .volume;
+        let d = v.dims();
+        assert!(
+            level.steps[0]
+                .text
+                .contains(&format!("{}×{}×{}", d.x, d.y, d.z))
+        );
     }
 
     #[test]
