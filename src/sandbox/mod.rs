@@ -7,6 +7,7 @@
 mod compare;
 mod compare_cli;
 mod inspect;
+mod lattice;
 mod light;
 mod loading;
 mod material;
@@ -182,6 +183,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 virtual_camera::plugin,
                 inspect::plugin,
                 trade::plugin,
+                lattice::plugin,
             ))
             .insert_resource(free_play)
             .insert_resource(free_play.0)

@@ -1,0 +1,92 @@
+//! The volume's lattice in the scene: the box it spans always, and for a small grid (up to
+//! [`LATTICE_MAX`] points a side, like the sampling level's 8³ or the worked 2³ voxel) the lines
+//! through its lattice points, so the voxels a ray passes can be counted even with the preview
+//! off. Gizmo lines: hidden with the other gizmos while a comparison captures the preview.
+
+use super::state::VolumeState;
+use bevy::prelude::*;
+
+/// The largest grid whose lattice lines are drawn (more would be a blur of lines).
+pub const LATTICE_MAX: u32 = 16;
+
+pub(super) fn plugin(app: &mut App) {
+    app.add_systems(Update, draw_lattice);
+}
+
+/// The segments: the box's 12 edges, and the lattice lines when every axis has at most
+/// [`LATTICE_MAX`] points.
+pub fn lattice_lines(volume: &voxcast_core::volume::Volume) -> Vec<(Vec3, Vec3)> {
+    let (lo, hi) = volume.bounds();
+    let dims = volume.dims();
+    let corner = |i: usize| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    let mut lines: Vec<(Vec3, Vec3)> = (0..8)
+        .flat_map(|i| [1, 2, 4].map(|bit| (i, i | bit)))
+        .filter(|(a, b)| a != b)
+        .map(|(a, b)| (corner(a), corner(b)))
+        .collect();
+    if dims.max_element() > LATTICE_MAX {
+        return lines;
+    }
+    let at = |i: u32, axis: usize| volume.spacing()[axis] * i as f32;
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        for i in 0..dims[u] {
+            for j in 0..dims[v] {
+                let mut a = Vec3::ZERO;
+                a[u] = at(i, u);
+                a[v] = at(j, v);
+                let mut b = a;
+                a[axis] = lo[axis];
+                b[axis] = hi[axis];
+                lines.push((a, b));
+            }
+        }
+    }
+    lines
+}
+
+fn draw_lattice(mut gizmos: Gizmos, volume: Res<VolumeState>, mut cache: Local<Vec<(Vec3, Vec3)>>) {
+    if volume.is_changed() {
+        *cache = lattice_lines(&volume.volume);
+    }
+    let colour = Color::srgba(0.6, 0.6, 0.6, 0.35);
+    for (a, b) in cache.iter() {
+        gizmos.line(*a, *b, colour);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_small_grid_gets_its_lattice_and_a_large_one_only_its_box() {
+        let blobs = voxcast_core::builtin::blobs();
+        let lines = lattice_lines(&blobs);
+        // 12 edges, then 8 × 8 lines along each of the 3 axes.
+        assert_eq!(lines.len(), 12 + 3 * 64);
+        let (lo, hi) = blobs.bounds();
+        for (a, b) in &lines {
+            for p in [a, b] {
+                assert!(p.cmpge(lo - 1e-6).all() && p.cmple(hi + 1e-6).all());
+            }
+            // Each runs along one axis from face to face.
+            assert_eq!(
+                (*b - *a)
+                    .abs()
+                    .cmpgt(Vec3::splat(1e-6))
+                    .bitmask()
+                    .count_ones(),
+                1
+            );
+        }
+        let bunny = voxcast_core::builtin::load_builtin("bunny").unwrap().volume;
+        assert_eq!(lattice_lines(&bunny).len(), 12);
+    }
+}
