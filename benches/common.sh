@@ -6,7 +6,7 @@ cargo build --release --quiet
 if [ -z "${DISPLAY:-}" ]; then
     Xvfb :78 -screen 0 1400x900x24 >/dev/null 2>&1 &
     XVFB=$!
-    trap 'kill $XVFB' EXIT
+    trap 'kill $XVFB 2>/dev/null || true' EXIT
     export DISPLAY=:78
     sleep 2
 fi

@@ -172,6 +172,11 @@ fn drive(
             if lessons.met {
                 run.report
                     .push(format!("{what}: ok after {} frames", run.frames));
+                if step.objective == Objective::TradeMeasured
+                    && let Some((t, _)) = &hands.trade.result
+                {
+                    run.report.extend(trade_lines(t));
+                }
                 send.write(LevelCommand::Next);
                 (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
                 return;
@@ -283,6 +288,31 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             }
         }
     }
+}
+
+/// The measured trade, a line per step and one for the reference.
+fn trade_lines(t: &voxcast_core::trade::Trade) -> Vec<String> {
+    let mut lines: Vec<String> = t
+        .rows
+        .iter()
+        .map(|r| {
+            format!(
+                "trade step {}: {:.2} ms, {} samples, max {:.1}/255, RMSE {:.2}/255",
+                r.step_voxels,
+                r.seconds * 1e3,
+                r.samples,
+                r.max_error * 255.0,
+                r.rmse * 255.0
+            )
+        })
+        .collect();
+    lines.push(format!(
+        "trade reference {}: {:.2} ms, {} samples",
+        t.reference_voxels,
+        t.reference_seconds * 1e3,
+        t.reference_samples
+    ));
+    lines
 }
 
 /// Clicks the pixel in the middle of the virtual camera's image.
