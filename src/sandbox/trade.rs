@@ -148,3 +148,52 @@ fn finish(mut trade: ResMut<StepTrade>) {
         Err(e) => trade.error = Some(e.to_string()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bevy::tasks::TaskPool;
+    use voxcast_core::composite::Method;
+
+    /// Measure runs in the background; the result stays current while only the step changes
+    /// (the step is what it is about) and goes stale when the method or the view does.
+    #[test]
+    fn a_measurement_is_current_until_the_view_or_settings_change() {
+        AsyncComputeTaskPool::get_or_init(TaskPool::new);
+        let (volume, render) = crate::sandbox::inspect::tests::scene("blobs");
+        let (lo, hi) = volume.volume.bounds();
+        let view = View(CoreCamera::framing(lo, hi, Vec3::Z, Vec3::Y).unwrap());
+        let mut app = App::new();
+        app.insert_resource(volume)
+            .insert_resource(render)
+            .add_plugins(plugin);
+        app.world_mut().spawn((MainCamera, view));
+        app.world_mut().resource_mut::<StepTrade>().request();
+        for _ in 0..2000 {
+            app.update();
+            if app.world().resource::<StepTrade>().result.is_some() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        let current = |app: &App| {
+            let w = app.world();
+            w.resource::<StepTrade>()
+                .current(
+                    Some(&view),
+                    w.resource::<RenderState>(),
+                    w.resource::<VolumeState>(),
+                )
+                .map(|t| t.rows.iter().map(|r| r.step_voxels).collect::<Vec<_>>())
+        };
+        // The sampling level's steps and the player's own (½ voxel, already among them).
+        assert_eq!(current(&app), Some(STEPS.to_vec()));
+        app.world_mut().resource_mut::<RenderState>().settings.step = Length::Voxels(0.3);
+        assert!(current(&app).is_some(), "another step: still current");
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .method = Method::Maximum;
+        assert!(current(&app).is_none(), "another method: stale");
+    }
+}

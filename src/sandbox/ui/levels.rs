@@ -438,8 +438,25 @@ mod tests {
             .resource_mut::<RenderState>()
             .settings
             .method = Method::Maximum;
+        // The rays level shows the volume already loaded: reset at once.
+        let rays = level(&app, "rays");
+        assert_eq!(
+            app.world().resource::<Lessons>().levels[rays].scene.volume,
+            "builtin:bucky"
+        );
+        send(&mut app, LevelCommand::Start(rays));
+        let s = &app.world().resource::<RenderState>().settings;
+        assert_eq!(s.method, Method::Accumulate);
+        // Another volume: its load brings its defaults.
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .method = Method::Maximum;
         let sampling = level(&app, "sampling");
         send(&mut app, LevelCommand::Start(sampling));
+        until(&mut app, |a| {
+            a.world().resource::<VolumeState>().source == "builtin:blobs"
+        });
         let s = &app.world().resource::<RenderState>().settings;
         assert_eq!(s.method, Method::Accumulate);
         assert!(!dir.exists(), "nothing saved before a step is done");
