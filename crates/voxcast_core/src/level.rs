@@ -43,6 +43,22 @@ pub struct LevelScene {
     /// depth against geometry).
     #[serde(default)]
     pub light: bool,
+    /// The settings panel's sections the level shows (`None`: all of them).
+    #[serde(default)]
+    pub panel: Option<Vec<Section>>,
+}
+
+/// A section of the settings panel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Section {
+    Dataset,
+    RayCasting,
+    SpeedAccuracy,
+    ShadingAndLight,
+    TransferFunction,
+    VirtualCamera,
+    Preview,
 }
 
 /// A panel control a step is about (highlighted while the step is shown).
@@ -64,6 +80,25 @@ pub enum Control {
     Light,
     Order,
     StepTrade,
+}
+
+impl Control {
+    /// The panel section holding the control (`None`: it is in a window of its own).
+    pub fn section(self) -> Option<Section> {
+        match self {
+            Control::Method
+            | Control::Step
+            | Control::OpacityCorrection
+            | Control::EarlyTermination
+            | Control::Target
+            | Control::Order => Some(Section::RayCasting),
+            Control::VirtualPixels => Some(Section::VirtualCamera),
+            Control::Shading | Control::Light => Some(Section::ShadingAndLight),
+            Control::Classification | Control::TransferFunction => Some(Section::TransferFunction),
+            Control::StepTrade => Some(Section::SpeedAccuracy),
+            Control::PixelGrid | Control::Breakdown | Control::RenderImage => None,
+        }
+    }
 }
 
 /// What the player must do to go on.
@@ -478,6 +513,21 @@ mod tests {
             }
             .met(&s)
         );
+    }
+
+    /// A level that limits the panel shows every control its steps are about.
+    #[test]
+    fn a_levels_panel_holds_its_steps_controls() {
+        for l in Level::all() {
+            let Some(panel) = &l.scene.panel else {
+                continue;
+            };
+            for step in &l.steps {
+                if let Some(section) = step.control.and_then(Control::section) {
+                    assert!(panel.contains(&section), "{}: {section:?} hidden", l.id);
+                }
+            }
+        }
     }
 
     #[test]

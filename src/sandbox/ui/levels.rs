@@ -16,7 +16,7 @@ use crate::sandbox::trade::StepTrade;
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
 use std::path::PathBuf;
-use voxcast_core::level::{Control, Level, Objective, Progress, Situation, Step};
+use voxcast_core::level::{Control, Level, Objective, Progress, Section, Situation, Step};
 use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
 
 /// The levels, the step being played and the player's progress.
@@ -37,6 +37,8 @@ pub struct Lessons {
     pub spot: Option<Control>,
     /// For a prediction step: the core's reconstruction at the step's point.
     pub detail: Option<SampleDetail>,
+    /// The panel sections the current level shows (`None`: all, as in free play).
+    pub panel: Option<Vec<Section>>,
 }
 
 /// What the Levels window asks for (a scripted run sends the same).
@@ -67,6 +69,7 @@ impl Lessons {
             met: false,
             spot: None,
             detail: None,
+            panel: None,
         }
     }
 
@@ -216,7 +219,14 @@ pub(crate) fn check_objective(
         }
         step.objective.met(&sit)
     });
+    let panel = match *mode.get() {
+        Mode::Level(l) => lessons.levels.get(l).and_then(|l| l.scene.panel.clone()),
+        Mode::FreePlay => None,
+    };
     (lessons.met, lessons.spot, lessons.detail) = (met, spot, detail);
+    if lessons.panel != panel {
+        lessons.panel = panel;
+    }
 }
 
 /// What the player has done, as the objectives see it.
@@ -374,6 +384,12 @@ mod tests {
         assert!(entities::<LightMarker>(&mut app).is_empty());
         assert!(!app.world().resource::<PreviewSettings>().enabled);
         assert_eq!(app.world().resource::<Inspection>().size, UVec2::ONE);
+        // Its panel: only the sections it names.
+        let lessons = app.world().resource::<Lessons>();
+        assert_eq!(
+            lessons.panel.as_deref(),
+            Some(&[voxcast_core::level::Section::RayCasting][..])
+        );
 
         // The methods level: no virtual camera at all, so nothing is inspected.
         let methods = level(&app, "methods");
@@ -422,6 +438,11 @@ mod tests {
         until(&mut app, |a| !entities::<SampleSphere>(a).is_empty());
         assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
         assert_eq!(entities::<LightMarker>(&mut app).len(), 1);
+        assert_eq!(
+            app.world().resource::<Lessons>().panel,
+            None,
+            "free play shows all"
+        );
         let saved = Progress::load(&path).0;
         assert_eq!(saved.completed["methods"], steps.len());
         std::fs::remove_dir_all(&dir).unwrap();

@@ -20,7 +20,7 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
 use voxcast_core::builtin::DATASETS;
 use voxcast_core::composite::{Method, Order};
-use voxcast_core::level::Control;
+use voxcast_core::level::{Control, Section};
 use voxcast_core::preset;
 use voxcast_core::sample::Interpolation;
 use voxcast_core::settings::RenderSettings;
@@ -369,6 +369,8 @@ fn settings_panel(
     let mut load: Option<String> = None;
     let spot: Spot = lessons.spot;
     let about = |cs: &[Control]| spot.is_some_and(|c| cs.contains(&c));
+    // A level shows only the sections it needs.
+    let shows = |s: Section| lessons.panel.as_ref().is_none_or(|p| p.contains(&s));
     // The panel may use the window's height; it scrolls beyond that.
     let tall = (ctx.viewport_rect().height() - 80.0).max(200.0);
     let trade_current = step_trade
@@ -404,9 +406,11 @@ fn settings_panel(
                             comparison.1.start();
                         }
                     });
-                    section(ui, "Dataset", true, false, |ui| {
-                        load = dataset_section(ui, &mut panel, &volume, &mut loading);
-                    });
+                    if shows(Section::Dataset) {
+                        section(ui, "Dataset", true, false, |ui| {
+                            load = dataset_section(ui, &mut panel, &volume, &mut loading);
+                        });
+                    }
                     let ray_controls = [
                         Control::Order,
                         Control::Method,
@@ -415,57 +419,67 @@ fn settings_panel(
                         Control::EarlyTermination,
                         Control::Target,
                     ];
-                    section(ui, "Ray casting", true, about(&ray_controls), |ui| {
-                        ray_section(ui, &mut edited.settings, &volume, spot)
-                    });
-                    section(
-                        ui,
-                        "Speed against accuracy",
-                        false,
-                        about(&[Control::StepTrade]),
-                        |ui| {
-                            trade::trade_section(
-                                ui,
-                                &mut step_trade,
-                                trade_current,
-                                edited.settings.step.voxels(voxel),
-                                spot,
-                            )
-                        },
-                    );
-                    section(
-                        ui,
-                        "Shading and light",
-                        false,
-                        about(&[Control::Shading]),
-                        |ui| shading_section(ui, &mut edited.settings, &volume, spot),
-                    );
-                    section(
-                        ui,
-                        "Transfer function",
-                        true,
-                        about(&[Control::Classification]),
-                        |ui| {
-                            preset_menu(ui, &mut edited);
-                            panel.editor.show(
-                                ui,
-                                &mut edited.transfer,
-                                &volume.volume,
-                                &volume.source,
-                            );
-                            let (lo, hi) = volume.volume.value_range();
-                            marked(ui, spot, Control::Classification, |ui| {
-                                classify::classification_controls(
+                    if shows(Section::RayCasting) {
+                        section(ui, "Ray casting", true, about(&ray_controls), |ui| {
+                            ray_section(ui, &mut edited.settings, &volume, spot)
+                        });
+                    }
+                    if shows(Section::SpeedAccuracy) {
+                        section(
+                            ui,
+                            "Speed against accuracy",
+                            false,
+                            about(&[Control::StepTrade]),
+                            |ui| {
+                                trade::trade_section(
                                     ui,
-                                    &mut edited.settings.classification,
-                                    &mut panel.classify,
-                                    lo,
-                                    hi,
+                                    &mut step_trade,
+                                    trade_current,
+                                    edited.settings.step.voxels(voxel),
+                                    spot,
                                 )
-                            });
-                        },
-                    );
-                    if let Ok(mut vc) = virtual_cameras.single_mut() {
+                            },
+                        );
+                    }
+                    if shows(Section::ShadingAndLight) {
+                        section(
+                            ui,
+                            "Shading and light",
+                            false,
+                            about(&[Control::Shading]),
+                            |ui| shading_section(ui, &mut edited.settings, &volume, spot),
+                        );
+                    }
+                    if shows(Section::TransferFunction) {
+                        section(
+                            ui,
+                            "Transfer function",
+                            true,
+                            about(&[Control::Classification]),
+                            |ui| {
+                                preset_menu(ui, &mut edited);
+                                panel.editor.show(
+                                    ui,
+                                    &mut edited.transfer,
+                                    &volume.volume,
+                                    &volume.source,
+                                );
+                                let (lo, hi) = volume.volume.value_range();
+                                marked(ui, spot, Control::Classification, |ui| {
+                                    classify::classification_controls(
+                                        ui,
+                                        &mut edited.settings.classification,
+                                        &mut panel.classify,
+                                        lo,
+                                        hi,
+                                    )
+                                });
+                            },
+                        );
+                    }
+                    if let Ok(mut vc) = virtual_cameras.single_mut()
+                        && shows(Section::VirtualCamera)
+                    {
                         section(
                             ui,
                             "Virtual camera",
@@ -477,9 +491,11 @@ fn settings_panel(
                             },
                         );
                     }
-                    section(ui, "Preview (slow hardware)", false, false, |ui| {
-                        preview_section(ui, &mut preview, &mut edited.depth_termination)
-                    });
+                    if shows(Section::Preview) {
+                        section(ui, "Preview (slow hardware)", false, false, |ui| {
+                            preview_section(ui, &mut preview, &mut edited.depth_termination)
+                        });
+                    }
                 });
         });
     if edited != *render && edited.settings.validate().is_ok() {
