@@ -237,7 +237,7 @@ pub const ISO_THICKNESS: Tunable = Tunable {
     label: "Isovalue thickness (voxels)",
     doc: "Levoy isovalue classification: the width r of the transition region around each \
           isovalue, in voxels. Opacity falls linearly from the isovalue's to 0 over |f − f_v| ≤ \
-          r·|∇f|, so surfaces look equally thick whatever the local gradient. Default 1.",
+          r·|grad f|, so surfaces look equally thick whatever the local gradient. Default 1.",
     default: 1.0,
     min: 1e-3,
     max: 1e3,
@@ -248,7 +248,7 @@ pub const BOUNDARY_GRADIENT: Tunable = Tunable {
     label: "Full-opacity gradient",
     doc: "Levoy boundary classification: the gradient magnitude (data units per world unit) at \
           which a boundary reaches the transfer function's opacity; opacity is scaled by \
-          |∇f| / this and clamped, so homogeneous regions vanish and boundaries remain. \
+          |grad f| / this and clamped, so homogeneous regions vanish and boundaries remain. \
           Default: a tenth of the value range per voxel.",
     default: 0.0,
     min: 0.0,

@@ -257,6 +257,39 @@ mod tests {
         );
     }
 
+    /// Every character of every level's text and every tooltip has a glyph in the window's
+    /// font (a missing one shows as a box, as ′, ᵢ and ∇ did).
+    #[test]
+    fn every_levels_text_can_be_drawn() {
+        let h = Harness::new();
+        let mut lessons = Lessons::new(None);
+        h.frame(&mut lessons, Mode::FreePlay, vec![]);
+        let font = egui::FontId::proportional(14.0);
+        let mut missing = Vec::new();
+        for level in &lessons.levels {
+            let texts = [&level.title, &level.concept]
+                .into_iter()
+                .chain(level.steps.iter().map(|s| &s.text));
+            for text in texts {
+                for c in text.chars() {
+                    if !h.ctx.fonts_mut(|f| f.has_glyph(&font, c)) {
+                        missing.push((level.id.clone(), c));
+                    }
+                }
+            }
+        }
+        // The tooltips quote the tunables' documentation.
+        for t in voxcast_core::tunables::ALL {
+            for c in t.label.chars().chain(t.doc.chars()) {
+                if !h.ctx.fonts_mut(|f| f.has_glyph(&font, c)) {
+                    missing.push((t.key.to_string(), c));
+                }
+            }
+        }
+        missing.dedup();
+        assert!(missing.is_empty(), "no glyph for {missing:?}");
+    }
+
     /// A prediction step takes the typed value through the text field's own events.
     #[test]
     fn a_prediction_is_typed_into_the_field() {
