@@ -37,8 +37,6 @@ pub struct Lessons {
     pub spot: Option<Control>,
     /// For a prediction step: the core's reconstruction at the step's point.
     pub detail: Option<SampleDetail>,
-    /// The panel sections the current level shows (`None`: all, as in free play).
-    pub panel: Option<Vec<Section>>,
 }
 
 /// What the Levels window asks for (a scripted run sends the same).
@@ -69,7 +67,6 @@ impl Lessons {
             met: false,
             spot: None,
             detail: None,
-            panel: None,
         }
     }
 
@@ -77,6 +74,14 @@ impl Lessons {
     pub fn step_in(&self, mode: Mode) -> Option<&Step> {
         match mode {
             Mode::Level(l) => self.levels.get(l)?.steps.get(self.step),
+            Mode::FreePlay => None,
+        }
+    }
+
+    /// The panel sections `mode` shows (`None`: all, as in free play).
+    pub fn panel_in(&self, mode: Mode) -> Option<&[Section]> {
+        match mode {
+            Mode::Level(l) => self.levels.get(l)?.scene.panel.as_deref(),
             Mode::FreePlay => None,
         }
     }
@@ -219,14 +224,7 @@ pub(crate) fn check_objective(
         }
         step.objective.met(&sit)
     });
-    let panel = match *mode.get() {
-        Mode::Level(l) => lessons.levels.get(l).and_then(|l| l.scene.panel.clone()),
-        Mode::FreePlay => None,
-    };
     (lessons.met, lessons.spot, lessons.detail) = (met, spot, detail);
-    if lessons.panel != panel {
-        lessons.panel = panel;
-    }
 }
 
 /// What the player has done, as the objectives see it.
@@ -387,7 +385,7 @@ mod tests {
         // Its panel: only the sections it names.
         let lessons = app.world().resource::<Lessons>();
         assert_eq!(
-            lessons.panel.as_deref(),
+            lessons.panel_in(mode(&app)),
             Some(&[voxcast_core::level::Section::RayCasting][..])
         );
 
@@ -439,7 +437,7 @@ mod tests {
         assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
         assert_eq!(entities::<LightMarker>(&mut app).len(), 1);
         assert_eq!(
-            app.world().resource::<Lessons>().panel,
+            app.world().resource::<Lessons>().panel_in(mode(&app)),
             None,
             "free play shows all"
         );

@@ -9,24 +9,28 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
 use voxcast_core::level::{Control, Objective};
 
-/// Where a step's control is, in the words of the panel.
-fn control_name(c: Control) -> &'static str {
-    match c {
-        Control::Method => "Settings › Ray casting › Method",
-        Control::Step => "Settings › Ray casting › Step size",
-        Control::VirtualPixels => "Settings › Virtual camera › pixels",
-        Control::PixelGrid => "the Rays window's image",
-        Control::Breakdown => "the ray's breakdown window",
-        Control::OpacityCorrection => "Settings › Ray casting › Opacity correction",
-        Control::EarlyTermination => "Settings › Ray casting › Early ray termination",
-        Control::Target => "Settings › Ray casting › Target value (First)",
-        Control::Shading => "Settings › Shading and light › Shading",
-        Control::Classification => "Settings › Transfer function › Classification",
-        Control::TransferFunction => "Settings › Transfer function (the editor)",
-        Control::RenderImage => "the Render image… button",
-        Control::Light => "Settings › Shading and light › Light",
-        Control::Order => "Settings › Ray casting › Order",
-        Control::StepTrade => "Settings › Speed against accuracy › Measure",
+/// Where a step's control is, in the words of the panel (its section's title from the panel).
+fn control_name(c: Control) -> String {
+    let label = match c {
+        Control::Method => "Method",
+        Control::Step => "Step size",
+        Control::VirtualPixels => "pixels",
+        Control::PixelGrid => return "the Rays window's image".into(),
+        Control::Breakdown => return "the ray's breakdown window".into(),
+        Control::OpacityCorrection => "Opacity correction",
+        Control::EarlyTermination => "Early ray termination",
+        Control::Target => "Target value (First)",
+        Control::Shading => "Shading",
+        Control::Classification => "Classification",
+        Control::TransferFunction => "the editor",
+        Control::RenderImage => return "the Render image… button".into(),
+        Control::Light => "Light",
+        Control::Order => "Order",
+        Control::StepTrade => "Measure",
+    };
+    match c.section() {
+        Some(s) => format!("Settings › {} › {label}", super::title(s)),
+        None => label.into(),
     }
 }
 

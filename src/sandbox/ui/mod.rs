@@ -59,17 +59,41 @@ pub(super) fn plugin(app: &mut App) {
         );
 }
 
-/// A collapsible section of the panel; `force` opens it (it holds the control a level step is
-/// about).
+/// The section's title in the panel.
+fn title(s: Section) -> &'static str {
+    match s {
+        Section::Dataset => "Dataset",
+        Section::RayCasting => "Ray casting",
+        Section::SpeedAccuracy => "Speed against accuracy",
+        Section::ShadingAndLight => "Shading and light",
+        Section::TransferFunction => "Transfer function",
+        Section::VirtualCamera => "Virtual camera",
+        Section::Preview => "Preview (slow hardware)",
+    }
+}
+
+/// What the current level asks of the panel: the control its step is about and the sections
+/// it shows (`None`: all).
+#[derive(Clone, Copy)]
+struct Guide<'a> {
+    spot: Spot,
+    panel: Option<&'a [Section]>,
+}
+
+/// A collapsible section of the panel, drawn when the level shows it and opened when it holds
+/// the control the step is about (`Control::section`).
 fn section(
     ui: &mut egui::Ui,
-    title: &str,
+    s: Section,
     open: bool,
-    force: bool,
+    guide: Guide,
     body: impl FnOnce(&mut egui::Ui),
 ) {
-    let mut header = egui::CollapsingHeader::new(title).default_open(open);
-    if force {
+    if guide.panel.is_some_and(|p| !p.contains(&s)) {
+        return;
+    }
+    let mut header = egui::CollapsingHeader::new(title(s)).default_open(open);
+    if guide.spot.and_then(Control::section) == Some(s) {
         header = header.open(Some(true));
     }
     header.show(ui, body);
@@ -358,7 +382,12 @@ const PANEL_WIDTH: f32 = 340.0;
 fn settings_panel(
     mut contexts: EguiContexts,
     mut panel: ResMut<PanelState>,
-    (volume, mut loading, lessons): (Res<VolumeState>, ResMut<Loading>, Res<levels::Lessons>),
+    (volume, mut loading, lessons, mode): (
+        Res<VolumeState>,
+        ResMut<Loading>,
+        Res<levels::Lessons>,
+        Res<State<super::mode::Mode>>,
+    ),
     (mut render, mut step_trade): (ResMut<RenderState>, ResMut<super::trade::StepTrade>),
     (diagnostics, mut preview): (Res<DiagnosticsStore>, ResMut<PreviewSettings>),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
@@ -368,9 +397,10 @@ fn settings_panel(
     let mut edited = render.clone();
     let mut load: Option<String> = None;
     let spot: Spot = lessons.spot;
-    let about = |cs: &[Control]| spot.is_some_and(|c| cs.contains(&c));
-    // A level shows only the sections it needs.
-    let shows = |s: Section| lessons.panel.as_ref().is_none_or(|p| p.contains(&s));
+    let guide = Guide {
+        spot,
+        panel: lessons.panel_in(*mode.get()),
+    };
     // The panel may use the window's height; it scrolls beyond that.
     let tall = (ctx.viewport_rect().height() - 80.0).max(200.0);
     let trade_current = step_trade
@@ -406,96 +436,49 @@ fn settings_panel(
                             comparison.1.start();
                         }
                     });
-                    if shows(Section::Dataset) {
-                        section(ui, "Dataset", true, false, |ui| {
-                            load = dataset_section(ui, &mut panel, &volume, &mut loading);
+                    section(ui, Section::Dataset, true, guide, |ui| {
+                        load = dataset_section(ui, &mut panel, &volume, &mut loading);
+                    });
+                    section(ui, Section::RayCasting, true, guide, |ui| {
+                        ray_section(ui, &mut edited.settings, &volume, spot)
+                    });
+                    section(ui, Section::SpeedAccuracy, false, guide, |ui| {
+                        trade::trade_section(
+                            ui,
+                            &mut step_trade,
+                            trade_current,
+                            edited.settings.step.voxels(voxel),
+                            spot,
+                        )
+                    });
+                    section(ui, Section::ShadingAndLight, false, guide, |ui| {
+                        shading_section(ui, &mut edited.settings, &volume, spot)
+                    });
+                    section(ui, Section::TransferFunction, true, guide, |ui| {
+                        preset_menu(ui, &mut edited);
+                        panel
+                            .editor
+                            .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
+                        let (lo, hi) = volume.volume.value_range();
+                        marked(ui, spot, Control::Classification, |ui| {
+                            classify::classification_controls(
+                                ui,
+                                &mut edited.settings.classification,
+                                &mut panel.classify,
+                                lo,
+                                hi,
+                            )
+                        });
+                    });
+                    if let Ok(mut vc) = virtual_cameras.single_mut() {
+                        section(ui, Section::VirtualCamera, false, guide, |ui| {
+                            let main = main_views.single().ok().map(|v| v.0);
+                            virtual_camera_section(ui, &mut vc, main, &volume, spot)
                         });
                     }
-                    let ray_controls = [
-                        Control::Order,
-                        Control::Method,
-                        Control::Step,
-                        Control::OpacityCorrection,
-                        Control::EarlyTermination,
-                        Control::Target,
-                    ];
-                    if shows(Section::RayCasting) {
-                        section(ui, "Ray casting", true, about(&ray_controls), |ui| {
-                            ray_section(ui, &mut edited.settings, &volume, spot)
-                        });
-                    }
-                    if shows(Section::SpeedAccuracy) {
-                        section(
-                            ui,
-                            "Speed against accuracy",
-                            false,
-                            about(&[Control::StepTrade]),
-                            |ui| {
-                                trade::trade_section(
-                                    ui,
-                                    &mut step_trade,
-                                    trade_current,
-                                    edited.settings.step.voxels(voxel),
-                                    spot,
-                                )
-                            },
-                        );
-                    }
-                    if shows(Section::ShadingAndLight) {
-                        section(
-                            ui,
-                            "Shading and light",
-                            false,
-                            about(&[Control::Shading]),
-                            |ui| shading_section(ui, &mut edited.settings, &volume, spot),
-                        );
-                    }
-                    if shows(Section::TransferFunction) {
-                        section(
-                            ui,
-                            "Transfer function",
-                            true,
-                            about(&[Control::Classification]),
-                            |ui| {
-                                preset_menu(ui, &mut edited);
-                                panel.editor.show(
-                                    ui,
-                                    &mut edited.transfer,
-                                    &volume.volume,
-                                    &volume.source,
-                                );
-                                let (lo, hi) = volume.volume.value_range();
-                                marked(ui, spot, Control::Classification, |ui| {
-                                    classify::classification_controls(
-                                        ui,
-                                        &mut edited.settings.classification,
-                                        &mut panel.classify,
-                                        lo,
-                                        hi,
-                                    )
-                                });
-                            },
-                        );
-                    }
-                    if let Ok(mut vc) = virtual_cameras.single_mut()
-                        && shows(Section::VirtualCamera)
-                    {
-                        section(
-                            ui,
-                            "Virtual camera",
-                            false,
-                            about(&[Control::VirtualPixels]),
-                            |ui| {
-                                let main = main_views.single().ok().map(|v| v.0);
-                                virtual_camera_section(ui, &mut vc, main, &volume, spot)
-                            },
-                        );
-                    }
-                    if shows(Section::Preview) {
-                        section(ui, "Preview (slow hardware)", false, false, |ui| {
-                            preview_section(ui, &mut preview, &mut edited.depth_termination)
-                        });
-                    }
+                    section(ui, Section::Preview, false, guide, |ui| {
+                        preview_section(ui, &mut preview, &mut edited.depth_termination)
+                    });
                 });
         });
     if edited != *render && edited.settings.validate().is_ok() {
@@ -505,4 +488,48 @@ fn settings_panel(
         loading.start(source);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Whether `s`'s body is drawn under `guide` (closed by default).
+    fn drawn(s: Section, guide: Guide) -> bool {
+        let ctx = egui::Context::default();
+        let mut drawn = false;
+        ctx.run_ui(egui::RawInput::default(), |ui| {
+            section(ui, s, false, guide, |_| drawn = true)
+        })
+        .drop_without_applying_deltas();
+        drawn
+    }
+
+    /// A section opens for every control it holds (the light's too), and a level's panel hides
+    /// the sections it does not name.
+    #[test]
+    fn sections_open_for_their_controls_and_hide_outside_the_levels_panel() {
+        let all = Guide {
+            spot: None,
+            panel: None,
+        };
+        assert!(!drawn(Section::ShadingAndLight, all), "closed by default");
+        for (c, s) in [
+            (Control::Light, Section::ShadingAndLight),
+            (Control::Shading, Section::ShadingAndLight),
+            (Control::StepTrade, Section::SpeedAccuracy),
+            (Control::VirtualPixels, Section::VirtualCamera),
+        ] {
+            let guide = Guide {
+                spot: Some(c),
+                panel: None,
+            };
+            assert!(drawn(s, guide), "{c:?} opens {s:?}");
+            let hidden = Guide {
+                spot: Some(c),
+                panel: Some(&[Section::RayCasting]),
+            };
+            assert!(!drawn(s, hidden), "{s:?} outside the level's panel");
+        }
+    }
 }
