@@ -41,6 +41,8 @@ enum Command {
 }
 
 fn main() {
+    restore_sigpipe();
+    sandbox::platform::ensure_runtime_dir();
     let cli = Cli::parse();
     let result = match &cli.command {
         None => sandbox::run(&cli.sandbox),
@@ -56,6 +58,16 @@ fn main() {
     if let Err(e) = result {
         eprintln!("error: {e}");
         std::process::exit(e.exit_code());
+    }
+}
+
+/// Lets a closed pipe end the program quietly, as it ends `cat` (`voxcast trace … | head`):
+/// Rust ignores SIGPIPE, which turns every later `println!` into a panic.
+fn restore_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first in `main`, before any thread starts; SIG_DFL is always valid.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 

@@ -92,7 +92,7 @@ impl VolumeArgs {
 /// Transfer function and render settings.
 #[derive(Args, Debug, Clone, Default)]
 pub struct SettingsArgs {
-    /// Transfer function: a preset name (bunny, brainsmall, shells, marschner_lobb, bucky,
+    /// Transfer function: a preset name (bunny, brainsmall, shells, marschner-lobb, bucky,
     /// voxel, head, blobs, ct_skin_bone, mri_brain), a Voxcast preset or transfer-function JSON file, or a peer TF
     /// JSON (../shared/tools/peer/tf/*.json). Default: the volume's preset.
     #[arg(long)]
@@ -100,8 +100,8 @@ pub struct SettingsArgs {
     /// Render settings as JSON (RenderSettings fields), applied before the flags below.
     #[arg(long, value_name = "FILE")]
     pub settings: Option<PathBuf>,
-    /// Compositing method.
-    #[arg(long, value_parser = parse_method)]
+    /// Compositing method (default accumulate).
+    #[arg(long, value_parser = method_parser())]
     pub method: Option<Method>,
     #[arg(long, help = t::STEP.doc, allow_negative_numbers = true)]
     pub step: Option<f32>,
@@ -404,9 +404,17 @@ pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
     Ok(v)
 }
 
-fn parse_method(s: &str) -> Result<Method, String> {
-    Method::parse(s)
-        .ok_or_else(|| format!("'{s}': expected accumulate, first, average, maximum or minimum"))
+/// `--method`: the five methods by name (and `mip` for maximum), each listed in `--help`
+/// with its one-line description (the sandbox's tooltip).
+fn method_parser() -> impl clap::builder::TypedValueParser<Value = Method> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new(
+        Method::ALL
+            .map(|m| PossibleValue::new(m.name()).help(m.doc()))
+            .into_iter()
+            .chain([PossibleValue::new("mip").hide(true)]),
+    )
+    .map(|s| Method::parse(&s).expect("a possible value"))
 }
 
 fn parse_light(s: &str) -> Result<Light, String> {

@@ -3,7 +3,8 @@
 use super::CliError;
 use super::args::VolumeArgs;
 use clap::Args;
-use voxcast_core::histogram::{Histogram, HistogramScale};
+use voxcast_core::histogram::{Histogram, HistogramScale, percentiles};
+use voxcast_core::numbers::sig;
 use voxcast_core::preset;
 
 #[derive(Args, Debug)]
@@ -18,14 +19,19 @@ pub struct InfoArgs {
 /// The raw-file options of [`VolumeArgs`] without its --volume.
 #[derive(Args, Debug)]
 pub struct RawOnly {
+    /// Raw files: dimensions NXxNYxNZ (overrides the file name).
     #[arg(long, value_name = "NXxNYxNZ")]
     pub dims: Option<String>,
+    /// Raw files: scalar type (uint8, int16, uint16, float32, …; overrides the file name).
     #[arg(long = "type", value_name = "TYPE")]
     pub scalar_type: Option<String>,
+    /// Raw files: byte order.
     #[arg(long, value_parser = ["little", "big"])]
     pub endian: Option<String>,
-    #[arg(long, value_parser = super::args::parse_vec3)]
+    /// Raw files: spacing sx,sy,sz in world units.
+    #[arg(long, value_name = "SX,SY,SZ", value_parser = super::args::parse_vec3)]
     pub spacing: Option<voxcast_core::glam::Vec3>,
+    /// Raw files: bytes to skip before the data.
     #[arg(long, default_value_t = 0)]
     pub header_bytes: u64,
 }
@@ -69,13 +75,14 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         println!("rescale:    data = raw × {slope} + {intercept}");
     }
     let h = Histogram::of(v, 64);
+    let p = percentiles(v, &[0.01, 0.25, 0.5, 0.75, 0.99]);
     println!(
-        "percentiles: 1% {:.4}, 25% {:.4}, 50% {:.4}, 75% {:.4}, 99% {:.4}",
-        h.percentile(0.01),
-        h.percentile(0.25),
-        h.percentile(0.5),
-        h.percentile(0.75),
-        h.percentile(0.99)
+        "percentiles: 1% {}, 25% {}, 50% {}, 75% {}, 99% {} (exact, data units)",
+        sig(p[0]),
+        sig(p[1]),
+        sig(p[2]),
+        sig(p[3]),
+        sig(p[4])
     );
     const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
     let bars: String = h

@@ -155,7 +155,13 @@ fn print_table(t: &voxcast_core::trace::RayTrace) {
         println!("projected value: {v:.6}");
     }
     println!(
-        "stopped: {:?}; pixel ({:.5}, {:.5}, {:.5}), opacity {:.5}",
-        t.stop, t.pixel[0], t.pixel[1], t.pixel[2], t.opacity
+        "stopped: {}; pixel ({:.5}, {:.5}, {:.5}), opacity {:.5}",
+        t.stop.words(),
+        t.pixel[0],
+        t.pixel[1],
+        t.pixel[2],
+        t.opacity
     );
+    println!();
+    println!("{}", voxcast_core::explain::formula(t, None));
 }

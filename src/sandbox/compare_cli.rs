@@ -43,11 +43,12 @@ fn run_comparison(
             (Some((d, _)), Ok(written)) => {
                 let s = &result.stats;
                 println!(
-                    "{}×{}: render {:.3} s, {} samples; preview − render: max {:.2}/255, mean \
+                    "{}×{}: render {:.3} s, {} sample positions, {} interpolated; preview − render: max {:.2}/255, mean \
                      {:.4}/255, RMSE {:.4}/255",
                     result.snapshot.size.x,
                     result.snapshot.size.y,
                     result.seconds,
+                    s.positions,
                     s.samples,
                     d.max_abs * 255.0,
                     d.mean_abs * 255.0,

@@ -14,6 +14,7 @@ mod material;
 mod measure;
 pub mod mode;
 mod orbit;
+pub mod platform;
 mod preview;
 pub mod screenshot;
 mod script;
@@ -131,6 +132,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         app.add_plugins(
             DefaultPlugins
                 .set(render_plugin)
+                .set(platform::log_plugin())
                 .set(WindowPlugin {
                     primary_window: None,
                     exit_condition: bevy::window::ExitCondition::DontExit,
@@ -160,7 +162,8 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 .add_plugins((compare::plugin, compare_cli::plugin));
         }
     } else {
-        app.add_plugins(DefaultPlugins.set(render_plugin).set(WindowPlugin {
+        platform::check_display()?;
+        app.add_plugins(DefaultPlugins.set(render_plugin).set(platform::log_plugin()).set(WindowPlugin {
             primary_window: Some(Window {
                 title: "Voxcast".into(),
                 resolution: WindowResolution::new(args.size.0, args.size.1),

@@ -117,6 +117,7 @@ fn take_screenshot(
                 exit.write(AppExit::from_code(1));
                 return;
             }
+            println!("wrote {}", path.display());
             saved.0 += 1;
             if saved.0 == total {
                 exit.write(AppExit::Success);

@@ -5,7 +5,7 @@
 //! Numbers are written with Rust's shortest round-trip formatting, so every `f32` reads back to
 //! the identical value: a student can redo each step by hand from the file.
 
-use crate::composite::{Method, ValueStats};
+use crate::composite::{Method, Order, ValueStats};
 use crate::sample::SampleDetail;
 use crate::shade::ShadeTerms;
 use crate::step::StepPlan;
@@ -77,6 +77,8 @@ pub struct RayTrace {
     pub origin: [f32; 3],
     pub dir: [f32; 3],
     pub method: Method,
+    /// The compositing order (Accumulate): the order the samples were visited and recorded in.
+    pub order: Order,
     /// `[t_enter, t_exit]` in the box, if it was hit.
     pub interval: Option<[f32; 2]>,
     pub plan: Option<StepPlan>,
@@ -88,6 +90,8 @@ pub struct RayTrace {
     /// Composited colour (premultiplied) and opacity.
     pub color: [f32; 3],
     pub opacity: f32,
+    /// The background the pixel is blended over.
+    pub background: [f32; 3],
     /// The final pixel over the background.
     pub pixel: [f32; 3],
 }

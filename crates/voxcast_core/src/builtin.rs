@@ -77,7 +77,7 @@ pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
         volume,
         notes: Vec::new(),
     };
-    match name {
+    match name.replace('_', "-").as_str() {
         "bunny" => nrrd::load_bytes("bunny_sdf", BUNNY),
         "brainsmall" => nrrd::load_bytes("mri_brainsmall", BRAINSMALL),
         "shells" => Ok(generated(shells())),
@@ -90,10 +90,7 @@ pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
             let names: Vec<&str> = DATASETS.iter().map(|d| d.0).collect();
             Err(LoadError::new(
                 format!("builtin:{other}"),
-                crate::error::LoadProblem::Header(format!(
-                    "no embedded dataset of that name (choose from {})",
-                    names.join(", ")
-                )),
+                crate::error::LoadProblem::UnknownBuiltin(names.join(", ")),
             ))
         }
     }

@@ -25,8 +25,10 @@ pub enum VolumeError {
 /// What was wrong with a file, without the file's name (see [`LoadError`]).
 #[derive(Debug, Error)]
 pub enum LoadProblem {
-    #[error("cannot read: {0}")]
+    #[error("{}", io_words(.0))]
     Io(#[from] std::io::Error),
+    #[error("no embedded dataset of that name (choose from {0})")]
+    UnknownBuiltin(String),
     #[error("unknown file format (expected .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw)")]
     UnknownFormat,
     #[error("bad header: {0}")]
@@ -53,6 +55,25 @@ pub enum LoadProblem {
     Decompress(String),
     #[error("invalid volume: {0}")]
     Volume(#[from] VolumeError),
+}
+
+/// An I/O error in words, without the operating system's error number ("(os error 2)").
+pub fn io_words(e: &std::io::Error) -> String {
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::NotFound => "file not found".into(),
+        K::PermissionDenied => "permission denied".into(),
+        K::IsADirectory => "this is a folder, not a file".into(),
+        K::UnexpectedEof => "the file ends too early".into(),
+        _ => {
+            let text = e.to_string();
+            let text = match text.rfind(" (os error ") {
+                Some(i) => text[..i].to_string(),
+                None => text,
+            };
+            format!("cannot read: {}", text.to_lowercase())
+        }
+    }
 }
 
 /// A file that could not be loaded, naming the file and the problem.

@@ -180,7 +180,8 @@ pub struct Situation {
     pub method: Option<Method>,
     /// The step in voxels.
     pub step_voxels: f32,
-    pub virtual_pixels: u32,
+    /// The virtual camera's pixels across (its image's width; 0 without one).
+    pub virtual_pixels_across: u32,
     pub ray_selected: bool,
     /// Values of the selected ray's samples, and the index of the opened one.
     pub ray_values: Vec<f32>,
@@ -212,7 +213,7 @@ impl Objective {
         match self {
             Objective::Read => true,
             Objective::SelectRay => s.ray_selected,
-            Objective::VirtualPixelsAtLeast { pixels } => s.virtual_pixels >= *pixels,
+            Objective::VirtualPixelsAtLeast { pixels } => s.virtual_pixels_across >= *pixels,
             // A slider lands on 0.25 as 0.2500001: a thousandth of a voxel is allowed.
             Objective::StepAtMost { voxels } => s.step_voxels <= voxels + 1e-3,
             Objective::Method { method } => s.method == Some(*method),
@@ -468,7 +469,7 @@ mod tests {
     fn objectives_check_the_situation() {
         let mut s = Situation {
             step_voxels: 0.5,
-            virtual_pixels: 4,
+            virtual_pixels_across: 4,
             ray_values: vec![1.0, 7.0, 3.0],
             ..Default::default()
         };

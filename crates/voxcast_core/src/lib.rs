@@ -12,7 +12,7 @@
 //! | classify | [`transfer`], [`classify`] | value → colour and opacity (LUT, Levoy's modes) |
 //! | shade | [`shade`] | Phong / Blinn–Phong with central-difference normals |
 //! | composite | [`composite`] | Accumulate, First, Average, Maximum, Minimum |
-//! | trace | [`scene`], [`trace`], [`breakdown`] | what a render shares; one ray, optionally recorded sample by sample |
+//! | trace | [`scene`], [`trace`], [`breakdown`], [`explain`] | what a render shares; one ray, optionally recorded sample by sample, and its formulas with the numbers put in |
 //! | render | [`render`] | every pixel, in parallel, cancellable |
 //!
 //! # Conventions (written down once)
@@ -40,15 +40,18 @@ pub mod camera;
 pub mod classify;
 pub mod composite;
 pub mod error;
+pub mod explain;
 pub mod hash;
 pub mod histogram;
 pub mod image_out;
 pub mod io;
 pub mod level;
 pub mod marker;
+pub mod numbers;
 pub mod peer;
 pub mod preset;
 pub mod ray;
+pub mod recompute;
 pub mod render;
 pub mod sample;
 pub mod scene;

@@ -47,7 +47,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/presets/bunny.json"),
     include_str!("../../../assets/presets/brainsmall.json"),
     include_str!("../../../assets/presets/shells.json"),
-    include_str!("../../../assets/presets/marschner_lobb.json"),
+    include_str!("../../../assets/presets/marschner-lobb.json"),
     include_str!("../../../assets/presets/bucky.json"),
     include_str!("../../../assets/presets/voxel.json"),
     include_str!("../../../assets/presets/head.json"),
@@ -104,8 +104,10 @@ pub fn all() -> Vec<Preset> {
 }
 
 /// The embedded preset called `name`.
+/// `-` and `_` are taken as the same (`marschner-lobb`, `ct_skin_bone`).
 pub fn by_name(name: &str) -> Option<Preset> {
-    all().into_iter().find(|p| p.name == name)
+    let same = |a: &str| a.replace('_', "-") == name.replace('_', "-");
+    all().into_iter().find(|p| same(&p.name))
 }
 
 /// The preset meant for a volume of this name, if any.

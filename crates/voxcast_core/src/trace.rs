@@ -47,6 +47,19 @@ pub enum StopReason {
     SampleCap,
 }
 
+impl StopReason {
+    /// Why the ray stopped, in words.
+    pub const fn words(self) -> &'static str {
+        match self {
+            StopReason::Missed => "missed the volume",
+            StopReason::LeftVolume => "left the volume",
+            StopReason::Cutoff => "early termination: the opacity reached the cutoff",
+            StopReason::FirstHit => "found the target value",
+            StopReason::SampleCap => "the sample cap was reached before the ray left the volume",
+        }
+    }
+}
+
 /// The result of one ray.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct RayOutcome {
@@ -107,6 +120,7 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
         origin: ray.origin.to_array(),
         dir: ray.dir.to_array(),
         method: scene.settings.method,
+        order: scene.settings.order,
         interval: interval.map(|(a, b)| [a, b]),
         plan: rec.plan,
         samples: rec.samples,
@@ -115,6 +129,7 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
         stop: out.stop,
         color: out.color.to_array(),
         opacity: out.opacity,
+        background: scene.settings.background.to_array(),
         pixel: pixel.to_array(),
     }
 }

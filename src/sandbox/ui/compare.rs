@@ -83,7 +83,10 @@ pub(super) fn compare_window(
                     } else {
                         done as f32 / total as f32
                     };
-                    ui.add(egui::ProgressBar::new(fraction).show_percentage());
+                    ui.add(egui::ProgressBar::new(fraction).text(format!(
+                        "Rendering… {}",
+                        voxcast_core::numbers::percent(fraction)
+                    )));
                     if ui.button("Cancel").clicked() {
                         comparison.cancel();
                     }
@@ -124,11 +127,13 @@ fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared)
     let s = &result.stats;
     let size = result.snapshot.size;
     ui.label(format!(
-        "{}×{} on the CPU in {:.3} s: {} rays, {} samples ({:.1} M samples/s)",
+        "{}×{} on the CPU in {:.3} s: {} rays, {} sample positions, {} interpolated ({:.1} M \
+         samples/s)",
         size.x,
         size.y,
         result.seconds,
         s.rays,
+        s.positions,
         s.samples,
         s.samples as f64 / result.seconds.max(1e-9) / 1e6
     ));

@@ -11,8 +11,8 @@ use bevy::prelude::*;
 use bevy_egui::EguiContexts;
 use bevy_egui::egui::{self, Color32, Pos2, Sense, Stroke, pos2, vec2};
 use voxcast_core::breakdown::{self, SampleRecord};
-use voxcast_core::composite::Method;
 use voxcast_core::level::Control;
+use voxcast_core::numbers::{sig, sig3};
 use voxcast_core::trace::{RayTrace, Scene, trace_ray};
 use voxcast_core::tunables as t;
 
@@ -468,8 +468,24 @@ pub(super) fn breakdown_window(
     Ok(())
 }
 
+/// A 3-vector rounded for reading (`voxcast_core::numbers`).
 fn v3(v: [f32; 3]) -> String {
+    sig3(v)
+}
+
+/// Every digit of a 3-vector, for a tooltip and the exports.
+fn v3_full(v: [f32; 3]) -> String {
     format!("({}, {}, {})", v[0], v[1], v[2])
+}
+
+/// A number rounded for reading, with its every digit in the tooltip.
+fn num(ui: &mut egui::Ui, x: f32) {
+    ui.label(sig(x)).on_hover_text(x.to_string());
+}
+
+/// A 3-vector rounded for reading, with its every digit in the tooltip.
+fn vec(ui: &mut egui::Ui, v: [f32; 3]) {
+    ui.label(v3(v)).on_hover_text(v3_full(v));
 }
 
 fn summary(ui: &mut egui::Ui, t: &RayTrace) {
@@ -481,19 +497,21 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace) {
     ));
     match (t.interval, &t.plan) {
         (Some([a, b]), Some(p)) => ui.label(format!(
-            "enters the box at t = {a}, leaves at t = {b}; {} samples {} apart (first at t = {})",
+            "enters the box at t = {}, leaves at t = {}; {} samples {} apart (first at t = {})",
+            sig(a),
+            sig(b),
             p.count,
-            p.dt,
-            p.t_enter + p.jitter * p.dt
+            sig(p.dt),
+            sig(p.t_enter + p.jitter * p.dt)
         )),
         _ => ui.label("misses the volume's box"),
     };
     ui.horizontal(|ui| {
         ui.label(format!(
-            "stopped: {:?} · C = {} · O = {} · pixel",
-            t.stop,
+            "stopped: {} · C = {} · O = {} · pixel",
+            t.stop.words(),
             v3(t.color),
-            t.opacity
+            sig(t.opacity)
         ));
         let (rect, _) = ui.allocate_exact_size(vec2(14.0, 14.0), Sense::hover());
         ui.painter().rect_filled(rect, 2.0, color32(t.pixel));
@@ -501,85 +519,10 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace) {
     });
 }
 
-/// The method's formula with the opened (else the last) sample's numbers put in.
+/// The method's formula with the opened (else the last) sample's numbers put in, in the order
+/// in use (`voxcast_core::explain`, the same text `voxcast trace` prints).
 fn formula(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) {
-    let k = opened.or(t.samples.len().checked_sub(1));
-    let text = match (t.method, k.and_then(|k| t.samples.get(k))) {
-        (_, None) => "No samples: the pixel shows the background.".to_string(),
-        (Method::Accumulate, Some(s)) => {
-            let prev = k
-                .and_then(|k| k.checked_sub(1))
-                .and_then(|j| t.samples.get(j))
-                .map_or([0.0; 4], |p| p.composite_after);
-            let a = s.alpha_corrected;
-            let c = s.color;
-            let after = s.composite_after;
-            format!(
-                "Accumulate, sample {}: C_k = C_(k−1) + (1 − O_(k−1))·α_k·c_k, \
-                 O_k = O_(k−1) + (1 − O_(k−1))·α_k\n\
-                 C = {} + (1 − {})·{}·{} = {}\n\
-                 O = {} + (1 − {})·{} = {}",
-                s.index,
-                v3([prev[0], prev[1], prev[2]]),
-                prev[3],
-                a,
-                v3(c),
-                v3([after[0], after[1], after[2]]),
-                prev[3],
-                prev[3],
-                a,
-                after[3]
-            )
-        }
-        (Method::Average | Method::Maximum | Method::Minimum, Some(s)) => {
-            let st = s.stats_after;
-            let stats = st.map_or(String::new(), |st| {
-                format!(
-                    "after {} samples: sum {} → mean {}, max {}, min {}",
-                    st.count,
-                    st.sum,
-                    st.sum / st.count.max(1) as f64,
-                    st.max,
-                    st.min
-                )
-            });
-            let end = t.projected_value.map_or(String::new(), |v| {
-                format!("\nprojected value {v} → TF colour and opacity shown as the pixel")
-            });
-            format!(
-                "{}: mean = Σv/n, maximum = max(v), minimum = min(v); sample {} has v = {}; {stats}{end}",
-                t.method.name(),
-                s.index,
-                s.reconstruction.value
-            )
-        }
-        (Method::First, Some(s)) => match &t.first_hit {
-            Some(h) => {
-                let steps: Vec<String> = h
-                    .refinement
-                    .iter()
-                    .map(|r| format!("t = {} (v = {})", r.t, r.value))
-                    .collect();
-                format!(
-                    "First: the target is crossed between the samples at t = {} and t = {};\n\
-                     refinement (bisection, then linear interpolation): {}\n\
-                     hit at t = {}, position {}, value {}, TF rgba {:?}, shaded colour {}",
-                    h.bracket[0],
-                    h.bracket[1],
-                    steps.join(" → "),
-                    h.t,
-                    v3(h.p_world),
-                    h.value,
-                    h.tf_rgba,
-                    v3(h.color)
-                )
-            }
-            None => format!(
-                "First: no crossing of the target up to sample {} (v = {})",
-                s.index, s.reconstruction.value
-            ),
-        },
-    };
+    let text = voxcast_core::explain::formula(t, opened);
     ui.label(egui::RichText::new(text).monospace());
 }
 
@@ -607,9 +550,9 @@ fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Optio
                 if ui.selectable_label(chosen, s.index.to_string()).clicked() {
                     opened = if chosen { None } else { Some(i) };
                 }
-                ui.label(s.t.to_string());
-                ui.label(v3(s.p_world));
-                ui.label(s.reconstruction.value.to_string());
+                num(ui, s.t);
+                vec(ui, s.p_world);
+                num(ui, s.reconstruction.value);
                 ui.horizontal(|ui| {
                     let (rect, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
                     ui.painter().rect_filled(
@@ -617,20 +560,19 @@ fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Optio
                         1.0,
                         color32([s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2]]),
                     );
-                    ui.label(format!(
-                        "{} {} {} {}",
-                        s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2], s.tf_rgba[3]
-                    ));
+                    let [r, g, b, a] = s.tf_rgba;
+                    ui.label(format!("{} {} {} {}", sig(r), sig(g), sig(b), sig(a)))
+                        .on_hover_text(format!("{r} {g} {b} {a}"));
                 });
-                ui.label(s.alpha.to_string());
-                ui.label(s.alpha_corrected.to_string());
+                num(ui, s.alpha);
+                num(ui, s.alpha_corrected);
                 let c = s.composite_after;
-                ui.label(v3([c[0], c[1], c[2]]));
-                ui.label(c[3].to_string());
+                vec(ui, [c[0], c[1], c[2]]);
+                num(ui, c[3]);
                 ui.end_row();
             }
             ui.strong("end");
-            ui.label(format!("{:?}", t.stop));
+            ui.label(t.stop.words());
             ui.end_row();
         });
     });
@@ -661,24 +603,24 @@ fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
             ui.label(format!("{i}"));
             let c = r.corners[i];
             ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
-            ui.label(r.values[i].to_string());
-            ui.label(r.weights[i].to_string());
-            ui.label((r.weights[i] * r.values[i]).to_string());
+            num(ui, r.values[i]);
+            num(ui, r.weights[i]);
+            num(ui, r.weights[i] * r.values[i]);
             ui.end_row();
         }
     });
     ui.label(format!(
         "interpolated value Σ weight × value = {} (the renderer's value: {})",
-        (0..8).map(|i| r.weights[i] * r.values[i]).sum::<f32>(),
-        r.value
+        sig((0..8).map(|i| r.weights[i] * r.values[i]).sum::<f32>()),
+        sig(r.value)
     ));
     if let Some(g) = s.gradient {
         ui.label(format!("gradient (central differences) {}", v3(g)));
     }
     if let Some(sh) = &s.shading {
         ui.label(format!(
-            "shading: N·L = {}, ambient {}, diffuse {}, specular {} → colour {}",
-            sh.n_dot_l,
+            "shading: N·L = {}, ambient {}, diffuse {}, specular {}, so the colour is {}",
+            sig(sh.n_dot_l),
             v3(sh.ambient),
             v3(sh.diffuse),
             v3(sh.specular),

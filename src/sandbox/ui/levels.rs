@@ -249,7 +249,7 @@ pub(super) fn situation(
     Situation {
         method: Some(render.settings.method),
         step_voxels: render.settings.step.voxels(voxel),
-        virtual_pixels: vc.map_or(0, |v| v.width.min(v.height)),
+        virtual_pixels_across: vc.map_or(0, |v| v.width),
         ray_selected: selection.selected.is_some(),
         ray_values: breakdown
             .trace
@@ -444,6 +444,31 @@ mod tests {
         let saved = Progress::load(&path).0;
         assert_eq!(saved.completed["methods"], steps.len());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// "At least 8 pixels across" reads the image's width: 12×4 meets it, 4×12 does not.
+    #[test]
+    fn pixels_across_is_the_image_width() {
+        let dir = std::env::temp_dir().join(format!("voxcast-across-{}", std::process::id()));
+        let mut app = app(dir.join("progress.json"));
+        app.update();
+        let rays = level(&app, "rays");
+        send(&mut app, LevelCommand::Start(rays));
+        let k = app.world().resource::<Lessons>().levels[rays]
+            .steps
+            .iter()
+            .position(|s| matches!(s.objective, Objective::VirtualPixelsAtLeast { pixels: 8 }))
+            .expect("the rays level asks for 8 pixels across");
+        app.world_mut().resource_mut::<Lessons>().step = k;
+        until(&mut app, |a| !entities::<VirtualCamera>(a).is_empty());
+        for ((w, h), met) in [((12, 4), true), ((4, 12), false), ((8, 1), true)] {
+            let vc = entities::<VirtualCamera>(&mut app)[0];
+            let mut cam = app.world_mut().get_mut::<VirtualCamera>(vc).unwrap();
+            (cam.width, cam.height) = (w, h);
+            app.update();
+            assert_eq!(app.world().resource::<Lessons>().met, met, "{w}×{h}");
+        }
+        assert!(!dir.exists(), "nothing saved before a step is done");
     }
 
     /// Entering a level resets the settings to its volume's defaults, so a choice made in free

@@ -1,0 +1,111 @@
+//! Numbers for people: values rounded to what they mean, as the sandbox shows them and
+//! `voxcast trace` prints them (the exported JSON and CSV keep every digit).
+//!
+//! The rule, in one place: four significant digits, trailing zeros dropped (`0.5`, `0.3307`,
+//! `4.909`); values of a thousand or more to the nearest whole number (`2588`); values below
+//! 0.001 in scientific notation (`1.5e-5`); zero as `0`. A reader can therefore bound the
+//! value behind any printed number: [`half_width`] gives how far it may be from it.
+
+/// `x` with four significant digits (see the module's rule).
+pub fn sig(x: f32) -> String {
+    sig64(x as f64)
+}
+
+/// [`sig`] for an `f64` (sums of many samples are kept in double precision).
+pub fn sig64(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    if !x.is_finite() {
+        return if x.is_nan() {
+            "no value".into()
+        } else if x > 0.0 {
+            "∞".into()
+        } else {
+            "-∞".into()
+        };
+    }
+    let a = x.abs();
+    if a >= 1000.0 {
+        return format!("{}", x.round());
+    }
+    if a < 1e-3 {
+        let s = format!("{x:.3e}");
+        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        return format!("{}e{exp}", trim_zeros(mantissa));
+    }
+    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.decimals$}");
+    // Rounding can carry into a new digit (999.96 → "1000.0"): trim as usual.
+    let s = trim_zeros(&s);
+    if s == "-0" { "0".into() } else { s }
+}
+
+/// A 3-vector as `(x, y, z)`, each with [`sig`].
+pub fn sig3(v: [f32; 3]) -> String {
+    format!("({}, {}, {})", sig(v[0]), sig(v[1]), sig(v[2]))
+}
+
+/// A percentage for progress: `63 %` (whole percent; `100 %` only when done).
+pub fn percent(fraction: f32) -> String {
+    let p = (fraction.clamp(0.0, 1.0) * 100.0).floor();
+    format!("{p:.0} %")
+}
+
+/// How far the value behind a number printed by [`sig`] may lie from it: half a unit of its
+/// last significant place (0 for `0`, which is printed only for an exact zero).
+pub fn half_width(printed: f64) -> f64 {
+    let a = printed.abs();
+    if a == 0.0 {
+        0.0
+    } else if a >= 1000.0 {
+        0.5
+    } else {
+        0.5 * 10f64.powi(a.log10().floor() as i32 - 3)
+    }
+}
+
+fn trim_zeros(s: &str) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rounds_to_four_significant_digits() {
+        assert_eq!(sig(0.111_999_996), "0.112");
+        assert_eq!(sig(4.909_199_7), "4.909");
+        assert_eq!(sig64(2588.123_351_573_944), "2588");
+        assert_eq!(sig(0.5), "0.5");
+        assert_eq!(sig(-0.330_74), "-0.3307");
+        assert_eq!(sig(1.5e-5), "1.5e-5");
+        assert_eq!(sig(0.0), "0");
+        assert_eq!(sig(-0.0), "0");
+        assert_eq!(sig(999.96), "1000");
+        assert_eq!(sig(1.0), "1");
+        assert_eq!(sig(f32::NAN), "no value");
+        assert_eq!(sig3([0.25, 1.0, 12.345_6]), "(0.25, 1, 12.35)");
+        assert_eq!(percent(0.634), "63 %");
+        assert_eq!(percent(1.0), "100 %");
+    }
+
+    /// Every printed number is within `half_width` of the value it stands for.
+    #[test]
+    fn the_half_width_bounds_the_rounding() {
+        let mut x = 1.234_567e-3f64;
+        while x < 1e5 {
+            for v in [x, -x, x * 1.7, x * 9.99] {
+                let printed: f64 = sig64(v).parse().unwrap();
+                let hw = half_width(printed);
+                assert!((printed - v).abs() <= hw * (1.0 + 1e-9), "{v} → {printed} ± {hw}");
+            }
+            x *= 1.37;
+        }
+    }
+}
