@@ -4,8 +4,10 @@
 //! by at most 2/255 per channel. The figures are printed; a failure writes the CPU, GPU and
 //! difference images to `tests/out/agreement/`.
 //!
-//! Without a Vulkan device the test says so and passes, unless `VOXCAST_REQUIRE_GPU=1` (as
-//! `.ci/run` sets it), which makes a missing device a failure.
+//! Without a Vulkan device the tests are reported as ignored, unless `VOXCAST_REQUIRE_GPU=1`
+//! (as `.ci/run` sets it), which makes a missing device a failure.
+
+mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -25,19 +27,19 @@ fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/agreement")
 }
 
-fn gpu_required() -> bool {
-    std::env::var_os("VOXCAST_REQUIRE_GPU").is_some_and(|v| v == "1")
-}
+use support::{Completion, Outcome, skipped_for_want_of_a_gpu};
 
-/// Whether a failed run failed for want of a Vulkan device (and that is allowed here).
-fn skipped_for_want_of_a_gpu(stderr: &str) -> bool {
-    let missing = stderr.contains("Unable to find a GPU") || stderr.contains("adapter");
-    if missing && !gpu_required() {
-        eprintln!(
-            "note: no Vulkan device here; the GPU test is skipped (set VOXCAST_REQUIRE_GPU=1 to require it)"
-        );
-    }
-    missing && !gpu_required()
+fn main() {
+    support::run(&[
+        (
+            "render_image_compares_the_preview_with_the_render",
+            render_image_compares_the_preview_with_the_render,
+        ),
+        (
+            "preview_matches_the_cpu_render",
+            preview_matches_the_cpu_render,
+        ),
+    ])
 }
 
 /// "Render image" without a window (`voxcast --compare`): the same capture, CPU render and
@@ -45,8 +47,7 @@ fn skipped_for_want_of_a_gpu(stderr: &str) -> bool {
 /// three pictures written; the third case has the camera inside the volume, the fourth a point
 /// light whose marker (an opaque sphere) stands in the volume: hidden while the preview is
 /// captured, since the CPU render has no meshes.
-#[test]
-fn render_image_compares_the_preview_with_the_render() {
+fn render_image_compares_the_preview_with_the_render() -> Outcome {
     let dir = out_dir().join("compare");
     std::fs::create_dir_all(&dir).unwrap();
     let inside = "eye=40,30,20,target=10,35,50,up=0,1,0,fov=70";
@@ -75,8 +76,10 @@ fn render_image_compares_the_preview_with_the_render() {
             .expect("the binary runs");
         let stdout = String::from_utf8_lossy(&output.stdout);
         let stderr = String::from_utf8_lossy(&output.stderr);
-        if !output.status.success() && skipped_for_want_of_a_gpu(&stderr) {
-            return;
+        if !output.status.success()
+            && let Some(skip) = skipped_for_want_of_a_gpu(&stderr)
+        {
+            return skip;
         }
         assert!(output.status.success(), "{volume}: {stderr}");
         println!("{volume} {method}: {}", stdout.lines().next().unwrap_or(""));
@@ -96,10 +99,10 @@ fn render_image_compares_the_preview_with_the_render() {
             assert_eq!((img.width(), img.height()), (160, 90), "{name}");
         }
     }
+    Ok(Completion::Completed)
 }
 
-#[test]
-fn preview_matches_the_cpu_render() {
+fn preview_matches_the_cpu_render() -> Outcome {
     let mut worst = 0.0f32;
     let mut failures = Vec::new();
     for (name, _) in DATASETS {
@@ -119,8 +122,8 @@ fn preview_matches_the_cpu_render() {
             .expect("the binary runs");
         if !output.status.success() {
             let err = String::from_utf8_lossy(&output.stderr);
-            if skipped_for_want_of_a_gpu(&err) {
-                return;
+            if let Some(skip) = skipped_for_want_of_a_gpu(&err) {
+                return skip;
             }
             panic!("the preview of {name} failed:\n{err}");
         }
@@ -163,4 +166,5 @@ fn preview_matches_the_cpu_render() {
         out_dir().display(),
         failures.join("\n")
     );
+    Ok(Completion::Completed)
 }

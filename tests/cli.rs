@@ -205,7 +205,12 @@ fn bad_arguments_and_files_fail_clearly() {
             1,
             "/no/such/file.nrrd",
         ),
-        (&["render", "--volume", "builtin:teapot"], 1, "teapot"),
+        (
+            &["render", "--volume", "builtin:teapot"],
+            1,
+            "no embedded dataset",
+        ),
+        (&["info", "/no/such/file.nrrd"], 1, "file not found"),
         (
             &["render", "--volume", "thing.xyz"],
             1,
@@ -229,5 +234,84 @@ fn bad_arguments_and_files_fail_clearly() {
             "{args:?} should mention '{needle}': {t}"
         );
         assert!(!t.contains("panicked"), "{args:?}: {t}");
+        assert!(!t.contains("os error"), "{args:?} in words: {t}");
+        assert!(!t.contains("bad header"), "{args:?}: {t}");
+    }
+}
+
+/// Without a display the sandbox says how to work without one instead of panicking in winit.
+#[test]
+fn no_display_points_to_the_headless_commands() {
+    let o = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(t.contains("--screenshot") && t.contains("xvfb-run"), "{t}");
+    assert!(!t.contains("panicked"), "{t}");
+    let o = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        .env("DISPLAY", ":4711")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(t.contains(":4711") && !t.contains("panicked"), "{t}");
+}
+
+/// `voxcast trace … | head -1`: the reader leaves early; the writer ends quietly.
+#[test]
+fn a_closed_pipe_ends_quietly() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        .args([
+            "trace",
+            "--volume",
+            "builtin:bucky",
+            "--origin",
+            "-5,15.5,15.5",
+        ])
+        .args(["--dir", "1,0,0", "--step", "0.01"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    assert!(first.starts_with("ray from"), "{first}");
+    // The pipe is closed here, with thousands of rows still to write.
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_ne!(o.status.code(), Some(101), "a panic's exit code: {err}");
+}
+
+/// The help lists the methods with their descriptions; info's options all have help; the
+/// percentiles are data values (the 1 % of a volume mostly empty is 0, not a bin centre).
+#[test]
+fn help_and_info_say_what_they_mean() {
+    let help = text(&voxcast(&["render", "--help"]));
+    for m in voxcast_core::composite::Method::ALL {
+        assert!(
+            help.contains(m.name()) && help.contains(m.doc()),
+            "{m:?}: {help}"
+        );
+    }
+    let help = text(&voxcast(&["info", "--help"]));
+    for line in help.lines().filter(|l| l.trim_start().starts_with("--")) {
+        let words = line.split_whitespace().count();
+        assert!(words > 2, "no help for '{line}'");
+    }
+    let o = voxcast(&["info", "builtin:bucky"]);
+    let t = text(&o);
+    assert!(t.contains("percentiles: 1% 0,"), "{t}");
+    for spelling in ["builtin:marschner_lobb", "builtin:marschner-lobb"] {
+        let o = voxcast(&["info", spelling]);
+        assert!(o.status.success(), "{spelling}: {}", text(&o));
     }
 }

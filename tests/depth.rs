@@ -5,7 +5,9 @@
 //! (`Ray::t_max`), blended over the marker's colour. Rays that miss the sphere are the plain
 //! render's. With termination off the rays pass the sphere and the picture differs.
 //!
-//! Skips without a Vulkan device unless `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it).
+//! Ignored without a Vulkan device unless `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it).
+
+mod support;
 
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -20,7 +22,16 @@ use voxcast_core::shade::Light;
 use voxcast_core::trace::{Scene, trace_ray};
 use voxcast_core::transfer::TransferFunction;
 
+use support::{Completion, Outcome, skipped_for_want_of_a_gpu};
+
 const SIZE: u32 = 256;
+
+fn main() {
+    support::run(&[(
+        "the_lights_marker_stops_the_preview_rays",
+        the_lights_marker_stops_the_preview_rays,
+    )])
+}
 
 fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/depth")
@@ -57,7 +68,7 @@ fn screenshot(
     camera: &Path,
     light: Vec3,
     extra: &[&str],
-) -> Option<image::RgbImage> {
+) -> Result<image::RgbImage, Outcome> {
     let path = out_dir().join(name);
     let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
         .args(["--volume", "builtin:shells", "--shading", "off", "--size"])
@@ -75,18 +86,15 @@ fn screenshot(
         .expect("the binary runs");
     if !output.status.success() {
         let err = String::from_utf8_lossy(&output.stderr);
-        let required = std::env::var_os("VOXCAST_REQUIRE_GPU").is_some_and(|v| v == "1");
-        if !required && (err.contains("Unable to find a GPU") || err.contains("adapter")) {
-            eprintln!("note: no Vulkan device here; the depth test is skipped");
-            return None;
+        if let Some(skip) = skipped_for_want_of_a_gpu(&err) {
+            return Err(skip);
         }
         panic!("the screenshot failed:\n{err}");
     }
-    Some(image::open(&path).unwrap().to_rgb8())
+    Ok(image::open(&path).unwrap().to_rgb8())
 }
 
-#[test]
-fn the_lights_marker_stops_the_preview_rays() {
+fn the_lights_marker_stops_the_preview_rays() -> Outcome {
     std::fs::create_dir_all(out_dir()).unwrap();
     let volume = load_builtin("shells").unwrap().volume;
     let (lo, hi) = volume.bounds();
@@ -98,10 +106,13 @@ fn the_lights_marker_stops_the_preview_rays() {
     std::fs::write(&cam, camera.to_json()).unwrap();
     // The light a little off the centre, so the sphere has volume in front and behind.
     let centre = (lo + hi) * 0.5 + Vec3::new(3.0, -2.0, 1.0);
-    let Some(on) = screenshot("on.png", &tf, &cam, centre, &[]) else {
-        return;
+    let on = match screenshot("on.png", &tf, &cam, centre, &[]) {
+        Ok(on) => on,
+        Err(skip) => return skip,
     };
-    let off = screenshot("off.png", &tf, &cam, centre, &["--no-depth-termination"]).unwrap();
+    let Ok(off) = screenshot("off.png", &tf, &cam, centre, &["--no-depth-termination"]) else {
+        panic!("the first screenshot worked, the second did not");
+    };
 
     let settings = RenderSettings {
         shading: false,
@@ -170,4 +181,5 @@ fn the_lights_marker_stops_the_preview_rays() {
         off_worst > 8,
         "without termination the picture should differ ({off_worst}/255)"
     );
+    Ok(Completion::Completed)
 }

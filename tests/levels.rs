@@ -1,19 +1,25 @@
 //! Every level played to the end in the real window on lavapipe (`voxcast --play-levels`): the
 //! commands the Levels window sends and, for each step, the change its control makes; a window
 //! screenshot of each level's first step. Needs an X display: the test uses `$DISPLAY`, or
-//! starts one with `xvfb-run`; without either (or without a Vulkan device) it says so and
-//! passes, unless `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it).
+//! starts one with `xvfb-run`; without either (or without a Vulkan device) it is reported as
+//! ignored, unless `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it).
+
+mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use support::{Completion, Outcome, gpu_required, skipped_for_want_of_a_gpu};
 use voxcast_core::level::Level;
+
+fn main() {
+    support::run(&[(
+        "every_level_plays_through_with_a_screenshot_of_its_first_step",
+        every_level_plays_through_with_a_screenshot_of_its_first_step,
+    )])
+}
 
 fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/levels")
-}
-
-fn required() -> bool {
-    std::env::var_os("VOXCAST_REQUIRE_GPU").is_some_and(|v| v == "1")
 }
 
 /// The sandbox's command, inside `xvfb-run` when there is no display.
@@ -30,12 +36,12 @@ fn windowed() -> Option<Command> {
     })
 }
 
-#[test]
-fn every_level_plays_through_with_a_screenshot_of_its_first_step() {
+fn every_level_plays_through_with_a_screenshot_of_its_first_step() -> Outcome {
     let Some(mut command) = windowed() else {
-        assert!(!required(), "no X display and no xvfb-run");
-        eprintln!("note: no X display or xvfb-run here; the level play-through is skipped");
-        return;
+        assert!(!gpu_required(), "no X display and no xvfb-run");
+        return Ok(Completion::ignored_with(
+            "no X display and no xvfb-run here (package xvfb)",
+        ));
     };
     let dir = out_dir();
     let _ = std::fs::remove_dir_all(&dir);
@@ -50,11 +56,9 @@ fn every_level_plays_through_with_a_screenshot_of_its_first_step() {
     let stdout = String::from_utf8_lossy(&output.stdout);
     let stderr = String::from_utf8_lossy(&output.stderr);
     if !output.status.success()
-        && !required()
-        && (stderr.contains("Unable to find a GPU") || stderr.contains("adapter"))
+        && let Some(skip) = skipped_for_want_of_a_gpu(&stderr)
     {
-        eprintln!("note: no Vulkan device here; the level play-through is skipped");
-        return;
+        return skip;
     }
     assert!(output.status.success(), "{stdout}\n{stderr}");
     let report = std::fs::read_to_string(dir.join("report.txt")).unwrap();
@@ -82,4 +86,5 @@ fn every_level_plays_through_with_a_screenshot_of_its_first_step() {
         colours.dedup();
         assert!(colours.len() > 50, "{} is nearly blank", shot.display());
     }
+    Ok(Completion::Completed)
 }

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use voxcast_core::camera::{Camera, Projection};
 use voxcast_core::classify::Classification;
 use voxcast_core::composite::{Method, Order};
+use voxcast_core::error::io_words;
 use voxcast_core::glam::Vec3;
 use voxcast_core::io::raw::{RawSpec, parse_dims};
 use voxcast_core::io::{Endian, FileType, Loaded};
@@ -213,7 +214,8 @@ impl SettingsArgs {
                 } else {
                     let text = std::fs::read_to_string(name).map_err(|e| {
                         CliError::usage(format!(
-                            "--tf {name}: not a preset name, and cannot read it as a file: {e}"
+                            "--tf {name}: not a preset name, and cannot read it as a file: {}",
+                            io_words(&e)
                         ))
                     })?;
                     if peer::is_peer_json(&text) {
@@ -237,8 +239,9 @@ impl SettingsArgs {
             }
         };
         if let Some(path) = &self.settings {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| CliError::usage(format!("--settings {}: {e}", path.display())))?;
+            let text = std::fs::read_to_string(path).map_err(|e| {
+                CliError::usage(format!("--settings {}: {}", path.display(), io_words(&e)))
+            })?;
             let patch = Preset {
                 name: path.display().to_string(),
                 description: String::new(),
@@ -459,7 +462,7 @@ impl CameraArgs {
             Some(spec) if spec.contains('=') => parse_camera_spec(spec),
             Some(path) => {
                 let text = std::fs::read_to_string(path)
-                    .map_err(|e| CliError::usage(format!("--camera {path}: {e}")))?;
+                    .map_err(|e| CliError::usage(format!("--camera {path}: {}", io_words(&e))))?;
                 Camera::from_json(&text)
                     .map_err(|e| CliError::usage(format!("--camera {path}: {e}")))
             }

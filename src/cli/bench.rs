@@ -15,6 +15,7 @@ use super::render::{Timed, median, timed_render};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use voxcast_core::error::io_words;
 use voxcast_core::image_out::{LinearImage, save_rgb8_atomic};
 use voxcast_core::step::Length;
 use voxcast_core::trace::Scene;
@@ -127,7 +128,7 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     let voxel = loaded.volume.spacing().min_element();
     if let Some(dir) = &a.images {
         std::fs::create_dir_all(dir)
-            .map_err(|e| CliError::failed(format!("{}: {e}", dir.display())))?;
+            .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;
     }
 
     let mut rows = Vec::new();
@@ -202,7 +203,7 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
             ),
         };
         std::fs::write(path, text)
-            .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
+            .map_err(|e| CliError::failed(format!("{}: {}", path.display(), io_words(&e))))?;
     }
     if let Some(path) = &a.plot {
         let series: Vec<Series> = [(true, [31, 119, 180]), (false, [230, 120, 20])]

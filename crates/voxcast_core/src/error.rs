@@ -25,7 +25,11 @@ pub enum VolumeError {
 /// What was wrong with a file, without the file's name (see [`LoadError`]).
 #[derive(Debug, Error)]
 pub enum LoadProblem {
-    #[error("{}", io_words(.0))]
+    #[error("{}", if .0.kind() == std::io::ErrorKind::NotFound {
+        "file not found".to_string()
+    } else {
+        format!("cannot read: {}", io_words(.0))
+    })]
     Io(#[from] std::io::Error),
     #[error("no embedded dataset of that name (choose from {0})")]
     UnknownBuiltin(String),
@@ -61,7 +65,7 @@ pub enum LoadProblem {
 pub fn io_words(e: &std::io::Error) -> String {
     use std::io::ErrorKind as K;
     match e.kind() {
-        K::NotFound => "file not found".into(),
+        K::NotFound => "no such file or folder".into(),
         K::PermissionDenied => "permission denied".into(),
         K::IsADirectory => "this is a folder, not a file".into(),
         K::UnexpectedEof => "the file ends too early".into(),
@@ -71,7 +75,7 @@ pub fn io_words(e: &std::io::Error) -> String {
                 Some(i) => text[..i].to_string(),
                 None => text,
             };
-            format!("cannot read: {}", text.to_lowercase())
+            text.to_lowercase()
         }
     }
 }

@@ -100,8 +100,7 @@ pub fn percentiles(volume: &Volume, fractions: &[f64]) -> Vec<f32> {
                     if hi <= lo {
                         return lo;
                     }
-                    let mut vals: Vec<f32> =
-                        (0..n).map(value).filter(|&v| in_range(v)).collect();
+                    let mut vals: Vec<f32> = (0..n).map(value).filter(|&v| in_range(v)).collect();
                     let k = (rank - below - 1).min(vals.len().saturating_sub(1));
                     let (_, v, _) = vals.select_nth_unstable_by(k, f32::total_cmp);
                     return *v;
@@ -177,8 +176,13 @@ mod tests {
         let mut data: Vec<f32> = vec![0.0; 200_000];
         data.extend((0..62_144).map(|_| (next() % 100_000) as f32 * 0.013 - 7.0));
         let n = data.len() as u32;
-        let v = Volume::new("p", UVec3::new(n / 64, 64, 1), Vec3::ONE, VoxelData::F32(data.clone()))
-            .unwrap();
+        let v = Volume::new(
+            "p",
+            UVec3::new(n / 64, 64, 1),
+            Vec3::ONE,
+            VoxelData::F32(data.clone()),
+        )
+        .unwrap();
         let mut sorted = data.clone();
         sorted.sort_by(f32::total_cmp);
         let fractions = [0.0, 0.01, 0.25, 0.5, 0.76, 0.9, 0.99, 1.0];

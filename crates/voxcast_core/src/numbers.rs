@@ -103,7 +103,10 @@ mod tests {
             for v in [x, -x, x * 1.7, x * 9.99] {
                 let printed: f64 = sig64(v).parse().unwrap();
                 let hw = half_width(printed);
-                assert!((printed - v).abs() <= hw * (1.0 + 1e-9), "{v} → {printed} ± {hw}");
+                assert!(
+                    (printed - v).abs() <= hw * (1.0 + 1e-9),
+                    "{v} → {printed} ± {hw}"
+                );
             }
             x *= 1.37;
         }

@@ -58,12 +58,13 @@ fn every_printed_equation_adds_up() {
                 .enumerate()
                 {
                     let dir = dir.normalize();
-                    let origin = Vec3::new(4.0, 4.2, 2.7) - dir * 20.0 + Vec3::splat(i as f32 * 0.3);
+                    let origin =
+                        Vec3::new(4.0, 4.2, 2.7) - dir * 20.0 + Vec3::splat(i as f32 * 0.3);
                     let t = trace(&volume, &tf, &settings, origin, dir);
                     let minimum = match method {
-                        Method::Accumulate => 3, // C, O, the pixel
+                        Method::Accumulate => 3,                                  // C, O, the pixel
                         Method::Average | Method::Maximum | Method::Minimum => 2, // mean, pixel
-                        Method::First => 1,      // the pixel
+                        Method::First => 1,                                       // the pixel
                     };
                     for k in (0..t.samples.len()).map(Some).chain([None]) {
                         let text = formula(&t, k);

@@ -1,34 +1,20 @@
 //! The readers on real files and on every way a file can be wrong: a clear, typed error naming
 //! the file, never a panic and never an allocation the file cannot back.
 //!
-//! The real volumes of `../shared/data` are read when that folder exists (or `VOXCAST_DATA`
-//! names it); the embedded copies of two of them are always read.
+//! The embedded copies of two real volumes are always read; the real volumes of
+//! `../shared/data` in `real_files.rs`.
+
+mod common;
 
 use flate2::Compression;
 use flate2::write::GzEncoder;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use voxcast_core::builtin::load_builtin;
 use voxcast_core::error::LoadProblem;
 use voxcast_core::glam::{UVec3, Vec3};
 use voxcast_core::io::load;
 use voxcast_core::volume::ScalarType;
 use voxcast_core::{LoadError, VoxelData};
-
-fn data_dir() -> Option<PathBuf> {
-    let dir = std::env::var_os("VOXCAST_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data"));
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "note: {} not found; the shared real volumes are not read in this run",
-            dir.display()
-        );
-        None
-    }
-}
 
 fn temp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("voxcast-readers-{}", std::process::id()));
@@ -65,42 +51,8 @@ fn fails(path: &Path, check: impl Fn(&LoadProblem) -> bool) {
 }
 
 #[test]
-fn the_shared_real_volumes_load_as_they_are() {
-    let Some(dir) = data_dir() else { return };
-    let ct = load(&dir.join("ct_cranium.nrrd")).unwrap().volume;
-    assert_eq!(ct.dims(), UVec3::new(256, 256, 108));
-    assert_eq!(ct.scalar_type(), ScalarType::I16);
-    assert!(
-        (ct.spacing() - Vec3::new(0.9570312, 0.9570312, 1.5))
-            .abs()
-            .max_element()
-            < 1e-6
-    );
-    assert_eq!(ct.value_range(), (-1024.0, 2986.0));
-    let mni = load(&dir.join("mri_mni152.nii.gz")).unwrap().volume;
-    assert_eq!(
-        (mni.dims(), mni.scalar_type()),
-        (UVec3::new(197, 233, 189), ScalarType::U8)
-    );
-    assert_eq!(mni.spacing(), Vec3::ONE);
-    let brain = load(&dir.join("mri_brainsmall.nrrd")).unwrap().volume;
-    assert_eq!(
-        (brain.dims(), brain.value_range()),
-        (UVec3::new(128, 128, 84), (0.0, 202.0))
-    );
-    let bunny = load(&dir.join("bunny_sdf.nrrd")).unwrap().volume;
-    assert_eq!(bunny.dims(), UVec3::new(128, 126, 101));
-    // The embedded copies are the same data.
-    assert_eq!(
-        load_builtin("brainsmall").unwrap().volume.data(),
-        brain.data()
-    );
-    assert_eq!(load_builtin("bunny").unwrap().volume.data(), bunny.data());
-}
-
-#[test]
-fn truncated_copies_of_every_real_file_fail_cleanly() {
-    let mut files: Vec<(String, Vec<u8>)> = vec![
+fn damaged_copies_of_the_embedded_files_fail_cleanly() {
+    common::damaged_copies_fail_cleanly(vec![
         (
             "bunny.nrrd".into(),
             include_bytes!("../../../assets/volumes/bunny_sdf.nrrd").to_vec(),
@@ -109,32 +61,7 @@ fn truncated_copies_of_every_real_file_fail_cleanly() {
             "brainsmall.nrrd".into(),
             include_bytes!("../../../assets/volumes/mri_brainsmall.nrrd").to_vec(),
         ),
-    ];
-    if let Some(dir) = data_dir() {
-        for name in ["ct_cranium.nrrd", "mri_mni152.nii.gz"] {
-            files.push((name.into(), std::fs::read(dir.join(name)).unwrap()));
-        }
-    }
-    for (name, bytes) in files {
-        for cut in [10, 200, bytes.len() / 2, bytes.len() - 9] {
-            let p = write(&format!("cut{cut}_{name}"), &bytes[..cut]);
-            assert!(load(&p).is_err(), "{name} cut at {cut} bytes loaded");
-        }
-        // Flipped bytes in the compressed stream: an error or (if the checksum is all that
-        // breaks) an error too, never a panic.
-        let mut bad = bytes.clone();
-        let n = bad.len();
-        for i in (n / 2..n / 2 + 64).step_by(7) {
-            bad[i] ^= 0x5a;
-        }
-        let p = write(&format!("flipped_{name}"), &bad);
-        assert!(load(&p).is_err(), "{name} with corrupt data loaded");
-        // Appended garbage.
-        let mut long = bytes.clone();
-        long.extend_from_slice(&[1, 2, 3, 4]);
-        let p = write(&format!("long_{name}"), &long);
-        let _ = load(&p); // gzip allows trailing data; what matters is no panic
-    }
+    ]);
 }
 
 /// A NRRD header with these fields, then the blank line.

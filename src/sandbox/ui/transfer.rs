@@ -7,6 +7,7 @@
 //! produce a valid function.
 
 use bevy_egui::egui::{self, Color32, Pos2, Rect, Sense, Stroke, pos2, vec2};
+use voxcast_core::error::io_words;
 use voxcast_core::histogram::{Histogram, HistogramScale};
 use voxcast_core::transfer::TransferFunction;
 
@@ -335,13 +336,14 @@ fn save(tf: &TransferFunction, path: &str) -> Result<String, String> {
     let tmp = path.with_extension("json.tmp");
     std::fs::write(&tmp, tf.to_json())
         .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| format!("cannot save {}: {e}", path.display()))?;
+        .map_err(|e| format!("cannot save {}: {}", path.display(), io_words(&e)))?;
     Ok(format!("saved {}", path.display()))
 }
 
 fn load(path: &str) -> Result<TransferFunction, String> {
     let path = path.trim();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {path}: {e}"))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {path}: {}", io_words(&e)))?;
     TransferFunction::from_json(&text).map_err(|e| format!("{path}: {e}"))
 }
 

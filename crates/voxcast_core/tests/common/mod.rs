@@ -83,3 +83,41 @@ pub fn trace(
 pub fn close(a: f32, b: f32, tol: f32, what: &str) {
     assert!((a - b).abs() <= tol, "{what}: {a} vs {b} (tolerance {tol})");
 }
+
+/// Cut, corrupted and lengthened copies of each file (name, bytes) load with an error (or, for
+/// trailing data gzip allows, at least without a panic).
+pub fn damaged_copies_fail_cleanly(files: Vec<(String, Vec<u8>)>) {
+    let dir = std::env::temp_dir().join(format!("voxcast-damaged-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, bytes: &[u8]| {
+        let p = dir.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p
+    };
+    for (name, bytes) in files {
+        for cut in [10, 200, bytes.len() / 2, bytes.len() - 9] {
+            let p = write(&format!("cut{cut}_{name}"), &bytes[..cut]);
+            assert!(
+                voxcast_core::io::load(&p).is_err(),
+                "{name} cut at {cut} bytes loaded"
+            );
+        }
+        // Flipped bytes in the compressed stream: an error or (if the checksum is all that
+        // breaks) an error too, never a panic.
+        let mut bad = bytes.clone();
+        let n = bad.len();
+        for i in (n / 2..n / 2 + 64).step_by(7) {
+            bad[i] ^= 0x5a;
+        }
+        let p = write(&format!("flipped_{name}"), &bad);
+        assert!(
+            voxcast_core::io::load(&p).is_err(),
+            "{name} with corrupt data loaded"
+        );
+        // Appended garbage.
+        let mut long = bytes.clone();
+        long.extend_from_slice(&[1, 2, 3, 4]);
+        let p = write(&format!("long_{name}"), &long);
+        let _ = voxcast_core::io::load(&p); // gzip allows trailing data; what matters is no panic
+    }
+}

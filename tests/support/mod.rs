@@ -1,0 +1,35 @@
+//! The harness of the tests that need something a machine may lack (a Vulkan device, an X
+//! display): they run under `libtest-mimic`, so a test that cannot run here is reported as
+//! *ignored*, with the reason, instead of passing silently.
+#![allow(dead_code)]
+
+pub use libtest_mimic::{Completion, Failed};
+
+/// What a test returns: completed, ignored (with why), or failed.
+pub type Outcome = Result<Completion, Failed>;
+
+/// Runs the named tests as `cargo test` would, with its filters and flags.
+pub fn run(tests: &[(&'static str, fn() -> Outcome)]) -> ! {
+    let args = libtest_mimic::Arguments::from_args();
+    let trials = tests
+        .iter()
+        .map(|&(name, f)| libtest_mimic::Trial::ignorable_test(name, f))
+        .collect();
+    libtest_mimic::run(&args, trials).exit()
+}
+
+/// Whether `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it) makes a missing device a failure.
+pub fn gpu_required() -> bool {
+    std::env::var_os("VOXCAST_REQUIRE_GPU").is_some_and(|v| v == "1")
+}
+
+/// `Some(ignored)` when a failed run's error output says it found no Vulkan device and that
+/// is allowed here; `None` when the failure is the test's to report.
+pub fn skipped_for_want_of_a_gpu(stderr: &str) -> Option<Outcome> {
+    let missing = stderr.contains("Unable to find a GPU") || stderr.contains("adapter");
+    (missing && !gpu_required()).then(|| {
+        Ok(Completion::ignored_with(
+            "no Vulkan device here (VOXCAST_REQUIRE_GPU=1 makes this a failure)",
+        ))
+    })
+}
