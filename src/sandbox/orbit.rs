@@ -1,6 +1,10 @@
 //! A small orbit camera: left drag orbits around a focus point, right or middle drag pans,
 //! the wheel zooms. Input that egui wants (a panel under the pointer, a dragged slider) is left
 //! to egui.
+//!
+//! A drag is read from raw mouse motion where it arrives, else from the cursor's positions:
+//! remote desktops, VNC, Xvfb driven by xdotool and some touchpads move the cursor without
+//! sending raw motion.
 
 use super::light::LightDrag;
 use super::state::{MainCamera, View};
@@ -95,19 +99,33 @@ pub(super) fn reframe_on_new_volume(
     }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn orbit_camera(
     buttons: Res<ButtonInput<MouseButton>>,
     motion: Res<AccumulatedMouseMotion>,
     scroll: Res<AccumulatedMouseScroll>,
+    window: Query<&Window, With<bevy::window::PrimaryWindow>>,
+    mut last_cursor: Local<Option<Vec2>>,
     egui: Option<Res<EguiWantsInput>>,
     light_drag: Option<Res<LightDrag>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
 ) {
+    let cursor = window.single().ok().and_then(|w| w.cursor_position());
+    let cursor_delta = match (*last_cursor, cursor) {
+        (Some(a), Some(b)) => b - a,
+        _ => Vec2::ZERO,
+    };
+    *last_cursor = cursor;
     if egui.is_some_and(|e| e.wants_any_pointer_input()) || light_drag.is_some_and(|d| d.active()) {
         return;
     }
+    // Raw motion where it arrives; the cursor's own movement where it does not.
+    let delta = if motion.delta != Vec2::ZERO {
+        motion.delta
+    } else {
+        cursor_delta
+    };
     for (mut orbit, mut transform, mut view) in &mut cameras {
-        let delta = motion.delta;
         let mut changed = false;
         if buttons.pressed(MouseButton::Left) && delta != Vec2::ZERO {
             orbit.yaw -= delta.x * ORBIT_SPEED;
@@ -184,6 +202,56 @@ mod tests {
             want.eye
         );
         assert!((v.target - (lo + hi) * 0.5).length() < 1e-3);
+    }
+
+    /// A drag that moves only the cursor (no raw motion, as xdotool and VNC send) orbits.
+    #[test]
+    fn a_drag_of_the_cursor_alone_orbits() {
+        use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
+        use bevy::window::{PrimaryWindow, WindowResolution};
+        let mut app = App::new();
+        app.init_resource::<ButtonInput<MouseButton>>()
+            .init_resource::<AccumulatedMouseMotion>()
+            .init_resource::<AccumulatedMouseScroll>()
+            .add_systems(Update, orbit_camera);
+        let view =
+            voxcast_core::camera::Camera::framing(Vec3::ZERO, Vec3::splat(10.0), Vec3::Z, Vec3::Y)
+                .unwrap();
+        let start = Orbit::looking_at(view.eye, view.target, view.up);
+        app.world_mut()
+            .spawn((MainCamera, View(view), start, start.transform()));
+        app.world_mut().spawn((
+            Window {
+                resolution: WindowResolution::new(400, 300).with_scale_factor_override(1.0),
+                ..default()
+            },
+            PrimaryWindow,
+        ));
+        let move_to = |app: &mut App, x: f64| {
+            let mut q = app.world_mut().query::<&mut Window>();
+            let mut w = q.single_mut(app.world_mut()).unwrap();
+            w.set_physical_cursor_position(Some(bevy::math::DVec2::new(x, 150.0)));
+            app.update();
+        };
+        move_to(&mut app, 100.0);
+        app.world_mut()
+            .resource_mut::<ButtonInput<MouseButton>>()
+            .press(MouseButton::Left);
+        for x in [120.0, 140.0, 160.0] {
+            move_to(&mut app, x);
+        }
+        let mut q = app.world_mut().query::<&Orbit>();
+        let o = *q.single(app.world()).unwrap();
+        let expect = start.yaw - 60.0 * ORBIT_SPEED;
+        assert!((o.yaw - expect).abs() < 1e-4, "yaw {} vs {expect}", o.yaw);
+        assert!((o.pitch - start.pitch).abs() < 1e-6);
+        // Without the button, moving does nothing.
+        app.world_mut()
+            .resource_mut::<ButtonInput<MouseButton>>()
+            .release(MouseButton::Left);
+        move_to(&mut app, 300.0);
+        let mut q = app.world_mut().query::<&Orbit>();
+        assert_eq!(q.single(app.world()).unwrap().yaw, o.yaw);
     }
 
     #[test]
