@@ -217,6 +217,7 @@ fn start_capture(
     state: Res<VolumeState>,
     render_state: Res<RenderState>,
     preview_visible: Query<&Visibility, With<super::state::VolumeBox>>,
+    preview: Option<Res<super::preview::PreviewSettings>>,
 ) {
     let Some(left) = comparison.settling else {
         // Cancelled while settling: nothing will be captured, so nothing else resets it.
@@ -238,16 +239,32 @@ fn start_capture(
         full.0 = false;
         return;
     };
+    // The CPU live view rests at the preview's resolution of the window (the main camera's
+    // target, then, is the whole window: its lines are drawn sharp).
+    let live_scale = preview
+        .filter(|p| p.enabled && p.backend == super::live::Backend::Cpu)
+        .map(|p| p.scale);
+    let cpu_live = live_scale.is_some();
+    let size = live_scale.map_or(target.size, |scale| {
+        (target.size.as_vec2() * scale)
+            .round()
+            .as_uvec2()
+            .max(UVec2::ONE)
+    });
     let snapshot = Snapshot {
         camera: view.0,
-        size: target.size,
+        size,
         settings: render_state.settings.clone(),
         transfer: render_state.transfer.clone(),
         source: state.source.clone(),
     };
     let gpu = Arc::new(Mutex::new(None));
     let previewing = preview_visible.iter().any(|v| *v != Visibility::Hidden);
-    if previewing {
+    if cpu_live {
+        // The CPU live view is compared as it draws this view at rest (the job renders it,
+        // without the scene's spheres, which the render has not either).
+        full.0 = false;
+    } else if previewing {
         let slot = gpu.clone();
         commands
             .spawn(Screenshot::image(target.image.clone()))
@@ -280,6 +297,7 @@ fn start_capture(
             progress.clone(),
             cancel.clone(),
         );
+        let live_slot = gpu.clone();
         AsyncComputeTaskPool::get().spawn(async move {
             let s = &snapshot;
             let scene = Scene::new(&volume, &s.transfer, &s.settings, s.camera.forward())
@@ -291,6 +309,22 @@ fn start_capture(
             };
             let (image, stats) = render(&scene, &s.camera, s.size.x, s.size.y, &report, &cancel)
                 .map_err(|_| "cancelled".to_string())?;
+            if cpu_live {
+                let no_report = |_, _| {};
+                let (layer, _) = voxcast_core::render::render_layer(
+                    &scene,
+                    &s.camera,
+                    (s.size.x, s.size.y),
+                    &[],
+                    &no_report,
+                    &cancel,
+                )
+                .map_err(|_| "cancelled".to_string())?;
+                let live = layer.over(s.settings.background);
+                if let Ok(mut slot) = live_slot.lock() {
+                    *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));
+                }
+            }
             Ok(Rendered {
                 image,
                 stats,

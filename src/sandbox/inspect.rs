@@ -263,11 +263,16 @@ pub fn compute(
 }
 
 /// The sphere radius: a third of the step, so neighbouring samples stay apart.
-fn sphere_radius(volume: &VolumeState, render_state: &RenderState) -> f32 {
+/// A sample sphere's radius: 0.3 of the step, so neighbours along a ray keep a gap of 0.4 step
+/// between them and every sample shows on its own (at most 0.6 voxel, for coarse steps).
+pub fn sphere_radius(volume: &VolumeState, render_state: &RenderState) -> f32 {
     let voxel = volume.volume.spacing().min_element();
     let step = render_state.settings.step.world(voxel);
-    (step * 0.3).clamp(voxel * 0.05, voxel * 0.6)
+    (step * SPHERE_RADIUS_PER_STEP).min(voxel * 0.6)
 }
+
+/// A sample sphere's radius as a fraction of the step (less than ½: samples never touch).
+pub const SPHERE_RADIUS_PER_STEP: f32 = 0.3;
 
 /// The material key: display colour in 5-bit steps, and opacity when it is shown.
 fn color_key(rgba: [f32; 4], show_opacity: bool) -> [u8; 4] {
@@ -306,7 +311,7 @@ fn place_spheres(
     let radius = sphere_radius(&volume, &render_state);
     let mesh = pool
         .mesh
-        .get_or_insert_with(|| meshes.add(Sphere::new(1.0).mesh().ico(0).unwrap()))
+        .get_or_insert_with(|| meshes.add(Sphere::new(1.0).mesh().ico(1).unwrap()))
         .clone();
     let samples: Vec<(usize, Vec3, f32, [f32; 4])> = inspection
         .traces
@@ -359,8 +364,16 @@ fn place_spheres(
                 })
             })
             .clone();
+        // Opaque spheres stop the preview's rays (and are in the CPU live view's image);
+        // transparent ones are drawn over the volume.
+        let layer = if key[3] == 255 {
+            super::live::OCCLUDER_LAYER
+        } else {
+            0
+        };
         commands.entity(entity).insert((
             SampleSphere { ray, t },
+            bevy::camera::visibility::RenderLayers::layer(layer),
             MeshMaterial3d(material),
             Transform::from_translation(p).with_scale(Vec3::splat(radius)),
         ));
@@ -429,6 +442,27 @@ pub(crate) mod tests {
             preset: Some(p),
         };
         (volume, render_state)
+    }
+
+    /// Neighbouring samples never merge: on every embedded volume at its own step (the
+    /// lecture's voxel once showed 14 samples as one "sausage") and at a tiny step.
+    #[test]
+    fn sample_spheres_leave_a_gap() {
+        for (name, _) in voxcast_core::builtin::DATASETS {
+            let (volume, mut render) = scene(name);
+            for step in [None, Some(0.01)] {
+                if let Some(s) = step {
+                    render.settings.step = voxcast_core::step::Length::Voxels(s);
+                }
+                let voxel = volume.volume.spacing().min_element();
+                let spacing = render.settings.step.world(voxel);
+                let r = sphere_radius(&volume, &render);
+                assert!(
+                    r > 0.0 && 2.0 * r < 0.7 * spacing,
+                    "{name}: r {r}, step {spacing}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -97,6 +97,7 @@ fn spawn_marker(
         Transform::default(),
         Visibility::Hidden,
         DespawnOnExit(*mode.get()),
+        bevy::camera::visibility::RenderLayers::layer(super::live::OCCLUDER_LAYER),
     ));
 }
 

@@ -9,6 +9,7 @@ mod compare_cli;
 mod inspect;
 mod lattice;
 mod light;
+mod live;
 mod loading;
 mod material;
 mod measure;
@@ -40,6 +41,7 @@ use orbit::Orbit;
 use state::{MainCamera, RenderState, View, VolumeState};
 use std::path::PathBuf;
 use std::sync::Arc;
+use voxcast_core::error::io_words;
 
 /// Options of the sandbox itself (no subcommand).
 #[derive(Args, Debug, Clone)]
@@ -94,6 +96,8 @@ pub struct SandboxArgs {
     pub play_levels: Option<PathBuf>,
     #[arg(long, help = voxcast_core::tunables::PREVIEW_SCALE.doc, value_parser = parse_preview_scale)]
     pub preview_scale: Option<f32>,
+    #[arg(long, help = voxcast_core::tunables::PREVIEW_BACKEND.doc, value_parser = ["gpu", "cpu"])]
+    pub preview_backend: Option<String>,
     /// Window or screenshot size in pixels.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -147,8 +151,9 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
             .add_plugins(screenshot::image_camera_plugin);
         if let Some(path) = &args.screenshot {
             if args.sweep {
-                std::fs::create_dir_all(path)
-                    .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
+                std::fs::create_dir_all(path).map_err(|e| {
+                    CliError::failed(format!("{}: {}", path.display(), io_words(&e)))
+                })?;
             }
             app.insert_resource(screenshot::Request {
                 path: path.clone(),
@@ -163,14 +168,19 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         }
     } else {
         platform::check_display()?;
-        app.add_plugins(DefaultPlugins.set(render_plugin).set(platform::log_plugin()).set(WindowPlugin {
-            primary_window: Some(Window {
-                title: "Voxcast".into(),
-                resolution: WindowResolution::new(args.size.0, args.size.1),
-                ..default()
-            }),
-            ..default()
-        }));
+        app.add_plugins(
+            DefaultPlugins
+                .set(render_plugin)
+                .set(platform::log_plugin())
+                .set(WindowPlugin {
+                    primary_window: Some(Window {
+                        title: "Voxcast".into(),
+                        resolution: WindowResolution::new(args.size.0, args.size.1),
+                        ..default()
+                    }),
+                    ..default()
+                }),
+        );
         app.add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
             .insert_resource(bevy_egui::EguiGlobalSettings {
                 auto_create_primary_context: false,
@@ -187,6 +197,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 inspect::plugin,
                 trade::plugin,
                 lattice::plugin,
+                live::plugin,
             ))
             .insert_resource(free_play)
             .insert_resource(free_play.0)
@@ -196,7 +207,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
             });
         if let Some(dir) = &args.play_levels {
             std::fs::create_dir_all(dir)
-                .map_err(|e| CliError::failed(format!("{}: {e}", dir.display())))?;
+                .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;
             app.insert_resource(bevy::winit::WinitSettings::continuous())
                 .insert_resource(ui::levels::Lessons::new(Some(dir.join("progress.json"))))
                 .insert_resource(script::PlayLevels(dir.clone()))
@@ -226,6 +237,11 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 });
         }
         app.insert_resource(preview::PreviewSettings {
+            backend: match args.preview_backend.as_deref() {
+                Some("cpu") => live::Backend::Cpu,
+                _ => live::Backend::Gpu,
+            },
+            backend_chosen: args.preview_backend.is_some(),
             adaptive: !args.no_adaptive,
             scale: args
                 .preview_scale
@@ -298,6 +314,7 @@ pub fn preview_camera(view: &voxcast_core::camera::Camera) -> impl Bundle {
         Tonemapping::None,
         DebandDither::Disabled,
         DepthPrepass,
+        bevy::camera::visibility::RenderLayers::from_layers(&[0, live::OCCLUDER_LAYER]),
         MainCamera,
         View(*view),
         Transform::from_translation(view.eye).looking_at(view.target, view.up),

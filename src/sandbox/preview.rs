@@ -3,8 +3,10 @@
 //! coarsens its sampling; adaptive quality lowers both while the camera moves; and it can be
 //! turned off. The CPU render is never affected.
 
+use super::live::{Backend, LiveView, OCCLUDER_LAYER};
 use super::state::{MainCamera, View, VolumeBox};
 use bevy::camera::RenderTarget;
+use bevy::camera::visibility::RenderLayers;
 use bevy::prelude::*;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::window::PrimaryWindow;
@@ -17,6 +19,10 @@ use voxcast_core::tunables as t;
 #[derive(Resource, Clone, PartialEq)]
 pub struct PreviewSettings {
     pub enabled: bool,
+    /// Who draws the volume: the GPU preview or the CPU live view.
+    pub backend: Backend,
+    /// The backend was chosen by the user (the command line), not from the adapter.
+    pub backend_chosen: bool,
     pub scale: f32,
     pub step_multiplier: f32,
     pub adaptive: bool,
@@ -28,6 +34,8 @@ impl Default for PreviewSettings {
     fn default() -> Self {
         Self {
             enabled: true,
+            backend: Backend::Gpu,
+            backend_chosen: false,
             scale: t::PREVIEW_SCALE.default,
             step_multiplier: t::PREVIEW_STEP_MULTIPLIER.default,
             adaptive: t::ADAPTIVE_QUALITY.default != 0.0,
@@ -69,13 +77,18 @@ impl Quality<'_> {
             || self.full.as_ref().is_some_and(|f| f.is_changed())
     }
 
-    /// The fraction of the window's pixels the preview renders (1 without a preview).
+    /// The fraction of the window's pixels the main camera renders: the GPU preview's
+    /// resolution, or 1 when the CPU draws the volume (the camera draws only lines then).
     pub fn scale(&self) -> f32 {
         let moving = self.motion.as_ref().is_some_and(|m| m.moving);
         let full = self.full.as_ref().is_some_and(|f| f.0);
-        self.preview
-            .as_ref()
-            .map_or(1.0, |p| p.effective(moving, full).0)
+        self.preview.as_ref().map_or(1.0, |p| {
+            if p.backend == Backend::Cpu {
+                1.0
+            } else {
+                p.effective(moving, full).0
+            }
+        })
     }
 
     /// How many times longer the preview's step is than the settings' (1 without a preview).
@@ -121,6 +134,7 @@ pub(super) fn plugin(app: &mut App) {
                 track_motion,
                 fit_preview_target,
                 show_or_hide_volume,
+                camera_for_backend,
                 gizmos_off_while_capturing,
             )
                 .chain(),
@@ -128,7 +142,9 @@ pub(super) fn plugin(app: &mut App) {
         .add_systems(EguiPrimaryContextPass, paint_preview);
 }
 
-/// The window's camera: draws nothing but egui, which paints the preview image first.
+/// The window's camera: draws nothing but egui, which paints the preview image first. No
+/// multisampling, tonemapping or dithering: each would be one more full-screen pass, which a
+/// software rasterizer pays for every frame (the preview's values are display values already).
 fn spawn_display_camera(mut commands: Commands) {
     commands.spawn((
         Camera2d,
@@ -136,6 +152,9 @@ fn spawn_display_camera(mut commands: Commands) {
             order: 1,
             ..default()
         },
+        Msaa::Off,
+        bevy::core_pipeline::tonemapping::Tonemapping::None,
+        bevy::core_pipeline::tonemapping::DebandDither::Disabled,
         PrimaryEguiContext,
     ));
 }
@@ -190,13 +209,47 @@ fn show_or_hide_volume(
     mut boxes: Query<&mut Visibility, With<VolumeBox>>,
 ) {
     for mut v in &mut boxes {
-        let want = if settings.enabled {
+        let want = if settings.enabled && settings.backend == Backend::Gpu {
             Visibility::Inherited
         } else {
             Visibility::Hidden
         };
         if *v != want {
             *v = want;
+        }
+    }
+}
+
+/// With the CPU drawing the volume, the main camera draws only what lies over it — gizmo
+/// lines and transparent meshes — on a transparent background; the opaque spheres (on the
+/// occluders' layer) are in the CPU's image. With the GPU it draws everything.
+fn camera_for_backend(
+    settings: Res<PreviewSettings>,
+    mut cameras: Query<(&mut Camera, &mut RenderLayers), With<MainCamera>>,
+) {
+    let cpu = settings.enabled && settings.backend == Backend::Cpu;
+    let (clear, layers) = if cpu {
+        (
+            ClearColorConfig::Custom(Color::NONE),
+            RenderLayers::layer(0),
+        )
+    } else {
+        (
+            ClearColorConfig::Default,
+            RenderLayers::from_layers(&[0, OCCLUDER_LAYER]),
+        )
+    };
+    for (mut camera, mut l) in &mut cameras {
+        let same = matches!(
+            (&camera.clear_color, &clear),
+            (ClearColorConfig::Default, ClearColorConfig::Default)
+                | (ClearColorConfig::Custom(_), ClearColorConfig::Custom(_))
+        );
+        if !same {
+            camera.clear_color = clear;
+        }
+        if *l != layers {
+            *l = layers.clone();
         }
     }
 }
@@ -210,20 +263,24 @@ fn gizmos_off_while_capturing(full: Res<FullQuality>, mut store: ResMut<GizmoCon
     }
 }
 
-/// Paints the preview image over the whole window, beneath every panel.
+/// Paints the preview over the whole window, beneath every panel: the CPU live view's image
+/// when the CPU draws the volume, then the main camera's image (with the CPU, only its lines).
 pub(super) fn paint_preview(
     mut contexts: EguiContexts,
     target: Option<Res<PreviewTarget>>,
+    settings: Option<Res<PreviewSettings>>,
+    mut live: Option<ResMut<LiveView>>,
 ) -> Result {
     let Some(target) = target else { return Ok(()) };
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
-    let ctx = contexts.ctx_mut()?;
+    let ctx = contexts.ctx_mut()?.clone();
     let rect = ctx.viewport_rect();
-    ctx.layer_painter(egui::LayerId::background()).image(
-        id,
-        rect,
-        egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
-        egui::Color32::WHITE,
-    );
+    let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+    let painter = ctx.layer_painter(egui::LayerId::background());
+    let cpu = settings.is_some_and(|s| s.enabled && s.backend == Backend::Cpu);
+    if cpu && let Some(live_id) = live.as_mut().and_then(|l| l.texture(&ctx)) {
+        painter.image(live_id, rect, uv, egui::Color32::WHITE);
+    }
+    painter.image(id, rect, uv, egui::Color32::WHITE);
     Ok(())
 }

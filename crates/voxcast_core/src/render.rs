@@ -1,5 +1,12 @@
 //! The image renderer: every pixel's ray through [`crate::trace`], in parallel, cancellable.
 //!
+//! [`render`] gives the finished picture, every pixel over the background. [`render_layer`]
+//! gives the volume as a layer — premultiplied colour `C` and opacity `O` per pixel — with
+//! rays stopped at opaque, unlit spheres standing in the volume (the sandbox's sample spheres
+//! and light marker), whose colour then shows through what is in front, `C + (1 − O)·sphere`:
+//! exactly what the GPU preview draws with its depth prepass. It is the sandbox's CPU live view;
+//! without spheres, over a plain background, it is the rendered image bit for bit.
+//!
 //! The image is cut into square tiles that rayon hands to its threads; each pixel depends only
 //! on its own ray(s), so the image is identical for any number of threads (tested). After each
 //! tile a progress callback reports `(tiles done, tiles total)`, and before each tile the cancel
@@ -11,7 +18,7 @@ use crate::error::SettingsError;
 use crate::image_out::LinearImage;
 use crate::trace::{Marcher, NoRecord, Scene};
 use crate::volume::{Grid, GridVisitor, Voxel};
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
@@ -90,6 +97,113 @@ pub fn render(
     })
 }
 
+/// An opaque, unlit sphere in the scene: rays stop where they meet it, and its colour shows
+/// through the volume in front of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Occluder {
+    pub centre: Vec3,
+    pub radius: f32,
+    /// Its flat colour (display values, as the transfer function's).
+    pub color: Vec3,
+}
+
+impl Occluder {
+    /// The distance along `ray` (unit direction) to the sphere's front surface, if the ray
+    /// meets it ahead of its origin; a ray starting inside the sphere stops at once.
+    pub fn hit(&self, ray: &crate::ray::Ray) -> Option<f32> {
+        let oc = ray.origin - self.centre;
+        let b = oc.dot(ray.dir);
+        let c = oc.length_squared() - self.radius * self.radius;
+        if c <= 0.0 {
+            return Some(0.0);
+        }
+        let disc = b * b - c;
+        if disc < 0.0 || b > 0.0 {
+            return None;
+        }
+        Some(-b - disc.sqrt())
+    }
+}
+
+/// Premultiplied colour and opacity per pixel, row 0 at the top: the volume as a layer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LayerImage {
+    pub width: u32,
+    pub height: u32,
+    /// `(C.r, C.g, C.b, O)` per pixel, row by row.
+    pub pixels: Vec<Vec4>,
+}
+
+impl LayerImage {
+    /// The layer over a plain background: `C + (1 − O)·background` (what [`render`] gives).
+    pub fn over(&self, background: Vec3) -> LinearImage {
+        let mut image = LinearImage::new(self.width, self.height);
+        for (i, p) in self.pixels.iter().enumerate() {
+            let (x, y) = (i as u32 % self.width, i as u32 / self.width);
+            image.set(
+                x,
+                y,
+                crate::composite::blend_background(p.truncate(), p.w, background),
+            );
+        }
+        image
+    }
+}
+
+/// Renders the volume as a layer ([`LayerImage`]): rays stop at the nearest of `occluders`.
+/// Progress and cancel as [`render`].
+pub fn render_layer(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    (width, height): (u32, u32),
+    occluders: &[Occluder],
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(LayerImage, RenderStats), Cancelled> {
+    struct Visit<'x, 'a> {
+        scene: &'x Scene<'a>,
+        camera: &'x Camera,
+        size: (u32, u32),
+        occluders: &'x [Occluder],
+        progress: &'x (dyn Fn(usize, usize) + Sync),
+        cancel: &'x AtomicBool,
+    }
+    impl GridVisitor for Visit<'_, '_> {
+        type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
+        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
+            let job = Job {
+                scene: self.scene,
+                camera: self.camera,
+                width: self.size.0,
+                height: self.size.1,
+                occluders: self.occluders,
+                progress: self.progress,
+                cancel: self.cancel,
+            };
+            job.run(grid, |out, _, behind| match behind {
+                Some(c) => Vec4::from((out.color + c * (1.0 - out.opacity), 1.0)),
+                None => Vec4::from((out.color, out.opacity)),
+            })
+        }
+    }
+    let (pixels, stats) = scene.volume.visit(Visit {
+        scene,
+        camera,
+        size: (width, height),
+        occluders,
+        progress,
+        cancel,
+    })?;
+    Ok((
+        LayerImage {
+            width,
+            height,
+            pixels,
+        },
+        stats,
+    ))
+}
+
 /// As [`render`], on a dedicated pool of `threads` threads (for measurements and tests).
 pub fn render_with_threads(
     scene: &Scene<'_>,
@@ -115,7 +229,104 @@ pub fn render_with_threads(
 }
 
 /// A finished tile: its top-left corner, its pixels row by row, and the samples it took.
-type TileResult = (u32, u32, Vec<Vec3>, u64, u64);
+type TileResult = (u32, u32, Vec<Vec4>, u64, u64);
+
+/// One render's inputs, for either output.
+struct Job<'x, 'a> {
+    scene: &'x Scene<'a>,
+    camera: &'x Camera,
+    width: u32,
+    height: u32,
+    occluders: &'x [Occluder],
+    progress: &'x (dyn Fn(usize, usize) + Sync),
+    cancel: &'x AtomicBool,
+}
+
+impl Job<'_, '_> {
+    /// Every pixel's rays through `grid`, each ray's outcome turned into a value by `value`
+    /// (given the background and the colour of the occluder that stopped it, if one did) and
+    /// averaged over the supersamples; row by row.
+    fn run<T: Voxel>(
+        &self,
+        grid: Grid<'_, T>,
+        value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
+    ) -> Result<(Vec<Vec4>, RenderStats), Cancelled> {
+        let (scene, width, height) = (self.scene, self.width, self.height);
+        let marcher = Marcher::new(scene, grid);
+        let tiles_x = width.div_ceil(TILE);
+        let tiles_y = height.div_ceil(TILE);
+        let total = (tiles_x * tiles_y) as usize;
+        let done = AtomicUsize::new(0);
+        let n = scene.settings.supersampling.max(1);
+        let inv_rays = 1.0 / (n * n) as f32;
+        let background = scene.settings.background;
+        let rays = self.camera.rays(width, height);
+
+        let tiles: Vec<Option<TileResult>> = (0..total as u32)
+            .into_par_iter()
+            .map(|tile| {
+                if self.cancel.load(Ordering::Relaxed) {
+                    return None;
+                }
+                let x0 = (tile % tiles_x) * TILE;
+                let y0 = (tile / tiles_x) * TILE;
+                let x1 = (x0 + TILE).min(width);
+                let y1 = (y0 + TILE).min(height);
+                let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+                let mut samples = 0u64;
+                let mut positions = 0u64;
+                for py in y0..y1 {
+                    for px in x0..x1 {
+                        let mut sum = Vec4::ZERO;
+                        for sy in 0..n {
+                            for sx in 0..n {
+                                let x = px as f32 + (sx as f32 + 0.5) / n as f32;
+                                let y = py as f32 + (sy as f32 + 0.5) / n as f32;
+                                let mut ray = rays.ray(x, y);
+                                let mut behind = None;
+                                for o in self.occluders {
+                                    if let Some(t) = o.hit(&ray)
+                                        && t < ray.t_max
+                                    {
+                                        ray.t_max = t;
+                                        behind = Some(o.color);
+                                    }
+                                }
+                                let jitter = scene.jitter([px * n + sx, py * n + sy]);
+                                let out = marcher.march(&ray, jitter, &mut NoRecord);
+                                samples += out.samples as u64;
+                                positions += out.positions as u64;
+                                sum += value(&out, background, behind);
+                            }
+                        }
+                        pixels.push(sum * inv_rays);
+                    }
+                }
+                let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+                (self.progress)(d, total);
+                Some((x0, y0, pixels, samples, positions))
+            })
+            .collect();
+
+        let mut image = vec![Vec4::ZERO; width as usize * height as usize];
+        let mut stats = RenderStats {
+            rays: width as u64 * height as u64 * (n * n) as u64,
+            samples: 0,
+            positions: 0,
+        };
+        for tile in tiles {
+            let (x0, y0, pixels, samples, positions) = tile.ok_or(Cancelled)?;
+            stats.samples += samples;
+            stats.positions += positions;
+            let w = (x0 + TILE).min(width) - x0;
+            for (i, p) in pixels.into_iter().enumerate() {
+                let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);
+                image[(y * width + x) as usize] = p;
+            }
+        }
+        Ok((image, stats))
+    }
+}
 
 fn render_typed<T: Voxel>(
     scene: &Scene<'_>,
@@ -126,67 +337,21 @@ fn render_typed<T: Voxel>(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(LinearImage, RenderStats), Cancelled> {
-    let marcher = Marcher::new(scene, grid);
-    let tiles_x = width.div_ceil(TILE);
-    let tiles_y = height.div_ceil(TILE);
-    let total = (tiles_x * tiles_y) as usize;
-    let done = AtomicUsize::new(0);
-    let n = scene.settings.supersampling.max(1);
-    let inv_rays = 1.0 / (n * n) as f32;
-    let background = scene.settings.background;
-    let rays = camera.rays(width, height);
-
-    let tiles: Vec<Option<TileResult>> = (0..total as u32)
-        .into_par_iter()
-        .map(|tile| {
-            if cancel.load(Ordering::Relaxed) {
-                return None;
-            }
-            let x0 = (tile % tiles_x) * TILE;
-            let y0 = (tile / tiles_x) * TILE;
-            let x1 = (x0 + TILE).min(width);
-            let y1 = (y0 + TILE).min(height);
-            let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
-            let mut samples = 0u64;
-            let mut positions = 0u64;
-            for py in y0..y1 {
-                for px in x0..x1 {
-                    let mut sum = Vec3::ZERO;
-                    for sy in 0..n {
-                        for sx in 0..n {
-                            let x = px as f32 + (sx as f32 + 0.5) / n as f32;
-                            let y = py as f32 + (sy as f32 + 0.5) / n as f32;
-                            let ray = rays.ray(x, y);
-                            let jitter = scene.jitter([px * n + sx, py * n + sy]);
-                            let out = marcher.march(&ray, jitter, &mut NoRecord);
-                            samples += out.samples as u64;
-                            positions += out.positions as u64;
-                            sum += out.pixel(background);
-                        }
-                    }
-                    pixels.push(sum * inv_rays);
-                }
-            }
-            let d = done.fetch_add(1, Ordering::Relaxed) + 1;
-            progress(d, total);
-            Some((x0, y0, pixels, samples, positions))
-        })
-        .collect();
-
-    let mut image = LinearImage::new(width, height);
-    let mut stats = RenderStats {
-        rays: width as u64 * height as u64 * (n * n) as u64,
-        samples: 0,
-        positions: 0,
+    let job = Job {
+        scene,
+        camera,
+        width,
+        height,
+        occluders: &[],
+        progress,
+        cancel,
     };
-    for tile in tiles {
-        let (x0, y0, pixels, samples, positions) = tile.ok_or(Cancelled)?;
-        stats.samples += samples;
-        stats.positions += positions;
-        let w = (x0 + TILE).min(width) - x0;
-        for (i, p) in pixels.into_iter().enumerate() {
-            image.set(x0 + i as u32 % w, y0 + i as u32 / w, p);
-        }
+    let (pixels, stats) = job.run(grid, |out, background, _| {
+        Vec4::from((out.pixel(background), 1.0))
+    })?;
+    let mut image = LinearImage::new(width, height);
+    for (i, p) in pixels.into_iter().enumerate() {
+        image.set(i as u32 % width, i as u32 / width, p.truncate());
     }
     Ok((image, stats))
 }

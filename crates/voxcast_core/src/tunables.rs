@@ -289,10 +289,24 @@ pub const RAY_SPEED: Tunable = Tunable {
 pub const PREVIEW_SCALE: Tunable = Tunable {
     key: "preview-scale",
     label: "Preview resolution",
-    doc: "Fraction of the window's pixels the GPU preview renders (then stretched to fill it). \
-          Halving it quarters the rays: the way to keep slow hardware interactive. Default 1.",
+    doc: "Fraction of the window's pixels the preview renders at rest (then stretched to fill \
+          it). Halving it quarters the rays: the way to keep slow hardware interactive. \
+          Default 1.",
     default: 1.0,
     min: 0.05,
+    max: 1.0,
+};
+
+pub const PREVIEW_BACKEND: Tunable = Tunable {
+    key: "preview-backend",
+    label: "Preview drawn by",
+    doc: "Who draws the live view of the volume. GPU: the preview shaders, the twin of the core, \
+          on the graphics card. CPU: the core itself on background threads, coarse while the \
+          view moves and refined to the exact render at rest; the window never waits for it. \
+          The step multipliers below apply to the GPU only. Default: the CPU on a software \
+          rasterizer (lavapipe, llvmpipe, WARP: a machine without a real GPU), else the GPU.",
+    default: 0.0,
+    min: 0.0,
     max: 1.0,
 };
 
@@ -364,6 +378,7 @@ pub const ALL: &[Tunable] = &[
     ISO_THICKNESS,
     BOUNDARY_GRADIENT,
     PREVIEW_SCALE,
+    PREVIEW_BACKEND,
     PREVIEW_STEP_MULTIPLIER,
     ADAPTIVE_QUALITY,
     MOVING_SCALE,

@@ -674,7 +674,13 @@ fn save(t: &RayTrace, path: &str, ext: &str) -> Result<String, String> {
     let tmp = file.with_extension(format!("{ext}.tmp"));
     std::fs::write(&tmp, text)
         .and_then(|_| std::fs::rename(&tmp, &file))
-        .map_err(|e| format!("cannot save {}: {e}", file.display()))?;
+        .map_err(|e| {
+            format!(
+                "cannot save {}: {}",
+                file.display(),
+                voxcast_core::error::io_words(&e)
+            )
+        })?;
     Ok(format!("saved {}", file.display()))
 }
 

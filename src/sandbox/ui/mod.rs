@@ -324,26 +324,58 @@ fn virtual_camera_section(
 }
 
 /// The preview's quality controls and depth termination.
-fn preview_section(ui: &mut egui::Ui, preview: &mut PreviewSettings, depth: &mut bool) {
+fn preview_section(
+    ui: &mut egui::Ui,
+    preview: &mut PreviewSettings,
+    live: Option<&super::live::LiveView>,
+    depth: &mut bool,
+) {
     let mut q = preview.clone();
-    ui.checkbox(&mut q.enabled, "Show the GPU preview")
-        .on_hover_text("Turn the live preview off (the CPU render still works)");
+    ui.checkbox(&mut q.enabled, "Show the preview")
+        .on_hover_text("Turn the live preview off (Render image still works)");
+    ui.horizontal(|ui| {
+        ui.label(t::PREVIEW_BACKEND.label)
+            .on_hover_text(t::PREVIEW_BACKEND.doc);
+        for (backend, name) in [
+            (super::live::Backend::Gpu, "GPU"),
+            (super::live::Backend::Cpu, "CPU"),
+        ] {
+            ui.selectable_value(&mut q.backend, backend, name)
+                .on_hover_text(t::PREVIEW_BACKEND.doc);
+        }
+    });
+    if let (super::live::Backend::Cpu, Some(live)) = (q.backend, live) {
+        ui.label(format!("Live view: {}", live.status()));
+    }
     slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false);
-    slider(
-        ui,
-        &mut q.step_multiplier,
-        &t::PREVIEW_STEP_MULTIPLIER,
-        1.0..=16.0,
-        true,
-    );
+    let gpu = q.backend == super::live::Backend::Gpu;
+    let why = "The CPU live view always uses the settings' own step: it refines to the exact \
+               render";
+    ui.add_enabled_ui(gpu, |ui| {
+        slider(
+            ui,
+            &mut q.step_multiplier,
+            &t::PREVIEW_STEP_MULTIPLIER,
+            1.0..=16.0,
+            true,
+        );
+    })
+    .response
+    .on_disabled_hover_text(why);
     checkbox(ui, &mut q.adaptive, &t::ADAPTIVE_QUALITY);
-    slider(ui, &mut q.moving_scale, &t::MOVING_SCALE, 0.05..=1.0, false);
-    slider(
-        ui,
-        &mut q.moving_step_multiplier,
-        &t::MOVING_STEP_MULTIPLIER,
-        1.0..=16.0,
-        true,
+    ui.add_enabled_ui(gpu, |ui| {
+        slider(ui, &mut q.moving_scale, &t::MOVING_SCALE, 0.05..=1.0, false);
+        slider(
+            ui,
+            &mut q.moving_step_multiplier,
+            &t::MOVING_STEP_MULTIPLIER,
+            1.0..=16.0,
+            true,
+        );
+    })
+    .response
+    .on_disabled_hover_text(
+        "The CPU live view sizes its frames while moving from its measured speed",
     );
     if q != *preview {
         *preview = q;
@@ -389,7 +421,11 @@ fn settings_panel(
         Res<State<super::mode::Mode>>,
     ),
     (mut render, mut step_trade): (ResMut<RenderState>, ResMut<super::trade::StepTrade>),
-    (diagnostics, mut preview): (Res<DiagnosticsStore>, ResMut<PreviewSettings>),
+    (diagnostics, mut preview, live): (
+        Res<DiagnosticsStore>,
+        ResMut<PreviewSettings>,
+        Option<Res<super::live::LiveView>>,
+    ),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
     (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
 ) -> Result {
@@ -477,7 +513,12 @@ fn settings_panel(
                         });
                     }
                     section(ui, Section::Preview, false, guide, |ui| {
-                        preview_section(ui, &mut preview, &mut edited.depth_termination)
+                        preview_section(
+                            ui,
+                            &mut preview,
+                            live.as_deref(),
+                            &mut edited.depth_termination,
+                        )
                     });
                 });
         });

@@ -1,0 +1,511 @@
+//! The CPU live view: where the GPU is a software rasterizer (lavapipe, llvmpipe, WARP) the
+//! volume is ray cast by the core on background threads instead of by the GPU preview, so the
+//! window never waits for a volume frame. Each frame shows the newest finished image; a new one
+//! is started as soon as the last is done: small while the view moves (sized from the measured
+//! speed to take about a thirtieth of a second), then, at rest, twice as fine each time up to
+//! the full resolution, which is the exact render (the same pixels as Render image). A
+//! refinement is cancelled as soon as the view, the settings or the scene change.
+//!
+//! The scene's opaque spheres (sample spheres, the light's marker) stop the rays as the GPU
+//! preview's depth prepass does, and their flat colour shows through the volume in front of
+//! them (`voxcast_core::render::render_layer`); gizmo lines and transparent meshes are drawn by
+//! the main camera over the image, at the window's full resolution.
+
+use super::inspect::SampleSphere;
+use super::light::LightMarker;
+use super::preview::{Motion, PreviewSettings};
+use super::state::{MainCamera, RenderState, View, VolumeState};
+use bevy::prelude::*;
+use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy_egui::egui;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+use voxcast_core::camera::Camera as CoreCamera;
+use voxcast_core::image_out::to_u8;
+use voxcast_core::marker::{LIGHT_MARKER_COLOR, light_marker_radius};
+use voxcast_core::render::{Occluder, render_layer};
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::trace::Scene;
+use voxcast_core::transfer::TransferFunction;
+
+/// Which renderer draws the volume in the window (documented in
+/// `voxcast_core::tunables::PREVIEW_BACKEND`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Backend {
+    /// The GPU preview, the WGSL twin of the core.
+    #[default]
+    Gpu,
+    /// The core itself on background threads: exact at rest, progressive.
+    Cpu,
+}
+
+impl Backend {
+    /// The backend for an adapter: the CPU where the "GPU" is a software rasterizer.
+    pub fn for_adapter(name: &str, device_type: &str) -> Self {
+        let name = name.to_ascii_lowercase();
+        let software = device_type == "Cpu"
+            || [
+                "llvmpipe",
+                "lavapipe",
+                "softpipe",
+                "swiftshader",
+                "basic render driver",
+            ]
+            .iter()
+            .any(|s| name.contains(s));
+        if software { Backend::Cpu } else { Backend::Gpu }
+    }
+}
+
+/// The render layer of the scene's opaque meshes (sample spheres, the light's marker): the
+/// main camera sees it while the GPU draws the volume; with the CPU, they are in its image.
+pub const OCCLUDER_LAYER: usize = 1;
+
+/// How long a frame's worth of CPU rendering may take while the view moves, seconds.
+pub const MOVING_BUDGET_S: f64 = 1.0 / 30.0;
+
+/// What a live frame shows: when any of it changes, the frame is out of date.
+#[derive(Clone, PartialEq, Debug)]
+pub struct LiveKey {
+    pub camera: CoreCamera,
+    pub settings: RenderSettings,
+    pub transfer: TransferFunction,
+    /// The volume's identity (a new load is a new volume even from the same file).
+    pub volume: usize,
+    pub occluders: Vec<Occluder>,
+    /// The resting resolution.
+    pub full: UVec2,
+}
+
+/// A finished frame: the image and what it shows.
+pub struct LiveFrame {
+    pub key: LiveKey,
+    pub size: UVec2,
+    /// Display values, row by row, opaque (the volume over the scene's spheres and the
+    /// background).
+    pub rgb: Vec<[u8; 3]>,
+    pub seconds: f64,
+}
+
+impl LiveFrame {
+    /// At the resting resolution: the exact render.
+    pub fn full(&self) -> bool {
+        self.size == self.key.full
+    }
+}
+
+/// A render in flight.
+struct LiveJob {
+    task: Task<Option<LiveFrame>>,
+    cancel: Arc<AtomicBool>,
+    key: LiveKey,
+    /// A refinement at rest (cancelled when the view changes) rather than a quick frame.
+    refine: bool,
+}
+
+/// The CPU live view's state.
+#[derive(Resource, Default)]
+pub struct LiveView {
+    job: Option<LiveJob>,
+    /// The newest finished frame.
+    pub shown: Option<LiveFrame>,
+    /// Bumped for every new frame, so the texture is uploaded once per frame.
+    pub generation: u64,
+    /// Pixels per second of the last frames (each frame's, smoothed).
+    pub rate: Option<f64>,
+    texture: Option<(u64, egui::TextureHandle)>,
+}
+
+impl LiveView {
+    /// What the live view shows, in words, for the panel.
+    pub fn status(&self) -> String {
+        let Some(f) = &self.shown else {
+            return "rendering the first frame…".into();
+        };
+        let what = if f.full() && self.job.is_none() {
+            "the exact render"
+        } else if self.job.as_ref().is_some_and(|j| j.refine) {
+            "refining…"
+        } else {
+            "coarse while moving"
+        };
+        format!(
+            "{}×{} in {} ms: {what}",
+            f.size.x,
+            f.size.y,
+            voxcast_core::numbers::sig((f.seconds * 1000.0) as f32)
+        )
+    }
+
+    fn cancel(&mut self) {
+        if let Some(job) = self.job.take() {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// The frame's texture for egui, uploaded when a new frame has arrived.
+    pub fn texture(&mut self, ctx: &egui::Context) -> Option<egui::TextureId> {
+        let frame = self.shown.as_ref()?;
+        if self
+            .texture
+            .as_ref()
+            .is_none_or(|(g, _)| *g != self.generation)
+        {
+            let image = egui::ColorImage::from_rgb(
+                [frame.size.x as usize, frame.size.y as usize],
+                frame.rgb.as_flattened(),
+            );
+            match &mut self.texture {
+                Some((g, handle)) => {
+                    handle.set(image, egui::TextureOptions::LINEAR);
+                    *g = self.generation;
+                }
+                None => {
+                    let handle = ctx.load_texture("live view", image, egui::TextureOptions::LINEAR);
+                    self.texture = Some((self.generation, handle));
+                }
+            }
+        }
+        self.texture.as_ref().map(|(_, h)| h.id())
+    }
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<LiveView>()
+        .add_systems(Update, choose_backend)
+        .add_systems(
+            PostUpdate,
+            drive_live_view
+                .after(bevy::camera::CameraUpdateSystems)
+                .after(bevy::transform::TransformSystems::Propagate),
+        );
+}
+
+/// Once the renderer is known: the CPU live view on a software rasterizer, unless the backend
+/// was chosen on the command line.
+fn choose_backend(
+    adapter: Option<Res<bevy::render::renderer::RenderAdapterInfo>>,
+    mut settings: ResMut<PreviewSettings>,
+    mut done: Local<bool>,
+) {
+    if *done {
+        return;
+    }
+    let Some(adapter) = adapter else { return };
+    *done = true;
+    if settings.backend_chosen {
+        return;
+    }
+    let backend = Backend::for_adapter(&adapter.name, &format!("{:?}", adapter.device_type));
+    if backend != settings.backend {
+        info!(
+            "the preview renders on the {} ({})",
+            if backend == Backend::Cpu {
+                "CPU"
+            } else {
+                "GPU"
+            },
+            adapter.name
+        );
+        settings.backend = backend;
+    }
+}
+
+/// The scene's spheres: the virtual camera's samples (a unit mesh, scaled) and the light's
+/// marker (its radius built into the mesh).
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct SceneSpheres<'w, 's> {
+    samples: Query<
+        'w,
+        's,
+        (
+            &'static GlobalTransform,
+            &'static InheritedVisibility,
+            &'static MeshMaterial3d<StandardMaterial>,
+        ),
+        With<SampleSphere>,
+    >,
+    markers:
+        Query<'w, 's, (&'static GlobalTransform, &'static InheritedVisibility), With<LightMarker>>,
+    materials: Res<'w, Assets<StandardMaterial>>,
+}
+
+impl SceneSpheres<'_, '_> {
+    /// The opaque spheres, as the CPU sees them (none while rays pass through geometry).
+    /// Transparent sample spheres do not stop the preview's rays: they are drawn over it.
+    pub fn occluders(&self, render: &RenderState, volume: &VolumeState) -> Vec<Occluder> {
+        if !render.depth_termination {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        for (gt, visible, material) in &self.samples {
+            let Some(m) = self.materials.get(&material.0) else {
+                continue;
+            };
+            if visible.get() && m.alpha_mode == AlphaMode::Opaque {
+                let c = m.base_color.to_srgba();
+                out.push(Occluder {
+                    centre: gt.translation(),
+                    radius: gt.affine().matrix3.x_axis.length(),
+                    color: Vec3::new(c.red, c.green, c.blue),
+                });
+            }
+        }
+        let (lo, hi) = volume.volume.bounds();
+        for (gt, visible) in &self.markers {
+            if visible.get() {
+                out.push(Occluder {
+                    centre: gt.translation(),
+                    radius: light_marker_radius(lo, hi) * gt.affine().matrix3.x_axis.length(),
+                    color: LIGHT_MARKER_COLOR,
+                });
+            }
+        }
+        out
+    }
+}
+
+/// Starts, keeps or cancels the live render, and takes in a finished one.
+#[allow(clippy::too_many_arguments)]
+fn drive_live_view(
+    mut live: ResMut<LiveView>,
+    preview: Res<PreviewSettings>,
+    motion: Res<Motion>,
+    window: Query<&Window, With<bevy::window::PrimaryWindow>>,
+    views: Query<&View, With<MainCamera>>,
+    (volume, render): (Res<VolumeState>, Res<RenderState>),
+    spheres: SceneSpheres,
+) {
+    if !(preview.enabled && preview.backend == Backend::Cpu) {
+        live.cancel();
+        return;
+    }
+    // A finished frame first.
+    if let Some(job) = &mut live.job
+        && let Some(result) = check_ready(&mut job.task)
+    {
+        live.job = None;
+        if let Some(frame) = result {
+            let rate = (frame.size.x * frame.size.y) as f64 / frame.seconds.max(1e-6);
+            live.rate = Some(live.rate.map_or(rate, |r| 0.5 * r + 0.5 * rate));
+            live.shown = Some(frame);
+            live.generation += 1;
+        }
+    }
+    let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
+        return;
+    };
+    let window_size = UVec2::new(window.physical_width(), window.physical_height());
+    let full = (window_size.as_vec2() * preview.scale)
+        .round()
+        .as_uvec2()
+        .max(UVec2::ONE);
+    let key = LiveKey {
+        camera: view.0,
+        settings: render.settings.clone(),
+        transfer: render.transfer.clone(),
+        volume: Arc::as_ptr(&volume.volume) as usize,
+        occluders: spheres.occluders(&render, &volume),
+        full,
+    };
+    if let Some(job) = &live.job {
+        if job.key == key || !job.refine {
+            return; // still current, or a quick frame that will be done at once
+        }
+        live.cancel();
+    }
+    let shown = live.shown.as_ref().filter(|f| f.key == key);
+    if shown.is_some_and(|f| f.full()) {
+        return; // the exact render is on screen
+    }
+    let moving = motion.moving || shown.is_none();
+    let size = if !preview.adaptive {
+        full
+    } else if let (false, Some(f)) = (moving, shown) {
+        (f.size * 2).min(full)
+    } else {
+        quick_size(full, live.rate)
+    };
+    let refine = !moving || size == full;
+    live.job = Some(start(key, size, volume.volume.clone(), refine));
+}
+
+/// The size of a frame that takes about [`MOVING_BUDGET_S`] at `rate` pixels a second (an
+/// eighth of each edge before the first measurement), never above `full`.
+pub fn quick_size(full: UVec2, rate: Option<f64>) -> UVec2 {
+    let fraction = match rate {
+        Some(r) => ((r * MOVING_BUDGET_S) / (full.x as f64 * full.y as f64))
+            .sqrt()
+            .clamp(0.05, 1.0),
+        None => 0.125,
+    };
+    (full.as_dvec2() * fraction)
+        .round()
+        .as_uvec2()
+        .clamp(UVec2::ONE, full)
+}
+
+fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: bool) -> LiveJob {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let job_key = key.clone();
+    let task = AsyncComputeTaskPool::get().spawn(async move {
+        let started = Instant::now();
+        let scene = Scene::new(
+            &volume,
+            &job_key.transfer,
+            &job_key.settings,
+            job_key.camera.forward(),
+        )
+        .ok()?;
+        let (layer, _) = render_layer(
+            &scene,
+            &job_key.camera,
+            (size.x, size.y),
+            &job_key.occluders,
+            &|_, _| {},
+            &flag,
+        )
+        .ok()?;
+        let image = layer.over(job_key.settings.background);
+        let rgb = image.pixels.iter().map(|p| to_u8(*p)).collect();
+        Some(LiveFrame {
+            key: job_key,
+            size,
+            rgb,
+            seconds: started.elapsed().as_secs_f64(),
+        })
+    });
+    LiveJob {
+        task,
+        cancel,
+        key,
+        refine,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bevy::window::{PrimaryWindow, WindowResolution};
+
+    /// A windowless app with the live view on the CPU, a 64×48 window and the bunny.
+    fn app() -> App {
+        let (volume, render) = crate::sandbox::inspect::tests::scene("bunny");
+        let (lo, hi) = volume.volume.bounds();
+        let view = CoreCamera::framing(lo, hi, Vec3::new(1.0, 0.3, 0.8), Vec3::Y).unwrap();
+        let mut app = App::new();
+        app.add_plugins(MinimalPlugins)
+            .insert_resource(volume)
+            .insert_resource(render)
+            .insert_resource(PreviewSettings {
+                backend: Backend::Cpu,
+                backend_chosen: true,
+                ..default()
+            })
+            .init_resource::<Motion>()
+            .init_resource::<Assets<StandardMaterial>>()
+            .add_plugins(plugin);
+        app.world_mut().spawn((MainCamera, View(view)));
+        app.world_mut().spawn((
+            Window {
+                resolution: WindowResolution::new(64, 48).with_scale_factor_override(1.0),
+                ..default()
+            },
+            PrimaryWindow,
+        ));
+        app
+    }
+
+    fn until_exact(app: &mut App) -> u32 {
+        for frame in 0..2000 {
+            app.update();
+            let live = app.world().resource::<LiveView>();
+            if live.shown.as_ref().is_some_and(|f| f.full()) && live.job.is_none() {
+                return frame;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        panic!("the live view never reached the full resolution");
+    }
+
+    /// At rest the live view refines to the exact render: the same pixels as Render image.
+    #[test]
+    fn at_rest_the_live_view_is_the_render() {
+        let mut app = app();
+        until_exact(&mut app);
+        let live = app.world().resource::<LiveView>();
+        let frame = live.shown.as_ref().unwrap();
+        assert_eq!(frame.size, UVec2::new(64, 48));
+        let key = &frame.key;
+        let volume = app.world().resource::<VolumeState>().volume.clone();
+        let scene =
+            Scene::new(&volume, &key.transfer, &key.settings, key.camera.forward()).unwrap();
+        let (image, _) = voxcast_core::render::render(
+            &scene,
+            &key.camera,
+            64,
+            48,
+            &|_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        let expect: Vec<[u8; 3]> = image.to_rgb8().pixels().map(|p| p.0).collect();
+        assert!(frame.rgb == expect, "the live view differs from the render");
+        assert!(live.generation >= 2, "coarse first, then refined");
+    }
+
+    /// A changed view leaves the old frame out of date and brings a new one for the new view.
+    #[test]
+    fn a_new_view_brings_a_new_frame() {
+        let mut app = app();
+        until_exact(&mut app);
+        let mut q = app
+            .world_mut()
+            .query_filtered::<&mut View, With<MainCamera>>();
+        let mut view = q.single_mut(app.world_mut()).unwrap();
+        let moved = CoreCamera::new(
+            view.0.eye + Vec3::new(5.0, 0.0, 0.0),
+            view.0.target,
+            view.0.up,
+            view.0.projection,
+        )
+        .unwrap();
+        view.0 = moved;
+        app.update();
+        let live = app.world().resource::<LiveView>();
+        assert!(live.shown.as_ref().unwrap().key.camera != moved, "not yet");
+        until_exact(&mut app);
+        let live = app.world().resource::<LiveView>();
+        assert_eq!(live.shown.as_ref().unwrap().key.camera, moved);
+    }
+
+    #[test]
+    fn software_rasterizers_get_the_cpu() {
+        assert_eq!(
+            Backend::for_adapter("llvmpipe (LLVM 15.0.6, 256 bits)", "Cpu"),
+            Backend::Cpu
+        );
+        assert_eq!(
+            Backend::for_adapter("Microsoft Basic Render Driver", "Other"),
+            Backend::Cpu
+        );
+        assert_eq!(
+            Backend::for_adapter("NVIDIA GeForce RTX 4070", "DiscreteGpu"),
+            Backend::Gpu
+        );
+    }
+
+    #[test]
+    fn a_quick_frame_fits_the_budget() {
+        let full = UVec2::new(1280, 720);
+        assert_eq!(quick_size(full, None), UVec2::new(160, 90));
+        // 3 M pixels a second: 100 000 pixels in a thirtieth of a second.
+        let s = quick_size(full, Some(3.0e6));
+        let pixels = (s.x * s.y) as f64;
+        assert!((pixels - 1.0e5).abs() < 2.0e3, "{s}");
+        assert_eq!(quick_size(full, Some(1e12)), full);
+        assert_eq!(quick_size(UVec2::ONE, Some(1.0)), UVec2::ONE);
+    }
+}
