@@ -7,7 +7,7 @@
 //! it. It is hidden while a comparison captures the preview (the CPU render has no meshes).
 
 use super::mode::{Mode, Stage};
-use super::preview::FullQuality;
+use super::preview::{FullQuality, Viewport};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy::window::PrimaryWindow;
@@ -124,11 +124,12 @@ fn place_marker(
     }
 }
 
-/// The ray under the cursor, from the main camera's view (the window shows the whole view).
-fn cursor_ray(window: &Window, view: &View) -> Option<Ray> {
-    let cursor = window.physical_cursor_position()?;
-    let (w, h) = (window.physical_width(), window.physical_height());
-    (w > 0 && h > 0).then(|| view.0.ray(cursor.x, cursor.y, w, h))
+/// The ray under the cursor, from the main camera's view (shown in the viewport).
+fn cursor_ray(window: &Window, viewport: Option<&Viewport>, view: &View) -> Option<Ray> {
+    let (min, size) = Viewport::of(viewport, window);
+    let cursor = window.physical_cursor_position()? - min;
+    let inside = cursor.cmpge(Vec2::ZERO).all() && cursor.cmplt(size.as_vec2()).all();
+    inside.then(|| view.0.ray(cursor.x, cursor.y, size.x, size.y))
 }
 
 /// Where `ray` first meets the sphere at `centre` of `radius`, if it does.
@@ -143,7 +144,7 @@ fn hits_sphere(ray: &Ray, centre: Vec3, radius: f32) -> bool {
 #[allow(clippy::too_many_arguments)]
 pub(super) fn drag_light(
     buttons: Res<ButtonInput<MouseButton>>,
-    window: Query<&Window, With<PrimaryWindow>>,
+    (window, viewport): (Query<&Window, With<PrimaryWindow>>, Option<Res<Viewport>>),
     egui: Option<Res<EguiWantsInput>>,
     views: Query<&View, With<MainCamera>>,
     markers: Query<(&Transform, &Visibility), With<LightMarker>>,
@@ -158,7 +159,7 @@ pub(super) fn drag_light(
     let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
         return;
     };
-    let Some(ray) = cursor_ray(window, view) else {
+    let Some(ray) = cursor_ray(window, viewport.as_deref(), view) else {
         return;
     };
     let (lo, hi) = volume.volume.bounds();

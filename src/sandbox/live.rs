@@ -13,7 +13,7 @@
 
 use super::inspect::SampleSphere;
 use super::light::LightMarker;
-use super::preview::{Motion, PreviewSettings};
+use super::preview::{Motion, PreviewSettings, Viewport};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
@@ -272,7 +272,10 @@ fn drive_live_view(
     mut live: ResMut<LiveView>,
     preview: Res<PreviewSettings>,
     motion: Res<Motion>,
-    window: Query<&Window, With<bevy::window::PrimaryWindow>>,
+    (window, viewport): (
+        Query<&Window, With<bevy::window::PrimaryWindow>>,
+        Option<Res<Viewport>>,
+    ),
     views: Query<&View, With<MainCamera>>,
     (volume, render): (Res<VolumeState>, Res<RenderState>),
     spheres: SceneSpheres,
@@ -296,8 +299,8 @@ fn drive_live_view(
     let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
         return;
     };
-    let window_size = UVec2::new(window.physical_width(), window.physical_height());
-    let full = (window_size.as_vec2() * preview.scale)
+    let (_, viewport_size) = Viewport::of(viewport.as_deref(), window);
+    let full = (viewport_size.as_vec2() * preview.scale)
         .round()
         .as_uvec2()
         .max(UVec2::ONE);

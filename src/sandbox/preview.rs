@@ -116,6 +116,35 @@ const REST_AFTER: f32 = 0.3;
 #[derive(Resource, Default, Clone, Copy, PartialEq)]
 pub struct FullQuality(pub bool);
 
+/// The part of the window the scene is shown in: what the docked panels leave free (the
+/// whole window before the panels are laid out, and without them). Logical points, as egui
+/// lays out, and the window's pixels per point.
+#[derive(Resource, Clone, Copy, Debug, PartialEq)]
+pub struct Viewport {
+    pub rect: egui::Rect,
+    pub pixels_per_point: f32,
+}
+
+impl Viewport {
+    /// The viewport in the window's physical pixels: top-left corner and size.
+    pub fn physical(&self) -> (Vec2, UVec2) {
+        let min = Vec2::new(self.rect.min.x, self.rect.min.y) * self.pixels_per_point;
+        let size = Vec2::new(self.rect.width(), self.rect.height()) * self.pixels_per_point;
+        (min, size.round().as_uvec2().max(UVec2::ONE))
+    }
+
+    /// The viewport of `window` (its whole area when `viewport` is not known yet).
+    pub fn of(viewport: Option<&Viewport>, window: &Window) -> (Vec2, UVec2) {
+        match viewport {
+            Some(v) => v.physical(),
+            None => (
+                Vec2::ZERO,
+                UVec2::new(window.physical_width(), window.physical_height()).max(UVec2::ONE),
+            ),
+        }
+    }
+}
+
 /// The image the main camera renders into, and its size in pixels.
 #[derive(Resource)]
 pub struct PreviewTarget {
@@ -178,6 +207,7 @@ fn track_motion(
 fn fit_preview_target(
     mut commands: Commands,
     window: Query<&Window, With<PrimaryWindow>>,
+    viewport: Option<Res<Viewport>>,
     quality: Quality,
     target: Option<Res<PreviewTarget>>,
     mut images: ResMut<Assets<Image>>,
@@ -185,7 +215,7 @@ fn fit_preview_target(
 ) {
     let Ok(window) = window.single() else { return };
     let scale = quality.scale();
-    let full = UVec2::new(window.physical_width(), window.physical_height()).max(UVec2::ONE);
+    let (_, full) = Viewport::of(viewport.as_deref(), window);
     let size = (full.as_vec2() * scale).round().as_uvec2().max(UVec2::ONE);
     if target.as_ref().is_some_and(|t| t.size == size) {
         return;
@@ -263,18 +293,19 @@ fn gizmos_off_while_capturing(full: Res<FullQuality>, mut store: ResMut<GizmoCon
     }
 }
 
-/// Paints the preview over the whole window, beneath every panel: the CPU live view's image
-/// when the CPU draws the volume, then the main camera's image (with the CPU, only its lines).
+/// Paints the preview into the viewport, beneath every panel: the CPU live view's image when
+/// the CPU draws the volume, then the main camera's image (with the CPU, only its lines).
 pub(super) fn paint_preview(
     mut contexts: EguiContexts,
     target: Option<Res<PreviewTarget>>,
     settings: Option<Res<PreviewSettings>>,
+    viewport: Option<Res<Viewport>>,
     mut live: Option<ResMut<LiveView>>,
 ) -> Result {
     let Some(target) = target else { return Ok(()) };
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
     let ctx = contexts.ctx_mut()?.clone();
-    let rect = ctx.viewport_rect();
+    let rect = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
     let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
     let painter = ctx.layer_painter(egui::LayerId::background());
     let cpu = settings.is_some_and(|s| s.enabled && s.backend == Backend::Cpu);

@@ -144,7 +144,10 @@ pub(super) fn ray_overlay(
     views: Query<&View, With<MainCamera>>,
     cameras: Query<&VirtualCamera>,
     breakdown: Res<BreakdownState>,
-    volume: Res<VolumeState>,
+    (volume, viewport): (
+        Res<VolumeState>,
+        Option<Res<crate::sandbox::preview::Viewport>>,
+    ),
 ) -> Result {
     let (Ok(view), Ok(vc)) = (views.single(), cameras.single()) else {
         return Ok(());
@@ -153,11 +156,11 @@ pub(super) fn ray_overlay(
         return Ok(());
     }
     let ctx = contexts.ctx_mut()?;
-    let projector = Projector {
-        view: view.0,
-        rect: ctx.viewport_rect(),
-    };
-    let painter = ctx.layer_painter(egui::LayerId::background());
+    let rect = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
+    let projector = Projector { view: view.0, rect };
+    let painter = ctx
+        .layer_painter(egui::LayerId::background())
+        .with_clip_rect(rect);
     let (lo, hi) = volume.volume.bounds();
     let reach = (vc.view.target - vc.view.eye).length() + (hi - lo).length();
     let selected = selection.selected_index(inspection.size);
@@ -279,6 +282,7 @@ pub(super) fn rays_window(
     mut settings: ResMut<InspectSettings>,
     (mut animation, lessons): (ResMut<RayAnimation>, Res<super::levels::Lessons>),
     cameras: Query<&VirtualCamera>,
+    mut dock: ResMut<super::Dock>,
 ) -> Result {
     // No virtual camera shown (a level without one, or turned off in the panel): no window.
     if !cameras.single().is_ok_and(|c| c.shown) {
@@ -288,72 +292,81 @@ pub(super) fn rays_window(
     let ctx = contexts.ctx_mut()?;
     let mut edited = settings.clone();
     let mut new_selection = *selection;
-    egui::Window::new("Rays")
-        .default_pos(pos2(ctx.viewport_rect().width() - 300.0, 20.0))
-        .default_width(280.0)
-        .show(ctx, |ui| {
-            ui.checkbox(&mut edited.shown, "Show rays and samples");
-            ui.add(
-                egui::Slider::new(&mut edited.speed, t::RAY_SPEED.min..=t::RAY_SPEED.max)
-                    .logarithmic(true)
-                    .text(t::RAY_SPEED.label),
-            )
-            .on_hover_text(t::RAY_SPEED.doc);
-            ui.horizontal(|ui| {
-                if ui
-                    .button("Replay")
-                    .on_hover_text("Grow the rays again")
-                    .clicked()
-                {
-                    animation.replay();
-                }
-                if ui
-                    .button("Skip")
-                    .on_hover_text("Show the rays whole")
-                    .clicked()
-                {
-                    animation.skip();
-                }
-            });
-            ui.checkbox(&mut edited.show_opacity, "Sample opacity")
-                .on_hover_text("Draw each sample as transparent as its opacity");
-            let mut budget = edited.budget as f32;
-            if ui
-                .add(
-                    egui::Slider::new(&mut budget, t::SAMPLE_BUDGET.min..=t::SAMPLE_BUDGET.max)
-                        .logarithmic(true)
-                        .text(t::SAMPLE_BUDGET.label),
-                )
-                .on_hover_text(t::SAMPLE_BUDGET.doc)
-                .changed()
-            {
-                edited.budget = budget as usize;
-            }
-            let size = inspection.size;
-            ui.label(format!(
-                "{}×{} rays, {} samples",
-                size.x,
-                size.y,
-                if inspection.traces.is_some() {
-                    inspection.samples.to_string()
-                } else {
-                    format!("more than {}", edited.budget)
-                }
-            ));
-            if let Some(m) = &inspection.message {
-                ui.colored_label(Color32::YELLOW, m);
-            }
-            ui.label(
-                egui::RichText::new(
-                    "The virtual camera's image, rendered by the core: one ray per pixel. \
+    let ctx = ctx.clone();
+    dock.show(&ctx, "rays", |dock_ui| {
+        egui::Panel::right("rays")
+            .resizable(true)
+            .default_size(280.0)
+            .show(dock_ui, |ui| {
+                ui.heading("Rays");
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    ui.checkbox(&mut edited.shown, "Show rays and samples");
+                    ui.add(
+                        egui::Slider::new(&mut edited.speed, t::RAY_SPEED.min..=t::RAY_SPEED.max)
+                            .logarithmic(true)
+                            .text(t::RAY_SPEED.label),
+                    )
+                    .on_hover_text(t::RAY_SPEED.doc);
+                    ui.horizontal(|ui| {
+                        if ui
+                            .button("Replay")
+                            .on_hover_text("Grow the rays again")
+                            .clicked()
+                        {
+                            animation.replay();
+                        }
+                        if ui
+                            .button("Skip")
+                            .on_hover_text("Show the rays whole")
+                            .clicked()
+                        {
+                            animation.skip();
+                        }
+                    });
+                    ui.checkbox(&mut edited.show_opacity, "Sample opacity")
+                        .on_hover_text("Draw each sample as transparent as its opacity");
+                    let mut budget = edited.budget as f32;
+                    if ui
+                        .add(
+                            egui::Slider::new(
+                                &mut budget,
+                                t::SAMPLE_BUDGET.min..=t::SAMPLE_BUDGET.max,
+                            )
+                            .logarithmic(true)
+                            .text(t::SAMPLE_BUDGET.label),
+                        )
+                        .on_hover_text(t::SAMPLE_BUDGET.doc)
+                        .changed()
+                    {
+                        edited.budget = budget as usize;
+                    }
+                    let size = inspection.size;
+                    ui.label(format!(
+                        "{}×{} rays, {} samples",
+                        size.x,
+                        size.y,
+                        if inspection.traces.is_some() {
+                            inspection.samples.to_string()
+                        } else {
+                            format!("more than {}", edited.budget)
+                        }
+                    ));
+                    if let Some(m) = &inspection.message {
+                        ui.colored_label(Color32::YELLOW, m);
+                    }
+                    ui.label(
+                        egui::RichText::new(
+                            "The virtual camera's image, rendered by the core: one ray per pixel. \
                      Hover to find a ray, click to open its calculation.",
-                )
-                .small(),
-            );
-            super::marked(ui, spot, Control::PixelGrid, |ui| {
-                pixel_grid(ui, &inspection, &mut new_selection)
+                        )
+                        .small(),
+                    );
+                    super::marked(ui, spot, Control::PixelGrid, |ui| {
+                        pixel_grid(ui, &inspection, &mut new_selection)
+                    });
+                });
             });
-        });
+    });
     if edited != *settings {
         *settings = edited;
     }
@@ -428,6 +441,7 @@ pub(super) fn breakdown_window(
     mut state: ResMut<BreakdownState>,
     mut selection: ResMut<RaySelection>,
     lessons: Res<super::levels::Lessons>,
+    mut dock: ResMut<super::Dock>,
 ) -> Result {
     let Some(pixel) = selection.selected else {
         return Ok(());
@@ -436,32 +450,52 @@ pub(super) fn breakdown_window(
     let ctx = contexts.ctx_mut()?;
     let mut open = true;
     let state = &mut *state;
-    egui::Window::new(format!("Ray through pixel ({}, {})", pixel.x, pixel.y))
-        .open(&mut open)
-        .default_width(640.0)
-        .default_height(480.0)
-        .show(ctx, |ui| {
-            let Some(trace) = &state.trace else {
-                ui.label("This ray cannot be traced with the current settings.");
-                return;
-            };
-            summary(ui, trace);
-            ui.separator();
-            formula(ui, trace, state.opened);
-            ui.separator();
-            let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
-                sample_table(ui, trace, state.opened)
+    // Docked below the scene, across the window; it scrolls, with its bars always shown.
+    let ctx = ctx.clone();
+    let height = ctx.viewport_rect().height() * 0.4;
+    dock.show(&ctx, "breakdown", |dock_ui| {
+        egui::Panel::bottom("breakdown")
+            .resizable(true)
+            .default_size(height)
+            .min_size(120.0)
+            .show(dock_ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.heading(format!("Ray through pixel ({}, {})", pixel.x, pixel.y));
+                    if ui
+                        .button("Close")
+                        .on_hover_text("Close the breakdown (the ray is deselected)")
+                        .clicked()
+                    {
+                        open = false;
+                    }
+                });
+                egui::ScrollArea::vertical()
+                    .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        let Some(trace) = &state.trace else {
+                            ui.label("This ray cannot be traced with the current settings.");
+                            return;
+                        };
+                        summary(ui, trace);
+                        ui.separator();
+                        formula(ui, trace, state.opened);
+                        ui.separator();
+                        let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
+                            sample_table(ui, trace, state.opened)
+                        });
+                        if opened != state.opened {
+                            state.opened = opened;
+                        }
+                        if let Some(s) = state.opened.and_then(|k| trace.samples.get(k)) {
+                            ui.separator();
+                            sample_detail(ui, s);
+                        }
+                        ui.separator();
+                        export(ui, trace, &mut state.path, &mut state.message);
+                    });
             });
-            if opened != state.opened {
-                state.opened = opened;
-            }
-            if let Some(s) = state.opened.and_then(|k| trace.samples.get(k)) {
-                ui.separator();
-                sample_detail(ui, s);
-            }
-            ui.separator();
-            export(ui, trace, &mut state.path, &mut state.message);
-        });
+    });
     if !open {
         selection.selected = None;
     }
@@ -529,53 +563,56 @@ fn formula(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) {
 /// One row per sample; clicking a row opens it. Returns the opened sample.
 fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Option<usize> {
     let mut opened = opened;
-    egui::ScrollArea::both().max_height(220.0).show(ui, |ui| {
-        egui::Grid::new("samples").striped(true).show(ui, |ui| {
-            for h in [
-                "k",
-                "t",
-                "position (world)",
-                "value",
-                "TF rgba",
-                "α",
-                "α corrected",
-                "C after",
-                "O after",
-            ] {
-                ui.strong(h);
-            }
-            ui.end_row();
-            for (i, s) in t.samples.iter().enumerate() {
-                let chosen = opened == Some(i);
-                if ui.selectable_label(chosen, s.index.to_string()).clicked() {
-                    opened = if chosen { None } else { Some(i) };
+    egui::ScrollArea::both()
+        .max_height(220.0)
+        .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
+        .show(ui, |ui| {
+            egui::Grid::new("samples").striped(true).show(ui, |ui| {
+                for h in [
+                    "k",
+                    "t",
+                    "position (world)",
+                    "value",
+                    "TF rgba",
+                    "α",
+                    "α corrected",
+                    "C after",
+                    "O after",
+                ] {
+                    ui.strong(h);
                 }
-                num(ui, s.t);
-                vec(ui, s.p_world);
-                num(ui, s.reconstruction.value);
-                ui.horizontal(|ui| {
-                    let (rect, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
-                    ui.painter().rect_filled(
-                        rect,
-                        1.0,
-                        color32([s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2]]),
-                    );
-                    let [r, g, b, a] = s.tf_rgba;
-                    ui.label(format!("{} {} {} {}", sig(r), sig(g), sig(b), sig(a)))
-                        .on_hover_text(format!("{r} {g} {b} {a}"));
-                });
-                num(ui, s.alpha);
-                num(ui, s.alpha_corrected);
-                let c = s.composite_after;
-                vec(ui, [c[0], c[1], c[2]]);
-                num(ui, c[3]);
                 ui.end_row();
-            }
-            ui.strong("end");
-            ui.label(t.stop.words());
-            ui.end_row();
+                for (i, s) in t.samples.iter().enumerate() {
+                    let chosen = opened == Some(i);
+                    if ui.selectable_label(chosen, s.index.to_string()).clicked() {
+                        opened = if chosen { None } else { Some(i) };
+                    }
+                    num(ui, s.t);
+                    vec(ui, s.p_world);
+                    num(ui, s.reconstruction.value);
+                    ui.horizontal(|ui| {
+                        let (rect, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+                        ui.painter().rect_filled(
+                            rect,
+                            1.0,
+                            color32([s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2]]),
+                        );
+                        let [r, g, b, a] = s.tf_rgba;
+                        ui.label(format!("{} {} {} {}", sig(r), sig(g), sig(b), sig(a)))
+                            .on_hover_text(format!("{r} {g} {b} {a}"));
+                    });
+                    num(ui, s.alpha);
+                    num(ui, s.alpha_corrected);
+                    let c = s.composite_after;
+                    vec(ui, [c[0], c[1], c[2]]);
+                    num(ui, c[3]);
+                    ui.end_row();
+                }
+                ui.strong("end");
+                ui.label(t.stop.words());
+                ui.end_row();
+            });
         });
-    });
     opened
 }
 

@@ -31,8 +31,12 @@ pub struct Lessons {
     pub message: Option<String>,
     /// What the player typed as a prediction.
     pub prediction: String,
-    /// Whether the current step's objective is met (checked every frame).
+    /// Whether the current step's objective is met (checked every frame; once met it stays
+    /// met until the step changes, so closing a window or undoing a change never takes a
+    /// finished step back).
     pub met: bool,
+    /// The mode and step `met` was last found true for.
+    met_for: Option<(Mode, usize)>,
     /// The control the current step is about (framed in the panel).
     pub spot: Option<Control>,
     /// For a prediction step: the core's reconstruction at the step's point.
@@ -58,6 +62,7 @@ impl Lessons {
             None => (Progress::default(), None),
         };
         Self {
+            met_for: None,
             levels: Level::all(),
             step: 0,
             progress,
@@ -136,6 +141,8 @@ fn apply_commands(
                 };
                 *stage = Stage::of(&level.scene);
                 lessons.step = 0;
+                lessons.met = false;
+                lessons.met_for = None;
                 lessons.message = None;
                 next.set(Mode::Level(i));
             }
@@ -148,6 +155,7 @@ fn apply_commands(
                 }
                 lessons.record(l);
                 lessons.met = false;
+                lessons.met_for = None;
                 lessons.step += 1;
                 if lessons.step == lessons.levels[l].steps.len() {
                     lessons.message = Some(format!("“{}” done!", lessons.levels[l].title));
@@ -224,6 +232,11 @@ pub(crate) fn check_objective(
         }
         step.objective.met(&sit)
     });
+    let here = Some((*mode.get(), lessons.step));
+    let met = met || (lessons.met_for == here && lessons.met);
+    if met {
+        lessons.met_for = here;
+    }
     (lessons.met, lessons.spot, lessons.detail) = (met, spot, detail);
 }
 
@@ -446,7 +459,8 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// "At least 8 pixels across" reads the image's width: 12×4 meets it, 4×12 does not.
+    /// "At least 8 pixels across" reads the image's width: 12×4 meets it, 4×12 does not; once
+    /// met, the step stays met.
     #[test]
     fn pixels_across_is_the_image_width() {
         let dir = std::env::temp_dir().join(format!("voxcast-across-{}", std::process::id()));
@@ -461,7 +475,8 @@ mod tests {
             .expect("the rays level asks for 8 pixels across");
         app.world_mut().resource_mut::<Lessons>().step = k;
         until(&mut app, |a| !entities::<VirtualCamera>(a).is_empty());
-        for ((w, h), met) in [((12, 4), true), ((4, 12), false), ((8, 1), true)] {
+        // 4×12 is not 8 across; 12×4 is; shrinking it again does not take the step back.
+        for ((w, h), met) in [((4, 12), false), ((12, 4), true), ((4, 4), true)] {
             let vc = entities::<VirtualCamera>(&mut app)[0];
             let mut cam = app.world_mut().get_mut::<VirtualCamera>(vc).unwrap();
             (cam.width, cam.height) = (w, h);

@@ -39,13 +39,21 @@ pub(super) fn levels_window(
     mut lessons: ResMut<Lessons>,
     mode: Res<State<Mode>>,
     mut commands: MessageWriter<LevelCommand>,
+    mut dock: ResMut<super::Dock>,
 ) -> Result {
-    let ctx = contexts.ctx_mut()?;
+    let ctx = contexts.ctx_mut()?.clone();
     let mut command = None;
-    egui::Window::new("Levels")
-        .default_pos(egui::pos2(ctx.viewport_rect().center().x - 200.0, 20.0))
-        .default_width(400.0)
-        .show(ctx, |ui| command = levels_ui(ui, &mut lessons, *mode.get()));
+    // Docked at the top: nothing covers the step's text, and Next is always in view.
+    let max_height = ctx.viewport_rect().height() * 0.3;
+    dock.show(&ctx, "levels", |dock_ui| {
+        egui::Panel::top("levels")
+            .resizable(false)
+            .show(dock_ui, |ui| {
+                egui::ScrollArea::vertical()
+                    .max_height(max_height)
+                    .show(ui, |ui| command = levels_ui(ui, &mut lessons, *mode.get()));
+            });
+    });
     if let Some(c) = command {
         commands.write(c);
     }
@@ -68,7 +76,18 @@ pub(super) fn levels_ui(
 }
 
 fn level_list(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
-    ui.label("One concept per level. Free play: everything on, as it is now.");
+    ui.label(
+        "Levels: one concept each (free play, everything on, is where you are now). \
+         Choose one to start:",
+    );
+    let mut chosen = None;
+    ui.horizontal_wrapped(|ui| {
+        chosen = level_buttons(ui, lessons);
+    });
+    chosen
+}
+
+fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
     let mut chosen = None;
     for (i, level) in lessons.levels.iter().enumerate() {
         let done = lessons
@@ -78,17 +97,19 @@ fn level_list(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
             .copied()
             .unwrap_or(0);
         let total = level.steps.len();
-        ui.horizontal(|ui| {
-            let mark = if done >= total { "✔" } else { " " };
-            if ui
-                .button(format!("{mark} {}. {}", i + 1, level.title))
-                .on_hover_text(&level.concept)
-                .clicked()
-            {
-                chosen = Some(LevelCommand::Start(i));
-            }
-            ui.label(format!("{}/{} steps", done.min(total), total));
-        });
+        let mark = if done >= total { "✔" } else { " " };
+        if ui
+            .button(format!("{mark} {}. {}", i + 1, level.title))
+            .on_hover_text(format!(
+                "{} ({} of {} steps done)",
+                level.concept,
+                done.min(total),
+                total
+            ))
+            .clicked()
+        {
+            chosen = Some(LevelCommand::Start(i));
+        }
     }
     chosen
 }
@@ -96,15 +117,16 @@ fn level_list(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
 fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<LevelCommand> {
     let step = lessons.step_in(Mode::Level(l))?.clone();
     let level = &lessons.levels[l];
-    ui.heading(&level.title);
-    ui.label(egui::RichText::new(&level.concept).italics());
-    ui.separator();
-    ui.label(format!(
-        "Step {} of {}",
-        lessons.step + 1,
-        level.steps.len()
-    ));
-    ui.label(&step.text);
+    ui.horizontal_wrapped(|ui| {
+        ui.strong(&level.title);
+        ui.label(egui::RichText::new(&level.concept).italics());
+        ui.label(format!(
+            "· step {} of {}",
+            lessons.step + 1,
+            level.steps.len()
+        ));
+    });
+    ui.label(egui::RichText::new(&step.text).size(15.0));
     if let Some(c) = step.control {
         ui.colored_label(
             egui::Color32::LIGHT_BLUE,

@@ -27,6 +27,37 @@ use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
 use voxcast_core::tunables::{self as t, Tunable};
 
+/// The part of the window not yet taken by a docked panel this frame (egui lays panels out
+/// inside a `Ui`; each panel system adds its panel to what the ones before it left).
+#[derive(Resource, Default)]
+pub(super) struct Dock(Option<egui::Rect>);
+
+impl Dock {
+    /// Adds panels (through `add`) to the part of the window still free; keeps what is left.
+    pub(super) fn show(&mut self, ctx: &egui::Context, id: &str, add: impl FnOnce(&mut egui::Ui)) {
+        let rect = self.0.unwrap_or(ctx.viewport_rect());
+        let mut ui = egui::Ui::new(
+            ctx.clone(),
+            egui::Id::new(("dock", id)),
+            egui::UiBuilder::new()
+                .layer_id(egui::LayerId::background())
+                .max_rect(rect),
+        );
+        add(&mut ui);
+        self.0 = Some(ui.available_rect_before_wrap());
+    }
+
+    /// The part of the window the panels left for the scene.
+    pub(super) fn free(&self, ctx: &egui::Context) -> egui::Rect {
+        self.0.unwrap_or(ctx.viewport_rect())
+    }
+}
+
+/// A new frame: the whole window is free again.
+fn begin_dock(mut dock: ResMut<Dock>) {
+    dock.0 = None;
+}
+
 /// What the panel keeps between frames.
 #[derive(Resource, Default)]
 struct PanelState {
@@ -37,6 +68,7 @@ struct PanelState {
 
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PanelState>()
+        .init_resource::<Dock>()
         .init_resource::<compare::CompareWindow>()
         .init_resource::<inspector::BreakdownState>()
         .insert_resource(levels::Lessons::new(levels::progress_path()))
@@ -48,15 +80,45 @@ pub(super) fn plugin(app: &mut App) {
         .add_systems(
             EguiPrimaryContextPass,
             (
+                // Docked: the level on top and the breakdown below span the window; the
+                // settings and the rays take the sides; the scene gets what is left.
+                (
+                    begin_dock,
+                    levels_window::levels_window,
+                    inspector::breakdown_window,
+                    settings_panel,
+                    inspector::rays_window,
+                    compare::compare_window,
+                    record_viewport,
+                )
+                    .chain()
+                    .before(super::preview::paint_preview),
                 inspector::ray_overlay.after(super::preview::paint_preview),
-                settings_panel,
-                inspector::rays_window,
-                inspector::breakdown_window,
-                levels_window::levels_window,
-                compare::compare_window,
-            )
-                .chain(),
+            ),
         );
+}
+
+/// Records the rectangle the panels left free for the scene, after they are laid out.
+fn record_viewport(
+    mut contexts: EguiContexts,
+    dock: Res<Dock>,
+    viewport: Option<ResMut<super::preview::Viewport>>,
+    mut commands: Commands,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    let v = super::preview::Viewport {
+        rect: dock.free(ctx),
+        pixels_per_point: ctx.pixels_per_point(),
+    };
+    match viewport {
+        Some(mut old) => {
+            if *old != v {
+                *old = v;
+            }
+        }
+        None => commands.insert_resource(v),
+    }
+    Ok(())
 }
 
 /// The section's title in the panel.
@@ -413,7 +475,7 @@ const PANEL_WIDTH: f32 = 340.0;
 
 fn settings_panel(
     mut contexts: EguiContexts,
-    mut panel: ResMut<PanelState>,
+    (mut panel, mut dock): (ResMut<PanelState>, ResMut<Dock>),
     (volume, mut loading, lessons, mode): (
         Res<VolumeState>,
         ResMut<Loading>,
@@ -437,91 +499,97 @@ fn settings_panel(
         spot,
         panel: lessons.panel_in(*mode.get()),
     };
-    // The panel may use the window's height; it scrolls beyond that.
-    let tall = (ctx.viewport_rect().height() - 80.0).max(200.0);
     let trade_current = step_trade
         .current(main_views.single().ok(), &render, &volume)
         .is_some();
     let voxel = volume.volume.spacing().min_element();
-    egui::Window::new("Settings")
-        .resizable(false)
-        .min_height(tall)
-        .show(ctx, |ui| {
-            egui::ScrollArea::vertical()
-                .max_height(tall)
-                .show(ui, |ui| {
-                    ui.set_width(PANEL_WIDTH);
-                    let fps = diagnostics
-                        .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
-                        .and_then(|d| d.smoothed());
-                    ui.horizontal(|ui| {
-                        ui.label(format!(
-                            "frame time: {}",
-                            fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
-                        ));
-                        let clicked = marked(ui, spot, Control::RenderImage, |ui| {
-                            ui.button("Render image…")
-                                .on_hover_text(
-                                    "Render this view exactly on the CPU and compare it with \
+    let ctx = ctx.clone();
+    dock.show(&ctx, "settings", |dock_ui| {
+        egui::Panel::left("settings")
+            .resizable(true)
+            .default_size(PANEL_WIDTH + 16.0)
+            .min_size(200.0)
+            .show(dock_ui, |ui| {
+                // The frame time and Render image stay at the top; the sections scroll.
+                let fps = diagnostics
+                    .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
+                    .and_then(|d| d.smoothed());
+                ui.horizontal(|ui| {
+                    ui.label(format!(
+                        "frame time: {}",
+                        fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
+                    ));
+                    let clicked = marked(ui, spot, Control::RenderImage, |ui| {
+                        ui.button("Render image…")
+                            .on_hover_text(
+                                "Render this view exactly on the CPU and compare it with \
                                      the preview",
-                                )
-                                .clicked()
+                            )
+                            .clicked()
+                    });
+                    if clicked {
+                        comparison.0.open = true;
+                        comparison.1.start();
+                    }
+                });
+                ui.separator();
+                egui::ScrollArea::vertical()
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        section(ui, Section::Dataset, true, guide, |ui| {
+                            load = dataset_section(ui, &mut panel, &volume, &mut loading);
                         });
-                        if clicked {
-                            comparison.0.open = true;
-                            comparison.1.start();
-                        }
-                    });
-                    section(ui, Section::Dataset, true, guide, |ui| {
-                        load = dataset_section(ui, &mut panel, &volume, &mut loading);
-                    });
-                    section(ui, Section::RayCasting, true, guide, |ui| {
-                        ray_section(ui, &mut edited.settings, &volume, spot)
-                    });
-                    section(ui, Section::SpeedAccuracy, false, guide, |ui| {
-                        trade::trade_section(
-                            ui,
-                            &mut step_trade,
-                            trade_current,
-                            edited.settings.step.voxels(voxel),
-                            spot,
-                        )
-                    });
-                    section(ui, Section::ShadingAndLight, false, guide, |ui| {
-                        shading_section(ui, &mut edited.settings, &volume, spot)
-                    });
-                    section(ui, Section::TransferFunction, true, guide, |ui| {
-                        preset_menu(ui, &mut edited);
-                        panel
-                            .editor
-                            .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
-                        let (lo, hi) = volume.volume.value_range();
-                        marked(ui, spot, Control::Classification, |ui| {
-                            classify::classification_controls(
+                        section(ui, Section::RayCasting, true, guide, |ui| {
+                            ray_section(ui, &mut edited.settings, &volume, spot)
+                        });
+                        section(ui, Section::SpeedAccuracy, false, guide, |ui| {
+                            trade::trade_section(
                                 ui,
-                                &mut edited.settings.classification,
-                                &mut panel.classify,
-                                lo,
-                                hi,
+                                &mut step_trade,
+                                trade_current,
+                                edited.settings.step.voxels(voxel),
+                                spot,
+                            )
+                        });
+                        section(ui, Section::ShadingAndLight, false, guide, |ui| {
+                            shading_section(ui, &mut edited.settings, &volume, spot)
+                        });
+                        section(ui, Section::TransferFunction, true, guide, |ui| {
+                            preset_menu(ui, &mut edited);
+                            panel.editor.show(
+                                ui,
+                                &mut edited.transfer,
+                                &volume.volume,
+                                &volume.source,
+                            );
+                            let (lo, hi) = volume.volume.value_range();
+                            marked(ui, spot, Control::Classification, |ui| {
+                                classify::classification_controls(
+                                    ui,
+                                    &mut edited.settings.classification,
+                                    &mut panel.classify,
+                                    lo,
+                                    hi,
+                                )
+                            });
+                        });
+                        if let Ok(mut vc) = virtual_cameras.single_mut() {
+                            section(ui, Section::VirtualCamera, false, guide, |ui| {
+                                let main = main_views.single().ok().map(|v| v.0);
+                                virtual_camera_section(ui, &mut vc, main, &volume, spot)
+                            });
+                        }
+                        section(ui, Section::Preview, false, guide, |ui| {
+                            preview_section(
+                                ui,
+                                &mut preview,
+                                live.as_deref(),
+                                &mut edited.depth_termination,
                             )
                         });
                     });
-                    if let Ok(mut vc) = virtual_cameras.single_mut() {
-                        section(ui, Section::VirtualCamera, false, guide, |ui| {
-                            let main = main_views.single().ok().map(|v| v.0);
-                            virtual_camera_section(ui, &mut vc, main, &volume, spot)
-                        });
-                    }
-                    section(ui, Section::Preview, false, guide, |ui| {
-                        preview_section(
-                            ui,
-                            &mut preview,
-                            live.as_deref(),
-                            &mut edited.depth_termination,
-                        )
-                    });
-                });
-        });
+            });
+    });
     if edited != *render && edited.settings.validate().is_ok() {
         *render = edited;
     }
