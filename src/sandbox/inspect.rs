@@ -9,7 +9,7 @@
 //! them; the animation can be skipped. The lines themselves are painted over the preview by
 //! the inspector's overlay (`ui/inspector.rs`), so they stay readable inside the volume.
 
-use super::state::{RenderState, VolumeState};
+use super::state::{MainCamera, RenderState, View, VolumeState};
 use super::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
 use std::collections::HashMap;
@@ -143,7 +143,14 @@ pub(crate) fn plugin(app: &mut App) {
         .init_resource::<Pool>()
         .add_systems(
             Update,
-            (recompute, place_spheres, grow_rays, show_spheres).chain(),
+            (
+                recompute,
+                place_spheres,
+                fit_spheres_to_view,
+                grow_rays,
+                show_spheres,
+            )
+                .chain(),
         );
 }
 
@@ -273,6 +280,48 @@ pub fn sphere_radius(volume: &VolumeState, render_state: &RenderState) -> f32 {
 
 /// A sample sphere's radius as a fraction of the step (less than ½: samples never touch).
 pub const SPHERE_RADIUS_PER_STEP: f32 = 0.3;
+
+/// The smallest share of [`sphere_radius`] a ray seen end-on keeps (so its samples stay
+/// visible, even where they must overlap on screen).
+pub const END_ON_FLOOR: f32 = 0.2;
+
+/// A sample sphere's radius on a ray along `dir` seen along `forward`: on screen the samples
+/// of a ray are `step · sin θ` apart (θ between the ray and the line of sight), so the sphere
+/// shrinks with `sin θ` to keep the gap between neighbours — down to [`END_ON_FLOOR`].
+pub fn sphere_radius_seen(radius: f32, dir: Vec3, forward: Vec3) -> f32 {
+    let sin = dir
+        .normalize_or_zero()
+        .cross(forward.normalize_or_zero())
+        .length();
+    radius * sin.max(END_ON_FLOOR)
+}
+
+/// Resizes the spheres of each ray for the main camera's view, when it or the spheres change.
+fn fit_spheres_to_view(
+    views: Query<Ref<View>, With<MainCamera>>,
+    inspection: Res<Inspection>,
+    (volume, render_state): (Res<VolumeState>, Res<RenderState>),
+    mut spheres: Query<(&SampleSphere, &mut Transform)>,
+) {
+    let Ok(view) = views.single() else { return };
+    if !(view.is_changed() || inspection.is_changed() || render_state.is_changed()) {
+        return;
+    }
+    let Some(traces) = &inspection.traces else {
+        return;
+    };
+    let radius = sphere_radius(&volume, &render_state);
+    let forward = view.0.forward();
+    for (sphere, mut transform) in &mut spheres {
+        let Some(trace) = traces.get(sphere.ray) else {
+            continue;
+        };
+        let r = sphere_radius_seen(radius, Vec3::from_array(trace.dir), forward);
+        if transform.scale.x != r {
+            transform.scale = Vec3::splat(r);
+        }
+    }
+}
 
 /// The material key: display colour in 5-bit steps, and opacity when it is shown.
 fn color_key(rgba: [f32; 4], show_opacity: bool) -> [u8; 4] {
@@ -442,6 +491,17 @@ pub(crate) mod tests {
             preset: Some(p),
         };
         (volume, render_state)
+    }
+
+    /// On screen a ray's samples are step · sin θ apart: the sphere keeps 0.3 of that, with a
+    /// floor for rays seen end-on.
+    #[test]
+    fn spheres_shrink_with_the_rays_foreshortening() {
+        let f = Vec3::NEG_Z;
+        assert!((sphere_radius_seen(1.0, Vec3::X, f) - 1.0).abs() < 1e-6);
+        let oblique = Vec3::new(1.0, 0.0, -1.0);
+        assert!((sphere_radius_seen(1.0, oblique, f) - 0.5f32.sqrt()).abs() < 1e-6);
+        assert_eq!(sphere_radius_seen(1.0, Vec3::NEG_Z, f), END_ON_FLOOR);
     }
 
     /// Neighbouring samples never merge: on every embedded volume at its own step (the

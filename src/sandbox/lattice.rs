@@ -1,7 +1,7 @@
 //! The volume's lattice in the scene: the box it spans always, and for a small grid (up to
 //! [`LATTICE_MAX`] points a side, like the sampling level's 8³ or the worked 2³ voxel) the lines
 //! through its lattice points, so the voxels a ray passes can be counted even with the preview
-//! off. Gizmo lines: hidden with the other gizmos while a comparison captures the preview.
+//! off. Drawn as overlay lines (`overlay`): sharp at any preview resolution.
 
 use super::state::VolumeState;
 use bevy::prelude::*;
@@ -51,13 +51,21 @@ pub fn lattice_lines(volume: &voxcast_core::volume::Volume) -> Vec<(Vec3, Vec3)>
     lines
 }
 
-fn draw_lattice(mut gizmos: Gizmos, volume: Res<VolumeState>, mut cache: Local<Vec<(Vec3, Vec3)>>) {
-    if volume.is_changed() {
+fn draw_lattice(
+    mut lines: ResMut<super::overlay::OverlayLines>,
+    volume: Res<VolumeState>,
+    mut cache: Local<Vec<(Vec3, Vec3)>>,
+) {
+    if volume.is_changed() || cache.is_empty() {
         *cache = lattice_lines(&volume.volume);
     }
-    let colour = Color::srgba(0.6, 0.6, 0.6, 0.35);
-    for (a, b) in cache.iter() {
-        gizmos.line(*a, *b, colour);
+    let (edge, lattice) = (
+        Color::srgba(0.7, 0.7, 0.7, 0.6),
+        Color::srgba(0.6, 0.6, 0.6, 0.3),
+    );
+    for (i, (a, b)) in cache.iter().enumerate() {
+        // The box's 12 edges first, then the lattice lines.
+        lines.line(*a, *b, if i < 12 { edge } else { lattice }, 1.0);
     }
 }
 

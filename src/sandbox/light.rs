@@ -45,7 +45,7 @@ pub(crate) fn marker_plugin(app: &mut App) {
 /// Dragging and the gizmo (window only).
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<LightDrag>()
-        .add_systems(Update, (drag_light.before(place_marker), draw_gizmo));
+        .add_systems(Update, (drag_light.before(place_marker), draw_ring));
 }
 
 /// Where the marker stands for `light`, `None` for the headlight (it moves with the camera).
@@ -196,12 +196,14 @@ pub(super) fn drag_light(
     }
 }
 
-fn draw_gizmo(
-    mut gizmos: Gizmos,
+fn draw_ring(
+    mut overlay: ResMut<super::overlay::OverlayLines>,
     render: Res<RenderState>,
     volume: Res<VolumeState>,
     drag: Res<LightDrag>,
+    views: Query<&View, With<MainCamera>>,
 ) {
+    let Ok(view) = views.single() else { return };
     let light = render.settings.phong.light;
     let Some(at) = marker_position(light, &volume) else {
         return;
@@ -211,9 +213,9 @@ fn draw_gizmo(
     let c = LIGHT_MARKER_COLOR;
     let color = Color::srgb(c.x, c.y, c.z);
     let ring = if drag.active() { Color::WHITE } else { color };
-    gizmos.sphere(Isometry3d::from_translation(at), r * GRAB_SLACK, ring);
+    overlay.ring(at, r * GRAB_SLACK, view, ring, 1.5);
     if let Light::Directional(_) = light {
-        gizmos.arrow(at, (lo + hi) * 0.5, color);
+        overlay.arrow(at, (lo + hi) * 0.5, view, color, 1.5);
     }
 }
 

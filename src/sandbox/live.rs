@@ -13,7 +13,7 @@
 
 use super::inspect::SampleSphere;
 use super::light::LightMarker;
-use super::preview::{Motion, PreviewSettings, Viewport};
+use super::preview::{PreviewSettings, Viewport};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
@@ -64,6 +64,10 @@ pub const OCCLUDER_LAYER: usize = 1;
 
 /// How long a frame's worth of CPU rendering may take while the view moves, seconds.
 pub const MOVING_BUDGET_S: f64 = 1.0 / 30.0;
+
+/// At rest, the full resolution is rendered at once when it takes at most this long, seconds;
+/// a slower one is approached by doubling the edges.
+pub const REFINE_AT_ONCE_S: f64 = 0.5;
 
 /// What a live frame shows: when any of it changes, the frame is out of date.
 #[derive(Clone, PartialEq, Debug)]
@@ -118,6 +122,11 @@ pub struct LiveView {
 }
 
 impl LiveView {
+    /// Whether a render is under way.
+    pub fn busy(&self) -> bool {
+        self.job.is_some()
+    }
+
     /// What the live view shows, in words, for the panel.
     pub fn status(&self) -> String {
         let Some(f) = &self.shown else {
@@ -271,7 +280,6 @@ impl SceneSpheres<'_, '_> {
 fn drive_live_view(
     mut live: ResMut<LiveView>,
     preview: Res<PreviewSettings>,
-    motion: Res<Motion>,
     (window, viewport): (
         Query<&Window, With<bevy::window::PrimaryWindow>>,
         Option<Res<Viewport>>,
@@ -322,16 +330,27 @@ fn drive_live_view(
     if shown.is_some_and(|f| f.full()) {
         return; // the exact render is on screen
     }
-    let moving = motion.moving || shown.is_none();
-    let size = if !preview.adaptive {
-        full
-    } else if let (false, Some(f)) = (moving, shown) {
-        (f.size * 2).min(full)
-    } else {
-        quick_size(full, live.rate)
+    // A frame of this very view on screen: the view rests, refine it. Otherwise it moves (or
+    // was just changed): a quick frame.
+    let size = match shown {
+        _ if !preview.adaptive => full,
+        Some(f) => refined_size(f.size, full, live.rate),
+        None => quick_size(full, live.rate),
     };
-    let refine = !moving || size == full;
+    let refine = shown.is_some() || size == full;
     live.job = Some(start(key, size, volume.volume.clone(), refine));
+}
+
+/// The next size at rest after a frame of `size`: the full resolution at once when it takes at
+/// most [`REFINE_AT_ONCE_S`] at `rate` pixels a second, else twice the edges (so a slow
+/// machine still sees the picture sharpen).
+pub fn refined_size(size: UVec2, full: UVec2, rate: Option<f64>) -> UVec2 {
+    let full_time = rate.map_or(f64::INFINITY, |r| (full.x as f64 * full.y as f64) / r);
+    if full_time <= REFINE_AT_ONCE_S {
+        full
+    } else {
+        (size * 2).min(full)
+    }
 }
 
 /// The size of a frame that takes about [`MOVING_BUDGET_S`] at `rate` pixels a second (an
@@ -407,7 +426,6 @@ mod tests {
                 backend_chosen: true,
                 ..default()
             })
-            .init_resource::<Motion>()
             .init_resource::<Assets<StandardMaterial>>()
             .add_plugins(plugin);
         app.world_mut().spawn((MainCamera, View(view)));
@@ -510,5 +528,15 @@ mod tests {
         assert!((pixels - 1.0e5).abs() < 2.0e3, "{s}");
         assert_eq!(quick_size(full, Some(1e12)), full);
         assert_eq!(quick_size(UVec2::ONE, Some(1.0)), UVec2::ONE);
+    }
+
+    #[test]
+    fn refinement_goes_to_full_when_it_is_quick() {
+        let full = UVec2::new(1280, 720);
+        let quick = UVec2::new(320, 180);
+        assert_eq!(refined_size(quick, full, Some(1e7)), full);
+        assert_eq!(refined_size(quick, full, Some(1e5)), UVec2::new(640, 360));
+        assert_eq!(refined_size(quick, full, None), UVec2::new(640, 360));
+        assert_eq!(refined_size(UVec2::new(1000, 600), full, None), full);
     }
 }

@@ -2,7 +2,8 @@
 //! `AsyncComputeTaskPool` while the sandbox keeps drawing the previous volume; the panel shows
 //! what is loading and for how long, with Cancel. A finished load replaces the volume and picks
 //! its preset (or a grey ramp); a failed one leaves everything as it was and says why. Files
-//! dropped on the window load the same way.
+//! dropped on the window load the same way. A volume the player loads keeps the method and
+//! step they chose (the panel says so); a level's volume brings all its defaults.
 
 use super::state::{RenderState, VolumeState};
 use bevy::prelude::*;
@@ -22,26 +23,42 @@ use voxcast_core::volume::Volume;
 pub struct Loading {
     job: Option<Job>,
     pub error: Option<String>,
+    /// What the last load kept and what it changed, in words.
+    pub note: Option<String>,
 }
 
 struct Job {
     source: String,
+    /// Keep the player's method and step (a load from the panel or a dropped file).
+    keep_choices: bool,
     started: Instant,
     task: Task<Result<Loaded, String>>,
 }
 
 impl Loading {
-    /// Starts loading `source` (`builtin:NAME` or a path); replaces a load under way.
+    /// Starts loading `source` (`builtin:NAME` or a path) with all its defaults (a level's
+    /// volume); replaces a load under way.
     pub fn start(&mut self, source: String) {
+        self.begin(source, false);
+    }
+
+    /// Starts loading a volume the player chose: their method and step are kept.
+    pub fn start_keeping_choices(&mut self, source: String) {
+        self.begin(source, true);
+    }
+
+    fn begin(&mut self, source: String, keep_choices: bool) {
         let spec = source.clone();
         let task = AsyncComputeTaskPool::get()
             .spawn(async move { load_source(&spec).map_err(|e| e.to_string()) });
         self.job = Some(Job {
             source,
+            keep_choices,
             started: Instant::now(),
             task,
         });
         self.error = None;
+        self.note = None;
     }
 
     /// Stops waiting for the load under way (the previous volume stays). A file already being
@@ -66,7 +83,7 @@ pub(crate) fn plugin(app: &mut App) {
 fn load_dropped_files(mut drops: MessageReader<FileDragAndDrop>, mut loading: ResMut<Loading>) {
     for drop in drops.read() {
         if let FileDragAndDrop::DroppedFile { path_buf, .. } = drop {
-            loading.start(path_buf.display().to_string());
+            loading.start_keeping_choices(path_buf.display().to_string());
         }
     }
 }
@@ -83,10 +100,23 @@ fn finish_loading(
         return;
     };
     let source = job.source.clone();
+    let keep = job.keep_choices;
     loading.job = None;
     match result {
         Ok(loaded) => {
+            let (method, step) = (render.settings.method, render.settings.step);
             reset_to_defaults(&loaded.volume, &mut render);
+            if keep {
+                render.settings.method = method;
+                render.settings.step = step;
+                let voxel = loaded.volume.spacing().min_element();
+                loading.note = Some(format!(
+                    "Kept your method ({}) and step ({} voxel); the transfer function, shading \
+                     and the other settings are the new volume's.",
+                    method.name(),
+                    voxcast_core::numbers::sig(step.voxels(voxel))
+                ));
+            }
             *volume = VolumeState {
                 preset: preset::for_volume(loaded.volume.name()),
                 volume: Arc::new(loaded.volume),
@@ -183,6 +213,39 @@ mod tests {
             "a ramp over the new range"
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A volume the player loads keeps their method and step, and says so; a level's load
+    /// brings every default of the volume.
+    #[test]
+    fn the_players_method_and_step_survive_a_load() {
+        use voxcast_core::composite::Method;
+        use voxcast_core::step::Length;
+        for keep in [true, false] {
+            let mut app = app();
+            {
+                let mut render = app.world_mut().resource_mut::<RenderState>();
+                render.settings.method = Method::Maximum;
+                render.settings.step = Length::Voxels(0.125);
+            }
+            let mut loading = app.world_mut().resource_mut::<Loading>();
+            if keep {
+                loading.start_keeping_choices("builtin:bunny".into());
+            } else {
+                loading.start("builtin:bunny".into());
+            }
+            run_until_idle(&mut app);
+            let s = &app.world().resource::<RenderState>().settings;
+            let note = app.world().resource::<Loading>().note.clone();
+            if keep {
+                assert_eq!((s.method, s.step), (Method::Maximum, Length::Voxels(0.125)));
+                let note = note.expect("the panel says what was kept");
+                assert!(note.contains("maximum") && note.contains("0.125"), "{note}");
+            } else {
+                assert_eq!(s.method, Method::Accumulate);
+                assert!(note.is_none());
+            }
+        }
     }
 
     #[test]

@@ -2,6 +2,9 @@
 //! optionally while orbiting the camera, which engages adaptive quality — prints the mean and
 //! median over N frames after a warm-up, and exits. BENCHMARKS.md's preview figures come from it.
 //! The virtual camera's rays are shown whole (no growing animation), with all their samples.
+//!
+//! With the CPU live view it also reports how many new volume images arrived a second while
+//! measuring, at what size, and (resting) how long after start the exact render was on screen.
 
 use super::orbit::Orbit;
 use super::state::{MainCamera, View};
@@ -15,6 +18,12 @@ pub struct MeasureRequest {
     pub orbit_degrees: f32,
     /// A label printed with the figures.
     pub label: String,
+}
+
+/// When the measured frames ended, and the live view's images a second and size until then.
+struct Stopped {
+    at: f64,
+    live: Option<(f64, UVec2)>,
 }
 
 /// Frames drawn before measuring (pipelines compiled, textures uploaded, quality settled).
@@ -32,15 +41,27 @@ fn measure_frames(
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut exit: MessageWriter<AppExit>,
     animation: Option<ResMut<super::inspect::RayAnimation>>,
+    (live, preview, mut live_start, mut stopped): (
+        Option<Res<super::live::LiveView>>,
+        Option<Res<super::preview::PreviewSettings>>,
+        Local<Option<(u64, f64)>>,
+        Local<Option<Stopped>>,
+    ),
 ) {
     *seen += 1;
+    let cpu = preview.is_some_and(|p| p.enabled && p.backend == super::live::Backend::Cpu);
+    let live = live.filter(|_| cpu);
+    let now = time.elapsed_secs_f64();
     // Every ray and sample on screen from the start: the cost of the whole scene.
     if let Some(mut a) = animation
         && a.distance.is_finite()
     {
         a.skip();
     }
-    if request.orbit_degrees != 0.0 {
+    // Once the frames are measured the orbit stops, and (with the CPU live view) the time
+    // until the exact render of the resting view is on screen is measured too.
+    let measured = samples.len() as u32 >= request.frames;
+    if request.orbit_degrees != 0.0 && !measured {
         for (mut orbit, mut transform, mut view) in &mut cameras {
             orbit.yaw += request.orbit_degrees.to_radians();
             *transform = orbit.transform();
@@ -57,19 +78,60 @@ fn measure_frames(
     if *seen <= WARM_UP {
         return;
     }
-    // Real time: virtual time clamps a frame at 250 ms.
-    samples.push(time.delta_secs() * 1000.0);
-    if samples.len() as u32 == request.frames {
-        let mut sorted = samples.clone();
-        sorted.sort_by(f32::total_cmp);
-        let mean = sorted.iter().sum::<f32>() / sorted.len() as f32;
-        let median = sorted[sorted.len() / 2];
-        println!(
-            "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} frames",
-            request.label,
-            1000.0 / median,
-            sorted.len()
-        );
-        exit.write(AppExit::Success);
+    if live_start.is_none() {
+        *live_start = live.as_ref().map(|l| (l.generation, now));
     }
+    // Real time: virtual time clamps a frame at 250 ms.
+    if !measured {
+        samples.push(time.delta_secs() * 1000.0);
+        if samples.len() as u32 == request.frames {
+            *stopped = Some(Stopped {
+                at: now,
+                live: live.as_ref().zip(*live_start).map(|(l, (g0, t0))| {
+                    let size = l.shown.as_ref().map_or(UVec2::ZERO, |f| f.size);
+                    ((l.generation - g0) as f64 / (now - t0).max(1e-6), size)
+                }),
+            });
+        }
+        return;
+    }
+    let view = cameras.single().ok().map(|(_, _, v)| v.0);
+    let exact_now = live.as_ref().is_some_and(|l| {
+        !l.busy()
+            && l.shown
+                .as_ref()
+                .is_some_and(|f| f.full() && Some(f.key.camera) == view)
+    });
+    let waited = now - stopped.as_ref().map_or(now, |s| s.at);
+    if live.is_some() && !exact_now && waited < 30.0 {
+        return; // the live view is still refining the resting view
+    }
+    let mut sorted = samples.clone();
+    sorted.sort_by(f32::total_cmp);
+    let mean = sorted.iter().sum::<f32>() / sorted.len() as f32;
+    let median = sorted[sorted.len() / 2];
+    let live_text = match stopped.as_ref().and_then(|s| s.live) {
+        Some((rate, size)) => {
+            let exact = match (exact_now, request.orbit_degrees != 0.0) {
+                (false, _) => "not reached".to_string(),
+                (true, true) => {
+                    format!("{:.0} ms after the camera stopped", waited * 1000.0)
+                }
+                (true, false) => "on screen".to_string(),
+            };
+            format!(
+                "; CPU live view: {rate:.1} images/s at {}×{}, exact render {exact}",
+                size.x, size.y
+            )
+        }
+        None => String::new(),
+    };
+    println!(
+        "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} \
+             frames{live_text}",
+        request.label,
+        1000.0 / median,
+        sorted.len()
+    );
+    exit.write(AppExit::Success);
 }

@@ -15,6 +15,7 @@ mod material;
 mod measure;
 pub mod mode;
 mod orbit;
+mod overlay;
 pub mod platform;
 mod preview;
 pub mod screenshot;
@@ -198,6 +199,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
                 trade::plugin,
                 lattice::plugin,
                 live::plugin,
+                overlay::plugin,
             ))
             .insert_resource(free_play)
             .insert_resource(free_play.0)

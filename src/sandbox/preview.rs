@@ -164,7 +164,6 @@ pub(super) fn plugin(app: &mut App) {
                 fit_preview_target,
                 show_or_hide_volume,
                 camera_for_backend,
-                gizmos_off_while_capturing,
             )
                 .chain(),
         )
@@ -250,9 +249,10 @@ fn show_or_hide_volume(
     }
 }
 
-/// With the CPU drawing the volume, the main camera draws only what lies over it — gizmo
-/// lines and transparent meshes — on a transparent background; the opaque spheres (on the
-/// occluders' layer) are in the CPU's image. With the GPU it draws everything.
+/// With the CPU drawing the volume, the main camera draws only what lies over it — the
+/// transparent sample spheres — on a transparent background; the opaque spheres (on the
+/// occluders' layer) are in the CPU's image. With the GPU it draws everything. (Lines are
+/// egui's: `overlay`.)
 fn camera_for_backend(
     settings: Res<PreviewSettings>,
     mut cameras: Query<(&mut Camera, &mut RenderLayers), With<MainCamera>>,
@@ -280,15 +280,6 @@ fn camera_for_backend(
         }
         if *l != layers {
             *l = layers.clone();
-        }
-    }
-}
-
-/// Turns gizmo lines off while a comparison captures the preview (the CPU render has none).
-fn gizmos_off_while_capturing(full: Res<FullQuality>, mut store: ResMut<GizmoConfigStore>) {
-    if full.is_changed() {
-        for (_, config, _) in store.iter_mut() {
-            config.enabled = !full.0;
         }
     }
 }

@@ -1,5 +1,5 @@
 //! The Virtual Camera entity: the camera whose rays the student follows. It is drawn as a small
-//! body at its eye with gizmos for its frustum and its image plane divided into its pixels
+//! body at its eye with overlay lines for its frustum and its image plane divided into its pixels
 //! (one ray per pixel, through the pixel's centre; the inspector traces them). Its view is a
 //! core camera, so the grid drawn here is exactly where the core's rays pass.
 
@@ -15,7 +15,7 @@ pub struct VirtualCamera {
     pub view: CoreCamera,
     pub width: u32,
     pub height: u32,
-    /// Whether its gizmos and body are drawn.
+    /// Whether its lines and body are drawn.
     pub shown: bool,
 }
 
@@ -65,7 +65,7 @@ impl VirtualCamera {
         })
     }
 
-    /// The gizmo's line segments: the pixel grid on the image plane (`width + 1` columns and
+    /// The overlay's line segments: the pixel grid on the image plane (`width + 1` columns and
     /// `height + 1` rows), then the four frustum edges from the eye (perspective) or from the
     /// eye's plane (orthographic) to the plane's corners.
     pub fn lines(&self) -> Vec<(Vec3, Vec3)> {
@@ -94,7 +94,7 @@ pub(super) fn plugin(app: &mut App) {
             // Beside the main camera as it is framed for the new volume or mode.
             stage_camera.after(super::orbit::reframe_on_new_volume),
             place_body,
-            draw_gizmos,
+            draw_lines,
         )
             .chain(),
     );
@@ -183,7 +183,7 @@ fn place_body(
     }
 }
 
-fn draw_gizmos(mut gizmos: Gizmos, cameras: Query<&VirtualCamera>) {
+fn draw_lines(mut overlay: ResMut<super::overlay::OverlayLines>, cameras: Query<&VirtualCamera>) {
     let Ok(vc) = cameras.single() else { return };
     if !vc.shown {
         return;
@@ -193,7 +193,7 @@ fn draw_gizmos(mut gizmos: Gizmos, cameras: Query<&VirtualCamera>) {
     let lines = vc.lines();
     let grid_lines = (vc.width.max(1) + vc.height.max(1) + 2) as usize;
     for (i, (a, b)) in lines.into_iter().enumerate() {
-        gizmos.line(a, b, if i < grid_lines { grid } else { frustum });
+        overlay.line(a, b, if i < grid_lines { grid } else { frustum }, 1.0);
     }
 }
 

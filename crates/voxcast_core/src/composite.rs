@@ -103,6 +103,39 @@ impl Method {
         }
     }
 
+    /// Whether the method composites opacities (so opacity correction, early termination,
+    /// the cutoff and the order apply); `Err` says why not.
+    pub const fn uses_opacity(self) -> Result<(), &'static str> {
+        match self {
+            Method::Accumulate => Ok(()),
+            Method::First => Err("First stops at the first crossing of the target value and \
+                                   shows its colour: no opacities are composited"),
+            Method::Average | Method::Maximum | Method::Minimum => Err(
+                "Average, Maximum and Minimum project one value per ray and look it up in the \
+                 transfer function: no opacities are composited",
+            ),
+        }
+    }
+
+    /// Whether the method uses the target value; `Err` says why not.
+    pub const fn uses_target(self) -> Result<(), &'static str> {
+        match self {
+            Method::First => Ok(()),
+            _ => Err("Only First looks for a target value"),
+        }
+    }
+
+    /// Whether the method shades its samples; `Err` says why not.
+    pub const fn uses_shading(self) -> Result<(), &'static str> {
+        match self {
+            Method::Accumulate | Method::First => Ok(()),
+            Method::Average | Method::Maximum | Method::Minimum => Err(
+                "Average, Maximum and Minimum show the transfer function's colour of the \
+                 projected value, unshaded",
+            ),
+        }
+    }
+
     pub fn parse(s: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|m| {
             m.name().eq_ignore_ascii_case(s)

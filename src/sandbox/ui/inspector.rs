@@ -5,6 +5,7 @@
 //! in the scene — and exports it as JSON or CSV, the same text as `voxcast trace`.
 
 use crate::sandbox::inspect::{InspectSettings, Inspection, RayAnimation, RaySelection, ray_pixel};
+use crate::sandbox::overlay::Projector;
 use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
@@ -98,39 +99,6 @@ pub(super) fn follow_selection(
 fn color32(c: [f32; 3]) -> Color32 {
     let [r, g, b] = voxcast_core::image_out::to_u8(Vec3::from_array(c));
     Color32::from_rgb(r, g, b)
-}
-
-/// Projects world points onto the window through the main camera.
-struct Projector {
-    view: voxcast_core::camera::Camera,
-    rect: egui::Rect,
-}
-
-impl Projector {
-    fn at(&self, p: Vec3) -> Option<Pos2> {
-        let (w, h) = (self.rect.width(), self.rect.height());
-        let (x, y) = self.view.project(p, w.max(1.0) as u32, h.max(1.0) as u32)?;
-        // Image positions scale with the true (fractional) size of the window.
-        Some(self.rect.min + vec2(x * w / w.floor().max(1.0), y * h / h.floor().max(1.0)))
-    }
-
-    /// The segment a–b, clipped to the part in front of the eye.
-    fn segment(&self, a: Vec3, b: Vec3) -> Option<[Pos2; 2]> {
-        let (eye, f) = (self.view.eye, self.view.forward());
-        let near = 1e-3 * (self.view.target - eye).length();
-        let (da, db) = ((a - eye).dot(f), (b - eye).dot(f));
-        if da < near && db < near {
-            return None;
-        }
-        let clip = |p: Vec3, q: Vec3, dp: f32, dq: f32| {
-            if dp >= near {
-                p
-            } else {
-                p + (q - p) * ((near - dp) / (dq - dp))
-            }
-        };
-        Some([self.at(clip(a, b, da, db))?, self.at(clip(b, a, db, da))?])
-    }
 }
 
 /// Paints the rays (and an opened sample's cell) over the preview, beneath every window.

@@ -8,6 +8,8 @@ use crate::sandbox::mode::Mode;
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
 use voxcast_core::level::{Control, Objective};
+use voxcast_core::numbers::sig;
+use voxcast_core::sample::SampleDetail;
 
 /// Where a step's control is, in the words of the panel (its section's title from the panel).
 fn control_name(c: Control) -> String {
@@ -140,6 +142,9 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
             ui.label("your value:");
             ui.text_edit_singleline(&mut lessons.prediction);
         });
+        if !met && let Some(hint) = prediction_hint(&lessons.prediction, &d) {
+            ui.colored_label(egui::Color32::YELLOW, hint);
+        }
         if met {
             // The answer: each corner, its weight and its share.
             egui::Grid::new("prediction").striped(true).show(ui, |ui| {
@@ -150,13 +155,13 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
                 for i in 0..8 {
                     let c = d.corners[i];
                     ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
-                    ui.label(d.values[i].to_string());
-                    ui.label(d.weights[i].to_string());
-                    ui.label((d.values[i] * d.weights[i]).to_string());
+                    ui.label(sig(d.values[i]));
+                    ui.label(sig(d.weights[i]));
+                    ui.label(sig(d.values[i] * d.weights[i]));
                     ui.end_row();
                 }
             });
-            ui.label(format!("value = {}", d.value));
+            ui.label(format!("value = {}", sig(d.value)));
         }
     }
     if !reading {
@@ -173,6 +178,29 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
         }
     });
     command
+}
+
+/// For a typed prediction that is not right yet: too high or too low, and how to get there.
+/// `None` while nothing (or no number) is typed.
+pub(super) fn prediction_hint(typed: &str, d: &SampleDetail) -> Option<String> {
+    let typed = typed.trim();
+    if typed.is_empty() {
+        return None;
+    }
+    let Ok(v) = typed.replace(',', ".").parse::<f32>() else {
+        return Some(format!("“{typed}” is not a number: type one, like 12.5"));
+    };
+    let side = if v > d.value { "too high" } else { "too low" };
+    let [fx, fy, fz] = d.frac;
+    Some(format!(
+        "Not yet: {} is {side}. The point sits at ({}, {}, {}) inside its cell; each corner's \
+         weight is the product, per axis, of that fraction (towards the corner) or 1 minus it, \
+         and the value is the sum of weight × value over the 8 corners.",
+        sig(v),
+        sig(fx),
+        sig(fy),
+        sig(fz)
+    ))
 }
 
 #[cfg(test)]
@@ -283,8 +311,8 @@ mod tests {
         );
     }
 
-    /// Every character of every level's text and every tooltip has a glyph in the window's
-    /// font (a missing one shows as a box, as ′, ᵢ and ∇ did).
+    /// Every character of every level's text, every tooltip and the texts the panels build
+    /// has a glyph in the window's font (a missing one shows as a box, as ′, ᵢ, ∇ and → did).
     #[test]
     fn every_levels_text_can_be_drawn() {
         let h = Harness::new();
@@ -312,8 +340,76 @@ mod tests {
                 }
             }
         }
+        // Texts the panels build: formulas and stop reasons of the breakdown (every method,
+        // both orders), why a control is greyed out, a prediction's hint.
+        let mut built: Vec<String> = Vec::new();
+        let volume = voxcast_core::builtin::load_builtin("voxel").unwrap().volume;
+        let tf = voxcast_core::transfer::TransferFunction::ramp(0.0, 10.0, 0.5).unwrap();
+        for method in voxcast_core::composite::Method::ALL {
+            for order in [
+                voxcast_core::composite::Order::FrontToBack,
+                voxcast_core::composite::Order::BackToFront,
+            ] {
+                let settings = voxcast_core::settings::RenderSettings {
+                    method,
+                    order,
+                    target: Some(4.0),
+                    ..Default::default()
+                };
+                let ray = voxcast_core::ray::Ray::new(Vec3::new(-2.0, 0.4, 0.6), Vec3::X).unwrap();
+                let scene =
+                    voxcast_core::trace::Scene::new(&volume, &tf, &settings, ray.dir).unwrap();
+                let t = voxcast_core::trace::trace_ray(&scene, &ray, [0, 0]);
+                built.push(voxcast_core::explain::formula(&t, None));
+                built.push(t.stop.words().into());
+                for why in [
+                    method.uses_opacity(),
+                    method.uses_target(),
+                    method.uses_shading(),
+                ] {
+                    built.extend(why.err().map(String::from));
+                }
+            }
+        }
+        let d = voxcast_core::sample::detail_at(
+            &volume,
+            Vec3::splat(0.5),
+            voxcast_core::sample::Interpolation::Trilinear,
+        );
+        built.extend(prediction_hint("99", &d));
+        built.extend(prediction_hint("x", &d));
+        // (The breakdown shows its formulas in the monospace font, whose fallbacks are the
+        // proportional font's; egui's glyph query answers only for the proportional one.)
+        let mut lacking = std::collections::BTreeSet::new();
+        for text in &built {
+            for c in text.chars().filter(|c| *c != '\n') {
+                if !h.ctx.fonts_mut(|fonts| fonts.has_glyph(&font, c)) {
+                    lacking.insert(c);
+                }
+            }
+        }
+        assert!(lacking.is_empty(), "no glyph for {lacking:?}");
         missing.dedup();
         assert!(missing.is_empty(), "no glyph for {missing:?}");
+    }
+
+    #[test]
+    fn a_wrong_prediction_gets_a_hint() {
+        let v = voxcast_core::builtin::worked_voxel();
+        let d = voxcast_core::sample::detail_at(
+            &v,
+            Vec3::splat(0.5),
+            voxcast_core::sample::Interpolation::Trilinear,
+        );
+        assert_eq!(prediction_hint("", &d), None);
+        let high = prediction_hint(&format!("{}", d.value + 10.0), &d).unwrap();
+        assert!(
+            high.contains("too high") && high.contains("weight"),
+            "{high}"
+        );
+        let low = prediction_hint(&format!("{}", d.value - 10.0), &d).unwrap();
+        assert!(low.contains("too low"), "{low}");
+        assert!(prediction_hint("abc", &d).unwrap().contains("not a number"));
     }
 
     /// A prediction step takes the typed value through the text field's own events.

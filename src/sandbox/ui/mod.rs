@@ -226,6 +226,9 @@ fn dataset_section(
     if let Some(e) = &loading.error {
         ui.colored_label(egui::Color32::LIGHT_RED, e);
     }
+    if let Some(note) = &loading.note {
+        ui.label(egui::RichText::new(note).small());
+    }
     load
 }
 
@@ -260,41 +263,67 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
             Interpolation::Nearest
         };
     }
-    marked(ui, spot, Control::OpacityCorrection, |ui| {
-        checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION)
+    // Controls that do not apply to the method are greyed out, their tooltip saying why.
+    let opacity = s.method.uses_opacity();
+    applies(ui, opacity, |ui| {
+        marked(ui, spot, Control::OpacityCorrection, |ui| {
+            checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION)
+        });
+        let mut reference = s.reference_step.voxels(voxel);
+        if slider(ui, &mut reference, &t::REFERENCE_STEP, 0.05..=4.0, true) {
+            s.reference_step = Length::Voxels(reference);
+        }
+        marked(ui, spot, Control::EarlyTermination, |ui| {
+            checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION)
+        });
+        marked(ui, spot, Control::Order, |ui| {
+            egui::ComboBox::from_label("Order")
+                .selected_text(s.order.name())
+                .show_ui(ui, |ui| {
+                    for o in [Order::FrontToBack, Order::BackToFront] {
+                        ui.selectable_value(&mut s.order, o, o.name())
+                            .on_hover_text(o.doc());
+                    }
+                })
+        });
     });
-    let mut reference = s.reference_step.voxels(voxel);
-    if slider(ui, &mut reference, &t::REFERENCE_STEP, 0.05..=4.0, true) {
-        s.reference_step = Length::Voxels(reference);
-    }
-    marked(ui, spot, Control::EarlyTermination, |ui| {
-        checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION)
+    let cutoff_applies = opacity.and(if !s.early_termination {
+        Err("Early ray termination is off: no ray stops at the cutoff")
+    } else if s.order == Order::BackToFront {
+        Err("Back to front visits every sample: early termination needs front to back")
+    } else {
+        Ok(())
     });
-    marked(ui, spot, Control::Order, |ui| {
-        egui::ComboBox::from_label("Order")
-            .selected_text(s.order.name())
-            .show_ui(ui, |ui| {
-                for o in [Order::FrontToBack, Order::BackToFront] {
-                    ui.selectable_value(&mut s.order, o, o.name())
-                        .on_hover_text(o.doc());
-                }
-            })
+    applies(ui, cutoff_applies, |ui| {
+        slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
     });
-    slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
     checkbox(ui, &mut s.jitter, &t::JITTER);
     let (lo, hi) = volume.volume.value_range();
     let mut target = s.target.unwrap_or(0.5 * (lo + hi));
-    if marked(ui, spot, Control::Target, |ui| {
-        slider(ui, &mut target, &t::TARGET, lo..=hi, false)
-    }) {
-        s.target = Some(target);
+    applies(ui, s.method.uses_target(), |ui| {
+        if marked(ui, spot, Control::Target, |ui| {
+            slider(ui, &mut target, &t::TARGET, lo..=hi, false)
+        }) {
+            s.target = Some(target);
+        }
+    });
+}
+
+/// Draws `add` enabled when `why_not` is `Ok`, else greyed out with the reason as tooltip.
+fn applies(ui: &mut egui::Ui, why_not: Result<(), &'static str>, add: impl FnOnce(&mut egui::Ui)) {
+    let response = ui.add_enabled_ui(why_not.is_ok(), add).response;
+    if let Err(why) = why_not {
+        response.on_disabled_hover_text(why);
     }
 }
 
 /// Phong's coefficients and the light.
 fn shading_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, spot: Spot) {
-    marked(ui, spot, Control::Shading, |ui| {
-        checkbox(ui, &mut s.shading, &t::SHADING)
+    let shades = s.method.uses_shading();
+    applies(ui, shades, |ui| {
+        marked(ui, spot, Control::Shading, |ui| {
+            checkbox(ui, &mut s.shading, &t::SHADING)
+        });
     });
     let p = &mut s.phong;
     slider(ui, &mut p.ka, &t::AMBIENT, 0.0..=1.0, false);
@@ -594,7 +623,7 @@ fn settings_panel(
         *render = edited;
     }
     if let Some(source) = load {
-        loading.start(source);
+        loading.start_keeping_choices(source);
     }
     Ok(())
 }
