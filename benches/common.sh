@@ -11,7 +11,7 @@ if [ -z "${DISPLAY:-}" ]; then
     sleep 2
 fi
 export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)}
-bin=./target/release/voxcast
+bin=${CARGO_TARGET_DIR:-./target}/release/voxcast
 
 # write_section NAME HEADING FILE: FILE's text (which starts with <!-- bench:NAME --> and ends
 # with <!-- /bench:NAME -->) replaces that section of BENCHMARKS.md, or is appended under

@@ -86,5 +86,19 @@ fn every_level_plays_through_with_a_screenshot_of_its_first_step() -> Outcome {
         colours.dedup();
         assert!(colours.len() > 50, "{} is nearly blank", shot.display());
     }
+    // Free play at the end, and the done steps that open a breakdown or compare a render.
+    let free = image::open(dir.join("free_play.png")).expect("free play's screenshot");
+    assert_eq!((free.width(), free.height()), (1024, 576));
+    let steps = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter(|e| {
+            let name = e.as_ref().unwrap().file_name();
+            name.to_string_lossy().contains("_step")
+        })
+        .count();
+    assert!(
+        steps >= 2,
+        "the breakdown and Render image steps are pictured"
+    );
     Ok(Completion::Completed)
 }

@@ -14,7 +14,7 @@ const W: u32 = 900;
 const H: u32 = 560;
 const LEFT: u32 = 110;
 const RIGHT: u32 = 40;
-const TOP: u32 = 60;
+const TOP: u32 = 84;
 const BOTTOM: u32 = 80;
 
 /// Draws `series` on log₁₀ axes with decade grid lines, point labels and a legend.
@@ -97,7 +97,9 @@ pub fn log_log(series: &[Series], title: &str, x_label: &str, y_label: &str) -> 
         x_label,
         black,
     );
-    text(&mut img, 10, 40, y_label, black);
+    // The y axis's label above the axis, clear of the title (y 20) and the top tick label
+    // (y TOP − 7): glyphs are 7 × SCALE high.
+    text(&mut img, 10, TOP as i32 - 7 - 7 * SCALE - 8, y_label, black);
     for (i, s) in series.iter().enumerate() {
         let c = Rgb(s.color);
         let valid: Vec<_> = s.points.iter().filter(|p| p.0 > 0.0 && p.1 > 0.0).collect();

@@ -12,6 +12,7 @@
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use super::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
+use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::collections::HashMap;
 use std::sync::atomic::AtomicBool;
 use voxcast_core::image_out::LinearImage;
@@ -141,10 +142,12 @@ pub(crate) fn plugin(app: &mut App) {
         .init_resource::<RaySelection>()
         .init_resource::<RayAnimation>()
         .init_resource::<Pool>()
+        .init_resource::<InspectJob>()
         .add_systems(
             Update,
             (
                 recompute,
+                collect_inspection,
                 place_spheres,
                 fit_spheres_to_view,
                 grow_rays,
@@ -154,17 +157,27 @@ pub(crate) fn plugin(app: &mut App) {
         );
 }
 
-/// Traces the virtual camera's rays when something they depend on changed.
+/// The tracing under way off the frame, and what to do when it is done.
+#[derive(Resource, Default)]
+struct InspectJob {
+    task: Option<Task<Inspection>>,
+    /// Grow the rays again when it arrives (a new camera or volume).
+    replay: bool,
+}
+
+/// Starts tracing the virtual camera's rays (on the task pool) when something they depend on
+/// changed; a newer change replaces a tracing under way.
 fn recompute(
     volume: Res<VolumeState>,
     render_state: Res<RenderState>,
     settings: Res<InspectSettings>,
     cameras: Query<Ref<VirtualCamera>>,
     (mut inspection, mut selection): (ResMut<Inspection>, ResMut<RaySelection>),
-    mut animation: ResMut<RayAnimation>,
+    mut job: ResMut<InspectJob>,
 ) {
     let Ok(vc) = cameras.single() else {
         // The mode has no virtual camera: nothing to inspect.
+        job.task = None;
         if inspection.size != UVec2::ZERO {
             *inspection = Inspection {
                 generation: inspection.generation + 1,
@@ -184,19 +197,37 @@ fn recompute(
     if !changed {
         return;
     }
-    let replay = vc.is_changed() || volume.is_changed();
-    let size = inspection.size;
-    compute(
-        &volume,
-        &render_state,
-        &vc,
-        settings.budget,
-        &mut inspection,
-    );
-    if inspection.size != size {
+    job.replay |= vc.is_changed() || volume.is_changed();
+    let (volume, render_state, vc) = ((*volume).clone(), (*render_state).clone(), *vc);
+    let (budget, generation) = (settings.budget, inspection.generation);
+    job.task = Some(AsyncComputeTaskPool::get().spawn(async move {
+        let mut next = Inspection {
+            generation,
+            ..default()
+        };
+        compute(&volume, &render_state, &vc, budget, &mut next);
+        next
+    }));
+}
+
+/// Takes in a finished tracing.
+fn collect_inspection(
+    mut job: ResMut<InspectJob>,
+    (mut inspection, mut selection): (ResMut<Inspection>, ResMut<RaySelection>),
+    mut animation: ResMut<RayAnimation>,
+) {
+    let Some(task) = job.task.as_mut() else {
+        return;
+    };
+    let Some(next) = check_ready(task) else {
+        return;
+    };
+    job.task = None;
+    if next.size != inspection.size {
         *selection = RaySelection::default();
     }
-    if replay {
+    *inspection = next;
+    if std::mem::take(&mut job.replay) {
         animation.replay();
     }
 }
@@ -269,7 +300,6 @@ pub fn compute(
     }
 }
 
-/// The sphere radius: a third of the step, so neighbouring samples stay apart.
 /// A sample sphere's radius: 0.3 of the step, so neighbours along a ray keep a gap of 0.4 step
 /// between them and every sample shows on its own (at most 0.6 voxel, for coarse steps).
 pub fn sphere_radius(volume: &VolumeState, render_state: &RenderState) -> f32 {
@@ -583,6 +613,18 @@ pub(crate) mod tests {
         app
     }
 
+    /// Runs frames until the tracing started by the last change has arrived.
+    fn settle(app: &mut App) {
+        for _ in 0..5000 {
+            app.update();
+            if app.world().resource::<InspectJob>().task.is_none() {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        panic!("the tracing never finished");
+    }
+
     fn spheres(app: &mut App) -> (usize, usize) {
         let mut q = app.world_mut().query::<(&SampleSphere, &Visibility)>();
         let all: Vec<_> = q.iter(app.world()).map(|(_, v)| *v).collect();
@@ -593,7 +635,7 @@ pub(crate) mod tests {
     #[test]
     fn sphere_entities_follow_the_samples_and_the_animation() {
         let mut app = app(4);
-        app.update();
+        settle(&mut app);
         let expected = app.world().resource::<Inspection>().samples;
         assert!(expected > 0);
         let (n, shown) = spheres(&mut app);
@@ -606,7 +648,7 @@ pub(crate) mod tests {
         for w in [6, 2] {
             let mut q = app.world_mut().query::<&mut VirtualCamera>();
             q.single_mut(app.world_mut()).unwrap().width = w;
-            app.update();
+            settle(&mut app);
             let want = app.world().resource::<Inspection>().samples;
             assert_eq!(spheres(&mut app).0, want, "{w} pixels across");
         }
@@ -624,7 +666,7 @@ pub(crate) mod tests {
     #[test]
     fn nothing_is_traced_again_unless_something_changed() {
         let mut app = app(4);
-        app.update();
+        settle(&mut app);
         let first = app.world().resource::<Inspection>().generation;
         for _ in 0..3 {
             app.update();
@@ -634,14 +676,14 @@ pub(crate) mod tests {
             .resource_mut::<RenderState>()
             .settings
             .cutoff = 0.5;
-        app.update();
+        settle(&mut app);
         assert_eq!(app.world().resource::<Inspection>().generation, first + 1);
     }
 
     #[test]
     fn selecting_a_ray_shows_only_its_samples() {
         let mut app = app(4);
-        app.update();
+        settle(&mut app);
         app.world_mut().resource_mut::<RayAnimation>().skip();
         let pixel = UVec2::new(2, 1);
         app.world_mut().resource_mut::<RaySelection>().selected = Some(pixel);

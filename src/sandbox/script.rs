@@ -2,8 +2,11 @@
 //! would — the Levels window's commands (start, Next), then for each step the change its
 //! control makes (a method chosen, a slider moved, a ray clicked, a point added to the transfer
 //! function, Render image pressed) — and takes a window screenshot of each level's first step
-//! (`DIR/NN_id.png`). It checks that no objective is met before the player acts and that each is
-//! met after; `DIR/report.txt` lists every step, and the exit code is non-zero on a failure.
+//! (`DIR/NN_id.png`), of the steps that open a ray's breakdown or compare Render image with the
+//! preview once they are done (`DIR/NN_id_stepK.png`), and of free play at the end
+//! (`DIR/free_play.png`). It checks that no objective is met before the player acts and that
+//! each is met after; `DIR/report.txt` lists every step, and the exit code is non-zero on a
+//! failure.
 
 use super::compare::Comparison;
 use super::inspect::{Inspection, RayAnimation, RaySelection};
@@ -45,6 +48,10 @@ struct Run {
     started: Option<std::time::Instant>,
     /// When the current level was asked for (the report gives how long its scene took).
     asked: Option<std::time::Instant>,
+    /// The frame a done step's screenshot was asked for (Next waits for it).
+    step_shot: Option<u32>,
+    /// Frames spent in free play after the last level (for its screenshot).
+    ending: u32,
 }
 
 #[derive(Default, Clone, Copy, PartialEq, Debug)]
@@ -93,7 +100,16 @@ fn drive(
     let run = &mut *run;
     run.frames += 1;
     if run.level >= lessons.levels.len() {
-        finish(run, &request.0, &mut exit);
+        // Free play again: its screenshot, then the report.
+        run.ending += 1;
+        if run.ending == SETTLE_FRAMES {
+            hands.animation.skip();
+            commands
+                .spawn(Screenshot::primary_window())
+                .observe(save_to_disk(request.0.join("free_play.png")));
+        } else if run.ending >= SETTLE_FRAMES + SHOT_FRAMES {
+            finish(run, &request.0, &mut exit);
+        }
         return;
     }
     let level = lessons.levels[run.level].clone();
@@ -170,6 +186,28 @@ fn drive(
                 run.frames = 0;
             }
             if lessons.met {
+                // The breakdown and Render image steps are pictured once done.
+                let pictured = matches!(
+                    step.objective,
+                    Objective::OpenHighestSample | Objective::Compared { .. }
+                );
+                match run.step_shot {
+                    None if pictured => {
+                        let path = request.0.join(format!(
+                            "{:02}_{}_step{}.png",
+                            run.level + 1,
+                            level.id,
+                            lessons.step + 1
+                        ));
+                        commands
+                            .spawn(Screenshot::primary_window())
+                            .observe(save_to_disk(path));
+                        run.step_shot = Some(run.frames);
+                        return;
+                    }
+                    Some(at) if run.frames < at + SHOT_FRAMES => return,
+                    _ => run.step_shot = None,
+                }
                 run.report
                     .push(format!("{what}: ok after {} frames", run.frames));
                 if step.objective == Objective::TradeMeasured
