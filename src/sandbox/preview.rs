@@ -255,21 +255,36 @@ fn show_or_hide_volume(
 /// egui's: `overlay`.)
 fn camera_for_backend(
     settings: Res<PreviewSettings>,
+    render: Option<Res<super::state::RenderState>>,
+    inspect: Option<Res<super::inspect::InspectSettings>>,
     mut cameras: Query<(&mut Camera, &mut RenderLayers), With<MainCamera>>,
 ) {
     let cpu = settings.enabled && settings.backend == Backend::Cpu;
-    let (clear, layers) = if cpu {
+    // With rays passing through geometry the CPU image has no spheres: the camera draws them.
+    let through = render.is_some_and(|r| !r.depth_termination);
+    let transparent = inspect.is_some_and(|i| i.shown && i.show_opacity);
+    let (clear, layers, active) = if cpu {
         (
             ClearColorConfig::Custom(Color::NONE),
-            RenderLayers::layer(0),
+            if through {
+                RenderLayers::from_layers(&[0, OCCLUDER_LAYER])
+            } else {
+                RenderLayers::layer(0)
+            },
+            // Nothing for it to draw: no pass at all (a software rasterizer pays for each).
+            through || transparent,
         )
     } else {
         (
             ClearColorConfig::Default,
             RenderLayers::from_layers(&[0, OCCLUDER_LAYER]),
+            true,
         )
     };
     for (mut camera, mut l) in &mut cameras {
+        if camera.is_active != active {
+            camera.is_active = active;
+        }
         let same = matches!(
             (&camera.clear_color, &clear),
             (ClearColorConfig::Default, ClearColorConfig::Default)
@@ -292,8 +307,10 @@ pub(super) fn paint_preview(
     settings: Option<Res<PreviewSettings>>,
     viewport: Option<Res<Viewport>>,
     mut live: Option<ResMut<LiveView>>,
+    cameras: Query<&Camera, With<MainCamera>>,
 ) -> Result {
     let Some(target) = target else { return Ok(()) };
+    let camera_drew = cameras.iter().any(|c| c.is_active);
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
     let ctx = contexts.ctx_mut()?.clone();
     let rect = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
@@ -303,6 +320,8 @@ pub(super) fn paint_preview(
     if cpu && let Some(live_id) = live.as_mut().and_then(|l| l.texture(&ctx)) {
         painter.image(live_id, rect, uv, egui::Color32::WHITE);
     }
-    painter.image(id, rect, uv, egui::Color32::WHITE);
+    if camera_drew {
+        painter.image(id, rect, uv, egui::Color32::WHITE);
+    }
     Ok(())
 }

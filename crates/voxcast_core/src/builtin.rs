@@ -154,7 +154,7 @@ pub const HEAD_BRAIN_AXES: Vec3 = Vec3::new(0.64, 0.76, 0.69);
 const HEAD_VENTRICLE: Vec3 = Vec3::new(0.07, 0.2, 0.12);
 const HEAD_VENTRICLE_X: f32 = 0.12;
 /// The width of the head phantom's soft edges, in voxels (a sharper edge shows rings).
-const HEAD_EDGE: f32 = 1.5;
+const HEAD_EDGE: f32 = 3.0;
 /// The head phantom's size in voxels.
 const HEAD_N: u32 = 64;
 
@@ -178,10 +178,12 @@ pub fn head_at(p: Vec3) -> f32 {
 
 /// The head phantom (see module docs).
 pub fn head() -> Volume {
+    // Floats, not bytes: rounding the soft edges to whole numbers terraced them, and the
+    // terraces showed as rings on the skin.
     let data = lattice(HEAD_N, |i, j, k| {
-        head_at(Vec3::new(i as f32, j as f32, k as f32)).round() as u8
+        head_at(Vec3::new(i as f32, j as f32, k as f32))
     });
-    Volume::new("head", UVec3::splat(HEAD_N), Vec3::ONE, VoxelData::U8(data))
+    Volume::new("head", UVec3::splat(HEAD_N), Vec3::ONE, VoxelData::F32(data))
         .expect("valid by construction")
 }
 
