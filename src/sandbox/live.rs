@@ -368,6 +368,20 @@ pub fn quick_size(full: UVec2, rate: Option<f64>) -> UVec2 {
         .clamp(UVec2::ONE, full)
 }
 
+/// The live view's own threads: one core fewer than the machine has (at least one), so the
+/// window's thread and the rasterizer keep a core while the volume renders.
+fn pool() -> &'static rayon::ThreadPool {
+    static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
+    POOL.get_or_init(|| {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(cores.saturating_sub(1).max(1))
+            .thread_name(|i| format!("voxcast-live-{i}"))
+            .build()
+            .expect("a thread pool can be built")
+    })
+}
+
 fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: bool) -> LiveJob {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
@@ -381,15 +395,18 @@ fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: b
             job_key.camera.forward(),
         )
         .ok()?;
-        let (layer, _) = render_layer(
-            &scene,
-            &job_key.camera,
-            (size.x, size.y),
-            &job_key.occluders,
-            &|_, _| {},
-            &flag,
-        )
-        .ok()?;
+        let (layer, _) = pool()
+            .install(|| {
+                render_layer(
+                    &scene,
+                    &job_key.camera,
+                    (size.x, size.y),
+                    &job_key.occluders,
+                    &|_, _| {},
+                    &flag,
+                )
+            })
+            .ok()?;
         let image = layer.over(job_key.settings.background);
         let rgb = image.pixels.iter().map(|p| to_u8(*p)).collect();
         Some(LiveFrame {

@@ -183,8 +183,13 @@ pub fn head() -> Volume {
     let data = lattice(HEAD_N, |i, j, k| {
         head_at(Vec3::new(i as f32, j as f32, k as f32))
     });
-    Volume::new("head", UVec3::splat(HEAD_N), Vec3::ONE, VoxelData::F32(data))
-        .expect("valid by construction")
+    Volume::new(
+        "head",
+        UVec3::splat(HEAD_N),
+        Vec3::ONE,
+        VoxelData::F32(data),
+    )
+    .expect("valid by construction")
 }
 
 /// The Marschner–Lobb signal at a point of [−1, 1]³, in [0, 1].

@@ -125,6 +125,27 @@ impl Occluder {
     }
 }
 
+/// Where on a `width × height` image of `camera` the sphere can appear: a pixel rectangle
+/// `[x0, x1] × [y0, y1]` holding the projection of the cube around it, or `None` when that cube
+/// reaches the eye's plane (then any ray may meet it). Only rays of pixels inside are tested
+/// against it: hundreds of sample spheres cost a render little.
+pub fn screen_bounds(o: &Occluder, camera: &Camera, width: u32, height: u32) -> Option<[f32; 4]> {
+    let (right, up, forward) = camera.basis();
+    let mut b = [
+        f32::INFINITY,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NEG_INFINITY,
+    ];
+    for i in 0..8 {
+        let s = |bit: u32| if i & bit == 0 { -1.0 } else { 1.0 };
+        let corner = o.centre + (right * s(1) + up * s(2) + forward * s(4)) * o.radius;
+        let (x, y) = camera.project(corner, width, height)?;
+        b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+    }
+    Some(b)
+}
+
 /// Premultiplied colour and opacity per pixel, row 0 at the top: the volume as a layer.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LayerImage {
@@ -253,6 +274,13 @@ impl Job<'_, '_> {
     ) -> Result<(Vec<Vec4>, RenderStats), Cancelled> {
         let (scene, width, height) = (self.scene, self.width, self.height);
         let marcher = Marcher::new(scene, grid);
+        // Each occluder's pixel rectangle (None: anywhere), to test a tile's rays only
+        // against the occluders that can appear in it.
+        let bounds: Vec<Option<[f32; 4]>> = self
+            .occluders
+            .iter()
+            .map(|o| screen_bounds(o, self.camera, width, height))
+            .collect();
         let tiles_x = width.div_ceil(TILE);
         let tiles_y = height.div_ceil(TILE);
         let total = (tiles_x * tiles_y) as usize;
@@ -273,6 +301,20 @@ impl Job<'_, '_> {
                 let x1 = (x0 + TILE).min(width);
                 let y1 = (y0 + TILE).min(height);
                 let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+                let near: Vec<&Occluder> = self
+                    .occluders
+                    .iter()
+                    .zip(&bounds)
+                    .filter(|(_, b)| {
+                        b.is_none_or(|[bx0, by0, bx1, by1]| {
+                            bx1 >= x0 as f32 - 1.0
+                                && bx0 <= x1 as f32 + 1.0
+                                && by1 >= y0 as f32 - 1.0
+                                && by0 <= y1 as f32 + 1.0
+                        })
+                    })
+                    .map(|(o, _)| o)
+                    .collect();
                 let mut samples = 0u64;
                 let mut positions = 0u64;
                 for py in y0..y1 {
@@ -284,7 +326,7 @@ impl Job<'_, '_> {
                                 let y = py as f32 + (sy as f32 + 0.5) / n as f32;
                                 let mut ray = rays.ray(x, y);
                                 let mut behind = None;
-                                for o in self.occluders {
+                                for o in &near {
                                     if let Some(t) = o.hit(&ray)
                                         && t < ray.t_max
                                     {

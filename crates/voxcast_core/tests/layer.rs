@@ -56,6 +56,68 @@ fn the_layer_over_the_background_is_the_render() {
     }
 }
 
+/// Every pixel whose ray meets a sphere lies in the sphere's screen bounds (so culling the
+/// spheres per tile never loses a hit), for random spheres and cameras, perspective and
+/// orthographic, the eye near or inside some spheres.
+#[test]
+fn a_spheres_screen_bounds_hold_every_pixel_that_sees_it() {
+    use voxcast_core::camera::Projection;
+    use voxcast_core::render::screen_bounds;
+    let mut seed = 7u32;
+    let mut rnd = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        (seed % 10_000) as f32 / 10_000.0
+    };
+    let (w, h) = (48u32, 32u32);
+    let mut checked = 0;
+    for case in 0..40 {
+        let eye = Vec3::new(
+            rnd() * 40.0 - 20.0,
+            rnd() * 40.0 - 20.0,
+            30.0 + rnd() * 10.0,
+        );
+        let projection = if case % 3 == 0 {
+            Projection::Orthographic { height: 30.0 }
+        } else {
+            Projection::Perspective {
+                fov_y_deg: 20.0 + rnd() * 80.0,
+            }
+        };
+        let camera = Camera::new(eye, Vec3::ZERO, Vec3::Y, projection).unwrap();
+        for _ in 0..6 {
+            let o = Occluder {
+                centre: Vec3::new(
+                    rnd() * 30.0 - 15.0,
+                    rnd() * 30.0 - 15.0,
+                    rnd() * 50.0 - 10.0,
+                ),
+                radius: 0.2 + rnd() * 6.0,
+                color: Vec3::ONE,
+            };
+            let bounds = screen_bounds(&o, &camera, w, h);
+            for py in 0..h {
+                for px in 0..w {
+                    let ray = camera.pixel_ray(px, py, w, h);
+                    if o.hit(&ray).is_none() {
+                        continue;
+                    }
+                    checked += 1;
+                    if let Some([x0, y0, x1, y1]) = bounds {
+                        let (x, y) = (px as f32 + 0.5, py as f32 + 0.5);
+                        assert!(
+                            x >= x0 - 0.5 && x <= x1 + 0.5 && y >= y0 - 0.5 && y <= y1 + 0.5,
+                            "case {case}: pixel ({px}, {py}) sees {o:?} outside {bounds:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 500, "only {checked} hits checked");
+}
+
 #[test]
 fn a_sphere_hit_is_the_closed_form_distance() {
     let o = Occluder {

@@ -264,7 +264,7 @@ pub(super) fn rays_window(
     dock.show(&ctx, "rays", |dock_ui| {
         egui::Panel::right("rays")
             .resizable(true)
-            .default_size(280.0)
+            .default_size(240.0)
             .show(dock_ui, |ui| {
                 ui.heading("Rays");
                 egui::ScrollArea::vertical().show(ui, |ui| {
@@ -349,7 +349,8 @@ fn pixel_grid(ui: &mut egui::Ui, inspection: &Inspection, selection: &mut RaySel
         return;
     };
     let (w, h) = (image.width.max(1), image.height.max(1));
-    let cell = (256.0 / w.max(h) as f32).max(3.0);
+    // As wide as the panel allows, up to 256 points.
+    let cell = (ui.available_width().clamp(64.0, 256.0) / w.max(h) as f32).max(3.0);
     let (response, painter) =
         ui.allocate_painter(vec2(cell * w as f32, cell * h as f32), Sense::click());
     let origin = response.rect.min;

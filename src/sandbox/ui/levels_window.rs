@@ -46,14 +46,11 @@ pub(super) fn levels_window(
     let ctx = contexts.ctx_mut()?.clone();
     let mut command = None;
     // Docked at the top: nothing covers the step's text, and Next is always in view.
-    let max_height = ctx.viewport_rect().height() * 0.3;
     dock.show(&ctx, "levels", |dock_ui| {
         egui::Panel::top("levels")
             .resizable(false)
             .show(dock_ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .max_height(max_height)
-                    .show(ui, |ui| command = levels_ui(ui, &mut lessons, *mode.get()));
+                command = levels_ui(ui, &mut lessons, *mode.get())
             });
     });
     if let Some(c) = command {
