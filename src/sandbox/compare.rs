@@ -67,6 +67,21 @@ pub struct Snapshot {
     pub source: String,
 }
 
+impl Snapshot {
+    /// Whether this still describes what is on screen.
+    pub fn is_current(
+        &self,
+        view: Option<&View>,
+        render: &RenderState,
+        volume: &VolumeState,
+    ) -> bool {
+        view.is_some_and(|v| v.0 == self.camera)
+            && render.settings == self.settings
+            && render.transfer == self.transfer
+            && volume.source == self.source
+    }
+}
+
 struct Rendered {
     image: LinearImage,
     stats: RenderStats,

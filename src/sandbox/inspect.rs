@@ -153,7 +153,8 @@ pub(crate) fn plugin(app: &mut App) {
                 grow_rays,
                 show_spheres,
             )
-                .chain(),
+                .chain()
+                .in_set(super::Frame::Rules),
         );
 }
 

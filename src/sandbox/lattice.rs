@@ -10,7 +10,7 @@ use bevy::prelude::*;
 pub const LATTICE_MAX: u32 = 16;
 
 pub(super) fn plugin(app: &mut App) {
-    app.add_systems(Update, draw_lattice);
+    app.add_systems(Update, draw_lattice.in_set(super::Frame::Show));
 }
 
 /// The segments: the box's 12 edges, and the lattice lines when every axis has at most

@@ -44,8 +44,13 @@ pub(crate) fn marker_plugin(app: &mut App) {
 
 /// Dragging and the gizmo (window only).
 pub(super) fn plugin(app: &mut App) {
-    app.init_resource::<LightDrag>()
-        .add_systems(Update, (drag_light.before(place_marker), draw_ring));
+    app.init_resource::<LightDrag>().add_systems(
+        Update,
+        (
+            drag_light.before(place_marker).in_set(super::Frame::Input),
+            draw_ring.in_set(super::Frame::Show),
+        ),
+    );
 }
 
 /// Where the marker stands for `light`, `None` for the headlight (it moves with the camera).

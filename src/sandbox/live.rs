@@ -65,9 +65,10 @@ pub const OCCLUDER_LAYER: usize = 1;
 /// How long a frame's worth of CPU rendering may take while the view moves, seconds.
 pub const MOVING_BUDGET_S: f64 = 1.0 / 30.0;
 
-/// At rest, the full resolution is rendered at once when it takes at most this long, seconds;
+/// At rest, the full resolution is rendered at once when it would take at most this long at
+/// the moving frames' speed, seconds (at rest every core renders, about twice as fast on two);
 /// a slower one is approached by doubling the edges.
-pub const REFINE_AT_ONCE_S: f64 = 0.5;
+pub const REFINE_AT_ONCE_S: f64 = 1.0;
 
 /// What a live frame shows: when any of it changes, the frame is out of date.
 #[derive(Clone, PartialEq, Debug)]
@@ -368,9 +369,10 @@ pub fn quick_size(full: UVec2, rate: Option<f64>) -> UVec2 {
         .clamp(UVec2::ONE, full)
 }
 
-/// The live view's own threads: one core fewer than the machine has (at least one), so the
-/// window's thread and the rasterizer keep a core while the volume renders.
-fn pool() -> &'static rayon::ThreadPool {
+/// The live view's threads while the view moves: one core fewer than the machine has (at
+/// least one), so the window's thread and the rasterizer keep a core for the next frame. At
+/// rest the refinement takes every core (rayon's global pool): the exact render sooner.
+fn moving_pool() -> &'static rayon::ThreadPool {
     static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
     POOL.get_or_init(|| {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
@@ -395,18 +397,22 @@ fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: b
             job_key.camera.forward(),
         )
         .ok()?;
-        let (layer, _) = pool()
-            .install(|| {
-                render_layer(
-                    &scene,
-                    &job_key.camera,
-                    (size.x, size.y),
-                    &job_key.occluders,
-                    &|_, _| {},
-                    &flag,
-                )
-            })
-            .ok()?;
+        let render = || {
+            render_layer(
+                &scene,
+                &job_key.camera,
+                (size.x, size.y),
+                &job_key.occluders,
+                &|_, _| {},
+                &flag,
+            )
+        };
+        let (layer, _) = if refine {
+            render()
+        } else {
+            moving_pool().install(render)
+        }
+        .ok()?;
         let image = layer.over(job_key.settings.background);
         let rgb = image.pixels.iter().map(|p| to_u8(*p)).collect();
         Some(LiveFrame {
@@ -552,7 +558,7 @@ mod tests {
         let full = UVec2::new(1280, 720);
         let quick = UVec2::new(320, 180);
         assert_eq!(refined_size(quick, full, Some(1e7)), full);
-        assert_eq!(refined_size(quick, full, Some(1e5)), UVec2::new(640, 360));
+        assert_eq!(refined_size(quick, full, Some(5e5)), UVec2::new(640, 360));
         assert_eq!(refined_size(quick, full, None), UVec2::new(640, 360));
         assert_eq!(refined_size(UVec2::new(1000, 600), full, None), full);
     }

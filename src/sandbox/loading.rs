@@ -76,8 +76,12 @@ impl Loading {
 }
 
 pub(crate) fn plugin(app: &mut App) {
-    app.init_resource::<Loading>()
-        .add_systems(Update, (load_dropped_files, finish_loading).chain());
+    app.init_resource::<Loading>().add_systems(
+        Update,
+        (load_dropped_files, finish_loading)
+            .chain()
+            .in_set(super::Frame::Rules),
+    );
 }
 
 fn load_dropped_files(mut drops: MessageReader<FileDragAndDrop>, mut loading: ResMut<Loading>) {

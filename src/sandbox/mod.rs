@@ -4,10 +4,12 @@
 //! One plugin per feature file; the ECS holds only what the scene needs: the main camera, the
 //! volume's box (carrying the material) and the settings as resources.
 
+mod breakdown;
 mod compare;
 mod compare_cli;
 mod inspect;
 mod lattice;
+pub(crate) mod levels;
 mod light;
 mod live;
 mod loading;
@@ -104,154 +106,63 @@ pub struct SandboxArgs {
     pub size: (u32, u32),
 }
 
+/// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): the player's
+/// input moves the view and the light, the rules react to what changed (levels, loading, the
+/// inspection, the breakdown), then what is shown is brought up to date.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Frame {
+    /// Mouse and keyboard: orbit, the light's drag.
+    Input,
+    /// The sandbox's rules: levels, loading, the virtual camera's inspection, the breakdown.
+    Rules,
+    /// What is shown: the preview's target and quality, the live view, the overlay lines.
+    Show,
+}
+
+/// What every sandbox starts with, from the command line.
+struct Start {
+    volume: VolumeState,
+    render: RenderState,
+    camera: voxcast_core::camera::Camera,
+}
+
+impl Start {
+    fn from_args(args: &SandboxArgs) -> Result<Self, CliError> {
+        let loaded = args.volume.load()?;
+        let resolved = args.settings.resolve(&loaded)?;
+        for note in &resolved.notes {
+            eprintln!("note: {note}");
+        }
+        let camera = args.camera.camera(&loaded, resolved.preset.as_ref())?;
+        Ok(Self {
+            volume: VolumeState {
+                volume: Arc::new(loaded.volume),
+                source: args.volume.volume.clone(),
+                preset: resolved.preset,
+            },
+            render: RenderState {
+                transfer: resolved.transfer,
+                settings: resolved.settings,
+                depth_termination: !args.no_depth_termination,
+            },
+            camera,
+        })
+    }
+}
+
 /// Runs the sandbox (or takes the screenshot) and returns when it closes.
 pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
-    let loaded = args.volume.load()?;
-    let resolved = args.settings.resolve(&loaded)?;
-    for note in &resolved.notes {
-        eprintln!("note: {note}");
-    }
-    let camera = args.camera.camera(&loaded, resolved.preset.as_ref())?;
-    let volume = VolumeState {
-        volume: Arc::new(loaded.volume),
-        source: args.volume.volume.clone(),
-        preset: resolved.preset,
-    };
-    let render = RenderState {
-        transfer: resolved.transfer,
-        settings: resolved.settings,
-        depth_termination: !args.no_depth_termination,
-    };
-    let free_play = mode::FreePlay(mode::Stage {
-        rays: Some(args.rays),
-        rays_shown: !args.no_rays,
-        ..default()
-    });
+    let start = Start::from_args(args)?;
     let mut app = App::new();
     let headless = args.screenshot.is_some() || args.compare.is_some();
-    let render_plugin = RenderPlugin {
-        synchronous_pipeline_compilation: headless || args.play_levels.is_some(),
-        ..default()
-    };
     if headless {
-        app.add_plugins(
-            DefaultPlugins
-                .set(render_plugin)
-                .set(platform::log_plugin())
-                .set(WindowPlugin {
-                    primary_window: None,
-                    exit_condition: bevy::window::ExitCondition::DontExit,
-                    ..default()
-                })
-                .disable::<bevy::winit::WinitPlugin>(),
-        );
-        app.add_plugins(bevy::app::ScheduleRunnerPlugin::run_loop(
-            std::time::Duration::ZERO,
-        ));
-        app.insert_resource(screenshot::ImageSize(args.size.0, args.size.1))
-            .add_plugins(screenshot::image_camera_plugin);
-        if let Some(path) = &args.screenshot {
-            if args.sweep {
-                std::fs::create_dir_all(path).map_err(|e| {
-                    CliError::failed(format!("{}: {}", path.display(), io_words(&e)))
-                })?;
-            }
-            app.insert_resource(screenshot::Request {
-                path: path.clone(),
-                sweep: args.sweep,
-            });
-            app.add_plugins(screenshot::plugin);
-        }
-        if let Some(path) = &args.compare {
-            app.insert_resource(compare_cli::CompareRequest(path.clone()))
-                .init_resource::<preview::FullQuality>()
-                .add_plugins((compare::plugin, compare_cli::plugin));
-        }
+        build_headless(&mut app, args)?;
     } else {
-        platform::check_display()?;
-        app.add_plugins(
-            DefaultPlugins
-                .set(render_plugin)
-                .set(platform::log_plugin())
-                .set(WindowPlugin {
-                    primary_window: Some(Window {
-                        title: "Voxcast".into(),
-                        resolution: WindowResolution::new(args.size.0, args.size.1),
-                        ..default()
-                    }),
-                    ..default()
-                }),
-        );
-        app.add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
-            .insert_resource(bevy_egui::EguiGlobalSettings {
-                auto_create_primary_context: false,
-                ..default()
-            })
-            .add_plugins((
-                preview::plugin,
-                ui::plugin,
-                orbit::plugin,
-                compare::plugin,
-                light::plugin,
-                loading::plugin,
-                virtual_camera::plugin,
-                inspect::plugin,
-                trade::plugin,
-                lattice::plugin,
-                live::plugin,
-                overlay::plugin,
-            ))
-            .insert_resource(free_play)
-            .insert_resource(free_play.0)
-            .insert_resource(inspect::InspectSettings {
-                budget: args.sample_budget,
-                ..default()
-            });
-        if let Some(dir) = &args.play_levels {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;
-            app.insert_resource(bevy::winit::WinitSettings::continuous())
-                .insert_resource(ui::levels::Lessons::new(Some(dir.join("progress.json"))))
-                .insert_resource(script::PlayLevels(dir.clone()))
-                .add_plugins(script::plugin);
-        }
-        if let Some(frames) = args.measure_frames {
-            // Draw every frame even without focus (a virtual display never gives it).
-            app.insert_resource(bevy::winit::WinitSettings::continuous());
-            app.add_plugins(measure::plugin)
-                .insert_resource(measure::MeasureRequest {
-                    frames,
-                    orbit_degrees: args.auto_orbit,
-                    label: format!(
-                        "{}×{} {} rays {}×{} {}, adaptive {}",
-                        args.size.0,
-                        args.size.1,
-                        render.settings.method.name(),
-                        args.rays,
-                        args.rays,
-                        if args.auto_orbit != 0.0 {
-                            "orbiting"
-                        } else {
-                            "resting"
-                        },
-                        if args.no_adaptive { "off" } else { "on" }
-                    ),
-                });
-        }
-        app.insert_resource(preview::PreviewSettings {
-            backend: match args.preview_backend.as_deref() {
-                Some("cpu") => live::Backend::Cpu,
-                _ => live::Backend::Gpu,
-            },
-            backend_chosen: args.preview_backend.is_some(),
-            adaptive: !args.no_adaptive,
-            scale: args
-                .preview_scale
-                .unwrap_or(voxcast_core::tunables::PREVIEW_SCALE.default),
-            ..default()
-        });
+        build_window(&mut app, args, &start.render)?;
     }
-    app.add_plugins(MaterialPlugin::<VolumeMaterial>::default())
+    let background = start.render.settings.background;
+    app.configure_sets(Update, (Frame::Input, Frame::Rules, Frame::Show).chain())
+        .add_plugins(MaterialPlugin::<VolumeMaterial>::default())
         .add_plugins((
             shaders::plugin,
             state::plugin,
@@ -259,22 +170,165 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
             light::marker_plugin,
         ))
         .insert_resource(ClearColor(Color::srgb(
-            render.settings.background.x,
-            render.settings.background.y,
-            render.settings.background.z,
+            background.x,
+            background.y,
+            background.z,
         )))
-        .insert_resource(volume)
-        .insert_resource(render)
-        .insert_resource(InitialView(camera));
-    if !headless {
-        app.add_systems(Startup, spawn_main_camera);
-    }
+        .insert_resource(start.volume)
+        .insert_resource(start.render)
+        .insert_resource(InitialView(start.camera));
     match app.run() {
         AppExit::Success => Ok(()),
         AppExit::Error(code) => Err(CliError::failed(format!(
             "the sandbox stopped with code {code}"
         ))),
     }
+}
+
+/// The engine's plugins, with the log as the sandbox wants it and `window` as the primary one.
+fn engine(app: &mut App, window: Option<Window>, synchronous: bool) {
+    let plugins = DefaultPlugins
+        .set(RenderPlugin {
+            synchronous_pipeline_compilation: synchronous,
+            ..default()
+        })
+        .set(platform::log_plugin());
+    match window {
+        Some(window) => app.add_plugins(plugins.set(WindowPlugin {
+            primary_window: Some(window),
+            ..default()
+        })),
+        None => app.add_plugins(
+            plugins
+                .set(WindowPlugin {
+                    primary_window: None,
+                    exit_condition: bevy::window::ExitCondition::DontExit,
+                    ..default()
+                })
+                .disable::<bevy::winit::WinitPlugin>(),
+        ),
+    };
+}
+
+/// No window: one frame of the preview into an image (`--screenshot`), or Render image
+/// (`--compare`), then exit.
+fn build_headless(app: &mut App, args: &SandboxArgs) -> Result<(), CliError> {
+    engine(app, None, true);
+    app.add_plugins(bevy::app::ScheduleRunnerPlugin::run_loop(
+        std::time::Duration::ZERO,
+    ));
+    app.insert_resource(screenshot::ImageSize(args.size.0, args.size.1))
+        .add_plugins(screenshot::image_camera_plugin);
+    if let Some(path) = &args.screenshot {
+        if args.sweep {
+            std::fs::create_dir_all(path)
+                .map_err(|e| CliError::failed(format!("{}: {}", path.display(), io_words(&e))))?;
+        }
+        app.insert_resource(screenshot::Request {
+            path: path.clone(),
+            sweep: args.sweep,
+        });
+        app.add_plugins(screenshot::plugin);
+    }
+    if let Some(path) = &args.compare {
+        app.insert_resource(compare_cli::CompareRequest(path.clone()))
+            .init_resource::<preview::FullQuality>()
+            .add_plugins((compare::plugin, compare_cli::plugin));
+    }
+    Ok(())
+}
+
+/// The window: the scene, its panels, the levels; or a scripted play-through, or a
+/// measurement of the frame time.
+fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Result<(), CliError> {
+    platform::check_display()?;
+    engine(
+        app,
+        Some(Window {
+            title: "Voxcast".into(),
+            resolution: WindowResolution::new(args.size.0, args.size.1),
+            ..default()
+        }),
+        args.play_levels.is_some(),
+    );
+    let free_play = mode::FreePlay(mode::Stage {
+        rays: Some(args.rays),
+        rays_shown: !args.no_rays,
+        ..default()
+    });
+    app.add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
+        .insert_resource(bevy_egui::EguiGlobalSettings {
+            auto_create_primary_context: false,
+            ..default()
+        })
+        .insert_resource(levels::Lessons::new(levels::progress_path()))
+        .add_plugins((
+            preview::plugin,
+            ui::plugin,
+            levels::plugin,
+            breakdown::plugin,
+            orbit::plugin,
+            compare::plugin,
+            light::plugin,
+            loading::plugin,
+            virtual_camera::plugin,
+            inspect::plugin,
+            trade::plugin,
+            lattice::plugin,
+            live::plugin,
+            overlay::plugin,
+        ))
+        .insert_resource(free_play)
+        .insert_resource(free_play.0)
+        .insert_resource(inspect::InspectSettings {
+            budget: args.sample_budget,
+            ..default()
+        })
+        .add_systems(Startup, spawn_main_camera);
+    if let Some(dir) = &args.play_levels {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;
+        app.insert_resource(bevy::winit::WinitSettings::continuous())
+            .insert_resource(levels::Lessons::new(Some(dir.join("progress.json"))))
+            .insert_resource(script::PlayLevels(dir.clone()))
+            .add_plugins(script::plugin);
+    }
+    if let Some(frames) = args.measure_frames {
+        // Draw every frame even without focus (a virtual display never gives it).
+        app.insert_resource(bevy::winit::WinitSettings::continuous());
+        app.add_plugins(measure::plugin)
+            .insert_resource(measure::MeasureRequest {
+                frames,
+                orbit_degrees: args.auto_orbit,
+                label: format!(
+                    "{}×{} {} rays {}×{} {}, adaptive {}",
+                    args.size.0,
+                    args.size.1,
+                    render.settings.method.name(),
+                    args.rays,
+                    args.rays,
+                    if args.auto_orbit != 0.0 {
+                        "orbiting"
+                    } else {
+                        "resting"
+                    },
+                    if args.no_adaptive { "off" } else { "on" }
+                ),
+            });
+    }
+    app.insert_resource(preview::PreviewSettings {
+        backend: match args.preview_backend.as_deref() {
+            Some("cpu") => live::Backend::Cpu,
+            _ => live::Backend::Gpu,
+        },
+        backend_chosen: args.preview_backend.is_some(),
+        adaptive: !args.no_adaptive,
+        scale: args
+            .preview_scale
+            .unwrap_or(voxcast_core::tunables::PREVIEW_SCALE.default),
+        ..default()
+    });
+    Ok(())
 }
 
 /// `--preview-scale`: a fraction within the tunable's range.

@@ -68,8 +68,10 @@ pub(super) fn plugin(app: &mut App) {
     app.add_systems(
         Update,
         (
-            orbit_camera.after(super::light::drag_light),
-            reframe_on_new_volume,
+            orbit_camera
+                .after(super::light::drag_light)
+                .in_set(super::Frame::Input),
+            reframe_on_new_volume.in_set(super::Frame::Rules),
         ),
     );
 }
@@ -266,6 +268,30 @@ mod tests {
                 "{up}: {}",
                 t.translation
             );
+        }
+    }
+
+    proptest::proptest! {
+        /// For any eye, focus and up (not along the line of sight, not at the poles the
+        /// pitch is kept short of), the orbit puts the camera back at the eye, looking at the
+        /// focus.
+        #[test]
+        fn any_view_round_trips(
+            eye in proptest::array::uniform3(-50.0f32..50.0),
+            focus in proptest::array::uniform3(-50.0f32..50.0),
+            up in proptest::array::uniform3(-1.0f32..1.0),
+        ) {
+            let (eye, focus, up) = (Vec3::from(eye), Vec3::from(focus), Vec3::from(up));
+            let offset = eye - focus;
+            proptest::prop_assume!(offset.length() > 1e-2 && up.length() > 0.1);
+            // Within 1.55 rad of the horizon (the orbit's pitch limit), with margin.
+            let sin = (offset.normalize().dot(up.normalize())).abs();
+            proptest::prop_assume!(sin < 0.99);
+            let t = Orbit::looking_at(eye, focus, up).transform();
+            let scale = offset.length().max(1.0);
+            proptest::prop_assert!((t.translation - eye).length() < 1e-3 * scale);
+            let forward = t.forward().as_vec3();
+            proptest::prop_assert!(forward.dot((focus - eye).normalize()) > 0.9999);
         }
     }
 }

@@ -165,7 +165,8 @@ pub(super) fn plugin(app: &mut App) {
                 show_or_hide_volume,
                 camera_for_backend,
             )
-                .chain(),
+                .chain()
+                .in_set(super::Frame::Show),
         )
         .add_systems(EguiPrimaryContextPass, paint_preview);
 }

@@ -8,14 +8,14 @@
 //! each is met after; `DIR/report.txt` lists every step, and the exit code is non-zero on a
 //! failure.
 
+use super::breakdown::BreakdownState;
 use super::compare::Comparison;
 use super::inspect::{Inspection, RayAnimation, RaySelection};
+use super::levels::{Lessons, LevelCommand};
 use super::loading::Loading;
 use super::mode::Mode;
 use super::state::{RenderState, VolumeState};
 use super::trade::StepTrade;
-use super::ui::inspector::BreakdownState;
-use super::ui::levels::{Lessons, LevelCommand};
 use super::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
@@ -68,8 +68,12 @@ enum Phase {
 }
 
 pub(super) fn plugin(app: &mut App) {
-    app.init_resource::<Run>()
-        .add_systems(Update, drive.after(super::ui::levels::check_objective));
+    app.init_resource::<Run>().add_systems(
+        Update,
+        drive
+            .after(super::levels::check_objective)
+            .in_set(super::Frame::Rules),
+    );
 }
 
 /// What the player's hands change.

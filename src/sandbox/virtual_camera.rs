@@ -94,7 +94,7 @@ pub(super) fn plugin(app: &mut App) {
             // Beside the main camera as it is framed for the new volume or mode.
             stage_camera.after(super::orbit::reframe_on_new_volume),
             place_body,
-            draw_lines,
+            draw_lines.in_set(super::Frame::Show),
         )
             .chain(),
     );

@@ -2,7 +2,7 @@
 //! progress with Cancel, then the preview's capture, the render and their difference heat-map
 //! side by side with the figures, and saves them as PNGs.
 
-use crate::sandbox::compare::{Compared, Comparison, HEAT_FULL_SCALE, Snapshot, save_pngs};
+use crate::sandbox::compare::{Compared, Comparison, HEAT_FULL_SCALE, save_pngs};
 use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
@@ -33,19 +33,6 @@ fn texture(ctx: &egui::Context, name: &str, img: &LinearImage) -> egui::TextureH
     let rgb = img.to_rgb8();
     let color = egui::ColorImage::from_rgb([img.width as usize, img.height as usize], rgb.as_raw());
     ctx.load_texture(name, color, egui::TextureOptions::NEAREST)
-}
-
-/// Whether the shown result still describes what is on screen.
-pub(super) fn is_current(
-    snapshot: &Snapshot,
-    view: Option<&View>,
-    render: &RenderState,
-    volume: &VolumeState,
-) -> bool {
-    view.is_some_and(|v| v.0 == snapshot.camera)
-        && render.settings == snapshot.settings
-        && render.transfer == snapshot.transfer
-        && volume.source == snapshot.source
 }
 
 pub(super) fn compare_window(
@@ -100,7 +87,10 @@ pub(super) fn compare_window(
                 return;
             };
             result_view(ui, &mut window, result);
-            if !is_current(&result.snapshot, views.single().ok(), &render, &volume) {
+            if !result
+                .snapshot
+                .is_current(views.single().ok(), &render, &volume)
+            {
                 ui.colored_label(
                     egui::Color32::YELLOW,
                     "The view or settings changed since this render: render again to compare.",

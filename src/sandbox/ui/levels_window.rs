@@ -3,7 +3,7 @@
 //! one, and Next, open once the objective is met. It only sends [`LevelCommand`]s; the logic is
 //! in `levels`.
 
-use super::levels::{Lessons, LevelCommand};
+use crate::sandbox::levels::{Lessons, LevelCommand};
 use crate::sandbox::mode::Mode;
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};

@@ -1,16 +1,18 @@
 //! The settings panel (egui). Every control's tooltip is its tunable's one documentation
 //! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
 
+mod breakdown_panel;
 mod classify;
 mod compare;
-pub mod inspector;
-pub(crate) mod levels;
 mod levels_window;
 mod light;
+mod ray_overlay;
+mod rays_panel;
 mod trade;
 mod transfer;
 
 use super::compare::Comparison;
+use super::levels;
 use super::loading::Loading;
 use super::preview::PreviewSettings;
 use super::state::{MainCamera, RenderState, View, VolumeState};
@@ -70,13 +72,7 @@ pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PanelState>()
         .init_resource::<Dock>()
         .init_resource::<compare::CompareWindow>()
-        .init_resource::<inspector::BreakdownState>()
-        .insert_resource(levels::Lessons::new(levels::progress_path()))
-        .add_plugins(levels::plugin)
-        .add_systems(
-            Update,
-            inspector::follow_selection.before(levels::check_objective),
-        )
+        .init_resource::<breakdown_panel::ExportState>()
         .add_systems(
             EguiPrimaryContextPass,
             (
@@ -85,15 +81,15 @@ pub(super) fn plugin(app: &mut App) {
                 (
                     begin_dock,
                     levels_window::levels_window,
-                    inspector::breakdown_window,
+                    breakdown_panel::breakdown_panel,
                     settings_panel,
-                    inspector::rays_window,
+                    rays_panel::rays_panel,
                     compare::compare_window,
                     record_viewport,
                 )
                     .chain()
                     .before(super::preview::paint_preview),
-                inspector::ray_overlay.after(super::preview::paint_preview),
+                ray_overlay::ray_overlay.after(super::preview::paint_preview),
             ),
         );
 }
@@ -119,6 +115,12 @@ fn record_viewport(
         None => commands.insert_resource(v),
     }
     Ok(())
+}
+
+/// Display colour of linear-as-stored values (the core's values are display values).
+pub(super) fn color32(c: [f32; 3]) -> egui::Color32 {
+    let [r, g, b] = voxcast_core::image_out::to_u8(Vec3::from_array(c));
+    egui::Color32::from_rgb(r, g, b)
 }
 
 /// The section's title in the panel.

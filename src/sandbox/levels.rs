@@ -5,7 +5,7 @@
 //! to the config directory after every step (atomically); a damaged file starts afresh with a
 //! message.
 
-use super::inspector::BreakdownState;
+use crate::sandbox::breakdown::BreakdownState;
 use crate::sandbox::compare::Comparison;
 use crate::sandbox::inspect::RaySelection;
 use crate::sandbox::loading::{Loading, reset_to_defaults};
@@ -120,9 +120,10 @@ pub(crate) fn plugin(app: &mut App) {
         (
             apply_commands,
             set_up_scene.run_if(state_changed::<Mode>),
-            check_objective,
+            check_objective.after(crate::sandbox::breakdown::follow_selection),
         )
-            .chain(),
+            .chain()
+            .in_set(crate::sandbox::Frame::Rules),
     );
 }
 
@@ -255,7 +256,7 @@ pub(super) fn situation(
     let compared_max = comparison
         .result
         .as_ref()
-        .filter(|r| super::compare::is_current(&r.snapshot, view, render, volume))
+        .filter(|r| r.snapshot.is_current(view, render, volume))
         .and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0));
     let light_inside_volume = matches!(render.settings.phong.light,
         voxcast_core::shade::Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all());

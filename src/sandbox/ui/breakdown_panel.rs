@@ -1,0 +1,374 @@
+//! The breakdown panel: the selected ray's calculation sample by sample — where it enters and
+//! leaves, why it stopped, the method's formula with the numbers put in, a row per sample and
+//! the 8 corners of an opened one — exported as JSON or CSV, the same text as `voxcast trace`.
+
+use super::color32;
+use crate::sandbox::breakdown::BreakdownState;
+use crate::sandbox::inspect::RaySelection;
+use bevy::prelude::*;
+use bevy_egui::EguiContexts;
+use bevy_egui::egui::{self, Color32, Sense, vec2};
+use voxcast_core::breakdown::{self, SampleRecord};
+use voxcast_core::level::Control;
+use voxcast_core::numbers::{sig, sig3};
+use voxcast_core::trace::RayTrace;
+
+/// The export's file name and the last save's outcome.
+#[derive(Resource)]
+pub(super) struct ExportState {
+    path: String,
+    message: Option<Result<String, String>>,
+    /// The ray the message is about (a new ray clears it).
+    key: Option<UVec2>,
+}
+
+impl Default for ExportState {
+    fn default() -> Self {
+        Self {
+            path: "ray".into(),
+            message: None,
+            key: None,
+        }
+    }
+}
+
+/// The breakdown of the selected ray.
+pub(super) fn breakdown_panel(
+    mut contexts: EguiContexts,
+    (mut state, mut export_state): (ResMut<BreakdownState>, ResMut<ExportState>),
+    mut selection: ResMut<RaySelection>,
+    lessons: Res<crate::sandbox::levels::Lessons>,
+    mut dock: ResMut<super::Dock>,
+) -> Result {
+    let Some(pixel) = selection.selected else {
+        return Ok(());
+    };
+    if export_state.key != Some(pixel) {
+        export_state.key = Some(pixel);
+        export_state.message = None;
+    }
+    let export_state = &mut *export_state;
+    let spot = lessons.spot;
+    let ctx = contexts.ctx_mut()?;
+    let mut open = true;
+    let state = &mut *state;
+    // Docked below the scene, across the window; it scrolls, with its bars always shown.
+    let ctx = ctx.clone();
+    let height = ctx.viewport_rect().height() * 0.4;
+    dock.show(&ctx, "breakdown", |dock_ui| {
+        egui::Panel::bottom("breakdown")
+            .resizable(true)
+            .default_size(height)
+            .min_size(120.0)
+            .show(dock_ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.heading(format!("Ray through pixel ({}, {})", pixel.x, pixel.y));
+                    if ui
+                        .button("Close")
+                        .on_hover_text("Close the breakdown (the ray is deselected)")
+                        .clicked()
+                    {
+                        open = false;
+                    }
+                });
+                egui::ScrollArea::vertical()
+                    .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| {
+                        let Some(trace) = &state.trace else {
+                            ui.label("This ray cannot be traced with the current settings.");
+                            return;
+                        };
+                        summary(ui, trace);
+                        ui.separator();
+                        formula(ui, trace, state.opened);
+                        ui.separator();
+                        let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
+                            sample_table(ui, trace, state.opened)
+                        });
+                        if opened != state.opened {
+                            state.opened = opened;
+                        }
+                        if let Some(s) = state.opened.and_then(|k| trace.samples.get(k)) {
+                            ui.separator();
+                            sample_detail(ui, s);
+                        }
+                        ui.separator();
+                        export(ui, trace, &mut export_state.path, &mut export_state.message);
+                    });
+            });
+    });
+    if !open {
+        selection.selected = None;
+    }
+    Ok(())
+}
+
+/// A 3-vector rounded for reading (`voxcast_core::numbers`).
+fn v3(v: [f32; 3]) -> String {
+    sig3(v)
+}
+
+/// Every digit of a 3-vector, for a tooltip and the exports.
+fn v3_full(v: [f32; 3]) -> String {
+    format!("({}, {}, {})", v[0], v[1], v[2])
+}
+
+/// A number rounded for reading, with its every digit in the tooltip.
+fn num(ui: &mut egui::Ui, x: f32) {
+    ui.label(sig(x)).on_hover_text(x.to_string());
+}
+
+/// A 3-vector rounded for reading, with its every digit in the tooltip.
+fn vec(ui: &mut egui::Ui, v: [f32; 3]) {
+    ui.label(v3(v)).on_hover_text(v3_full(v));
+}
+
+fn summary(ui: &mut egui::Ui, t: &RayTrace) {
+    ui.label(format!(
+        "origin {}  direction {}  method {}",
+        v3(t.origin),
+        v3(t.dir),
+        t.method.name()
+    ));
+    match (t.interval, &t.plan) {
+        (Some([a, b]), Some(p)) => ui.label(format!(
+            "enters the box at t = {}, leaves at t = {}; {} samples {} apart (first at t = {})",
+            sig(a),
+            sig(b),
+            p.count,
+            sig(p.dt),
+            sig(p.t_enter + p.jitter * p.dt)
+        )),
+        _ => ui.label("misses the volume's box"),
+    };
+    ui.horizontal(|ui| {
+        ui.label(format!(
+            "stopped: {} · C = {} · O = {} · pixel",
+            t.stop.words(),
+            v3(t.color),
+            sig(t.opacity)
+        ));
+        let (rect, _) = ui.allocate_exact_size(vec2(14.0, 14.0), Sense::hover());
+        ui.painter().rect_filled(rect, 2.0, color32(t.pixel));
+        ui.label(v3(t.pixel));
+    });
+}
+
+/// The method's formula with the opened (else the last) sample's numbers put in, in the order
+/// in use (`voxcast_core::explain`, the same text `voxcast trace` prints).
+fn formula(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) {
+    let text = voxcast_core::explain::formula(t, opened);
+    ui.label(egui::RichText::new(text).monospace());
+}
+
+/// One row per sample; clicking a row opens it. Returns the opened sample.
+fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Option<usize> {
+    let mut opened = opened;
+    egui::ScrollArea::both()
+        .max_height(220.0)
+        .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
+        .show(ui, |ui| {
+            egui::Grid::new("samples").striped(true).show(ui, |ui| {
+                for h in [
+                    "k",
+                    "t",
+                    "position (world)",
+                    "value",
+                    "TF rgba",
+                    "α",
+                    "α corrected",
+                    "C after",
+                    "O after",
+                ] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                for (i, s) in t.samples.iter().enumerate() {
+                    let chosen = opened == Some(i);
+                    if ui.selectable_label(chosen, s.index.to_string()).clicked() {
+                        opened = if chosen { None } else { Some(i) };
+                    }
+                    num(ui, s.t);
+                    vec(ui, s.p_world);
+                    num(ui, s.reconstruction.value);
+                    ui.horizontal(|ui| {
+                        let (rect, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+                        ui.painter().rect_filled(
+                            rect,
+                            1.0,
+                            color32([s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2]]),
+                        );
+                        let [r, g, b, a] = s.tf_rgba;
+                        ui.label(format!("{} {} {} {}", sig(r), sig(g), sig(b), sig(a)))
+                            .on_hover_text(format!("{r} {g} {b} {a}"));
+                    });
+                    num(ui, s.alpha);
+                    num(ui, s.alpha_corrected);
+                    let c = s.composite_after;
+                    vec(ui, [c[0], c[1], c[2]]);
+                    num(ui, c[3]);
+                    ui.end_row();
+                }
+                ui.strong("end");
+                ui.label(t.stop.words());
+                ui.end_row();
+            });
+        });
+    opened
+}
+
+/// The opened sample: its 8 corners, weights and the interpolation, and its shading.
+fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
+    let r = &s.reconstruction;
+    ui.label(format!(
+        "sample {} at voxel {}; position in the cell (fx, fy, fz) = {}",
+        s.index,
+        v3(s.p_voxel),
+        v3(r.frac)
+    ));
+    egui::Grid::new("corners").striped(true).show(ui, |ui| {
+        for h in [
+            "corner",
+            "lattice point",
+            "value",
+            "weight",
+            "weight × value",
+        ] {
+            ui.strong(h);
+        }
+        ui.end_row();
+        for i in 0..8 {
+            ui.label(format!("{i}"));
+            let c = r.corners[i];
+            ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
+            num(ui, r.values[i]);
+            num(ui, r.weights[i]);
+            num(ui, r.weights[i] * r.values[i]);
+            ui.end_row();
+        }
+    });
+    ui.label(format!(
+        "interpolated value Σ weight × value = {} (the renderer's value: {})",
+        sig((0..8).map(|i| r.weights[i] * r.values[i]).sum::<f32>()),
+        sig(r.value)
+    ));
+    if let Some(g) = s.gradient {
+        ui.label(format!("gradient (central differences) {}", v3(g)));
+    }
+    if let Some(sh) = &s.shading {
+        ui.label(format!(
+            "shading: N·L = {}, ambient {}, diffuse {}, specular {}, so the colour is {}",
+            sig(sh.n_dot_l),
+            v3(sh.ambient),
+            v3(sh.diffuse),
+            v3(sh.specular),
+            v3(s.color)
+        ));
+    }
+}
+
+fn export(
+    ui: &mut egui::Ui,
+    t: &RayTrace,
+    path: &mut String,
+    message: &mut Option<Result<String, String>>,
+) {
+    ui.horizontal(|ui| {
+        ui.text_edit_singleline(path)
+            .on_hover_text("File name without extension: .json and .csv are added");
+        for (label, ext) in [("Save JSON", "json"), ("Save CSV", "csv")] {
+            if ui
+                .button(label)
+                .on_hover_text("The same text as `voxcast trace --json` / `--csv` for this ray")
+                .clicked()
+            {
+                *message = Some(save(t, path, ext));
+            }
+        }
+    });
+    match message {
+        Some(Ok(m)) => {
+            ui.label(m.as_str());
+        }
+        Some(Err(e)) => {
+            ui.colored_label(Color32::LIGHT_RED, e.as_str());
+        }
+        None => {}
+    }
+}
+
+/// Writes the breakdown (through a temporary file and a rename).
+fn save(t: &RayTrace, path: &str, ext: &str) -> Result<String, String> {
+    let base = std::path::Path::new(path.trim());
+    if base.file_name().is_none() {
+        return Err("give a file name".into());
+    }
+    let file = base.with_extension(ext);
+    let text = if ext == "json" {
+        breakdown::to_json(t)
+    } else {
+        breakdown::to_csv(t)
+    };
+    let tmp = file.with_extension(format!("{ext}.tmp"));
+    std::fs::write(&tmp, text)
+        .and_then(|_| std::fs::rename(&tmp, &file))
+        .map_err(|e| {
+            format!(
+                "cannot save {}: {}",
+                file.display(),
+                voxcast_core::error::io_words(&e)
+            )
+        })?;
+    Ok(format!("saved {}", file.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sandbox::breakdown::pixel_trace;
+    use crate::sandbox::inspect::{Inspection, compute};
+    use crate::sandbox::state::{RenderState, VolumeState};
+    use crate::sandbox::virtual_camera::VirtualCamera;
+
+    #[test]
+    fn the_breakdown_is_the_cores_trace_and_exports_as_the_cli_does() {
+        let volume = VolumeState {
+            volume: std::sync::Arc::new(
+                voxcast_core::builtin::load_builtin("bucky").unwrap().volume,
+            ),
+            source: "builtin:bucky".into(),
+            preset: None,
+        };
+        let p = voxcast_core::preset::for_volume(volume.volume.name()).unwrap();
+        let render = RenderState {
+            transfer: p.transfer.clone(),
+            settings: p
+                .settings_over(&voxcast_core::settings::RenderSettings::default())
+                .unwrap(),
+            depth_termination: true,
+        };
+        let mut vc = VirtualCamera::framing(&volume, None).unwrap();
+        (vc.width, vc.height) = (8, 8);
+        let mut inspection = Inspection::default();
+        compute(&volume, &render, &vc, 1_000_000, &mut inspection);
+        let pixel = UVec2::new(4, 3);
+        let shown = pixel_trace(&volume, &render, &vc, pixel).unwrap();
+        assert_eq!(&shown, &inspection.traces.as_ref().unwrap()[3 * 8 + 4]);
+        let dir = std::env::temp_dir().join(format!("voxcast-ray-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let base = dir.join("ray");
+        for ext in ["json", "csv"] {
+            save(&shown, base.to_str().unwrap(), ext).unwrap();
+            let text = std::fs::read_to_string(base.with_extension(ext)).unwrap();
+            let want = if ext == "json" {
+                breakdown::to_json(&shown)
+            } else {
+                breakdown::to_csv(&shown)
+            };
+            assert_eq!(text, want);
+        }
+        assert!(save(&shown, dir.join("no/dir/ray").to_str().unwrap(), "json").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
