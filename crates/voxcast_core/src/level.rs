@@ -428,6 +428,36 @@ mod tests {
         assert!(s.target.unwrap() < HEAD_SKIN);
     }
 
+    /// Every number an objective checks is quoted in its step's text, so the text never asks
+    /// for something other than what Next waits for (the first-hit step once said "past 80"
+    /// while its objective wanted 120 to 200).
+    #[test]
+    fn every_steps_text_quotes_its_objectives_numbers() {
+        let mut missing = Vec::new();
+        for level in Level::all() {
+            for (k, step) in level.steps.iter().enumerate() {
+                let numbers: Vec<f32> = match &step.objective {
+                    Objective::VirtualPixelsAtLeast { pixels } => vec![*pixels as f32],
+                    Objective::StepAtMost { voxels } => vec![*voxels],
+                    Objective::TargetBetween { lo, hi } => vec![*lo, *hi],
+                    Objective::TfAlphaAtMost { value, alpha } => vec![*value, *alpha],
+                    Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
+                    Objective::Compared { max } => vec![*max],
+                    Objective::PredictValue { point, tolerance } => {
+                        point.iter().copied().chain([*tolerance]).collect()
+                    }
+                    _ => vec![],
+                };
+                for v in numbers {
+                    if !step.text.contains(&format!("{v}")) {
+                        missing.push(format!("{} step {}: {v}", level.id, k + 1));
+                    }
+                }
+            }
+        }
+        assert!(missing.is_empty(), "not quoted: {missing:?}");
+    }
+
     /// The sampling level quotes the steps and the reference the trade measures.
     #[test]
     fn the_sampling_level_quotes_the_trades_steps() {
