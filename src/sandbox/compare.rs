@@ -65,6 +65,8 @@ pub struct Snapshot {
     pub transfer: TransferFunction,
     /// The volume's source (`builtin:NAME` or a path).
     pub source: String,
+    /// The preview compared was the CPU live view's image (else the GPU preview's capture).
+    pub live: bool,
 }
 
 impl Snapshot {
@@ -267,6 +269,7 @@ fn start_capture(
             .max(UVec2::ONE)
     });
     let snapshot = Snapshot {
+        live: cpu_live,
         camera: view.0,
         size,
         settings: render_state.settings.clone(),
@@ -402,6 +405,7 @@ mod tests {
             settings: RenderSettings::default(),
             transfer: TransferFunction::ramp(0.0, 1.0, 0.5).unwrap(),
             source: "builtin:bunny".into(),
+            live: false,
         }
     }
 

@@ -43,7 +43,7 @@ pub struct Lessons {
     pub detail: Option<SampleDetail>,
 }
 
-/// What the Levels window asks for (a scripted run sends the same).
+/// What the Levels panel asks for (a scripted run sends the same).
 #[derive(Message, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LevelCommand {
     /// Start level `i` at its first step.

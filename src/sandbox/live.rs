@@ -119,15 +119,14 @@ pub struct LiveView {
     pub generation: u64,
     /// Pixels per second of the last frames (each frame's, smoothed).
     pub rate: Option<f64>,
+    /// The texture painted, and the generation it holds.
     texture: Option<(u64, egui::TextureHandle)>,
+    /// A newer frame's texture, uploaded this frame and painted from the next (a texture is
+    /// not drawn in the frame it is created: painting it at once flashed black).
+    incoming: Option<(u64, egui::TextureHandle)>,
 }
 
 impl LiveView {
-    /// Whether a render is under way.
-    pub fn busy(&self) -> bool {
-        self.job.is_some()
-    }
-
     /// What the live view shows, in words, for the panel.
     pub fn status(&self) -> String {
         let Some(f) = &self.shown else {
@@ -154,30 +153,39 @@ impl LiveView {
         }
     }
 
-    /// The frame's texture for egui, uploaded when a new frame has arrived.
+    /// The texture to paint this frame (called once a frame): the newest frame uploaded in an
+    /// earlier one; a frame that arrived since is uploaded now, to be painted next time.
     pub fn texture(&mut self, ctx: &egui::Context) -> Option<egui::TextureId> {
-        let frame = self.shown.as_ref()?;
-        if self
-            .texture
+        if let Some(incoming) = self.incoming.take() {
+            self.texture = Some(incoming);
+        }
+        let newest = self
+            .incoming
             .as_ref()
-            .is_none_or(|(g, _)| *g != self.generation)
+            .or(self.texture.as_ref())
+            .map(|(g, _)| *g);
+        if let Some(frame) = &self.shown
+            && newest != Some(self.generation)
         {
             let image = egui::ColorImage::from_rgb(
                 [frame.size.x as usize, frame.size.y as usize],
                 frame.rgb.as_flattened(),
             );
-            match &mut self.texture {
-                Some((g, handle)) => {
-                    handle.set(image, egui::TextureOptions::LINEAR);
-                    *g = self.generation;
-                }
-                None => {
-                    let handle = ctx.load_texture("live view", image, egui::TextureOptions::LINEAR);
-                    self.texture = Some((self.generation, handle));
-                }
-            }
+            let handle = ctx.load_texture("live view", image, egui::TextureOptions::LINEAR);
+            self.incoming = Some((self.generation, handle));
         }
         self.texture.as_ref().map(|(_, h)| h.id())
+    }
+
+    /// Whether the window shows the exact render of the view the last frame was made for:
+    /// at full resolution, nothing under way, and its texture painted.
+    pub fn showing_exact(&self) -> bool {
+        self.job.is_none()
+            && self.shown.as_ref().is_some_and(|f| f.full())
+            && self
+                .texture
+                .as_ref()
+                .is_some_and(|(g, _)| *g == self.generation)
     }
 }
 

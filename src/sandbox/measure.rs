@@ -97,10 +97,7 @@ fn measure_frames(
     }
     let view = cameras.single().ok().map(|(_, _, v)| v.0);
     let exact_now = live.as_ref().is_some_and(|l| {
-        !l.busy()
-            && l.shown
-                .as_ref()
-                .is_some_and(|f| f.full() && Some(f.key.camera) == view)
+        l.showing_exact() && l.shown.as_ref().is_some_and(|f| Some(f.key.camera) == view)
     });
     let waited = now - stopped.as_ref().map_or(now, |s| s.at);
     if live.is_some() && !exact_now && waited < 30.0 {

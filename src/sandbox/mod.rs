@@ -89,7 +89,7 @@ pub struct SandboxArgs {
     /// be shown from the panel).
     #[arg(long)]
     pub no_rays: bool,
-    /// The most sample spheres shown for the virtual camera's rays (see the Rays window).
+    /// The most sample spheres shown for the virtual camera's rays (see the Rays panel).
     #[arg(long, default_value_t = voxcast_core::tunables::SAMPLE_BUDGET.default as usize)]
     pub sample_budget: usize,
     /// Play every level to the end in the window as a player would, save a screenshot of each

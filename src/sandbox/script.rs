@@ -1,5 +1,5 @@
 //! `voxcast --play-levels DIR`: plays every level to the end in the real window, as a player
-//! would — the Levels window's commands (start, Next), then for each step the change its
+//! would — the Levels panel's commands (start, Next), then for each step the change its
 //! control makes (a method chosen, a slider moved, a ray clicked, a point added to the transfer
 //! function, Render image pressed) — and takes a window screenshot of each level's first step
 //! (`DIR/NN_id.png`), of the steps that open a ray's breakdown or compare Render image with the
@@ -27,6 +27,8 @@ use voxcast_core::step::Length;
 
 /// Frames a new scene is drawn before its screenshot (pipelines compile synchronously here).
 const SETTLE_FRAMES: u32 = 8;
+/// Frames a done step waits before its picture (the panel's new textures and glyphs).
+const STEP_SHOT_DELAY: u32 = 10;
 /// Frames a screenshot is given to arrive.
 const SHOT_FRAMES: u32 = 4;
 /// Frames an objective is given to be met after acting (a comparison renders meanwhile).
@@ -50,6 +52,8 @@ struct Run {
     asked: Option<std::time::Instant>,
     /// The frame a done step's screenshot was asked for (Next waits for it).
     step_shot: Option<u32>,
+    /// The frame the current step was first seen met.
+    met_at: Option<u32>,
     /// Frames spent in free play after the last level (for its screenshot).
     ending: u32,
 }
@@ -76,6 +80,15 @@ pub(super) fn plugin(app: &mut App) {
     );
 }
 
+impl Hands<'_, '_> {
+    /// Whether the CPU live view draws the volume.
+    fn live_view_on(&self) -> bool {
+        self.preview
+            .as_ref()
+            .is_some_and(|p| p.enabled && p.backend == super::live::Backend::Cpu)
+    }
+}
+
 /// What the player's hands change.
 #[derive(bevy::ecs::system::SystemParam)]
 struct Hands<'w, 's> {
@@ -83,10 +96,13 @@ struct Hands<'w, 's> {
     selection: ResMut<'w, RaySelection>,
     breakdown: ResMut<'w, BreakdownState>,
     comparison: ResMut<'w, Comparison>,
+    compare_window: ResMut<'w, super::ui::compare::CompareWindow>,
     animation: ResMut<'w, RayAnimation>,
     trade: ResMut<'w, StepTrade>,
     cameras: Query<'w, 's, &'static mut VirtualCamera>,
     inspection: Res<'w, Inspection>,
+    live: Option<Res<'w, super::live::LiveView>>,
+    preview: Option<Res<'w, super::preview::PreviewSettings>>,
     volume: Res<'w, VolumeState>,
 }
 
@@ -106,12 +122,16 @@ fn drive(
     if run.level >= lessons.levels.len() {
         // Free play again: its screenshot, then the report.
         run.ending += 1;
+        let shot = request.0.join("free_play.png");
         if run.ending == SETTLE_FRAMES {
             hands.animation.skip();
             commands
                 .spawn(Screenshot::primary_window())
-                .observe(save_to_disk(request.0.join("free_play.png")));
-        } else if run.ending >= SETTLE_FRAMES + SHOT_FRAMES {
+                .observe(save_to_disk(shot));
+        } else if run.ending >= SETTLE_FRAMES + SHOT_FRAMES
+            && (shot.exists() || run.ending > SETTLE_FRAMES + MET_FRAMES)
+        {
+            // The picture is written on another thread: wait for it before exiting.
             finish(run, &request.0, &mut exit);
         }
         return;
@@ -141,7 +161,10 @@ fn drive(
             }
             // The rays drawn whole, not growing.
             hands.animation.skip();
-            if run.frames >= SETTLE_FRAMES {
+            // With the CPU live view, the picture waits (a little) for the exact render.
+            let drawn =
+                !hands.live_view_on() || hands.live.as_ref().is_none_or(|l| l.showing_exact());
+            if run.frames >= SETTLE_FRAMES && (drawn || run.frames >= MET_FRAMES / 4) {
                 let path = request
                     .0
                     .join(format!("{:02}_{}.png", run.level + 1, level.id));
@@ -195,7 +218,10 @@ fn drive(
                     step.objective,
                     Objective::OpenHighestSample | Objective::Compared { .. }
                 );
+                let met_at = *run.met_at.get_or_insert(run.frames);
                 match run.step_shot {
+                    // A few frames for the panels' new textures and glyphs to arrive.
+                    None if pictured && run.frames < met_at + STEP_SHOT_DELAY => return,
                     None if pictured => {
                         let path = request.0.join(format!(
                             "{:02}_{}_step{}.png",
@@ -212,12 +238,17 @@ fn drive(
                     Some(at) if run.frames < at + SHOT_FRAMES => return,
                     _ => run.step_shot = None,
                 }
+                run.met_at = None;
                 run.report
                     .push(format!("{what}: ok after {} frames", run.frames));
                 if step.objective == Objective::TradeMeasured
                     && let Some((t, _)) = &hands.trade.result
                 {
                     run.report.extend(trade_lines(t));
+                }
+                if matches!(step.objective, Objective::Compared { .. }) {
+                    // Done comparing: the player closes the window.
+                    hands.compare_window.open = false;
                 }
                 send.write(LevelCommand::Next);
                 (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
@@ -298,6 +329,8 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             }
         }
         Objective::Compared { .. } => {
+            // As the button does: the window opens and the comparison starts.
+            hands.compare_window.open = true;
             if !hands.comparison.busy() {
                 hands.comparison.start();
             }

@@ -1,5 +1,5 @@
 //! The method's formula for one sample of a breakdown with that sample's own numbers put in,
-//! and the final pixel's — the text the sandbox's breakdown window shows and `voxcast trace`
+//! and the final pixel's — the text the sandbox's breakdown panel shows and `voxcast trace`
 //! prints, so both teach the same arithmetic.
 //!
 //! Each equation is written `name = expression = result` with the numbers rounded by

@@ -10,7 +10,7 @@ use voxcast_core::image_out::LinearImage;
 
 /// The window's own state: open or not, the textures of the shown result, the save path.
 #[derive(Resource)]
-pub(super) struct CompareWindow {
+pub(crate) struct CompareWindow {
     pub open: bool,
     /// Uploaded textures (preview, render, heat-map) and the result generation they show.
     textures: Option<(u64, [Option<egui::TextureHandle>; 3])>,
@@ -42,15 +42,19 @@ pub(super) fn compare_window(
     views: Query<&View, With<MainCamera>>,
     render: Res<RenderState>,
     volume: Res<VolumeState>,
+    viewport: Option<Res<crate::sandbox::preview::Viewport>>,
 ) -> Result {
     if !window.open {
         return Ok(());
     }
     let ctx = contexts.ctx_mut()?.clone();
     let mut open = window.open;
+    // Over the scene, below the level's text.
+    let scene = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
     egui::Window::new("Render image")
         .open(&mut open)
-        .default_width(720.0)
+        .default_pos(scene.min + egui::vec2(8.0, 8.0))
+        .default_width(scene.width().clamp(320.0, 720.0))
         .show(&ctx, |ui| {
             ui.horizontal(|ui| {
                 let button = ui.add_enabled(!comparison.busy(), egui::Button::new("Render image"));
@@ -115,7 +119,7 @@ fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared)
         window.saved = None;
     }
     let s = &result.stats;
-    let size = result.snapshot.size;
+    let (size, live) = (result.snapshot.size, result.snapshot.live);
     ui.label(format!(
         "{}×{} on the CPU in {:.3} s: {} rays, {} sample positions, {} interpolated ({:.1} M \
          samples/s)",
@@ -146,10 +150,8 @@ fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared)
     let width = ((ui.available_width() - 16.0) / 3.0).max(64.0);
     let height = width * size.y as f32 / size.x.max(1) as f32;
     ui.horizontal(|ui| {
-        for (label, tex) in ["GPU preview", "CPU render", "difference"]
-            .iter()
-            .zip(textures)
-        {
+        let preview = if live { "CPU live view" } else { "GPU preview" };
+        for (label, tex) in [preview, "CPU render", "difference"].iter().zip(textures) {
             ui.vertical(|ui| {
                 ui.label(*label);
                 match tex {

@@ -1,4 +1,4 @@
-//! The Levels window: the start screen's list of levels with progress and Free Play, or the
+//! The Levels panel (docked at the top): the start screen's list of levels with progress and Free Play, or the
 //! current step — its text, the control it is about, a prediction field where the step asks for
 //! one, and Next, open once the objective is met. It only sends [`LevelCommand`]s; the logic is
 //! in `levels`.
@@ -17,8 +17,8 @@ fn control_name(c: Control) -> String {
         Control::Method => "Method",
         Control::Step => "Step size",
         Control::VirtualPixels => "pixels",
-        Control::PixelGrid => return "the Rays window's image".into(),
-        Control::Breakdown => return "the ray's breakdown window".into(),
+        Control::PixelGrid => return "the Rays panel's image".into(),
+        Control::Breakdown => return "the ray's breakdown panel".into(),
         Control::OpacityCorrection => "Opacity correction",
         Control::EarlyTermination => "Early ray termination",
         Control::Target => "Target value (First)",

@@ -3,7 +3,7 @@
 
 mod breakdown_panel;
 mod classify;
-mod compare;
+pub(crate) mod compare;
 mod levels_window;
 mod light;
 mod ray_overlay;
