@@ -33,21 +33,40 @@ pub(super) fn plugin(app: &mut App) {
     app.add_systems(Update, measure_frames);
 }
 
+/// What the measurement has seen so far.
+#[derive(Default)]
+struct Measured {
+    /// Frames drawn.
+    seen: u32,
+    /// Frame times after the warm-up, ms.
+    samples: Vec<f32>,
+    /// The live view's generation and the time when measuring began.
+    live_start: Option<(u64, f64)>,
+    stopped: Option<Stopped>,
+}
+
+/// The preview's settings and the CPU live view, where there are.
+type LiveParams<'w> = (
+    Option<Res<'w, super::live::LiveView>>,
+    Option<Res<'w, super::preview::PreviewSettings>>,
+);
+
 fn measure_frames(
     request: Res<MeasureRequest>,
     time: Res<Time<Real>>,
-    mut seen: Local<u32>,
-    mut samples: Local<Vec<f32>>,
+    mut m: Local<Measured>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut exit: MessageWriter<AppExit>,
     animation: Option<ResMut<super::inspect::RayAnimation>>,
-    (live, preview, mut live_start, mut stopped): (
-        Option<Res<super::live::LiveView>>,
-        Option<Res<super::preview::PreviewSettings>>,
-        Local<Option<(u64, f64)>>,
-        Local<Option<Stopped>>,
-    ),
+    (live, preview): LiveParams,
 ) {
+    let m = &mut *m;
+    let (seen, samples, live_start, stopped) = (
+        &mut m.seen,
+        &mut m.samples,
+        &mut m.live_start,
+        &mut m.stopped,
+    );
     *seen += 1;
     let cpu = preview.is_some_and(|p| p.enabled && p.backend == super::live::Backend::Cpu);
     let live = live.filter(|_| cpu);

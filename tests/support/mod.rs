@@ -8,8 +8,11 @@ pub use libtest_mimic::{Completion, Failed};
 /// What a test returns: completed, ignored (with why), or failed.
 pub type Outcome = Result<Completion, Failed>;
 
+/// A test: its name and its function.
+pub type Test = (&'static str, fn() -> Outcome);
+
 /// Runs the named tests as `cargo test` would, with its filters and flags.
-pub fn run(tests: &[(&'static str, fn() -> Outcome)]) -> ! {
+pub fn run(tests: &[Test]) -> ! {
     let args = libtest_mimic::Arguments::from_args();
     let trials = tests
         .iter()

@@ -81,7 +81,7 @@ mod tests {
     fn rounds_to_four_significant_digits() {
         assert_eq!(sig(0.111_999_996), "0.112");
         assert_eq!(sig(4.909_199_7), "4.909");
-        assert_eq!(sig64(2588.123_351_573_944), "2588");
+        assert_eq!(sig64(2_588.123_351_573_944), "2588");
         assert_eq!(sig(0.5), "0.5");
         assert_eq!(sig(-0.330_74), "-0.3307");
         assert_eq!(sig(1.5e-5), "1.5e-5");
