@@ -120,6 +120,7 @@ pub(crate) fn plugin(app: &mut App) {
         (
             apply_commands,
             set_up_scene.run_if(state_changed::<Mode>),
+            level_preset_after_load.after(crate::sandbox::loading::finish_loading),
             check_objective.after(crate::sandbox::breakdown::follow_selection),
         )
             .chain()
@@ -194,6 +195,40 @@ fn set_up_scene(
     } else {
         loading.cancel();
         reset_to_defaults(&volume.volume, &mut render);
+        apply_level_preset(&level.scene, &mut render);
+    }
+}
+
+/// The level's own preset over its volume's defaults, where its scene names one.
+fn apply_level_preset(scene: &voxcast_core::level::LevelScene, render: &mut RenderState) {
+    let Some(p) = scene
+        .preset
+        .as_deref()
+        .and_then(voxcast_core::preset::by_name)
+    else {
+        return;
+    };
+    render.transfer = p.transfer.clone();
+    if let Ok(s) = p.settings_over(&render.settings) {
+        render.settings = s;
+    }
+}
+
+/// A level's volume that has just loaded (with its defaults): the level's preset over them.
+fn level_preset_after_load(
+    mode: Res<State<Mode>>,
+    lessons: Res<Lessons>,
+    volume: Res<VolumeState>,
+    mut render: ResMut<RenderState>,
+) {
+    if !volume.is_changed() || volume.is_added() {
+        return;
+    }
+    let Mode::Level(l) = *mode.get() else { return };
+    if let Some(level) = lessons.levels.get(l)
+        && level.scene.volume == volume.source
+    {
+        apply_level_preset(&level.scene, &mut render);
     }
 }
 
@@ -412,6 +447,11 @@ mod tests {
         app.update();
         assert!(entities::<VirtualCamera>(&mut app).is_empty());
         assert!(entities::<SampleSphere>(&mut app).is_empty());
+        // Its own preset, over the volume's defaults: every method it teaches shows.
+        assert_eq!(
+            app.world().resource::<RenderState>().transfer.name,
+            "brainsmall-projections"
+        );
         assert_eq!(app.world().resource::<Inspection>().size, UVec2::ZERO);
         assert!(app.world().resource::<PreviewSettings>().enabled);
         // Its steps: Next is refused until the method is chosen, as the panel's menu does.

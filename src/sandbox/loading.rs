@@ -92,7 +92,7 @@ fn load_dropped_files(mut drops: MessageReader<FileDragAndDrop>, mut loading: Re
     }
 }
 
-fn finish_loading(
+pub(crate) fn finish_loading(
     mut loading: ResMut<Loading>,
     mut volume: ResMut<VolumeState>,
     mut render: ResMut<RenderState>,

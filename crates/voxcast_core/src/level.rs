@@ -46,6 +46,10 @@ pub struct LevelScene {
     /// The settings panel's sections the level shows (`None`: all of them).
     #[serde(default)]
     pub panel: Option<Vec<Section>>,
+    /// A preset (by name) the level starts with instead of its volume's own: a transfer
+    /// function that shows every method the level teaches.
+    #[serde(default)]
+    pub preset: Option<String>,
 }
 
 /// A section of the settings panel.
@@ -564,6 +568,13 @@ mod tests {
     #[test]
     fn named_objectives_name_real_modes() {
         for l in Level::all() {
+            if let Some(name) = &l.scene.preset {
+                assert!(
+                    crate::preset::by_name(name).is_some(),
+                    "{}: preset {name}",
+                    l.id
+                );
+            }
             for step in &l.steps {
                 if let Objective::Classification { mode } = &step.objective {
                     assert!(

@@ -46,6 +46,7 @@ pub struct View {
 const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/presets/bunny.json"),
     include_str!("../../../assets/presets/brainsmall.json"),
+    include_str!("../../../assets/presets/brainsmall-projections.json"),
     include_str!("../../../assets/presets/shells.json"),
     include_str!("../../../assets/presets/marschner-lobb.json"),
     include_str!("../../../assets/presets/bucky.json"),
