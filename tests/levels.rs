@@ -1,6 +1,7 @@
 //! Every level played to the end in the real window on lavapipe (`voxcast --play-levels`): the
-//! commands the Levels window sends and, for each step, the change its control makes; a window
-//! screenshot of each level's first step. Needs an X display: the test uses `$DISPLAY`, or
+//! commands the Levels panel sends and, for each step, the change its control makes; window
+//! screenshots. Twice: with the volume drawn by the CPU live view (what a machine without a
+//! GPU gets) and by the GPU preview. Needs an X display: the test uses `$DISPLAY`, or
 //! starts one with `xvfb-run`; without either (or without a Vulkan device) it is reported as
 //! ignored, unless `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it).
 
@@ -12,10 +13,14 @@ use support::{Completion, Outcome, gpu_required, skipped_for_want_of_a_gpu};
 use voxcast_core::level::Level;
 
 fn main() {
-    support::run(&[(
-        "every_level_plays_through_with_a_screenshot_of_its_first_step",
-        every_level_plays_through_with_a_screenshot_of_its_first_step,
-    )])
+    support::run(&[
+        ("every_level_plays_through_in_the_cpu_live_view", || {
+            play("cpu")
+        }),
+        ("every_level_plays_through_in_the_gpu_preview", || {
+            play("gpu")
+        }),
+    ])
 }
 
 fn out_dir() -> PathBuf {
@@ -36,18 +41,20 @@ fn windowed() -> Option<Command> {
     })
 }
 
-fn every_level_plays_through_with_a_screenshot_of_its_first_step() -> Outcome {
+/// Plays every level with the volume drawn by `backend` (`cpu` or `gpu`).
+fn play(backend: &str) -> Outcome {
     let Some(mut command) = windowed() else {
         assert!(!gpu_required(), "no X display and no xvfb-run");
         return Ok(Completion::ignored_with(
             "no X display and no xvfb-run here (package xvfb)",
         ));
     };
-    let dir = out_dir();
+    let dir = out_dir().join(backend);
     let _ = std::fs::remove_dir_all(&dir);
     let output = command
         .arg("--play-levels")
         .arg(&dir)
+        .args(["--preview-backend", backend])
         // Small and at half resolution: every frame is drawn by lavapipe on the CPU.
         .args(["--size", "1024x576", "--preview-scale", "0.5"])
         .env("XDG_RUNTIME_DIR", std::env::temp_dir())
