@@ -93,9 +93,10 @@ impl VolumeArgs {
 /// Transfer function and render settings.
 #[derive(Args, Debug, Clone, Default)]
 pub struct SettingsArgs {
-    /// Transfer function: a preset name (bunny, brainsmall, shells, marschner-lobb, bucky,
-    /// voxel, head, blobs, ct_skin_bone, mri_brain), a Voxcast preset or transfer-function JSON file, or a peer TF
-    /// JSON (../shared/tools/peer/tf/*.json). Default: the volume's preset.
+    /// Transfer function: a preset name (bunny, brainsmall, brainsmall-projections, shells,
+    /// marschner-lobb, bucky, voxel, head, blobs, ct_skin_bone, mri_brain), a Voxcast preset or
+    /// transfer-function JSON file, or a peer TF JSON (../shared/tools/peer/tf/*.json).
+    /// Default: the volume's preset.
     #[arg(long)]
     pub tf: Option<String>,
     /// Render settings as JSON (RenderSettings fields), applied before the flags below.
