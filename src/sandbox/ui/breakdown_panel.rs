@@ -331,6 +331,37 @@ mod tests {
     use crate::sandbox::state::{RenderState, VolumeState};
     use crate::sandbox::virtual_camera::VirtualCamera;
 
+    /// Every string the breakdown draws — summary, formula, the sample table and an opened
+    /// sample — has a glyph in the window's font, for every method and both orders.
+    #[test]
+    fn every_breakdown_string_can_be_drawn() {
+        let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
+        let vc = VirtualCamera::framing(&volume, None).unwrap();
+        for method in voxcast_core::composite::Method::ALL {
+            for order in [
+                voxcast_core::composite::Order::FrontToBack,
+                voxcast_core::composite::Order::BackToFront,
+            ] {
+                let mut r = render.clone();
+                (r.settings.method, r.settings.order, r.settings.shading) = (method, order, true);
+                let t = pixel_trace(&volume, &r, &vc, UVec2::new(2, 2)).unwrap();
+                let opened = t.samples.len().checked_sub(1);
+                let missing = super::super::missing_glyphs(|ui| {
+                    summary(ui, &t);
+                    formula(ui, &t, opened);
+                    sample_table(ui, &t, opened);
+                    if let Some(s) = opened.and_then(|k| t.samples.get(k)) {
+                        sample_detail(ui, s);
+                    }
+                });
+                assert!(
+                    missing.is_empty(),
+                    "{method:?} {order:?}: no glyph for {missing:?}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn the_breakdown_is_the_cores_trace_and_exports_as_the_cli_does() {
         let volume = VolumeState {

@@ -630,9 +630,77 @@ fn settings_panel(
     Ok(())
 }
 
+/// Every text `add` draws, and the characters among them that the window's font has no glyph
+/// for (they would show as boxes).
+#[cfg(test)]
+pub(super) fn missing_glyphs(add: impl FnMut(&mut egui::Ui)) -> std::collections::BTreeSet<char> {
+    fn texts(shape: &egui::Shape, out: &mut String) {
+        match shape {
+            egui::Shape::Text(t) => {
+                out.push_str(t.galley.text());
+                out.push('\n');
+            }
+            egui::Shape::Vec(v) => v.iter().for_each(|s| texts(s, out)),
+            _ => {}
+        }
+    }
+    let ctx = egui::Context::default();
+    let input = || egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(
+            egui::Pos2::ZERO,
+            egui::vec2(1200.0, 4000.0),
+        )),
+        ..Default::default()
+    };
+    let mut add = add;
+    // Twice: the second frame lays out what the first measured.
+    ctx.run_ui(input(), &mut add).drop_without_applying_deltas();
+    let mut output = ctx.run_ui(input(), &mut add);
+    let shapes = std::mem::take(&mut output.shapes);
+    output.drop_without_applying_deltas();
+    let mut all = String::new();
+    for clipped in &shapes {
+        texts(&clipped.shape, &mut all);
+    }
+    assert!(all.len() > 100, "little text drawn: {all}");
+    let font = egui::FontId::proportional(14.0);
+    all.chars()
+        .filter(|c| !c.is_whitespace())
+        .filter(|&c| !ctx.fonts_mut(|f| f.has_glyph(&font, c)))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every string the settings panel's sections draw (for every method: the greyed-out
+    /// reasons change with it) has a glyph in the window's font.
+    #[test]
+    fn every_panel_string_can_be_drawn() {
+        let (volume, render) = crate::sandbox::inspect::tests::scene("head");
+        for method in Method::ALL {
+            let mut s = render.settings.clone();
+            s.method = method;
+            let mut preview = PreviewSettings {
+                backend: crate::sandbox::live::Backend::Cpu,
+                ..Default::default()
+            };
+            let mut panel = PanelState::default();
+            let mut loading = Loading::default();
+            let mut edited = render.clone();
+            let mut depth = true;
+            let live = crate::sandbox::live::LiveView::default();
+            let missing = missing_glyphs(|ui| {
+                dataset_section(ui, &mut panel, &volume, &mut loading);
+                ray_section(ui, &mut s, &volume, None);
+                shading_section(ui, &mut s, &volume, None);
+                preset_menu(ui, &mut edited);
+                preview_section(ui, &mut preview, Some(&live), &mut depth);
+            });
+            assert!(missing.is_empty(), "{method:?}: no glyph for {missing:?}");
+        }
+    }
 
     /// Whether `s`'s body is drawn under `guide` (closed by default).
     fn drawn(s: Section, guide: Guide) -> bool {
