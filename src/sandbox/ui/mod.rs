@@ -631,7 +631,8 @@ fn settings_panel(
 }
 
 /// Every text `add` draws, and the characters among them that the window's font has no glyph
-/// for (they would show as boxes).
+/// for (they would show as boxes). An ID clash between two widgets shows up here too: egui
+/// paints its warning with a '🔥' the font lacks.
 #[cfg(test)]
 pub(super) fn missing_glyphs(add: impl FnMut(&mut egui::Ui)) -> std::collections::BTreeSet<char> {
     fn texts(shape: &egui::Shape, out: &mut String) {
@@ -675,7 +676,7 @@ mod tests {
     use super::*;
 
     /// Every string the settings panel's sections draw (for every method: the greyed-out
-    /// reasons change with it) has a glyph in the window's font.
+    /// reasons change with it; every classification) has a glyph in the window's font.
     #[test]
     fn every_panel_string_can_be_drawn() {
         let (volume, render) = crate::sandbox::inspect::tests::scene("head");
@@ -691,11 +692,32 @@ mod tests {
             let mut edited = render.clone();
             let mut depth = true;
             let live = crate::sandbox::live::LiveView::default();
+            let mut step_trade = crate::sandbox::trade::StepTrade::default();
+            let (lo, hi) = volume.volume.value_range();
+            let mut classifications = [
+                voxcast_core::classify::Classification::default(),
+                voxcast_core::classify::Classification::IsoContours {
+                    isovalues: vec![40.0, 140.0],
+                    thickness_voxels: 1.0,
+                },
+                voxcast_core::classify::Classification::Boundaries {
+                    full_gradient: Some(10.0),
+                },
+            ];
             let missing = missing_glyphs(|ui| {
                 dataset_section(ui, &mut panel, &volume, &mut loading);
                 ray_section(ui, &mut s, &volume, None);
                 shading_section(ui, &mut s, &volume, None);
                 preset_menu(ui, &mut edited);
+                panel
+                    .editor
+                    .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
+                for (i, c) in classifications.iter_mut().enumerate() {
+                    ui.push_id(i, |ui| {
+                        classify::classification_controls(ui, c, &mut panel.classify, lo, hi)
+                    });
+                }
+                trade::trade_section(ui, &mut step_trade, false, 0.5, None);
                 preview_section(ui, &mut preview, Some(&live), &mut depth);
             });
             assert!(missing.is_empty(), "{method:?}: no glyph for {missing:?}");
