@@ -258,9 +258,7 @@ fn start_capture(
     };
     // The CPU live view rests at the preview's resolution of the window (the main camera's
     // target, then, is the whole window: its lines are drawn sharp).
-    let live_scale = preview
-        .filter(|p| p.enabled && p.backend == super::live::Backend::Cpu)
-        .map(|p| p.scale);
+    let live_scale = preview.filter(|p| p.cpu_live()).map(|p| p.scale);
     let cpu_live = live_scale.is_some();
     let size = live_scale.map_or(target.size, |scale| {
         (target.size.as_vec2() * scale)

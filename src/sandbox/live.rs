@@ -297,7 +297,7 @@ fn drive_live_view(
     (volume, render): (Res<VolumeState>, Res<RenderState>),
     spheres: SceneSpheres,
 ) {
-    if !(preview.enabled && preview.backend == Backend::Cpu) {
+    if !preview.cpu_live() {
         live.cancel();
         return;
     }

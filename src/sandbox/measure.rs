@@ -60,16 +60,8 @@ fn measure_frames(
     animation: Option<ResMut<super::inspect::RayAnimation>>,
     (live, preview): LiveParams,
 ) {
-    let m = &mut *m;
-    let (seen, samples, live_start, stopped) = (
-        &mut m.seen,
-        &mut m.samples,
-        &mut m.live_start,
-        &mut m.stopped,
-    );
-    *seen += 1;
-    let cpu = preview.is_some_and(|p| p.enabled && p.backend == super::live::Backend::Cpu);
-    let live = live.filter(|_| cpu);
+    m.seen += 1;
+    let live = live.filter(|_| preview.is_some_and(|p| p.cpu_live()));
     let now = time.elapsed_secs_f64();
     // Every ray and sample on screen from the start: the cost of the whole scene.
     if let Some(mut a) = animation
@@ -79,7 +71,7 @@ fn measure_frames(
     }
     // Once the frames are measured the orbit stops, and (with the CPU live view) the time
     // until the exact render of the resting view is on screen is measured too.
-    let measured = samples.len() as u32 >= request.frames;
+    let measured = m.samples.len() as u32 >= request.frames;
     if request.orbit_degrees != 0.0 && !measured {
         for (mut orbit, mut transform, mut view) in &mut cameras {
             orbit.yaw += request.orbit_degrees.to_radians();
@@ -94,19 +86,19 @@ fn measure_frames(
             }
         }
     }
-    if *seen <= WARM_UP {
+    if m.seen <= WARM_UP {
         return;
     }
-    if live_start.is_none() {
-        *live_start = live.as_ref().map(|l| (l.generation, now));
+    if m.live_start.is_none() {
+        m.live_start = live.as_ref().map(|l| (l.generation, now));
     }
     // Real time: virtual time clamps a frame at 250 ms.
     if !measured {
-        samples.push(time.delta_secs() * 1000.0);
-        if samples.len() as u32 == request.frames {
-            *stopped = Some(Stopped {
+        m.samples.push(time.delta_secs() * 1000.0);
+        if m.samples.len() as u32 == request.frames {
+            m.stopped = Some(Stopped {
                 at: now,
-                live: live.as_ref().zip(*live_start).map(|(l, (g0, t0))| {
+                live: live.as_ref().zip(m.live_start).map(|(l, (g0, t0))| {
                     let size = l.shown.as_ref().map_or(UVec2::ZERO, |f| f.size);
                     ((l.generation - g0) as f64 / (now - t0).max(1e-6), size)
                 }),
@@ -118,15 +110,15 @@ fn measure_frames(
     let exact_now = live.as_ref().is_some_and(|l| {
         l.showing_exact() && l.shown.as_ref().is_some_and(|f| Some(f.key.camera) == view)
     });
-    let waited = now - stopped.as_ref().map_or(now, |s| s.at);
+    let waited = now - m.stopped.as_ref().map_or(now, |s| s.at);
     if live.is_some() && !exact_now && waited < 30.0 {
         return; // the live view is still refining the resting view
     }
-    let mut sorted = samples.clone();
+    let mut sorted = m.samples.clone();
     sorted.sort_by(f32::total_cmp);
     let mean = sorted.iter().sum::<f32>() / sorted.len() as f32;
     let median = sorted[sorted.len() / 2];
-    let live_text = match stopped.as_ref().and_then(|s| s.live) {
+    let live_text = match m.stopped.as_ref().and_then(|s| s.live) {
         Some((rate, size)) => {
             let exact = match (exact_now, request.orbit_degrees != 0.0) {
                 (false, _) => "not reached".to_string(),

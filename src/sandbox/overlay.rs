@@ -98,6 +98,20 @@ impl Projector {
     }
 }
 
+/// A painter into the scene's viewport (beneath every panel, clipped to it) and the projector
+/// that maps world points into it through the main camera's `view`.
+pub fn scene_painter(
+    ctx: &egui::Context,
+    viewport: Option<&Viewport>,
+    view: &View,
+) -> (Projector, egui::Painter) {
+    let rect = Viewport::rect(viewport, ctx);
+    let painter = ctx
+        .layer_painter(egui::LayerId::background())
+        .with_clip_rect(rect);
+    (Projector { view: view.0, rect }, painter)
+}
+
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<OverlayLines>().add_systems(
         bevy_egui::EguiPrimaryContextPass,
@@ -116,12 +130,7 @@ fn paint_overlay(
     let Ok(view) = views.single() else {
         return Ok(());
     };
-    let ctx = contexts.ctx_mut()?;
-    let rect = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
-    let projector = Projector { view: view.0, rect };
-    let painter = ctx
-        .layer_painter(egui::LayerId::background())
-        .with_clip_rect(rect);
+    let (projector, painter) = scene_painter(contexts.ctx_mut()?, viewport.as_deref(), view);
     for (a, b, color, width) in segments {
         if let Some(points) = projector.segment(a, b) {
             painter.line_segment(points, egui::Stroke::new(width, color));

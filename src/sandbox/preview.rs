@@ -46,6 +46,11 @@ impl Default for PreviewSettings {
 }
 
 impl PreviewSettings {
+    /// Whether the CPU live view draws the volume (the preview is on and drawn by the CPU).
+    pub fn cpu_live(&self) -> bool {
+        self.enabled && self.backend == Backend::Cpu
+    }
+
     /// The resolution fraction and step multiplier in effect; `full` asks for the settings'
     /// own step at the resting resolution (while a comparison captures the preview).
     pub fn effective(&self, moving: bool, full: bool) -> (f32, f32) {
@@ -131,6 +136,11 @@ impl Viewport {
         let min = Vec2::new(self.rect.min.x, self.rect.min.y) * self.pixels_per_point;
         let size = Vec2::new(self.rect.width(), self.rect.height()) * self.pixels_per_point;
         (min, size.round().as_uvec2().max(UVec2::ONE))
+    }
+
+    /// The viewport in egui's points (the whole window when `viewport` is not known yet).
+    pub fn rect(viewport: Option<&Viewport>, ctx: &egui::Context) -> egui::Rect {
+        viewport.map_or(ctx.viewport_rect(), |v| v.rect)
     }
 
     /// The viewport of `window` (its whole area when `viewport` is not known yet).
@@ -260,7 +270,7 @@ fn camera_for_backend(
     inspect: Option<Res<super::inspect::InspectSettings>>,
     mut cameras: Query<(&mut Camera, &mut RenderLayers), With<MainCamera>>,
 ) {
-    let cpu = settings.enabled && settings.backend == Backend::Cpu;
+    let cpu = settings.cpu_live();
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
     let through = render.is_some_and(|r| !r.depth_termination);
     let transparent = inspect.is_some_and(|i| i.shown && i.show_opacity);
@@ -314,10 +324,10 @@ pub(super) fn paint_preview(
     let camera_drew = cameras.iter().any(|c| c.is_active);
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
     let ctx = contexts.ctx_mut()?.clone();
-    let rect = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
+    let rect = Viewport::rect(viewport.as_deref(), &ctx);
     let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
     let painter = ctx.layer_painter(egui::LayerId::background());
-    let cpu = settings.is_some_and(|s| s.enabled && s.backend == Backend::Cpu);
+    let cpu = settings.is_some_and(|s| s.cpu_live());
     if cpu && let Some(live_id) = live.as_mut().and_then(|l| l.texture(&ctx)) {
         painter.image(live_id, rect, uv, egui::Color32::WHITE);
     }

@@ -83,9 +83,7 @@ pub(super) fn plugin(app: &mut App) {
 impl Hands<'_, '_> {
     /// Whether the CPU live view draws the volume.
     fn live_view_on(&self) -> bool {
-        self.preview
-            .as_ref()
-            .is_some_and(|p| p.enabled && p.backend == super::live::Backend::Cpu)
+        self.preview.as_ref().is_some_and(|p| p.cpu_live())
     }
 }
 

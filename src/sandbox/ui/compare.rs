@@ -50,7 +50,7 @@ pub(super) fn compare_window(
     let ctx = contexts.ctx_mut()?.clone();
     let mut open = window.open;
     // Over the scene, below the level's text.
-    let scene = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
+    let scene = crate::sandbox::preview::Viewport::rect(viewport.as_deref(), &ctx);
     egui::Window::new("Render image")
         .open(&mut open)
         .default_pos(scene.min + egui::vec2(8.0, 8.0))

@@ -4,7 +4,7 @@
 
 use crate::sandbox::breakdown::BreakdownState;
 use crate::sandbox::inspect::{InspectSettings, Inspection, RayAnimation, RaySelection, ray_pixel};
-use crate::sandbox::overlay::Projector;
+use crate::sandbox::overlay::{Projector, scene_painter};
 use crate::sandbox::state::{MainCamera, View, VolumeState};
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
@@ -35,11 +35,7 @@ pub(super) fn ray_overlay(
         return Ok(());
     }
     let ctx = contexts.ctx_mut()?;
-    let rect = viewport.map_or(ctx.viewport_rect(), |v| v.rect);
-    let projector = Projector { view: view.0, rect };
-    let painter = ctx
-        .layer_painter(egui::LayerId::background())
-        .with_clip_rect(rect);
+    let (projector, painter) = scene_painter(ctx, viewport.as_deref(), view);
     let (lo, hi) = volume.volume.bounds();
     let reach = (vc.view.target - vc.view.eye).length() + (hi - lo).length();
     let selected = selection.selected_index(inspection.size);
