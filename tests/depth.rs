@@ -17,6 +17,7 @@ use voxcast_core::camera::Camera;
 use voxcast_core::composite::blend_background;
 use voxcast_core::image_out::to_u8;
 use voxcast_core::marker::{LIGHT_MARKER_COLOR, light_marker_radius};
+use voxcast_core::render::Occluder;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::shade::Light;
 use voxcast_core::trace::{Scene, trace_ray};
@@ -51,14 +52,6 @@ fn to_srgb(l: f32) -> f32 {
     } else {
         1.055 * l.powf(1.0 / 2.4) - 0.055
     }
-}
-
-/// Distance along `dir` (unit) from `origin` to the sphere's near side, if the ray meets it.
-fn sphere_hit(origin: Vec3, dir: Vec3, centre: Vec3, radius: f32) -> Option<f32> {
-    let oc = origin - centre;
-    let b = oc.dot(dir);
-    let disc = b * b - (oc.length_squared() - radius * radius);
-    (disc >= 0.0).then(|| -b - disc.sqrt())
 }
 
 /// Screenshot of the preview with the given extra flags.
@@ -126,6 +119,11 @@ fn the_lights_marker_stops_the_preview_rays() -> Outcome {
     let rays = camera.rays(SIZE, SIZE);
     let radius = light_marker_radius(lo, hi);
     let marker = LIGHT_MARKER_COLOR;
+    let marker_sphere = Occluder {
+        centre,
+        radius,
+        color: marker,
+    };
     let (mut inside, mut inside_ok, mut worst_inside) = (0, 0, 0i32);
     let (mut outside, mut worst_outside, mut off_worst) = (0, 0i32, 0i32);
     for y in 0..SIZE {
@@ -136,7 +134,7 @@ fn the_lights_marker_stops_the_preview_rays() -> Outcome {
             let miss = (ray.origin - centre).cross(ray.dir).length() / radius;
             let got = on.get_pixel(x, y).0.map(i32::from);
             if miss < 0.8 {
-                ray.t_max = sphere_hit(ray.origin, ray.dir, centre, radius).unwrap();
+                ray.t_max = marker_sphere.hit(&ray).unwrap();
                 let t = trace_ray(&scene, &ray, [x, y]);
                 let (c, o) = (Vec3::from_array(t.color), t.opacity);
                 let front = blend_background(c, o, settings.background);

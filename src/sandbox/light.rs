@@ -137,13 +137,15 @@ fn cursor_ray(window: &Window, viewport: Option<&Viewport>, view: &View) -> Opti
     inside.then(|| view.0.ray(cursor.x, cursor.y, size.x, size.y))
 }
 
-/// Where `ray` first meets the sphere at `centre` of `radius`, if it does.
+/// Whether `ray` meets the sphere at `centre` of `radius` ahead of it (or starts inside it):
+/// the core's ray–sphere test, as the live view stops rays at the marker.
 fn hits_sphere(ray: &Ray, centre: Vec3, radius: f32) -> bool {
-    let oc = ray.origin - centre;
-    let b = oc.dot(ray.dir);
-    let c = oc.length_squared() - radius * radius;
-    let disc = b * b - c;
-    disc >= 0.0 && (-b + disc.sqrt()) >= 0.0
+    let sphere = voxcast_core::render::Occluder {
+        centre,
+        radius,
+        color: Vec3::ZERO,
+    };
+    sphere.hit(ray).is_some()
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -3,23 +3,9 @@
 //! *ignored*, with the reason, instead of passing silently.
 #![allow(dead_code)]
 
-pub use libtest_mimic::{Completion, Failed};
-
-/// What a test returns: completed, ignored (with why), or failed.
-pub type Outcome = Result<Completion, Failed>;
-
-/// A test: its name and its function.
-pub type Test = (&'static str, fn() -> Outcome);
-
-/// Runs the named tests as `cargo test` would, with its filters and flags.
-pub fn run(tests: &[Test]) -> ! {
-    let args = libtest_mimic::Arguments::from_args();
-    let trials = tests
-        .iter()
-        .map(|&(name, f)| libtest_mimic::Trial::ignorable_test(name, f))
-        .collect();
-    libtest_mimic::run(&args, trials).exit()
-}
+#[path = "../../crates/voxcast_core/tests/support/harness.rs"]
+mod harness;
+pub use harness::*;
 
 /// Whether `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it) makes a missing device a failure.
 pub fn gpu_required() -> bool {

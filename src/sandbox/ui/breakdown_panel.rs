@@ -328,7 +328,6 @@ mod tests {
     use super::*;
     use crate::sandbox::breakdown::pixel_trace;
     use crate::sandbox::inspect::{Inspection, compute};
-    use crate::sandbox::state::{RenderState, VolumeState};
     use crate::sandbox::virtual_camera::VirtualCamera;
 
     /// Every string the breakdown draws — summary, formula, the sample table and an opened
@@ -364,21 +363,7 @@ mod tests {
 
     #[test]
     fn the_breakdown_is_the_cores_trace_and_exports_as_the_cli_does() {
-        let volume = VolumeState {
-            volume: std::sync::Arc::new(
-                voxcast_core::builtin::load_builtin("bucky").unwrap().volume,
-            ),
-            source: "builtin:bucky".into(),
-            preset: None,
-        };
-        let p = voxcast_core::preset::for_volume(volume.volume.name()).unwrap();
-        let render = RenderState {
-            transfer: p.transfer.clone(),
-            settings: p
-                .settings_over(&voxcast_core::settings::RenderSettings::default())
-                .unwrap(),
-            depth_termination: true,
-        };
+        let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
         let mut vc = VirtualCamera::framing(&volume, None).unwrap();
         (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();
