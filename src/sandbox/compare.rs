@@ -386,9 +386,24 @@ fn collect_result(mut comparison: ResMut<Comparison>, mut generation: Local<u64>
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use glam::Vec3;
+
+    /// A finished comparison as the window shows it: with a capture compared, or without one.
+    pub(crate) fn example(capture: bool) -> Compared {
+        let mut cpu = image(4, 3, 0.5);
+        cpu.pixels[5] = Vec3::splat(0.25);
+        let gpu = if capture {
+            Ok(image(4, 3, 0.5))
+        } else {
+            Err("the preview is off".into())
+        };
+        let mut done = rendered(cpu);
+        done.seconds = 0.123_456;
+        done.stats.rays = 12;
+        Compared::new(done, gpu, snapshot(), 1)
+    }
 
     fn image(w: u32, h: u32, v: f32) -> LinearImage {
         let mut img = LinearImage::new(w, h);

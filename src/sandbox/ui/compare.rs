@@ -7,6 +7,7 @@ use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
 use voxcast_core::image_out::LinearImage;
+use voxcast_core::numbers::{sig, sig64};
 
 /// The window's own state: open or not, the textures of the shown result, the save path.
 #[derive(Resource)]
@@ -56,53 +57,65 @@ pub(super) fn compare_window(
         .default_pos(scene.min + egui::vec2(8.0, 8.0))
         .default_width(scene.width().clamp(320.0, 720.0))
         .show(&ctx, |ui| {
-            ui.horizontal(|ui| {
-                let button = ui.add_enabled(!comparison.busy(), egui::Button::new("Render image"));
-                if button
-                    .on_hover_text(
-                        "Render the current view on the CPU (the exact reference) and compare \
-                         it with the preview",
-                    )
-                    .clicked()
-                {
-                    comparison.start();
-                }
-                if comparison.busy() {
-                    let (done, total) = comparison.progress().unwrap_or((0, 0));
-                    let fraction = if total == 0 {
-                        0.0
-                    } else {
-                        done as f32 / total as f32
-                    };
-                    ui.add(egui::ProgressBar::new(fraction).text(format!(
-                        "Rendering… {}",
-                        voxcast_core::numbers::percent(fraction)
-                    )));
-                    if ui.button("Cancel").clicked() {
-                        comparison.cancel();
-                    }
-                }
-            });
-            if let Some(message) = &comparison.message {
-                ui.colored_label(egui::Color32::LIGHT_RED, message);
-            }
-            let Some(result) = &comparison.result else {
-                ui.label("No render yet.");
-                return;
-            };
-            result_view(ui, &mut window, result);
-            if !result
-                .snapshot
-                .is_current(views.single().ok(), &render, &volume)
-            {
-                ui.colored_label(
-                    egui::Color32::YELLOW,
-                    "The view or settings changed since this render: render again to compare.",
-                );
-            }
+            let current = comparison
+                .result
+                .as_ref()
+                .is_none_or(|r| r.snapshot.is_current(views.single().ok(), &render, &volume));
+            contents(ui, &mut window, &mut comparison, current)
         });
     window.open = open;
     Ok(())
+}
+
+/// The window's contents: the Render button, progress and Cancel, and the last result
+/// (`current`: made from the view and settings shown now).
+fn contents(
+    ui: &mut egui::Ui,
+    window: &mut CompareWindow,
+    comparison: &mut Comparison,
+    current: bool,
+) {
+    ui.horizontal(|ui| {
+        let button = ui.add_enabled(!comparison.busy(), egui::Button::new("Render image"));
+        if button
+            .on_hover_text(
+                "Render the current view on the CPU (the exact reference) and compare \
+                 it with the preview",
+            )
+            .clicked()
+        {
+            comparison.start();
+        }
+        if comparison.busy() {
+            let (done, total) = comparison.progress().unwrap_or((0, 0));
+            let fraction = if total == 0 {
+                0.0
+            } else {
+                done as f32 / total as f32
+            };
+            ui.add(egui::ProgressBar::new(fraction).text(format!(
+                "Rendering… {}",
+                voxcast_core::numbers::percent(fraction)
+            )));
+            if ui.button("Cancel").clicked() {
+                comparison.cancel();
+            }
+        }
+    });
+    if let Some(message) = &comparison.message {
+        ui.colored_label(egui::Color32::LIGHT_RED, message);
+    }
+    let Some(result) = &comparison.result else {
+        ui.label("No render yet.");
+        return;
+    };
+    result_view(ui, window, result);
+    if !current {
+        ui.colored_label(
+            egui::Color32::YELLOW,
+            "The view or settings changed since this render: render again to compare.",
+        );
+    }
 }
 
 fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared) {
@@ -120,23 +133,24 @@ fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared)
     }
     let s = &result.stats;
     let (size, live) = (result.snapshot.size, result.snapshot.live);
+    let rate = s.samples as f64 / result.seconds.max(1e-9);
     ui.label(format!(
-        "{}×{} on the CPU in {:.3} s: {} rays, {} sample positions, {} interpolated ({:.1} M \
-         samples/s)",
+        "{}×{} on the CPU in {} s: {} rays, {} sample positions, {} interpolated ({} million \
+         samples a second)",
         size.x,
         size.y,
-        result.seconds,
+        sig64(result.seconds),
         s.rays,
         s.positions,
         s.samples,
-        s.samples as f64 / result.seconds.max(1e-9) / 1e6
+        sig64(rate / 1e6)
     ));
     match &result.diff {
         Some((d, _)) => ui.label(format!(
-            "preview − render: max {:.1}/255, mean {:.3}/255, RMSE {:.3}/255 (heat-map: white at {:.0}/255)",
-            d.max_abs * 255.0,
-            d.mean_abs * 255.0,
-            d.rmse * 255.0,
+            "preview − render: max {}/255, mean {}/255, RMSE {}/255 (heat-map: white at {:.0}/255)",
+            sig(d.max_abs * 255.0),
+            sig64(d.mean_abs * 255.0),
+            sig64(d.rmse * 255.0),
             HEAT_FULL_SCALE * 255.0
         )),
         None => ui.label(format!(
@@ -188,5 +202,36 @@ fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared)
             ui.colored_label(egui::Color32::LIGHT_RED, e);
         }
         None => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every string the window draws — busy or not, with a result compared, with one that
+    /// could not be, stale or current, saved or not — has a glyph in the window's font.
+    #[test]
+    fn every_render_window_string_can_be_drawn() {
+        for (capture, current) in [(true, true), (false, false)] {
+            let mut window = CompareWindow {
+                saved: Some(Err("file not found: /nowhere/x.png".into())),
+                ..Default::default()
+            };
+            let mut comparison = Comparison::default();
+            comparison.result = Some(crate::sandbox::compare::tests::example(capture));
+            comparison.message = Some("the preview had not drawn the volume yet".into());
+            let missing = crate::sandbox::ui::missing_glyphs(|ui| {
+                contents(ui, &mut window, &mut comparison, current)
+            });
+            assert!(missing.is_empty(), "no glyph for {missing:?}");
+        }
+        let mut busy = Comparison::default();
+        busy.start();
+        let missing = crate::sandbox::ui::missing_glyphs(|ui| {
+            ui.label("x".repeat(100)); // the empty window draws little text of its own
+            contents(ui, &mut CompareWindow::default(), &mut busy, true)
+        });
+        assert!(missing.is_empty(), "no glyph for {missing:?}");
     }
 }

@@ -37,70 +37,14 @@ pub(super) fn rays_panel(
             .show(dock_ui, |ui| {
                 ui.heading("Rays");
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    ui.checkbox(&mut edited.shown, "Show rays and samples");
-                    ui.add(
-                        egui::Slider::new(&mut edited.speed, t::RAY_SPEED.min..=t::RAY_SPEED.max)
-                            .logarithmic(true)
-                            .text(t::RAY_SPEED.label),
+                    contents(
+                        ui,
+                        &inspection,
+                        &mut edited,
+                        &mut animation,
+                        spot,
+                        &mut new_selection,
                     )
-                    .on_hover_text(t::RAY_SPEED.doc);
-                    ui.horizontal(|ui| {
-                        if ui
-                            .button("Replay")
-                            .on_hover_text("Grow the rays again")
-                            .clicked()
-                        {
-                            animation.replay();
-                        }
-                        if ui
-                            .button("Skip")
-                            .on_hover_text("Show the rays whole")
-                            .clicked()
-                        {
-                            animation.skip();
-                        }
-                    });
-                    ui.checkbox(&mut edited.show_opacity, "Sample opacity")
-                        .on_hover_text("Draw each sample as transparent as its opacity");
-                    let mut budget = edited.budget as f32;
-                    if ui
-                        .add(
-                            egui::Slider::new(
-                                &mut budget,
-                                t::SAMPLE_BUDGET.min..=t::SAMPLE_BUDGET.max,
-                            )
-                            .logarithmic(true)
-                            .text(t::SAMPLE_BUDGET.label),
-                        )
-                        .on_hover_text(t::SAMPLE_BUDGET.doc)
-                        .changed()
-                    {
-                        edited.budget = budget as usize;
-                    }
-                    let size = inspection.size;
-                    ui.label(format!(
-                        "{}×{} rays, {} samples",
-                        size.x,
-                        size.y,
-                        if inspection.traces.is_some() {
-                            inspection.samples.to_string()
-                        } else {
-                            format!("more than {}", edited.budget)
-                        }
-                    ));
-                    if let Some(m) = &inspection.message {
-                        ui.colored_label(Color32::YELLOW, m);
-                    }
-                    ui.label(
-                        egui::RichText::new(
-                            "The virtual camera's image, rendered by the core: one ray per pixel. \
-                     Hover to find a ray, click to open its calculation.",
-                        )
-                        .small(),
-                    );
-                    super::marked(ui, spot, Control::PixelGrid, |ui| {
-                        pixel_grid(ui, &inspection, &mut new_selection)
-                    });
                 });
             });
     });
@@ -111,6 +55,79 @@ pub(super) fn rays_panel(
         *selection = new_selection;
     }
     Ok(())
+}
+
+/// The panel's contents: animation and budget controls, the counts, and the pixel grid.
+fn contents(
+    ui: &mut egui::Ui,
+    inspection: &Inspection,
+    edited: &mut InspectSettings,
+    animation: &mut RayAnimation,
+    spot: Option<Control>,
+    new_selection: &mut RaySelection,
+) {
+    ui.checkbox(&mut edited.shown, "Show rays and samples");
+    // Labels above their sliders: the panel may be narrow (a small window, the breakdown open).
+    ui.label(t::RAY_SPEED.label).on_hover_text(t::RAY_SPEED.doc);
+    ui.add(
+        egui::Slider::new(&mut edited.speed, t::RAY_SPEED.min..=t::RAY_SPEED.max).logarithmic(true),
+    )
+    .on_hover_text(t::RAY_SPEED.doc);
+    ui.horizontal(|ui| {
+        if ui
+            .button("Replay")
+            .on_hover_text("Grow the rays again")
+            .clicked()
+        {
+            animation.replay();
+        }
+        if ui
+            .button("Skip")
+            .on_hover_text("Show the rays whole")
+            .clicked()
+        {
+            animation.skip();
+        }
+    });
+    ui.checkbox(&mut edited.show_opacity, "Sample opacity")
+        .on_hover_text("Draw each sample as transparent as its opacity");
+    let mut budget = edited.budget as f32;
+    ui.label(t::SAMPLE_BUDGET.label)
+        .on_hover_text(t::SAMPLE_BUDGET.doc);
+    if ui
+        .add(
+            egui::Slider::new(&mut budget, t::SAMPLE_BUDGET.min..=t::SAMPLE_BUDGET.max)
+                .logarithmic(true),
+        )
+        .on_hover_text(t::SAMPLE_BUDGET.doc)
+        .changed()
+    {
+        edited.budget = budget as usize;
+    }
+    let size = inspection.size;
+    ui.label(format!(
+        "{}×{} rays, {} samples",
+        size.x,
+        size.y,
+        if inspection.traces.is_some() {
+            inspection.samples.to_string()
+        } else {
+            format!("more than {}", edited.budget)
+        }
+    ));
+    if let Some(m) = &inspection.message {
+        ui.colored_label(Color32::YELLOW, m);
+    }
+    ui.label(
+        egui::RichText::new(
+            "The virtual camera's image, rendered by the core: one ray per pixel. \
+     Hover to find a ray, click to open its calculation.",
+        )
+        .small(),
+    );
+    super::marked(ui, spot, Control::PixelGrid, |ui| {
+        pixel_grid(ui, inspection, new_selection)
+    });
 }
 
 fn pixel_grid(ui: &mut egui::Ui, inspection: &Inspection, selection: &mut RaySelection) {
@@ -233,5 +250,40 @@ mod tests {
         frame(vec![click(true)], &mut selection);
         frame(vec![click(false)], &mut selection);
         assert_eq!(selection.selected, None, "a second click lets the ray go");
+    }
+
+    /// Every string the panel draws — with the rays traced, and over budget with a message —
+    /// has a glyph in the window's font.
+    #[test]
+    fn every_rays_panel_string_can_be_drawn() {
+        let (volume, render) = crate::sandbox::inspect::tests::scene("head");
+        let mut vc = VirtualCamera::framing(&volume, None).unwrap();
+        (vc.width, vc.height) = (6, 4);
+        for budget in [1_000_000, 10] {
+            let mut inspection = Inspection::default();
+            compute(&volume, &render, &vc, budget, &mut inspection);
+            let mut settings = InspectSettings {
+                budget,
+                ..Default::default()
+            };
+            let mut selection = RaySelection {
+                selected: Some(UVec2::new(1, 1)),
+                ..Default::default()
+            };
+            let missing = crate::sandbox::ui::missing_glyphs(|ui| {
+                contents(
+                    ui,
+                    &inspection,
+                    &mut settings,
+                    &mut RayAnimation::default(),
+                    Some(Control::PixelGrid),
+                    &mut selection,
+                )
+            });
+            assert!(
+                missing.is_empty(),
+                "budget {budget}: no glyph for {missing:?}"
+            );
+        }
     }
 }
