@@ -10,7 +10,6 @@
 // shader outputs, premultiplied, L(C + (1 − O)·bg) − (1 − O)·L(bg), with L the sRGB decoding:
 // blended over a clear colour of bg this stores exactly the CPU's C + (1 − O)·bg.
 #import bevy_pbr::forward_io::VertexOutput
-#import bevy_pbr::mesh_view_bindings::view
 #import bevy_pbr::view_transformations::{frag_coord_to_ndc, position_ndc_to_world}
 #ifdef DEPTH_PREPASS
 #import bevy_pbr::prepass_utils
@@ -28,8 +27,10 @@ fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
 
 @fragment
 fn fragment(mesh: VertexOutput) -> @location(0) vec4<f32> {
-    // The camera's ray through this pixel centre, computed as camera.rs computes it.
-    let pixel = mesh.position.xy - view.viewport.xy;
+    // The camera's ray through this pixel centre, computed as camera.rs computes it. The pixel
+    // is counted in the whole target: the camera's viewport may be a strip of it (the
+    // sandbox's progressive pass, which draws the resting view a few rows a frame).
+    let pixel = mesh.position.xy;
     let ndc_x = 2.0 * pixel.x * params.cam_inv_width - 1.0;
     let ndc_y = 1.0 - 2.0 * pixel.y * params.cam_inv_height;
     let offset = params.cam_right * ndc_x + params.cam_up * ndc_y;

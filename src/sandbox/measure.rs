@@ -45,10 +45,12 @@ struct Measured {
     stopped: Option<Stopped>,
 }
 
-/// The preview's settings and the CPU live view, where there are.
+/// The preview's settings, the CPU live view and the GPU's progressive pass, where there are.
 type LiveParams<'w> = (
     Option<Res<'w, super::live::LiveView>>,
     Option<Res<'w, super::preview::PreviewSettings>>,
+    Option<Res<'w, super::progressive::Progressive>>,
+    Option<Res<'w, super::preview::Motion>>,
 );
 
 fn measure_frames(
@@ -58,9 +60,10 @@ fn measure_frames(
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut exit: MessageWriter<AppExit>,
     animation: Option<ResMut<super::inspect::RayAnimation>>,
-    (live, preview): LiveParams,
+    (live, preview, progressive, motion): LiveParams,
 ) {
     m.seen += 1;
+    let gpu = preview.as_ref().is_some_and(|p| p.enabled && !p.cpu_live());
     let live = live.filter(|_| preview.is_some_and(|p| p.cpu_live()));
     let now = time.elapsed_secs_f64();
     // Every ray and sample on screen from the start: the cost of the whole scene.
@@ -110,9 +113,15 @@ fn measure_frames(
     let exact_now = live.as_ref().is_some_and(|l| {
         l.showing_exact() && l.shown.as_ref().is_some_and(|f| Some(f.key.camera) == view)
     });
+    // The GPU preview is at full quality once the view rests and its pass (if it draws in
+    // strips) has finished.
+    let gpu_full = gpu
+        && !motion.as_ref().is_some_and(|m| m.moving)
+        && progressive.as_ref().is_some_and(|p| p.full_quality_shown());
     let waited = now - m.stopped.as_ref().map_or(now, |s| s.at);
-    if live.is_some() && !exact_now && waited < 30.0 {
-        return; // the live view is still refining the resting view
+    let refining = (live.is_some() && !exact_now) || (gpu && !gpu_full);
+    if refining && waited < 30.0 {
+        return; // the preview is still refining the resting view
     }
     let mut sorted = m.samples.clone();
     sorted.sort_by(f32::total_cmp);
@@ -131,6 +140,20 @@ fn measure_frames(
                 "; CPU live view: {rate:.1} images/s at {}×{}, exact render {exact}",
                 size.x, size.y
             )
+        }
+        None if gpu => {
+            let strips = progressive
+                .as_ref()
+                .filter(|p| p.active())
+                .map_or(String::new(), |p| {
+                    format!(" (drawn in {} strips)", p.strips())
+                });
+            let full = match (gpu_full, request.orbit_degrees != 0.0) {
+                (false, _) => "not reached".to_string(),
+                (true, true) => format!("{:.0} ms after the camera stopped", waited * 1000.0),
+                (true, false) => "on screen".to_string(),
+            };
+            format!("; GPU preview: full quality {full}{strips}")
         }
         None => String::new(),
     };

@@ -20,6 +20,7 @@ mod orbit;
 mod overlay;
 pub mod platform;
 mod preview;
+mod progressive;
 pub mod screenshot;
 mod script;
 mod shaders;
@@ -277,6 +278,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             lattice::plugin,
             live::plugin,
             overlay::plugin,
+            progressive::plugin,
         ))
         .insert_resource(free_play)
         .insert_resource(free_play.0)

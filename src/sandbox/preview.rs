@@ -67,12 +67,41 @@ impl PreviewSettings {
     }
 }
 
+/// The resolutions the preview drops to while moving, highest first: the measured frame time
+/// picks one, so the image changes size only when the speed does.
+const MOVING_LADDER: [f32; 9] = [1.0, 0.75, 0.5, 0.35, 0.25, 0.18, 0.125, 0.09, 0.05];
+
+/// The resolution fraction for a moving frame: the highest on [`MOVING_LADDER`] whose volume
+/// work (`per_work` seconds a pixel at step multiplier 1, `pixels` in the whole viewport,
+/// `step` the moving step multiplier) fits in `share` seconds, within `[lowest, highest]`.
+pub fn moving_scale_fit(
+    per_work: f64,
+    share: f64,
+    pixels: f64,
+    step: f32,
+    lowest: f32,
+    highest: f32,
+) -> f32 {
+    let full = per_work * pixels / f64::from(step.max(1e-3));
+    let fit = (share / full).sqrt();
+    let fit = if fit.is_finite() { fit as f32 } else { highest };
+    MOVING_LADDER
+        .iter()
+        .copied()
+        .find(|&s| s <= fit)
+        .unwrap_or(lowest)
+        .clamp(lowest.min(highest), highest)
+}
+
 /// The preview's quality controls, when the preview plugin is present.
 #[derive(bevy::ecs::system::SystemParam)]
 pub struct Quality<'w> {
     preview: Option<Res<'w, PreviewSettings>>,
     motion: Option<Res<'w, Motion>>,
     full: Option<Res<'w, FullQuality>>,
+    /// The measured frame time, and the viewport's size, for the resolution while moving.
+    progressive: Option<Res<'w, super::progressive::Progressive>>,
+    viewport: Option<Res<'w, Viewport>>,
 }
 
 impl Quality<'_> {
@@ -82,16 +111,40 @@ impl Quality<'_> {
             || self.full.as_ref().is_some_and(|f| f.is_changed())
     }
 
+    /// While moving with adaptive quality: the resolution the measured frame time allows,
+    /// never below the moving resolution nor above the resting one (a GPU that draws the
+    /// whole view within a frame's share keeps it, and the scene's meshes stay sharp).
+    fn moving_scale(&self, p: &PreviewSettings, step: f32) -> f32 {
+        let lowest = p.moving_scale.min(p.scale);
+        let fitted = self.progressive.as_ref().and_then(|pr| {
+            let per_work = pr.cost.per_work?;
+            let (_, size) = self.viewport.as_ref()?.physical();
+            let pixels = f64::from(size.x) * f64::from(size.y);
+            Some(moving_scale_fit(
+                per_work,
+                pr.cost.share(),
+                pixels,
+                step,
+                lowest,
+                p.scale,
+            ))
+        });
+        fitted.unwrap_or(lowest)
+    }
+
     /// The fraction of the window's pixels the main camera renders: the GPU preview's
     /// resolution, or 1 when the CPU draws the volume (the camera draws only lines then).
     pub fn scale(&self) -> f32 {
         let moving = self.motion.as_ref().is_some_and(|m| m.moving);
         let full = self.full.as_ref().is_some_and(|f| f.0);
         self.preview.as_ref().map_or(1.0, |p| {
+            let (scale, step) = p.effective(moving, full);
             if p.backend == Backend::Cpu {
                 1.0
+            } else if moving && p.adaptive && !full {
+                self.moving_scale(p, step)
             } else {
-                p.effective(moving, full).0
+                scale
             }
         })
     }
@@ -174,6 +227,7 @@ pub(super) fn plugin(app: &mut App) {
                 fit_preview_target,
                 show_or_hide_volume,
                 camera_for_backend,
+                super::progressive::give_camera_its_work,
             )
                 .chain()
                 .in_set(super::Frame::Show),
@@ -198,13 +252,19 @@ fn spawn_display_camera(mut commands: Commands) {
     ));
 }
 
+/// The view counts as moving while it or the settings change (adaptive quality draws quick
+/// frames then), and comes to rest [`REST_AFTER`] later.
 fn track_motion(
     time: Res<Time>,
     views: Query<(), (With<MainCamera>, Changed<View>)>,
+    render: Option<Res<super::state::RenderState>>,
+    volume: Option<Res<super::state::VolumeState>>,
     mut motion: ResMut<Motion>,
 ) {
     let now = time.elapsed_secs();
-    if !views.is_empty() {
+    let settings_changed = render.is_some_and(|r| r.is_changed() && !r.is_added())
+        || volume.is_some_and(|v| v.is_changed() && !v.is_added());
+    if !views.is_empty() || settings_changed {
         motion.last_change = now;
     }
     let moving = now - motion.last_change < REST_AFTER;
@@ -311,7 +371,8 @@ fn camera_for_backend(
 }
 
 /// Paints the preview into the viewport, beneath every panel: the CPU live view's image when
-/// the CPU draws the volume, then the main camera's image (with the CPU, only its lines).
+/// the CPU draws the volume, then the main camera's image (with the CPU, only its lines; at
+/// rest with a slow GPU, the progressive pass's images).
 pub(super) fn paint_preview(
     mut contexts: EguiContexts,
     target: Option<Res<PreviewTarget>>,
@@ -319,6 +380,7 @@ pub(super) fn paint_preview(
     viewport: Option<Res<Viewport>>,
     mut live: Option<ResMut<LiveView>>,
     cameras: Query<&Camera, With<MainCamera>>,
+    progressive: Option<Res<super::progressive::Progressive>>,
 ) -> Result {
     let Some(target) = target else { return Ok(()) };
     let camera_drew = cameras.iter().any(|c| c.is_active);
@@ -331,8 +393,35 @@ pub(super) fn paint_preview(
     if cpu && let Some(live_id) = live.as_mut().and_then(|l| l.texture(&ctx)) {
         painter.image(live_id, rect, uv, egui::Color32::WHITE);
     }
-    if camera_drew {
+    if let Some(p) = progressive.filter(|p| p.active()) {
+        for (image, y0, y1) in p.layers() {
+            let id = contexts.add_image(EguiTextureHandle::Weak(image.id()));
+            let (screen, uv) = super::progressive::strip_rects(rect, y0, y1);
+            painter.image(id, screen, uv, egui::Color32::WHITE);
+        }
+    } else if camera_drew {
         painter.image(id, rect, uv, egui::Color32::WHITE);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fast GPU keeps the resting resolution while moving; a slow one drops as far as its
+    /// measured speed needs, on the ladder, never below the moving resolution.
+    #[test]
+    fn the_moving_resolution_follows_the_measured_speed() {
+        let pixels = 1280.0 * 720.0;
+        // 1 ns a pixel: the whole view in under a millisecond.
+        assert_eq!(moving_scale_fit(1e-9, 0.025, pixels, 2.0, 0.25, 1.0), 1.0);
+        // 1.6 µs a pixel at step ×2: 0.74 s whole; 0.025 s allows √(0.025/0.74) ≈ 0.18.
+        assert_eq!(moving_scale_fit(1.6e-6, 0.025, pixels, 2.0, 0.05, 1.0), 0.18);
+        assert_eq!(moving_scale_fit(1.6e-6, 0.025, pixels, 2.0, 0.25, 1.0), 0.25);
+        // Never above the resting resolution, whatever the speed.
+        assert_eq!(moving_scale_fit(1e-12, 0.025, pixels, 2.0, 0.25, 0.5), 0.5);
+        assert_eq!(moving_scale_fit(0.0, 0.025, pixels, 2.0, 0.25, 0.5), 0.5);
+        assert_eq!(moving_scale_fit(f64::NAN, 0.025, pixels, 2.0, 0.25, 0.5), 0.5);
+    }
 }

@@ -85,6 +85,20 @@ impl Hands<'_, '_> {
     fn live_view_on(&self) -> bool {
         self.preview.as_ref().is_some_and(|p| p.cpu_live())
     }
+
+    /// Whether the volume is on screen at full quality: the CPU live view's exact render, or
+    /// the GPU preview at rest with its progressive pass (if any) finished.
+    fn full_quality(&self) -> bool {
+        if self.live_view_on() {
+            self.live.as_ref().is_none_or(|l| l.showing_exact())
+        } else {
+            !self.motion.as_ref().is_some_and(|m| m.moving)
+                && self
+                    .progressive
+                    .as_ref()
+                    .is_none_or(|p| p.full_quality_shown())
+        }
+    }
 }
 
 /// What the player's hands change.
@@ -101,6 +115,8 @@ struct Hands<'w, 's> {
     inspection: Res<'w, Inspection>,
     live: Option<Res<'w, super::live::LiveView>>,
     preview: Option<Res<'w, super::preview::PreviewSettings>>,
+    progressive: Option<Res<'w, super::progressive::Progressive>>,
+    motion: Option<Res<'w, super::preview::Motion>>,
     volume: Res<'w, VolumeState>,
 }
 
@@ -159,9 +175,8 @@ fn drive(
             }
             // The rays drawn whole, not growing.
             hands.animation.skip();
-            // With the CPU live view, the picture waits (a little) for the exact render.
-            let drawn =
-                !hands.live_view_on() || hands.live.as_ref().is_none_or(|l| l.showing_exact());
+            // The picture waits (a little) for the volume at full quality.
+            let drawn = hands.full_quality();
             if run.frames >= SETTLE_FRAMES && (drawn || run.frames >= MET_FRAMES / 4) {
                 let path = request
                     .0

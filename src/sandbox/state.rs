@@ -116,25 +116,27 @@ struct GpuAssets<'w> {
 fn sync_volume_material(
     state: Res<VolumeState>,
     render: Res<RenderState>,
-    views: Query<(Ref<View>, Ref<Camera>), With<MainCamera>>,
+    views: Query<(Ref<View>, &Camera), With<MainCamera>>,
     boxes: Query<&MeshMaterial3d<VolumeMaterial>, With<VolumeBox>>,
     mut assets: GpuAssets,
     mut uploaded: Local<Uploaded>,
     quality: Quality,
+    mut last_size: Local<Option<UVec2>>,
 ) {
     let Ok((view, camera)) = views.single() else {
         return;
     };
-    let view_changed = view.is_changed() || camera.is_changed();
+    // The rays span the camera's whole target (its viewport may be a strip of it: progressive).
+    let Some(size) = camera.physical_target_size() else {
+        return;
+    };
+    let view_changed = view.is_changed() || *last_size != Some(size);
     if !(state.is_changed() || render.is_changed() || view_changed || quality.changed()) {
         return;
     }
     // The preview may sample more coarsely than the settings say (never the CPU render).
     let mut settings = render.settings.clone();
     settings.step = settings.step.scaled(quality.step_multiplier());
-    let Some(size) = camera.physical_viewport_size() else {
-        return;
-    };
     let Ok(handle) = boxes.single() else { return };
     let Ok(scene) = Scene::plain(&state.volume, &render.transfer, &settings, view.0.forward())
     else {
@@ -143,6 +145,7 @@ fn sync_volume_material(
     let Some(mut material) = assets.materials.get_mut(&handle.0) else {
         return;
     };
+    *last_size = Some(size);
     let rays = view.0.rays(size.x.max(1), size.y.max(1));
     material.uniform = VolumeUniform::from_scene(&scene, &rays, render.depth_termination);
     // The table only changes with the transfer function or the volume's value range.

@@ -324,8 +324,9 @@ pub const PREVIEW_STEP_MULTIPLIER: Tunable = Tunable {
 pub const ADAPTIVE_QUALITY: Tunable = Tunable {
     key: "adaptive-quality",
     label: "Adaptive quality",
-    doc: "While the camera moves, the preview drops to the 'moving' resolution and step \
-          multiplier, and returns to full quality once it rests. Default on.",
+    doc: "While the camera moves, the GPU preview lowers its resolution (as far as its measured \
+          speed needs) and raises its step multiplier, and returns to full quality once it \
+          rests; a resting view too slow for one frame is drawn a few rows a frame. Default on.",
     default: 1.0,
     min: 0.0,
     max: 1.0,
@@ -334,8 +335,10 @@ pub const ADAPTIVE_QUALITY: Tunable = Tunable {
 pub const MOVING_SCALE: Tunable = Tunable {
     key: "moving-scale",
     label: "Resolution while moving",
-    doc: "With adaptive quality: the preview's resolution fraction while the camera moves \
-          (0.25: one ray in 16 of the resting frame). Default 0.25.",
+    doc: "With adaptive quality: the lowest resolution fraction the GPU preview drops to while \
+          the camera moves (0.25: one ray in 16 of the resting frame). It drops only as far as \
+          the measured frame time needs: a GPU fast enough keeps the resting resolution. \
+          Default 0.25.",
     default: 0.25,
     min: 0.05,
     max: 1.0,
