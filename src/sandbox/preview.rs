@@ -417,11 +417,20 @@ mod tests {
         // 1 ns a pixel: the whole view in under a millisecond.
         assert_eq!(moving_scale_fit(1e-9, 0.025, pixels, 2.0, 0.25, 1.0), 1.0);
         // 1.6 µs a pixel at step ×2: 0.74 s whole; 0.025 s allows √(0.025/0.74) ≈ 0.18.
-        assert_eq!(moving_scale_fit(1.6e-6, 0.025, pixels, 2.0, 0.05, 1.0), 0.18);
-        assert_eq!(moving_scale_fit(1.6e-6, 0.025, pixels, 2.0, 0.25, 1.0), 0.25);
+        assert_eq!(
+            moving_scale_fit(1.6e-6, 0.025, pixels, 2.0, 0.05, 1.0),
+            0.18
+        );
+        assert_eq!(
+            moving_scale_fit(1.6e-6, 0.025, pixels, 2.0, 0.25, 1.0),
+            0.25
+        );
         // Never above the resting resolution, whatever the speed.
         assert_eq!(moving_scale_fit(1e-12, 0.025, pixels, 2.0, 0.25, 0.5), 0.5);
         assert_eq!(moving_scale_fit(0.0, 0.025, pixels, 2.0, 0.25, 0.5), 0.5);
-        assert_eq!(moving_scale_fit(f64::NAN, 0.025, pixels, 2.0, 0.25, 0.5), 0.5);
+        assert_eq!(
+            moving_scale_fit(f64::NAN, 0.025, pixels, 2.0, 0.25, 0.5),
+            0.5
+        );
     }
 }

@@ -12,7 +12,7 @@
 //! draws whole frames as before.
 
 use super::live::Backend;
-use super::preview::{FullQuality, Motion, PreviewSettings, PreviewTarget, Quality};
+use super::preview::{FullQuality, Motion, PreviewSettings, PreviewTarget};
 use super::state::MainCamera;
 use bevy::camera::{CameraOutputMode, ClearColorConfig, RenderTarget, SubCameraView, Viewport};
 use bevy::prelude::*;
@@ -175,7 +175,6 @@ pub(super) fn give_camera_its_work(
     settings: Res<PreviewSettings>,
     motion: Res<Motion>,
     full: Res<FullQuality>,
-    quality: Quality,
     target: Option<Res<PreviewTarget>>,
     mut images: ResMut<Assets<Image>>,
     mut cameras: Query<(&mut Camera, &mut RenderTarget), With<MainCamera>>,
@@ -185,7 +184,7 @@ pub(super) fn give_camera_its_work(
         return;
     };
     let gpu = settings.enabled && settings.backend == Backend::Gpu && camera.is_active;
-    let step = f64::from(quality.step_multiplier().max(1e-3));
+    let step = f64::from(settings.effective(motion.moving, full.0).1.max(1e-3));
     let work = |size: UVec2| f64::from(size.x) * f64::from(size.y) / step;
     // Seconds of volume work the whole resting frame is predicted to take.
     let predicted = p.cost.per_work.map(|c| c * work(target.size));
