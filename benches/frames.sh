@@ -38,9 +38,11 @@ table=$(mktemp)
     echo "--measure-frames $FRAMES [--auto-orbit 2]\`); orbiting moves the camera 2° every frame."
     echo "With the CPU live view, *images/s* is how many new volume images arrived a second while"
     echo "orbiting (at the size shown), and *exact after stop* how long after the camera stopped the"
-    echo "exact render was on screen. The CPU render is \`voxcast render\` of the same view, median of 5."
+    echo "exact render was on screen; with the GPU preview, how long until the resting view was on screen"
+    echo "at full quality (drawn a strip a frame when a whole frame would take longer than a frame's"
+    echo "share of 50 ms). The CPU render is \`voxcast render\` of the same view, median of 5."
     echo
-    echo "| size | method | drawn by | resting frame (ms) | orbiting frame (ms) | orbiting fps | images/s while orbiting | exact after stop (ms) | CPU render (ms) |"
+    echo "| size | method | drawn by | resting frame (ms) | orbiting frame (ms) | orbiting fps | images/s while orbiting | full quality after stop (ms) | CPU render (ms) |"
     echo "| --- | --- | --- | ---: | ---: | ---: | --- | ---: | ---: |"
     for size in 640x360 1280x720; do
         for method in accumulate first average maximum minimum; do
@@ -55,6 +57,10 @@ table=$(mktemp)
                 if [ "$backend" = cpu ]; then
                     images=$(echo "$orbit_line" | field 'live view: \([0-9.]* images\/s at [0-9]*×[0-9]*\)' | sed 's/ images\/s at / at /')
                     exact=$(echo "$orbit_line" | field 'exact render \([0-9]*\) ms after')
+                else
+                    exact=$(echo "$orbit_line" | field 'full quality \([0-9]*\) ms after')
+                    strips=$(echo "$orbit_line" | field 'drawn in \([0-9]*\) strips')
+                    [ -n "$strips" ] && exact="$exact ($strips strips)"
                 fi
                 cpu=$(render_ms --size "$size" --method "$method")
                 name=$([ "$backend" = cpu ] && echo "CPU live view" || echo "GPU preview")
