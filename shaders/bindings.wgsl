@@ -1,7 +1,7 @@
 // The preview's resources: the uniform, the volume as a 3-D texture read texel by texel (the
 // core's exact trilinear weights, whatever the device's filtering precision; 8-bit data as
 // R8Unorm, everything else as R32Float, which holds 16-bit integers exactly), and the baked
-// transfer-function table (Rgba32Float, one row). Twin: src/preview/material.rs (`VolumeMaterial`).
+// transfer-function table (Rgba32Float, one row). Twin: src/sandbox/material.rs (`VolumeMaterial`).
 #define_import_path voxcast::bindings
 
 #import voxcast::types::VolumeUniform

@@ -28,11 +28,9 @@ fn blend_background(acc: vec4<f32>, background: vec3<f32>) -> vec3<f32> {
     return acc.rgb + background * (1.0 - acc.a);
 }
 
-/// Whether the value crosses target between two consecutive samples (touching counts).
-fn crosses(prev: f32, cur: f32, target_value: f32) -> bool {
-    let a = prev - target_value;
-    let b = cur - target_value;
-    return (a < 0.0 && b >= 0.0) || (a > 0.0 && b <= 0.0);
+/// Whether a value counts as a First hit: at or above the target (never a NaN).
+fn reaches(value: f32, target_value: f32) -> bool {
+    return value >= target_value;
 }
 
 /// Where between two samples the linear interpolation equals target, in [0, 1].

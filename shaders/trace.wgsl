@@ -1,5 +1,7 @@
-// Twin: crates/voxcast_core/src/trace.rs (`Marcher::march` and the methods), without the
-// empty-space skipping (which changes no result) and without recording.
+// Twin: crates/voxcast_core/src/trace.rs (`Marcher::march` and the methods), with the same
+// skipping (empty 8³ blocks for Accumulate; blocks that cannot hold the First hit or beat the
+// running Maximum/Minimum, by their value ranges — `skip.wgsl`; neither changes a pixel) and
+// without recording. The CPU's finer per-cell visibility inside a block is not mirrored.
 #define_import_path voxcast::trace
 
 #import voxcast::bindings::params
@@ -10,7 +12,7 @@
 #import voxcast::transfer::lut_lookup
 #import voxcast::classify::classify
 #import voxcast::shade::shade
-#import voxcast::composite::{correct_opacity, accumulate_front_to_back, accumulate_back_to_front, crosses, crossing_fraction}
+#import voxcast::composite::{correct_opacity, accumulate_front_to_back, accumulate_back_to_front, reaches, crossing_fraction}
 
 /// The value (data units) at voxel position pv.
 fn value_at(pv: vec3<f32>) -> f32 {
@@ -173,8 +175,8 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
 fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
     let target_value = params.target_value;
     // The CPU's block skipping for First (trace.rs, `first_skipping`): a block whose values all
-    // lie on the previous sample's side of the target holds no crossing; only its last sample
-    // is read, as the previous sample for the next comparison.
+    // lie below the target holds no hit; only its last sample is read, as the previous sample
+    // (the lower end of a later hit's bracket).
     let skip = params.skip_ranges != 0u;
     let margin_t = params.skip_margin / length(d_v);
     var checked = vec3(0xffffffffu);
@@ -185,18 +187,17 @@ fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec
     while k < plan.count {
         let t = sample_t(plan, k);
         let pv = o_v + d_v * t;
-        if skip && have_prev {
+        if skip {
             let b = block_of(cell(pv).lo);
             if any(b != checked) {
                 checked = b;
                 let r = block_range(b);
-                let below = r.y < target_value && prev_v < target_value;
-                let above = r.x > target_value && prev_v > target_value;
-                if below || above {
+                if r.y < target_value {
                     let next = first_index_from(plan, block_exit(b, o_v, d_v) - margin_t);
                     if next > k {
                         prev_t = sample_t(plan, next - 1u);
                         prev_v = value_at(o_v + d_v * prev_t);
+                        have_prev = true;
                         k = next;
                         continue;
                     }
@@ -204,13 +205,9 @@ fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec
             }
         }
         let v = value_at(pv);
-        var found = false;
-        if have_prev {
-            found = crosses(prev_v, v, target_value);
-        } else {
-            found = v == target_value;
-        }
-        if found {
+        if reaches(v, target_value) {
+            // The value rose past the target since the previous sample; or, at the first
+            // sample, the ray enters the volume at or above it and hits right there.
             var ta = t;
             var va = v;
             if have_prev {
@@ -227,7 +224,8 @@ fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec
     return vec4(0.0);
 }
 
-/// Refines the crossing in [ta, tb] by bisection then linear interpolation, and shades it.
+/// Refines the hit in [ta, tb] (below the target at ta, at or above it at tb; one point when
+/// the ray entered at or above it) by bisection then linear interpolation, and shades it.
 fn hit(ta_in: f32, va_in: f32, tb_in: f32, vb_in: f32, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
     let target_value = params.target_value;
     var ta = ta_in;
@@ -238,7 +236,7 @@ fn hit(ta_in: f32, va_in: f32, tb_in: f32, vb_in: f32, o_v: vec3<f32>, d_v: vec3
         for (var i = 0u; i < params.refine_steps; i++) {
             let tm = 0.5 * (ta + tb);
             let vm = value_at(o_v + d_v * tm);
-            if crosses(va, vm, target_value) {
+            if reaches(vm, target_value) {
                 tb = tm;
                 vb = vm;
             } else {

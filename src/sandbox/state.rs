@@ -103,6 +103,8 @@ struct Uploaded {
     lut: Option<TransferFunction>,
     /// The transfer function the empty blocks were marked with (`None`: skipping off).
     empty: Option<TransferFunction>,
+    /// The camera's target size the rays were written for.
+    size: Option<UVec2>,
 }
 
 /// The assets the system writes: the material and its images.
@@ -121,7 +123,6 @@ fn sync_volume_material(
     mut assets: GpuAssets,
     mut uploaded: Local<Uploaded>,
     quality: Quality,
-    mut last_size: Local<Option<UVec2>>,
 ) {
     let Ok((view, camera)) = views.single() else {
         return;
@@ -130,7 +131,7 @@ fn sync_volume_material(
     let Some(size) = camera.physical_target_size() else {
         return;
     };
-    let view_changed = view.is_changed() || *last_size != Some(size);
+    let view_changed = view.is_changed() || uploaded.size != Some(size);
     if !(state.is_changed() || render.is_changed() || view_changed || quality.changed()) {
         return;
     }
@@ -145,7 +146,7 @@ fn sync_volume_material(
     let Some(mut material) = assets.materials.get_mut(&handle.0) else {
         return;
     };
-    *last_size = Some(size);
+    uploaded.size = Some(size);
     let rays = view.0.rays(size.x.max(1), size.y.max(1));
     material.uniform = VolumeUniform::from_scene(&scene, &rays, render.depth_termination);
     // The table only changes with the transfer function or the volume's value range.

@@ -8,6 +8,12 @@
 //!
 //! * **Accumulate, front to back** (the order rays are marched):
 //!   `C_n = C_{n−1} + (1 − O_{n−1})·α_n·c_n`, `O_n = O_{n−1} + (1 − O_{n−1})·α_n`.
+//!   The thesis (seed 000, §2.2.4) writes `C_n = C_{n−1} + (1 − O_{n−1})·c_n`, with `c_n` the
+//!   sample's colour as it stands: read literally, a nearly transparent sample would add its
+//!   full colour. Voxcast multiplies by `α_n` — the sample's colour *premultiplied* by its
+//!   opacity, the emission–absorption model of Levoy 1988, Engel et al. and VTK — so a sample
+//!   adds colour in proportion to the light it stops, and `C_n` stays within `O_n`. The two
+//!   agree when the thesis's `c_n` is taken as already premultiplied.
 //!   Once `O_n` reaches the cutoff, later samples can change the pixel by at most `1 − O_n`:
 //!   early ray termination stops there.
 //! * **Accumulate, back to front** (the lecture's order, Levoy 1988): from the last sample to
@@ -19,9 +25,14 @@
 //!   is then `(1 − α)^(L/Δs_ref) = e^(−σL)`, `σ = −ln(1 − α)/Δs_ref`: Beer–Lambert, whatever the step.
 //! * **Average / Maximum / Minimum** (lecture "Projection schemes"): the mean, largest or
 //!   smallest interpolated value of the samples inside the volume, then the transfer function.
-//! * **First** (the lecture's "distance to first voxel", as an isosurface): the first place where
-//!   the interpolated value crosses the target, located between two samples and refined
-//!   ([`crossing_fraction`]), coloured by the transfer function at the target.
+//! * **First** (the lecture's "distance to first voxel (of value at or above the given value)",
+//!   seed 000's First): the first sample whose interpolated value is at or above the target
+//!   ([`reaches`]). When it is the ray's first sample the ray hits where it enters the volume;
+//!   otherwise the value rose past the target between that sample and the one before, and the
+//!   place is refined there ([`crossing_fraction`]), coloured by the transfer function at the
+//!   target and shaded: an isosurface. A ray that never reaches the target shows the
+//!   background (seed 000 writes `f(0)`, the transfer function at 0; Voxcast leaves the pixel
+//!   empty so the background shows, as every other method does where nothing was found).
 //!
 //! Every method finishes by blending the background under what is not opaque:
 //! `pixel = C + (1 − O)·background` ([`blend_background`]).
@@ -37,7 +48,7 @@ pub enum Method {
     /// Emission–absorption: colours and opacities accumulated front to back.
     #[default]
     Accumulate,
-    /// The first crossing of the target value (an isosurface), shaded.
+    /// The first sample at or above the target value (an isosurface), shaded.
     First,
     /// The transfer function of the mean value along the ray.
     Average,
@@ -85,8 +96,9 @@ impl Method {
                  still transparent in front of it: C_n = C_{n−1} + (1 − O_{n−1})·α_n·c_n."
             }
             Method::First => {
-                "First hit: the first place the value crosses the target, refined between two \
-                 samples, coloured by the transfer function at the target and shaded: an isosurface."
+                "First hit: the first place the value is at or above the target (where it rose past \
+                 it, refined between two samples; where the ray enters, if it starts above), \
+                 coloured by the transfer function at the target and shaded: an isosurface."
             }
             Method::Average => {
                 "Average: the transfer function of the mean value of the samples inside the volume \
@@ -108,7 +120,7 @@ impl Method {
     pub const fn uses_opacity(self) -> Result<(), &'static str> {
         match self {
             Method::Accumulate => Ok(()),
-            Method::First => Err("First stops at the first crossing of the target value and \
+            Method::First => Err("First stops at the first value at or above the target and \
                                    shows its colour: no opacities are composited"),
             Method::Average | Method::Maximum | Method::Minimum => Err(
                 "Average, Maximum and Minimum project one value per ray and look it up in the \
@@ -209,13 +221,10 @@ pub fn blend_background(c: Vec3, o: f32, background: Vec3) -> Vec3 {
     c + background * (1.0 - o)
 }
 
-/// Whether the value crosses `target` between two consecutive samples (in either direction;
-/// touching counts): the sign of `value − target` changes or becomes zero.
+/// Whether a value counts as a First hit: at or above `target` (never a NaN).
 #[inline(always)]
-pub fn crosses(prev: f32, cur: f32, target: f32) -> bool {
-    let a = prev - target;
-    let b = cur - target;
-    (a < 0.0 && b >= 0.0) || (a > 0.0 && b <= 0.0)
+pub fn reaches(value: f32, target: f32) -> bool {
+    value >= target
 }
 
 /// Where between two samples the linearly interpolated value equals `target`, as a fraction of
@@ -314,15 +323,11 @@ mod tests {
     }
 
     #[test]
-    fn crossings() {
-        assert!(crosses(1.0, 3.0, 2.0));
-        assert!(crosses(3.0, 1.0, 2.0));
-        assert!(crosses(1.0, 2.0, 2.0));
-        assert!(
-            !crosses(2.0, 3.0, 2.0),
-            "leaving the exact value is not a new crossing"
-        );
-        assert!(!crosses(0.0, 1.0, 2.0));
+    fn reaching_the_target() {
+        assert!(reaches(3.0, 2.0));
+        assert!(reaches(2.0, 2.0), "at the target counts");
+        assert!(!reaches(1.0, 2.0));
+        assert!(!reaches(f32::NAN, 2.0), "no data never hits");
         assert_eq!(crossing_fraction(1.0, 3.0, 2.0), 0.5);
         assert_eq!(crossing_fraction(2.0, 2.0, 2.0), 0.0);
     }

@@ -103,13 +103,24 @@ pub fn formula(t: &RayTrace, k: Option<usize>) -> String {
                     .iter()
                     .map(|r| format!("t = {} (v = {})", sig(r.t), sig(r.value)))
                     .collect();
+                let found = if h.bracket[0] == h.bracket[1] {
+                    format!(
+                        "First: the first sample (t = {}) is already at or above the target: the \
+                         ray hits where it enters the volume;\n",
+                        sig(h.bracket[0])
+                    )
+                } else {
+                    format!(
+                        "First: the value rises to the target between the samples at t = {} \
+                         (below it) and t = {} (at or above it);\n\
+                         refinement (bisection, then linear interpolation): {}\n",
+                        sig(h.bracket[0]),
+                        sig(h.bracket[1]),
+                        steps.join(", then ")
+                    )
+                };
                 format!(
-                    "First: the target is crossed between the samples at t = {} and t = {};\n\
-                     refinement (bisection, then linear interpolation): {}\n\
-                     hit at t = {}, position {}, value {}, colour {} (opacity {}), shaded {}",
-                    sig(h.bracket[0]),
-                    sig(h.bracket[1]),
-                    steps.join(", then "),
+                    "{found}hit at t = {}, position {}, value {}, colour {} (opacity {}), shaded {}",
                     sig(h.t),
                     sig3(h.p_world),
                     sig(h.value),
@@ -119,7 +130,8 @@ pub fn formula(t: &RayTrace, k: Option<usize>) -> String {
                 )
             }
             None => format!(
-                "First: no crossing of the target up to sample {} (v = {})",
+                "First: no sample at or above the target up to sample {} (v = {}): the pixel \
+                 shows the background",
                 s.index,
                 sig(s.reconstruction.value)
             ),

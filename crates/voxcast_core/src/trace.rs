@@ -13,7 +13,7 @@
 use crate::classify::Classifier;
 use crate::composite::{
     Method, Order, ValueStats, accumulate_back_to_front, accumulate_front_to_back,
-    blend_background, correct_opacity, crosses, crossing_fraction,
+    blend_background, correct_opacity, crossing_fraction, reaches,
 };
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
@@ -41,7 +41,7 @@ pub enum StopReason {
     LeftVolume,
     /// Early ray termination: the accumulated opacity reached the cutoff.
     Cutoff,
-    /// First: the target value was crossed.
+    /// First: a value at or above the target was found.
     FirstHit,
     /// The sample cap was reached before the ray left the box.
     SampleCap,
@@ -550,7 +550,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             return self.first_skipping(ray, plan, o_v, d_v);
         }
         let target = self.s.target;
-        let mut prev = (0.0f32, 0.0f32);
+        let mut prev = None;
         for k in 0..plan.count {
             let t = sample_t(plan, k);
             let pv = o_v + d_v * t;
@@ -558,20 +558,13 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             if R::ACTIVE {
                 rec.sample(self.record_plain(plan, k, t, pv, v, None));
             }
-            let hit = if k == 0 {
-                v == target
-            } else {
-                crosses(prev.1, v, target)
-            };
-            if hit {
-                let bracket = if k == 0 {
-                    (t, v, t, v)
-                } else {
-                    (prev.0, prev.1, t, v)
-                };
-                return self.hit(ray, bracket, o_v, d_v, k + 1, rec);
+            if reaches(v, target) {
+                // The value rose past the target since the previous sample; or, at the first
+                // sample, the ray enters the volume at or above it and hits right there.
+                let (pt, p) = prev.unwrap_or((t, v));
+                return self.hit(ray, (pt, p, t, v), o_v, d_v, k + 1, rec);
             }
-            prev = (t, v);
+            prev = Some((t, v));
         }
         RayOutcome {
             samples: plan.count,
@@ -581,10 +574,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
     }
 
-    /// First with block skipping: a block whose values all lie strictly on the same side of the
-    /// target as the previous sample holds no crossing, so its samples are passed over — except
-    /// the last, which becomes the previous sample for the next comparison. The crossings found,
-    /// and so the image, are exactly those of the plain march.
+    /// First with block skipping: a block whose values all lie below the target holds no hit, so
+    /// its samples are passed over — except the last, which becomes the previous sample (the
+    /// lower end of a later hit's bracket). The hits found, and so the image, are exactly those
+    /// of the plain march.
     fn first_skipping(&self, ray: &Ray, plan: &StepPlan, o_v: Vec3, d_v: Vec3) -> RayOutcome {
         let target = self.s.target;
         let ranges = self.s.volume.block_ranges();
@@ -597,10 +590,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut k = 0u32;
         loop {
             let t_out = walk.exit();
-            let (lo, hi) = ranges.ranges[walk.index()];
-            let same_side = prev
-                .is_some_and(|(_, p)| (hi < target && p < target) || (lo > target && p > target));
-            if same_side {
+            let (_, hi) = ranges.ranges[walk.index()];
+            if hi < target {
                 let next = first_index_from(plan, t_out - margin_t, inv_dt);
                 if next > k {
                     // Samples k..last are inside the block: only `last` is needed, as `prev`.
@@ -618,12 +609,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                     }
                     let v = self.value(o_v + d_v * t);
                     taken += 1;
-                    let bracket = match prev {
-                        None => (v == target).then_some((t, v, t, v)),
-                        Some((pt, p)) => crosses(p, v, target).then_some((pt, p, t, v)),
-                    };
-                    if let Some(bracket) = bracket {
-                        let mut out = self.hit(ray, bracket, o_v, d_v, k + 1, &mut NoRecord);
+                    if reaches(v, target) {
+                        let (pt, p) = prev.unwrap_or((t, v));
+                        let mut out = self.hit(ray, (pt, p, t, v), o_v, d_v, k + 1, &mut NoRecord);
                         out.samples = taken;
                         return out;
                     }
@@ -644,7 +632,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
     }
 
-    /// Refines the crossing in `[ta, tb]` by bisection then linear interpolation, and shades it.
+    /// Refines the hit in `[ta, tb]` (the value below the target at `ta`, at or above it at `tb`;
+    /// one point when the ray entered at or above it) by bisection then linear interpolation,
+    /// and shades it.
     fn hit<R: Recorder>(
         &self,
         ray: &Ray,
@@ -664,7 +654,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 if R::ACTIVE {
                     steps.push(RefineStep { t: tm, value: vm });
                 }
-                if crosses(va, vm, target) {
+                if reaches(vm, target) {
                     (tb, vb) = (tm, vm);
                 } else {
                     (ta, va) = (tm, vm);

@@ -172,6 +172,58 @@ fn first_hit_finds_the_sphere() {
     }
 }
 
+/// Seed 003's "first voxel of value at or above the given value": a ray whose first sample is
+/// already at or above the target hits there, where it enters the volume — on a volume wholly
+/// above the target, on the inside of the sphere field, and at the target exactly — while a ray
+/// that never reaches the target leaves the volume and shows the background.
+#[test]
+fn first_hits_at_the_entry_when_the_ray_starts_at_or_above_the_target() {
+    let tf = white(1.0);
+    let mut s = plain(0.5);
+    s.method = Method::First;
+    s.background = Vec3::new(0.2, 0.3, 0.4);
+    let above = constant([8, 8, 8], 5.0);
+    for target in [5.0f32, 2.0, -1e6] {
+        s.target = Some(target);
+        for (origin, dir) in [
+            (Vec3::new(-3.0, 3.5, 3.5), Vec3::X),
+            (Vec3::new(3.2, 10.0, 2.7), Vec3::NEG_Y),
+            (Vec3::new(-2.0, -1.0, -3.0), Vec3::new(1.0, 0.7, 0.9)),
+        ] {
+            let t = trace(&above, &tf, &s, origin, dir);
+            assert_eq!(t.stop, StopReason::FirstHit, "target {target}, {dir}");
+            let first = &t.samples[0];
+            let h = t.first_hit.as_ref().unwrap();
+            assert_eq!(h.t, first.t, "hit at the first sample, target {target}");
+            assert_eq!(h.bracket, [first.t, first.t]);
+            let [t_in, _] = t.interval.unwrap();
+            assert!(h.t - t_in <= 0.5 * 1.0001, "within a step of the entry");
+            close(t.opacity, 1.0, 0.0, "the target's colour, opaque");
+            assert_eq!(t.pixel, [1.0; 3]);
+        }
+    }
+    // Nothing reaches 6: every ray leaves the volume and the pixel is the background.
+    s.target = Some(6.0);
+    let t = trace(&above, &tf, &s, Vec3::new(-3.0, 3.5, 3.5), Vec3::X);
+    assert_eq!(t.stop, StopReason::LeftVolume);
+    assert!(t.first_hit.is_none());
+    assert_eq!(t.pixel, s.background.to_array());
+    // A ray starting inside the sphere field's high core hits at once, not where it later
+    // falls below the target on its way out.
+    let c = Vec3::splat(16.0);
+    let sphere = field([33, 33, 33], Vec3::ONE, |p| 10.0 - (p - c).length());
+    s.target = Some(0.0);
+    let t = trace(&sphere, &tf, &s, c, Vec3::X);
+    let h = t.first_hit.expect("the centre is above the target");
+    assert_eq!(h.t, t.samples[0].t);
+    close(
+        Vec3::from(h.p_world).distance(c),
+        0.0,
+        0.5,
+        "hit at the start",
+    );
+}
+
 /// The head phantom's isovalues: along the axes, First stops on the scalp below the scalp's
 /// level, on the skull between the scalp's and the bone's, and nowhere above the bone's (the
 /// ellipsoids' surfaces, within the phantom's one-voxel soft edge).
