@@ -33,9 +33,8 @@ pub const CLASSIFY_TABLE: u32 = 0;
 pub const CLASSIFY_ISO_CONTOURS: u32 = 1;
 pub const CLASSIFY_BOUNDARIES: u32 = 2;
 
-/// The most isovalues the preview classifies with (the core has no limit; more are an error
-/// in the sandbox's controls).
-pub const MAX_ISOVALUES: usize = 4;
+/// The most isovalues the preview classifies with: the core refuses more.
+pub use voxcast_core::classify::MAX_ISOVALUES;
 
 /// Every constant the WGSL uses, as shader defs.
 pub fn shader_defs() -> Vec<ShaderDefVal> {

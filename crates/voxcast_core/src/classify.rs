@@ -27,6 +27,9 @@ use crate::error::SettingsError;
 use crate::transfer::Lut;
 
 /// How opacity is assigned (see the module docs for the formulas).
+/// The most isovalues a classification may have: the GPU preview's uniform holds this many.
+pub const MAX_ISOVALUES: usize = 4;
+
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "mode")]
 pub enum Classification {
@@ -64,6 +67,13 @@ impl Classification {
                     return Err(SettingsError::Invalid(
                         "isovalue classification needs at least one isovalue".into(),
                     ));
+                }
+                if isovalues.len() > MAX_ISOVALUES {
+                    return Err(SettingsError::Invalid(format!(
+                        "at most {MAX_ISOVALUES} isovalues (the GPU preview classifies with no \
+                         more, and the render must show what the preview shows); {} given",
+                        isovalues.len()
+                    )));
                 }
                 if let Some(v) = isovalues.iter().find(|v| !v.is_finite()) {
                     return Err(SettingsError::Invalid(format!(
@@ -184,6 +194,16 @@ mod tests {
             }
             .validate()
             .is_err()
+        );
+        let iso = |n: usize| Classification::IsoContours {
+            isovalues: (0..n).map(|i| i as f32).collect(),
+            thickness_voxels: 1.0,
+        };
+        assert!(iso(MAX_ISOVALUES).validate().is_ok());
+        let e = iso(MAX_ISOVALUES + 1).validate().unwrap_err().to_string();
+        assert!(
+            e.contains("at most 4 isovalues") && e.contains("5 given"),
+            "{e}"
         );
         assert!(
             Classification::Boundaries {

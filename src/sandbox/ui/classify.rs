@@ -135,6 +135,13 @@ fn parse(text: &str) -> Result<Vec<f32>, String> {
     if values.is_empty() {
         return Err("give at least one isovalue".into());
     }
+    if values.len() > voxcast_core::classify::MAX_ISOVALUES {
+        return Err(format!(
+            "at most {} isovalues (the GPU preview's limit): remove {}",
+            voxcast_core::classify::MAX_ISOVALUES,
+            values.len() - voxcast_core::classify::MAX_ISOVALUES
+        ));
+    }
     Ok(values)
 }
 
@@ -148,6 +155,12 @@ mod tests {
         assert!(parse("80, bone").unwrap_err().contains("bone"));
         assert!(parse(" , ").is_err());
         assert!(parse("inf").is_err());
+        assert_eq!(parse("1, 2, 3, 4").unwrap().len(), 4);
+        let five = parse("1, 2, 3, 4, 5").unwrap_err();
+        assert!(
+            five.contains("at most 4") && five.contains("remove 1"),
+            "{five}"
+        );
         assert_eq!(join(&[1.0, 2.5]), "1, 2.5");
     }
 }
