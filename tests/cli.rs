@@ -50,6 +50,43 @@ fn render_writes_a_png_and_reports_speed() {
     );
 }
 
+/// A step far too small for the sample cap still renders (exit 0), but says how many rays the
+/// cap cut short; a usual step says nothing of the cap.
+#[test]
+fn render_warns_when_the_sample_cap_cuts_rays_short() {
+    let png = out_dir().join("capped.png");
+    let o = voxcast(&[
+        "render",
+        "--volume",
+        "builtin:shells",
+        "--size",
+        "8x8",
+        "--step",
+        "0.000001",
+        "--max-samples",
+        "100",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("warning:") && err.contains("of 64 rays") && err.contains("sample cap (100)"),
+        "{err}"
+    );
+    let o = voxcast(&[
+        "render",
+        "--volume",
+        "builtin:shells",
+        "--size",
+        "8x8",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("sample cap"));
+}
+
 #[test]
 fn every_method_renders_every_builtin() {
     for (volume, _) in voxcast_core::builtin::DATASETS {

@@ -150,5 +150,8 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         load_s,
         prep_s,
     );
+    if let Some(warning) = timed.stats.cap_warning(s.max_samples) {
+        eprintln!("warning: {warning}");
+    }
     Ok(())
 }

@@ -402,6 +402,7 @@ pub(crate) mod tests {
         let mut done = rendered(cpu);
         done.seconds = 0.123_456;
         done.stats.rays = 12;
+        done.stats.capped = 3; // the sample cap's warning is drawn too
         Compared::new(done, gpu, snapshot(), 1)
     }
 

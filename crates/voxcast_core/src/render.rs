@@ -16,7 +16,7 @@
 use crate::camera::Camera;
 use crate::error::SettingsError;
 use crate::image_out::LinearImage;
-use crate::trace::{Marcher, NoRecord, Scene};
+use crate::trace::{Marcher, NoRecord, Scene, StopReason};
 use crate::volume::{Grid, GridVisitor, Voxel};
 use glam::{Vec3, Vec4};
 use rayon::prelude::*;
@@ -38,6 +38,23 @@ pub struct RenderStats {
     /// Sample positions passed over all rays, interpolated or skipped as empty space (what a
     /// caster without empty-space skipping would interpolate).
     pub positions: u64,
+    /// Rays the sample cap cut short (they stopped before leaving the volume).
+    pub capped: u64,
+}
+
+impl RenderStats {
+    /// A warning in words when the sample cap cut rays short; `None` when it cut none.
+    pub fn cap_warning(&self, max_samples: u32) -> Option<String> {
+        (self.capped > 0).then(|| {
+            format!(
+                "{} of {} rays ({}) reached the sample cap ({max_samples}) before leaving the \
+                 volume: the image stops there. Raise the step or the cap.",
+                self.capped,
+                self.rays,
+                crate::numbers::percent(self.capped as f32 / self.rays.max(1) as f32)
+            )
+        })
+    }
 }
 
 /// The render was cancelled before it finished.
@@ -249,8 +266,9 @@ pub fn render_with_threads(
     })
 }
 
-/// A finished tile: its top-left corner, its pixels row by row, and the samples it took.
-type TileResult = (u32, u32, Vec<Vec4>, u64, u64);
+/// A finished tile: its top-left corner, its pixels row by row, the samples it interpolated and
+/// passed, and the rays the sample cap cut short.
+type TileResult = (u32, u32, Vec<Vec4>, u64, u64, u64);
 
 /// One render's inputs, for either output.
 struct Job<'x, 'a> {
@@ -317,6 +335,7 @@ impl Job<'_, '_> {
                     .collect();
                 let mut samples = 0u64;
                 let mut positions = 0u64;
+                let mut capped = 0u64;
                 for py in y0..y1 {
                     for px in x0..x1 {
                         let mut sum = Vec4::ZERO;
@@ -338,6 +357,7 @@ impl Job<'_, '_> {
                                 let out = marcher.march(&ray, jitter, &mut NoRecord);
                                 samples += out.samples as u64;
                                 positions += out.positions as u64;
+                                capped += (out.stop == StopReason::SampleCap) as u64;
                                 sum += value(&out, background, behind);
                             }
                         }
@@ -346,7 +366,7 @@ impl Job<'_, '_> {
                 }
                 let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                 (self.progress)(d, total);
-                Some((x0, y0, pixels, samples, positions))
+                Some((x0, y0, pixels, samples, positions, capped))
             })
             .collect();
 
@@ -355,11 +375,13 @@ impl Job<'_, '_> {
             rays: width as u64 * height as u64 * (n * n) as u64,
             samples: 0,
             positions: 0,
+            capped: 0,
         };
         for tile in tiles {
-            let (x0, y0, pixels, samples, positions) = tile.ok_or(Cancelled)?;
+            let (x0, y0, pixels, samples, positions, capped) = tile.ok_or(Cancelled)?;
             stats.samples += samples;
             stats.positions += positions;
+            stats.capped += capped;
             let w = (x0 + TILE).min(width) - x0;
             for (i, p) in pixels.into_iter().enumerate() {
                 let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);

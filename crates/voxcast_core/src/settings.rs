@@ -83,6 +83,28 @@ fn check(tn: &t::Tunable, v: f32) -> Result<(), SettingsError> {
 }
 
 impl RenderSettings {
+    /// Sample positions a ray along the volume's diagonal (the longest there is) needs at this
+    /// step.
+    pub fn longest_ray_samples(&self, volume: &crate::volume::Volume) -> f64 {
+        let (lo, hi) = volume.bounds();
+        let dt = self.step.world(volume.spacing().min_element());
+        (hi - lo).as_dvec3().length() / f64::from(dt) + 1.0
+    }
+
+    /// A warning in words when the sample cap would cut the longest rays through `volume`
+    /// short at this step (they would stop inside it); `None` when every ray fits.
+    pub fn cap_warning(&self, volume: &crate::volume::Volume) -> Option<String> {
+        let need = self.longest_ray_samples(volume);
+        (need > f64::from(self.max_samples)).then(|| {
+            format!(
+                "At this step a ray across the volume needs up to {} samples, more than the cap \
+                 ({}): longer rays stop inside the volume. Raise the step or the cap.",
+                crate::numbers::sig64(need),
+                self.max_samples
+            )
+        })
+    }
+
     /// Checks every value against its documented range.
     pub fn validate(&self) -> Result<(), SettingsError> {
         self.step.validate(t::STEP.key)?;

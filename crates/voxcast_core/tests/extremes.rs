@@ -217,6 +217,38 @@ fn tiny_step_hits_the_cap_and_huge_step_takes_one_sample() {
     );
 }
 
+/// A step of 1e-6 voxel: the cap cuts every ray in the empty space before a sphere in the
+/// middle, the image is the background — and the render counts the rays it cut and says so in
+/// words, as the settings predict before rendering; at a usual step neither warns.
+#[test]
+fn a_step_too_small_for_the_cap_is_counted_and_warned_about() {
+    let c = Vec3::splat(15.5);
+    let v = field([32, 32, 32], Vec3::ONE, |p| {
+        (8.0 - (p - c).length()).max(0.0)
+    });
+    let tf = white(1.0);
+    let camera = Camera::framing(Vec3::ZERO, Vec3::splat(31.0), Vec3::Z, Vec3::Y).unwrap();
+    let never = AtomicBool::new(false);
+    let mut s = plain(1e-6);
+    s.max_samples = 1000;
+    let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+    let (_, stats) = render(&scene, &camera, 16, 16, &|_, _| {}, &never).unwrap();
+    assert!(stats.capped > 0 && stats.capped <= stats.rays, "{stats:?}");
+    let words = stats.cap_warning(s.max_samples).unwrap();
+    assert!(
+        words.contains(&format!("{} of 256 rays", stats.capped)),
+        "{words}"
+    );
+    let ahead = s.cap_warning(&v).expect("predicted before rendering");
+    assert!(ahead.contains("more than the cap (1000)"), "{ahead}");
+    s = plain(0.5);
+    let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+    let (_, stats) = render(&scene, &camera, 16, 16, &|_, _| {}, &never).unwrap();
+    assert_eq!(stats.capped, 0);
+    assert!(stats.cap_warning(s.max_samples).is_none());
+    assert!(s.cap_warning(&v).is_none());
+}
+
 #[test]
 fn cutoffs_zero_and_one() {
     let v = constant([8, 8, 8], 1.0);

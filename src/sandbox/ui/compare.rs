@@ -145,6 +145,9 @@ fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared)
         s.samples,
         sig64(rate / 1e6)
     ));
+    if let Some(warning) = s.cap_warning(result.snapshot.settings.max_samples) {
+        ui.colored_label(egui::Color32::YELLOW, warning);
+    }
     match &result.diff {
         Some((d, _)) => ui.label(format!(
             "preview − render: max {}/255, mean {}/255, RMSE {}/255 (heat-map: white at {:.0}/255)",

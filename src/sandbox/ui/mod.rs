@@ -253,6 +253,9 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
     }) {
         s.step = Length::Voxels(step);
     }
+    if let Some(warning) = s.cap_warning(&volume.volume) {
+        ui.colored_label(egui::Color32::YELLOW, warning);
+    }
     let mut trilinear = s.interpolation == Interpolation::Trilinear;
     if ui
         .checkbox(&mut trilinear, "Trilinear interpolation")
