@@ -41,6 +41,8 @@ pub struct Lessons {
     pub spot: Option<Control>,
     /// For a prediction step: the core's reconstruction at the step's point.
     pub detail: Option<SampleDetail>,
+    /// For a composite prediction step: the worked composite, point by point.
+    pub composite: Option<Vec<voxcast_core::worked::WorkedPoint>>,
 }
 
 /// What the Levels panel asks for (a scripted run sends the same).
@@ -72,6 +74,7 @@ impl Lessons {
             met: false,
             spot: None,
             detail: None,
+            composite: None,
         }
     }
 
@@ -253,6 +256,12 @@ pub(crate) fn check_objective(
         )),
         _ => None,
     };
+    let composite = match step.as_ref().map(|s| &s.objective) {
+        Some(Objective::PredictComposite { points, .. }) => Some(
+            voxcast_core::worked::back_to_front(&volume.volume, &render.transfer, points),
+        ),
+        _ => None,
+    };
     let met = step.is_some_and(|step| {
         let mut sit = situation(
             &render,
@@ -263,8 +272,14 @@ pub(crate) fn check_objective(
             (&comparison, views.single().ok()),
             &trade,
         );
-        if let (Some(d), Ok(typed)) = (&detail, lessons.prediction.trim().parse::<f32>()) {
-            sit.prediction = Some((typed, d.value));
+        let truth = detail.as_ref().map(|d| d.value).or_else(|| {
+            composite
+                .as_ref()
+                .and_then(|rows| rows.last())
+                .map(|r| r.after[0])
+        });
+        if let (Some(truth), Ok(typed)) = (truth, parse_typed(&lessons.prediction)) {
+            sit.prediction = Some((typed, truth));
         }
         step.objective.met(&sit)
     });
@@ -274,6 +289,12 @@ pub(crate) fn check_objective(
         lessons.met_for = here;
     }
     (lessons.met, lessons.spot, lessons.detail) = (met, spot, detail);
+    lessons.composite = composite;
+}
+
+/// A number as a player types it: spaces around it and a decimal comma allowed.
+pub fn parse_typed(typed: &str) -> Result<f32, std::num::ParseFloatError> {
+    typed.trim().replace(',', ".").parse::<f32>()
 }
 
 /// What the player has done, as the objectives see it.

@@ -355,6 +355,11 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 lessons.prediction = d.value.to_string();
             }
         }
+        Objective::PredictComposite { .. } => {
+            if let Some(last) = lessons.composite.as_ref().and_then(|rows| rows.last()) {
+                lessons.prediction = last.after[0].to_string();
+            }
+        }
         Objective::BackToFront { on } => {
             s.order = if *on {
                 voxcast_core::composite::Order::BackToFront

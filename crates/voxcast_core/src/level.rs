@@ -147,6 +147,13 @@ pub enum Objective {
     LightInsideVolume,
     /// Predict the interpolated value at `point` (voxel coordinates) to within `tolerance`.
     PredictValue { point: [f32; 3], tolerance: f32 },
+    /// The player types the red component of the ray's colour after the last of `points`,
+    /// composited back to front as the lecture's worked example does
+    /// (`crate::worked::back_to_front`), within `tolerance`.
+    PredictComposite {
+        points: Vec<[f32; 3]>,
+        tolerance: f32,
+    },
     /// Composite back to front (`true`) or front to back.
     BackToFront { on: bool },
     /// Choose the light: `headlight`, `point` or `directional`.
@@ -200,7 +207,8 @@ pub struct Situation {
     /// The largest preview/render difference of the last comparison (/255), if current.
     pub compared_max: Option<f32>,
     pub light_inside_volume: bool,
-    /// The value the player typed and the true value at the step's point.
+    /// The value the player typed and the true one (the value at the step's point, or the
+    /// worked composite's red component).
     pub prediction: Option<(f32, f32)>,
     pub back_to_front: bool,
     /// `headlight`, `point` or `directional`.
@@ -251,7 +259,8 @@ impl Objective {
             }),
             Objective::Compared { max } => s.compared_max.is_some_and(|m| m <= *max),
             Objective::LightInsideVolume => s.light_inside_volume,
-            Objective::PredictValue { tolerance, .. } => s
+            Objective::PredictValue { tolerance, .. }
+            | Objective::PredictComposite { tolerance, .. } => s
                 .prediction
                 .is_some_and(|(typed, truth)| (typed - truth).abs() <= *tolerance),
             Objective::BackToFront { on } => s.back_to_front == *on,
@@ -450,6 +459,12 @@ mod tests {
                     Objective::PredictValue { point, tolerance } => {
                         point.iter().copied().chain([*tolerance]).collect()
                     }
+                    Objective::PredictComposite { points, tolerance } => points
+                        .iter()
+                        .flatten()
+                        .copied()
+                        .chain([*tolerance])
+                        .collect(),
                     _ => vec![],
                 };
                 for v in numbers {

@@ -65,6 +65,7 @@ pub mod transfer;
 pub mod transfer_edit;
 pub mod tunables;
 pub mod volume;
+pub mod worked;
 
 pub use error::{LoadError, SettingsError, VolumeError};
 pub use glam;

@@ -229,7 +229,7 @@ fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
     ));
     egui::Grid::new("corners").striped(true).show(ui, |ui| {
         for h in [
-            "corner",
+            "corner (lecture's name)",
             "lattice point",
             "value",
             "weight",
@@ -239,7 +239,15 @@ fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
         }
         ui.end_row();
         for i in 0..8 {
-            ui.label(format!("{i}"));
+            ui.label(format!(
+                "{i} (f{})",
+                voxcast_core::worked::lecture_corner(i)
+            ))
+            .on_hover_text(
+                "The core numbers a cell's corners a + 2b + 4c; the lecture's worked \
+                     example calls them f1 … f8 (f1 at the origin, f2 along x, f3 along x and \
+                     y, f4 along y, then f5 … f8 one unit along z)",
+            );
             let c = r.corners[i];
             ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
             num(ui, r.values[i]);

@@ -143,7 +143,8 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
             ui.colored_label(egui::Color32::YELLOW, hint);
         }
         if met {
-            // The answer: each corner, its weight and its share.
+            // The answer: each corner (the lecture's name beside the core's), its weight and
+            // its share.
             egui::Grid::new("prediction").striped(true).show(ui, |ui| {
                 for h in ["corner", "value", "weight", "weight × value"] {
                     ui.strong(h);
@@ -151,7 +152,13 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
                 ui.end_row();
                 for i in 0..8 {
                     let c = d.corners[i];
-                    ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
+                    ui.label(format!(
+                        "f{} ({}, {}, {})",
+                        voxcast_core::worked::lecture_corner(i),
+                        c[0],
+                        c[1],
+                        c[2]
+                    ));
                     ui.label(sig(d.values[i]));
                     ui.label(sig(d.weights[i]));
                     ui.label(sig(d.values[i] * d.weights[i]));
@@ -159,6 +166,18 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
                 }
             });
             ui.label(format!("value = {}", sig(d.value)));
+        }
+    }
+    if let Some(rows) = lessons.composite.clone() {
+        ui.horizontal(|ui| {
+            ui.label("your red component:");
+            ui.text_edit_singleline(&mut lessons.prediction);
+        });
+        if !met && let Some(hint) = composite_hint(&lessons.prediction, &rows) {
+            ui.colored_label(egui::Color32::YELLOW, hint);
+        }
+        if met {
+            composite_table(ui, &rows);
         }
     }
     if !reading {
@@ -198,6 +217,71 @@ pub(super) fn prediction_hint(typed: &str, d: &SampleDetail) -> Option<String> {
         sig(fy),
         sig(fz)
     ))
+}
+
+/// For a typed composite that is not right yet: too high or too low, the values the points
+/// hold (the earlier steps' answers) and the formula to apply in turn.
+pub(super) fn composite_hint(
+    typed: &str,
+    rows: &[voxcast_core::worked::WorkedPoint],
+) -> Option<String> {
+    let typed = typed.trim();
+    let last = rows.last()?;
+    if typed.is_empty() {
+        return None;
+    }
+    let Ok(v) = crate::sandbox::levels::parse_typed(typed) else {
+        return Some(format!("“{typed}” is not a number: type one, like 0.25"));
+    };
+    let side = if v > last.after[0] {
+        "too high"
+    } else {
+        "too low"
+    };
+    let values: Vec<String> = rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| format!("P{} = {}", i + 1, sig(r.value)))
+        .collect();
+    Some(format!(
+        "Not yet: {} is {side}. The points hold {}; read each one's colour and opacity off the \
+         ramp, then from C = 0 apply C_out = C_in·(1 − α) + c·α for P1, P2 and P3 in turn \
+         (red only).",
+        sig(v),
+        values.join(", ")
+    ))
+}
+
+/// The worked composite, point by point: value, colour and opacity looked up, and the ray's
+/// colour and opacity after it.
+fn composite_table(ui: &mut egui::Ui, rows: &[voxcast_core::worked::WorkedPoint]) {
+    egui::Grid::new("composite").striped(true).show(ui, |ui| {
+        for h in [
+            "point",
+            "value",
+            "colour c",
+            "opacity α",
+            "C after",
+            "O after",
+        ] {
+            ui.strong(h);
+        }
+        ui.end_row();
+        for (i, r) in rows.iter().enumerate() {
+            let [x, y, z] = r.point;
+            ui.label(format!("P{} ({x}, {y}, {z})", i + 1));
+            ui.label(sig(r.value));
+            ui.label(voxcast_core::numbers::sig3([
+                r.rgba[0], r.rgba[1], r.rgba[2],
+            ]));
+            ui.label(sig(r.rgba[3]));
+            ui.label(voxcast_core::numbers::sig3([
+                r.after[0], r.after[1], r.after[2],
+            ]));
+            ui.label(sig(r.after[3]));
+            ui.end_row();
+        }
+    });
 }
 
 #[cfg(test)]
@@ -375,6 +459,9 @@ mod tests {
         );
         built.extend(prediction_hint("99", &d));
         built.extend(prediction_hint("x", &d));
+        let rows = voxcast_core::worked::back_to_front(&volume, &tf, &[[0.2, 0.3, 0.8]]);
+        built.extend(composite_hint("0.9", &rows));
+        built.extend(composite_hint("x", &rows));
         // (The breakdown shows its formulas in the monospace font, whose fallbacks are the
         // proportional font's; egui's glyph query answers only for the proportional one.)
         let mut lacking = std::collections::BTreeSet::new();
@@ -388,6 +475,44 @@ mod tests {
         assert!(lacking.is_empty(), "no glyph for {lacking:?}");
         missing.dedup();
         assert!(missing.is_empty(), "no glyph for {missing:?}");
+    }
+
+    /// The composite step: nothing typed, nothing said; a wrong number is too high or too low
+    /// with the points' values; the right one (within the step's tolerance) meets the objective.
+    #[test]
+    fn a_wrong_composite_gets_a_hint_and_the_right_one_passes() {
+        let v = voxcast_core::builtin::worked_voxel();
+        let level = voxcast_core::level::Level::all()
+            .into_iter()
+            .find(|l| l.id == "trilinear")
+            .unwrap();
+        let preset = voxcast_core::preset::for_volume("voxel").unwrap();
+        let Objective::PredictComposite { points, tolerance } = level
+            .steps
+            .iter()
+            .map(|s| s.objective.clone())
+            .find(|o| matches!(o, Objective::PredictComposite { .. }))
+            .unwrap()
+        else {
+            unreachable!()
+        };
+        let rows = voxcast_core::worked::back_to_front(&v, &preset.transfer, &points);
+        assert_eq!(rows.len(), 3);
+        let red = rows[2].after[0];
+        assert!(red > 0.0 && red < 1.0, "{red}");
+        assert_eq!(composite_hint("", &rows), None);
+        let high = composite_hint(&format!("{}", red + 0.5), &rows).unwrap();
+        assert!(high.contains("too high") && high.contains("P3 ="), "{high}");
+        let low = composite_hint(&format!("{}", red - 0.5), &rows).unwrap();
+        assert!(low.contains("too low"), "{low}");
+        let objective = Objective::PredictComposite { points, tolerance };
+        let mut sit = voxcast_core::level::Situation {
+            prediction: Some((red + 0.5 * tolerance, red)),
+            ..Default::default()
+        };
+        assert!(objective.met(&sit));
+        sit.prediction = Some((red + 2.0 * tolerance, red));
+        assert!(!objective.met(&sit));
     }
 
     #[test]
