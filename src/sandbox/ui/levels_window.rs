@@ -150,7 +150,10 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
                     ui.strong(h);
                 }
                 ui.end_row();
-                for i in 0..8 {
+                // In the lecture's order, f1 … f8.
+                let mut order: Vec<usize> = (0..8).collect();
+                order.sort_by_key(|&i| voxcast_core::worked::lecture_corner(i));
+                for i in order {
                     let c = d.corners[i];
                     ui.label(format!(
                         "f{} ({}, {}, {})",
