@@ -340,6 +340,8 @@ pub(super) fn situation(
         light_kind: voxcast_core::level::light_kind(&render.settings.phong.light),
         attenuated: render.settings.phong.kl > 0.0 || render.settings.phong.kq > 0.0,
         trade_measured: trade.current(view, render, volume).is_some(),
+        jitter: render.settings.jitter,
+        trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
     }
 }
 

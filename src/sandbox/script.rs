@@ -293,7 +293,17 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 (vc.width, vc.height) = (*pixels, *pixels);
             }
         }
-        Objective::StepAtMost { voxels } => s.step = Length::Voxels(*voxels),
+        Objective::StepAtMost { voxels } | Objective::StepAtLeast { voxels } => {
+            s.step = Length::Voxels(*voxels)
+        }
+        Objective::Jitter { on } => s.jitter = *on,
+        Objective::Interpolation { trilinear } => {
+            s.interpolation = if *trilinear {
+                voxcast_core::sample::Interpolation::Trilinear
+            } else {
+                voxcast_core::sample::Interpolation::Nearest
+            }
+        }
         Objective::Method { method } => s.method = *method,
         Objective::OpenHighestSample => {
             // Click a ray, then the row of its highest value.

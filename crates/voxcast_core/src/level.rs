@@ -17,6 +17,7 @@ use std::path::Path;
 const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/01_rays.json"),
     include_str!("../../../assets/levels/02_sampling.json"),
+    include_str!("../../../assets/levels/11_jitter.json"),
     include_str!("../../../assets/levels/09_trilinear.json"),
     include_str!("../../../assets/levels/03_methods.json"),
     include_str!("../../../assets/levels/04_opacity.json"),
@@ -84,6 +85,8 @@ pub enum Control {
     Light,
     Order,
     StepTrade,
+    Jitter,
+    Interpolation,
 }
 
 impl Control {
@@ -95,7 +98,9 @@ impl Control {
             | Control::OpacityCorrection
             | Control::EarlyTermination
             | Control::Target
-            | Control::Order => Some(Section::RayCasting),
+            | Control::Order
+            | Control::Jitter
+            | Control::Interpolation => Some(Section::RayCasting),
             Control::VirtualPixels => Some(Section::VirtualCamera),
             Control::Shading | Control::Light => Some(Section::ShadingAndLight),
             Control::Classification | Control::TransferFunction => Some(Section::TransferFunction),
@@ -117,6 +122,12 @@ pub enum Objective {
     VirtualPixelsAtLeast { pixels: u32 },
     /// Set the step to at most this many voxels.
     StepAtMost { voxels: f32 },
+    /// Set the step to at least this many voxels.
+    StepAtLeast { voxels: f32 },
+    /// Turn jitter on or off.
+    Jitter { on: bool },
+    /// Turn trilinear interpolation on (else: nearest).
+    Interpolation { trilinear: bool },
     /// Choose this compositing method.
     Method { method: Method },
     /// Open the sample with the highest value on the selected ray.
@@ -217,6 +228,9 @@ pub struct Situation {
     pub attenuated: bool,
     /// A step-trade measurement matches the view and settings on screen.
     pub trade_measured: bool,
+    pub jitter: bool,
+    /// Trilinear interpolation (else nearest).
+    pub trilinear: bool,
 }
 
 impl Objective {
@@ -228,6 +242,9 @@ impl Objective {
             Objective::VirtualPixelsAtLeast { pixels } => s.virtual_pixels_across >= *pixels,
             // A slider lands on 0.25 as 0.2500001: a thousandth of a voxel is allowed.
             Objective::StepAtMost { voxels } => s.step_voxels <= voxels + 1e-3,
+            Objective::StepAtLeast { voxels } => s.step_voxels >= voxels - 1e-3,
+            Objective::Jitter { on } => s.jitter == *on,
+            Objective::Interpolation { trilinear } => s.trilinear == *trilinear,
             Objective::Method { method } => s.method == Some(*method),
             Objective::OpenHighestSample => {
                 let highest = s
@@ -451,7 +468,9 @@ mod tests {
             for (k, step) in level.steps.iter().enumerate() {
                 let numbers: Vec<f32> = match &step.objective {
                     Objective::VirtualPixelsAtLeast { pixels } => vec![*pixels as f32],
-                    Objective::StepAtMost { voxels } => vec![*voxels],
+                    Objective::StepAtMost { voxels } | Objective::StepAtLeast { voxels } => {
+                        vec![*voxels]
+                    }
                     Objective::TargetBetween { lo, hi } => vec![*lo, *hi],
                     Objective::TfAlphaAtMost { value, alpha } => vec![*value, *alpha],
                     Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
@@ -527,6 +546,18 @@ mod tests {
         assert!(!Objective::StepAtMost { voxels: 0.25 }.met(&s));
         s.step_voxels = 0.2500001;
         assert!(Objective::StepAtMost { voxels: 0.25 }.met(&s));
+        assert!(!Objective::StepAtLeast { voxels: 2.0 }.met(&s));
+        s.step_voxels = 1.9999;
+        assert!(
+            Objective::StepAtLeast { voxels: 2.0 }.met(&s),
+            "a slider's rounding"
+        );
+        assert!(!Objective::Jitter { on: true }.met(&s));
+        s.jitter = true;
+        assert!(Objective::Jitter { on: true }.met(&s));
+        assert!(Objective::Interpolation { trilinear: false }.met(&s));
+        s.trilinear = true;
+        assert!(!Objective::Interpolation { trilinear: false }.met(&s));
         assert!(!Objective::VirtualPixelsAtLeast { pixels: 8 }.met(&s));
         assert!(
             !Objective::Method {

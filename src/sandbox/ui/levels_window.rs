@@ -29,6 +29,8 @@ fn control_name(c: Control) -> String {
         Control::Light => "Light",
         Control::Order => "Order",
         Control::StepTrade => "Measure",
+        Control::Jitter => "Jitter",
+        Control::Interpolation => "Trilinear interpolation",
     };
     match c.section() {
         Some(s) => format!("Settings › {} › {label}", super::title(s)),

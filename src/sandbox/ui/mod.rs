@@ -257,11 +257,13 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
         ui.colored_label(egui::Color32::YELLOW, warning);
     }
     let mut trilinear = s.interpolation == Interpolation::Trilinear;
-    if ui
-        .checkbox(&mut trilinear, "Trilinear interpolation")
-        .on_hover_text("Blend the 8 surrounding lattice points (off: the nearest point's value)")
-        .changed()
-    {
+    if marked(ui, spot, Control::Interpolation, |ui| {
+        ui.checkbox(&mut trilinear, "Trilinear interpolation")
+            .on_hover_text(
+                "Blend the 8 surrounding lattice points (off: the nearest point's value)",
+            )
+            .changed()
+    }) {
         s.interpolation = if trilinear {
             Interpolation::Trilinear
         } else {
@@ -302,7 +304,9 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
     applies(ui, cutoff_applies, |ui| {
         slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
     });
-    checkbox(ui, &mut s.jitter, &t::JITTER);
+    marked(ui, spot, Control::Jitter, |ui| {
+        checkbox(ui, &mut s.jitter, &t::JITTER)
+    });
     let (lo, hi) = volume.volume.value_range();
     let mut target = s.target.unwrap_or(0.5 * (lo + hi));
     applies(ui, s.method.uses_target(), |ui| {
