@@ -24,6 +24,34 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
     return a + (b - a) * t;
 }
 
+/// Set by `lattice_difference` when a difference needs a lattice point that holds no data.
+var<private> difference_undefined: bool;
+
+/// Whether a raw texel holds no data: non-finite voxels are uploaded as the largest float
+/// (src/sandbox/material.rs), above every value that is data. The core reads NaN and ±∞ as
+/// they are; WGSL need not keep NaN, so the preview marks them so instead.
+fn is_no_data(raw: f32) -> bool {
+    return raw > params.no_data_above;
+}
+
+/// Whether the sample at p_voxel has no value: a corner of its cell (trilinear) or its
+/// nearest lattice point holds no data — the core's non-finite interpolation.
+fn no_data_at(p_voxel: vec3<f32>) -> bool {
+    if params.no_data == 0u {
+        return false;
+    }
+    if (params.flags & #{FLAG_TRILINEAR}u) == 0u {
+        return is_no_data(load_raw(nearest_index(p_voxel)));
+    }
+    let c = cell(p_voxel);
+    var any_missing = false;
+    for (var i = 0u; i < 8u; i++) {
+        let corner = select(c.lo, c.hi, vec3((i & 1u) != 0u, (i & 2u) != 0u, (i & 4u) != 0u));
+        any_missing = any_missing || is_no_data(load_raw(corner));
+    }
+    return any_missing;
+}
+
 /// The raw value of one lattice point.
 fn load_raw(i: vec3<u32>) -> f32 {
     return textureLoad(volume_texture, vec3<i32>(i), 0).r * params.raw_scale;
@@ -75,7 +103,12 @@ fn lattice_difference(idx: vec3<u32>, a: i32) -> f32 {
     p[a] = hi;
     m[a] = lo;
     let inv_steps = select(0.5, 1.0, hi - lo == 1u);
-    return (load_raw(p) - load_raw(m)) * inv_steps;
+    let vp = load_raw(p);
+    let vm = load_raw(m);
+    if params.no_data != 0u && (is_no_data(vp) || is_no_data(vm)) {
+        difference_undefined = true;
+    }
+    return (vp - vm) * inv_steps;
 }
 
 fn lattice_differences(idx: vec3<u32>) -> vec3<f32> {
@@ -83,8 +116,18 @@ fn lattice_differences(idx: vec3<u32>) -> vec3<f32> {
 }
 
 /// The gradient at p_voxel in data units per world unit: lattice differences blended with the
-/// trilinear weights in the same order as the value, scaled at the end.
+/// trilinear weights in the same order as the value, scaled at the end; zero where a
+/// difference needs a lattice point that holds no data (the core's non-finite gradient).
 fn gradient(p_voxel: vec3<f32>) -> vec3<f32> {
+    difference_undefined = false;
+    let g = gradient_blended(p_voxel);
+    if difference_undefined {
+        return vec3(0.0);
+    }
+    return g;
+}
+
+fn gradient_blended(p_voxel: vec3<f32>) -> vec3<f32> {
     let scale = params.slope / params.spacing;
     if (params.flags & #{FLAG_TRILINEAR}u) == 0u {
         return lattice_differences(nearest_index(p_voxel)) * scale;

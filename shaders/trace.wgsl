@@ -7,7 +7,7 @@
 #import voxcast::bindings::params
 #import voxcast::ray::intersect_box
 #import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction, first_index_from}
-#import voxcast::sample::{sample, to_data, gradient, cell}
+#import voxcast::sample::{sample, to_data, gradient, cell, no_data_at}
 #import voxcast::skip::{block_of, block_exit, block_range, exit_if_empty}
 #import voxcast::transfer::lut_lookup
 #import voxcast::classify::classify
@@ -94,6 +94,9 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
             }
         }
         i += 1u;
+        if no_data_at(pv) {
+            continue; // no data: transparent
+        }
         let v = value_at(pv);
         let cl = classified(v, pv);
         if cl.a <= 0.0 {
@@ -133,11 +136,12 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
     var sum = 0.0;
     var hi = -3.4e38;
     var lo = 3.4e38;
-    var taken = 0u;
+    // Samples with a value (those with no data are left out, as the core's statistics do).
+    var counted = 0u;
     var k = 0u;
     while k < plan.count {
         let pv = o_v + d_v * sample_t(plan, k);
-        if skip && taken > 0u {
+        if skip && counted > 0u {
             let b = block_of(cell(pv).lo);
             if any(b != checked) {
                 checked = b;
@@ -155,14 +159,20 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
                 }
             }
         }
+        k += 1u;
+        if no_data_at(pv) {
+            continue;
+        }
         let v = value_at(pv);
         sum += v;
         hi = max(hi, v);
         lo = min(lo, v);
-        taken += 1u;
-        k += 1u;
+        counted += 1u;
     }
-    var value = sum / f32(plan.count);
+    if counted == 0u {
+        return vec4(0.0);
+    }
+    var value = sum / f32(counted);
     if maximum {
         value = hi;
     } else if extreme {
@@ -196,13 +206,20 @@ fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec
                     let next = first_index_from(plan, block_exit(b, o_v, d_v) - margin_t);
                     if next > k {
                         prev_t = sample_t(plan, next - 1u);
-                        prev_v = value_at(o_v + d_v * prev_t);
-                        have_prev = true;
+                        let p_prev = o_v + d_v * prev_t;
+                        prev_v = value_at(p_prev);
+                        have_prev = !no_data_at(p_prev);
                         k = next;
                         continue;
                     }
                 }
             }
+        }
+        if no_data_at(pv) {
+            // No data: never a hit, and no lower end for a hit's bracket.
+            have_prev = false;
+            k += 1u;
+            continue;
         }
         let v = value_at(pv);
         if reaches(v, target_value) {
@@ -235,6 +252,9 @@ fn hit(ta_in: f32, va_in: f32, tb_in: f32, vb_in: f32, o_v: vec3<f32>, d_v: vec3
     if tb > ta {
         for (var i = 0u; i < params.refine_steps; i++) {
             let tm = 0.5 * (ta + tb);
+            if no_data_at(o_v + d_v * tm) {
+                break; // no data between the two samples: keep the bracket as it is
+            }
             let vm = value_at(o_v + d_v * tm);
             if reaches(vm, target_value) {
                 tb = tm;

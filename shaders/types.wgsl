@@ -73,4 +73,8 @@ struct VolumeUniform {
     skip_ranges: u32,
     /// 1 where a block that can only tie the running extreme may be passed (integer data).
     ties_skippable: u32,
+    /// 1 when some voxels hold no data (non-finite floats), else 0.
+    no_data: u32,
+    /// Raw texels above this hold no data (the largest finite raw value; see sample.wgsl).
+    no_data_above: f32,
 }

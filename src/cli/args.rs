@@ -24,7 +24,7 @@ use voxcast_core::{builtin, peer};
 #[derive(Args, Debug, Clone)]
 pub struct VolumeArgs {
     /// A volume file (.nrrd, .nhdr, .nii, .nii.gz, .hdr, .raw) or builtin:NAME (bunny,
-    /// brainsmall, shells, marschner-lobb, bucky, blobs, head, voxel).
+    /// brainsmall, shells, marschner-lobb, bucky, blobs, head, voxel, masked).
     #[arg(long, default_value = "builtin:bunny")]
     pub volume: String,
     /// Raw files: dimensions NXxNYxNZ (overrides the file name).
@@ -94,7 +94,7 @@ impl VolumeArgs {
 #[derive(Args, Debug, Clone, Default)]
 pub struct SettingsArgs {
     /// Transfer function: a preset name (bunny, brainsmall, brainsmall-projections, shells,
-    /// marschner-lobb, bucky, voxel, head, blobs, ct_skin_bone, mri_brain), a Voxcast preset or
+    /// marschner-lobb, bucky, voxel, head, blobs, masked, ct_skin_bone, mri_brain), a Voxcast preset or
     /// transfer-function JSON file, or a peer TF JSON (../shared/tools/peer/tf/*.json).
     /// Default: the volume's preset.
     #[arg(long)]

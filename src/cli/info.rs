@@ -71,6 +71,13 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         lo.x, hi.x, lo.y, hi.y, lo.z, hi.z
     );
     println!("range:      {min} .. {max} (data units)");
+    if v.no_data_count() > 0 {
+        println!(
+            "no data:    {} voxels ({}) are NaN or ±∞: every method passes over them",
+            v.no_data_count(),
+            voxcast_core::numbers::percent(v.no_data_count() as f32 / v.voxel_count() as f32)
+        );
+    }
     if (slope, intercept) != (1.0, 0.0) {
         println!("rescale:    data = raw × {slope} + {intercept}");
     }

@@ -71,6 +71,9 @@ impl Material for VolumeMaterial {
     }
 }
 
+/// What a voxel with no data is stored as in the volume texture (see [`volume_image`]).
+pub const NO_DATA_TEXEL: f32 = f32::MAX;
+
 /// The volume as a 3-D texture: 8-bit data as R8Unorm, 16-bit integers and floats as R32Float
 /// (which holds every 16-bit integer exactly).
 pub fn volume_image(volume: &Volume) -> Image {
@@ -82,10 +85,15 @@ pub fn volume_image(volume: &Volume) -> Image {
                 let bytes = g.data.iter().map(|v| v.to_f32() as u8).collect();
                 (TextureFormat::R8Unorm, bytes)
             } else {
+                // A voxel with no data (NaN, ±∞) is stored as the largest float, above every
+                // value that is data: the shader tests for it (`is_no_data`), as WGSL need not
+                // keep NaN or infinities.
                 let bytes = g
                     .data
                     .iter()
-                    .flat_map(|v| v.to_f32().to_le_bytes())
+                    .map(|v| v.to_f32())
+                    .map(|v| if v.is_finite() { v } else { NO_DATA_TEXEL })
+                    .flat_map(f32::to_le_bytes)
                     .collect();
                 (TextureFormat::R32Float, bytes)
             }

@@ -121,6 +121,10 @@ pub struct VolumeUniform {
     pub skip_ranges: u32,
     /// 1 where a block that can only tie the running extreme may be passed (integer data).
     pub ties_skippable: u32,
+    /// 1 when some voxels hold no data.
+    pub no_data: u32,
+    /// Raw texels above this hold no data (see `material::volume_image`).
+    pub no_data_above: f32,
 }
 
 impl VolumeUniform {
@@ -208,6 +212,8 @@ impl VolumeUniform {
             skip_margin: voxcast_core::trace::SKIP_MARGIN_VOXELS,
             skip_ranges: 0,
             ties_skippable: 0,
+            no_data: (v.no_data_count() > 0) as u32,
+            no_data_above: v.raw_value_range().1,
         };
         match &scene.classifier {
             Classifier::Table => {}
@@ -357,6 +363,8 @@ mod tests {
             "skip_margin" => f(u.skip_margin),
             "skip_ranges" => n(u.skip_ranges),
             "ties_skippable" => n(u.ties_skippable),
+            "no_data" => n(u.no_data),
+            "no_data_above" => f(u.no_data_above),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
     }
@@ -435,6 +443,8 @@ mod tests {
             skip_margin: next(),
             skip_ranges: 121,
             ties_skippable: 122,
+            no_data: 123,
+            no_data_above: next(),
         };
         let mut buffer = UniformBuffer::new(Vec::<u8>::new());
         buffer.write(&u).unwrap();
@@ -444,7 +454,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 52, "members in the WGSL struct");
+        assert_eq!(members.len(), 54, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

@@ -58,6 +58,10 @@ pub const DATASETS: &[(&str, &str)] = &[
         "voxel",
         "one unit voxel with the lecture's 8 corner values, for trilinear interpolation (2³, float32)",
     ),
+    (
+        "masked",
+        "a ball with one octant of no data (NaN, as a masked scan stores it) and a few ±∞ voxels (32³, float32)",
+    ),
 ];
 
 const BUNNY: &[u8] = include_bytes!("../../../assets/volumes/bunny_sdf.nrrd");
@@ -86,6 +90,7 @@ pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
         "voxel" => Ok(generated(worked_voxel())),
         "head" => Ok(generated(head())),
         "blobs" => Ok(generated(blobs())),
+        "masked" => Ok(generated(masked())),
         other => {
             let names: Vec<&str> = DATASETS.iter().map(|d| d.0).collect();
             Err(LoadError::new(
@@ -138,6 +143,27 @@ pub fn blobs() -> Volume {
         to_u8(g(p, a) + 0.6 * g(p, b))
     });
     Volume::new("blobs", UVec3::splat(8), Vec3::ONE, VoxelData::U8(data))
+        .expect("valid by construction")
+}
+
+/// A ball of density 1 − r/12 (float) on a 32³ lattice whose octant beyond the centre on
+/// every axis holds no data (NaN), with ±∞ at two voxels inside the ball: what a scan masked
+/// to a region stores outside it. Every method passes over the missing octant.
+pub fn masked() -> Volume {
+    let n = 32;
+    let c = Vec3::splat((n - 1) as f32 * 0.5);
+    let mut data = lattice(n, |i, j, k| {
+        let p = Vec3::new(i as f32, j as f32, k as f32);
+        if p.cmpgt(c).all() {
+            f32::NAN
+        } else {
+            (1.0 - (p - c).length() / 12.0).max(0.0)
+        }
+    });
+    let at = |i: u32, j: u32, k: u32| (i + n * (j + n * k)) as usize;
+    data[at(10, 16, 12)] = f32::INFINITY;
+    data[at(12, 10, 16)] = f32::NEG_INFINITY;
+    Volume::new("masked", UVec3::splat(n), Vec3::ONE, VoxelData::F32(data))
         .expect("valid by construction")
 }
 

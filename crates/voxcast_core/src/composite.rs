@@ -261,6 +261,9 @@ impl Default for ValueStats {
 impl ValueStats {
     #[inline(always)]
     pub fn add(&mut self, v: f32) {
+        if !v.is_finite() {
+            return; // no data: not a value of the ray's
+        }
         self.count += 1;
         self.sum += v as f64;
         self.max = self.max.max(v);

@@ -16,8 +16,6 @@ pub enum VolumeError {
     LengthMismatch { expected: u64, found: u64 },
     #[error("spacing ({0}, {1}, {2}) must be finite and positive on every axis")]
     BadSpacing(f32, f32, f32),
-    #[error("value at voxel {index} is {value}: float data must be finite (no NaN or infinity)")]
-    NonFinite { index: u64, value: f32 },
     #[error("rescale slope {slope} and intercept {intercept} must be finite, slope non-zero")]
     BadRescale { slope: f32, intercept: f32 },
 }

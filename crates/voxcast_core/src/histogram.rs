@@ -149,7 +149,10 @@ impl GridVisitor for Count {
     fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Vec<u64> {
         let mut counts = vec![0u64; self.bins];
         for &v in grid.data {
-            counts[bin_index(grid.to_data(v.to_f32()), self.lo, self.hi, self.bins)] += 1;
+            let v = v.to_f32();
+            if v.is_finite() {
+                counts[bin_index(grid.to_data(v), self.lo, self.hi, self.bins)] += 1;
+            }
         }
         counts
     }

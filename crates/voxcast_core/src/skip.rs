@@ -86,10 +86,19 @@ impl BlockRanges {
                                         let row = g.index(x0, j, k);
                                         for v in &g.data[row..=row + (x1 - x0)] {
                                             let v = v.to_f32();
-                                            lo = fmin(lo, v);
-                                            hi = fmax(hi, v);
+                                            // No data (non-finite) holds no value to find.
+                                            if v.is_finite() {
+                                                lo = fmin(lo, v);
+                                                hi = fmax(hi, v);
+                                            }
                                         }
                                     }
+                                }
+                                if lo > hi {
+                                    // A block of no data: a range no test can find a value in
+                                    // (finite, for the GPU's texture of ranges).
+                                    out.push((f32::MAX, f32::MIN));
+                                    continue;
                                 }
                                 let (a, b) = (g.to_data(lo), g.to_data(hi));
                                 out.push((a.min(b), a.max(b)));
@@ -124,6 +133,9 @@ impl EmptyBlocks {
             .ranges
             .iter()
             .map(|&(lo, hi)| {
+                if lo > hi {
+                    return true; // no data at all
+                }
                 let eps = 1e-5 * (width + lo.abs().max(hi.abs()));
                 !lut.any_visible_in(lo - eps, hi + eps)
             })

@@ -182,18 +182,29 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         self.g.to_data(sample(&self.g, pv, self.interp))
     }
 
+    /// The gradient at `pv`; zero where it would need a lattice point that holds no data (a
+    /// non-finite difference), so such a sample is lit as one without a normal.
     #[inline(always)]
     fn gradient(&self, pv: Vec3) -> Vec3 {
-        match self.s.differences {
+        let g = match self.s.differences {
             Some(d) => gradient_from_differences(&self.g, d, pv, self.interp),
             None => gradient(&self.g, pv, self.interp),
-        }
+        };
+        if g.is_finite() { g } else { Vec3::ZERO }
     }
 
     /// Colour and opacity of value `v` at `pv`: the table, then the classifier. Unless `full`
     /// is asked for, a sample the table makes transparent returns at once (its colour unread).
     #[inline(always)]
     fn classify(&self, v: f32, pv: Vec3, full: bool) -> Classified {
+        if !v.is_finite() {
+            // No data (a corner of the sample's cell holds none): transparent, unread.
+            return Classified {
+                rgba: Vec4::ZERO,
+                alpha: 0.0,
+                grad: None,
+            };
+        }
         let rgba = match self.s.lut.lookup_if_visible(v) {
             Some(rgba) => rgba,
             None if !full && !self.iso_contours => {
@@ -564,7 +575,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 let (pt, p) = prev.unwrap_or((t, v));
                 return self.hit(ray, (pt, p, t, v), o_v, d_v, k + 1, rec);
             }
-            prev = Some((t, v));
+            // A sample with no data is no lower end for a hit's bracket.
+            prev = v.is_finite().then_some((t, v));
         }
         RayOutcome {
             samples: plan.count,
@@ -597,7 +609,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                     // Samples k..last are inside the block: only `last` is needed, as `prev`.
                     let last = next - 1;
                     let t = sample_t(plan, last);
-                    prev = Some((t, self.value(o_v + d_v * t)));
+                    let v = self.value(o_v + d_v * t);
+                    prev = v.is_finite().then_some((t, v));
                     taken += 1;
                     k = last + 1;
                 }
@@ -615,7 +628,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                         out.samples = taken;
                         return out;
                     }
-                    prev = Some((t, v));
+                    prev = v.is_finite().then_some((t, v));
                     k += 1;
                 }
             }
@@ -651,6 +664,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             for _ in 0..self.s.settings.refine_steps {
                 let tm = 0.5 * (ta + tb);
                 let vm = self.value(o_v + d_v * tm);
+                if !vm.is_finite() {
+                    break; // no data between the two samples: keep the bracket as it is
+                }
                 if R::ACTIVE {
                     steps.push(RefineStep { t: tm, value: vm });
                 }

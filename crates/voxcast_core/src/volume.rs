@@ -216,8 +216,12 @@ pub struct Volume {
     data: VoxelData,
     slope: f32,
     intercept: f32,
-    /// (min, max) in data units.
+    /// (min, max) in data units, of the voxels that hold data.
     range: (f32, f32),
+    /// (min, max) of the stored (raw) values that are data.
+    raw: (f32, f32),
+    /// Voxels that hold no data (non-finite floats: masked cells).
+    no_data: u64,
     /// Per-block value ranges for empty-space skipping, computed on first use.
     blocks: std::sync::OnceLock<crate::skip::BlockRanges>,
     /// Lattice differences for fast exact gradients, computed on first use where they fit.
@@ -230,7 +234,8 @@ pub const MAX_DIFFERENCE_BYTES: usize = 1 << 30;
 
 impl Volume {
     /// Validates and builds a volume: every axis at least one voxel, the data length equal to the
-    /// product of the dimensions, spacing finite and positive, float values finite.
+    /// product of the dimensions, spacing finite and positive. Non-finite float values are kept
+    /// as "no data" ([`Volume::no_data_count`]).
     pub fn new(
         name: impl Into<String>,
         dims: UVec3,
@@ -262,7 +267,7 @@ impl Volume {
         if !(slope.is_finite() && intercept.is_finite() && slope != 0.0) {
             return Err(VolumeError::BadRescale { slope, intercept });
         }
-        let (lo, hi) = raw_range(&data)?;
+        let ((lo, hi), no_data) = raw_range(&data)?;
         let (a, b) = (lo * slope + intercept, hi * slope + intercept);
         Ok(Self {
             name: name.into(),
@@ -272,6 +277,8 @@ impl Volume {
             slope,
             intercept,
             range: (a.min(b), a.max(b)),
+            raw: (lo, hi),
+            no_data,
             blocks: std::sync::OnceLock::new(),
             differences: std::sync::OnceLock::new(),
         })
@@ -303,8 +310,22 @@ impl Volume {
     }
 
     /// Smallest and largest value, in data units.
+    /// (min, max) in data units over the voxels that hold data ((0, 0) when none does).
     pub fn value_range(&self) -> (f32, f32) {
         self.range
+    }
+
+    /// (min, max) of the stored values that are data, before the rescale ((0, 0) when none).
+    pub fn raw_value_range(&self) -> (f32, f32) {
+        self.raw
+    }
+
+    /// How many voxels hold no data: NaN or ±∞ in a float volume, as masked cells of a real
+    /// field are stored. A sample any of whose corners holds no data has no value: every method
+    /// passes over it (transparent to Accumulate, left out of Average, Maximum and Minimum,
+    /// never a First hit), and a gradient that needs one is zero.
+    pub fn no_data_count(&self) -> u64 {
+        self.no_data
     }
 
     pub fn voxel_count(&self) -> usize {
@@ -413,31 +434,35 @@ pub fn checked_voxel_count(nx: u64, ny: u64, nz: u64) -> Result<u64, VolumeError
     Ok(count)
 }
 
-/// Raw (min, max), rejecting non-finite float values.
-fn raw_range(data: &VoxelData) -> Result<(f32, f32), VolumeError> {
+/// Raw (min, max) of the values that are data (finite), and how many are not (NaN or ±∞ in a
+/// float volume: masked cells, "no data"). With no finite value at all the range is (0, 0).
+fn raw_range(data: &VoxelData) -> Result<((f32, f32), u64), VolumeError> {
     fn int_range<T: Voxel + Ord>(v: &[T]) -> (f32, f32) {
         let lo = v.iter().copied().min().map_or(0.0, Voxel::to_f32);
         let hi = v.iter().copied().max().map_or(0.0, Voxel::to_f32);
         (lo, hi)
     }
     Ok(match data {
-        VoxelData::U8(v) => int_range(v),
-        VoxelData::I16(v) => int_range(v),
-        VoxelData::U16(v) => int_range(v),
+        VoxelData::U8(v) => (int_range(v), 0),
+        VoxelData::I16(v) => (int_range(v), 0),
+        VoxelData::U16(v) => (int_range(v), 0),
         VoxelData::F32(v) => {
             let mut lo = f32::INFINITY;
             let mut hi = f32::NEG_INFINITY;
-            for (index, &value) in v.iter().enumerate() {
-                if !value.is_finite() {
-                    return Err(VolumeError::NonFinite {
-                        index: index as u64,
-                        value,
-                    });
+            let mut no_data = 0u64;
+            for &value in v {
+                if value.is_finite() {
+                    lo = lo.min(value);
+                    hi = hi.max(value);
+                } else {
+                    no_data += 1;
                 }
-                lo = lo.min(value);
-                hi = hi.max(value);
             }
-            (lo, hi)
+            if lo > hi {
+                ((0.0, 0.0), no_data)
+            } else {
+                ((lo, hi), no_data)
+            }
         }
     })
 }
@@ -470,11 +495,17 @@ mod tests {
     }
 
     #[test]
-    fn rejects_nan_inf_and_bad_spacing() {
-        let e = vol(UVec3::new(2, 1, 1), VoxelData::F32(vec![0.0, f32::NAN])).unwrap_err();
-        assert!(matches!(e, VolumeError::NonFinite { index: 1, .. }));
-        let e = vol(UVec3::ONE, VoxelData::F32(vec![f32::INFINITY])).unwrap_err();
-        assert!(matches!(e, VolumeError::NonFinite { index: 0, .. }));
+    fn keeps_nan_and_inf_as_no_data_and_rejects_bad_spacing() {
+        let v = vol(
+            UVec3::new(4, 1, 1),
+            VoxelData::F32(vec![2.0, f32::NAN, -1.0, f32::NEG_INFINITY]),
+        )
+        .unwrap();
+        assert_eq!((v.no_data_count(), v.value_range()), (2, (-1.0, 2.0)));
+        let none = vol(UVec3::ONE, VoxelData::F32(vec![f32::INFINITY])).unwrap();
+        assert_eq!((none.no_data_count(), none.value_range()), (1, (0.0, 0.0)));
+        let ints = vol(UVec3::ONE, VoxelData::U8(vec![7])).unwrap();
+        assert_eq!(ints.no_data_count(), 0);
         let e = Volume::new(
             "t",
             UVec3::ONE,

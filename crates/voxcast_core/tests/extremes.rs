@@ -360,3 +360,105 @@ fn degenerate_settings_are_rejected_not_rendered() {
     }
     assert!(voxcast_core::render::validate_size(0, 10).is_err());
 }
+
+/// A float volume whose voxels are all NaN or ±∞ ("no data") loads and renders the
+/// background with every method, without a NaN anywhere in the pixel.
+#[test]
+fn a_volume_of_no_data_renders_the_background() {
+    let data = (0..27)
+        .map(|i| [f32::NAN, f32::INFINITY, f32::NEG_INFINITY][i % 3])
+        .collect();
+    let v = Volume::new("none", UVec3::splat(3), Vec3::ONE, VoxelData::F32(data)).unwrap();
+    assert_eq!(v.no_data_count(), 27);
+    let tf = white(1.0);
+    for method in Method::ALL {
+        for shading in [false, true] {
+            let mut s = plain(0.5);
+            (s.method, s.shading, s.background) = (method, shading, Vec3::new(0.1, 0.2, 0.3));
+            let t = trace(
+                &v,
+                &tf,
+                &s,
+                Vec3::new(-2.0, 1.2, 0.7),
+                Vec3::new(1.0, 0.1, 0.2),
+            );
+            assert_eq!(t.pixel, s.background.to_array(), "{method:?}");
+            assert_eq!(t.opacity, 0.0);
+            assert!(t.first_hit.is_none() && t.projected_value.is_none());
+        }
+    }
+}
+
+/// One finite voxel among no data: every trilinear sample has a corner without data, so
+/// nothing shows; nearest interpolation shows the voxel's own region.
+#[test]
+fn one_finite_voxel_among_no_data() {
+    let mut data = vec![f32::NAN; 27];
+    data[13] = 5.0; // the centre (1, 1, 1)
+    let v = Volume::new("one", UVec3::splat(3), Vec3::ONE, VoxelData::F32(data)).unwrap();
+    assert_eq!((v.no_data_count(), v.value_range()), (26, (5.0, 5.0)));
+    let tf = white(0.5);
+    let mut s = plain(0.25);
+    let ray = (Vec3::new(-1.0, 1.0, 1.0), Vec3::X);
+    let t = trace(&v, &tf, &s, ray.0, ray.1);
+    assert_eq!(t.opacity, 0.0, "trilinear: no sample has all 8 corners");
+    assert!(t.samples.iter().all(|r| r.alpha_corrected == 0.0));
+    s.interpolation = voxcast_core::sample::Interpolation::Nearest;
+    let t = trace(&v, &tf, &s, ray.0, ray.1);
+    finite(&RayTrace {
+        samples: vec![],
+        ..t.clone()
+    });
+    assert!(
+        t.opacity > 0.0,
+        "nearest: the voxel's own cube of space shows"
+    );
+}
+
+/// Values rising along x with a plane of no data at x = 3: First at 2.5 does not refine into
+/// the gap — the first sample with data at or above the target (past the gap) is the hit, on
+/// its own; Average and Maximum leave the gap out.
+#[test]
+fn no_data_next_to_the_first_target_and_in_the_projections() {
+    let v = field([8, 3, 3], Vec3::ONE, |p| {
+        if p.x == 3.0 { f32::NAN } else { p.x }
+    });
+    let tf = white(1.0);
+    let mut s = plain(0.5);
+    s.method = Method::First;
+    s.target = Some(2.5);
+    let ray = (Vec3::new(-1.0, 1.2, 1.1), Vec3::X);
+    let t = trace(&v, &tf, &s, ray.0, ray.1);
+    let h = t.first_hit.expect("a hit past the gap");
+    assert_eq!(h.bracket[0], h.bracket[1], "no bracket across the gap");
+    assert!(h.value >= 2.5 && h.p_voxel[0] >= 4.0, "{h:?}");
+    assert!(t.pixel.iter().all(|c| c.is_finite()));
+    // The samples in cells touching x = 3 have no value; the projections ignore them.
+    for method in [Method::Average, Method::Maximum, Method::Minimum] {
+        s.method = method;
+        let t = trace(&v, &tf, &s, ray.0, ray.1);
+        let data: Vec<f32> = t
+            .samples
+            .iter()
+            .map(|r| r.reconstruction.value)
+            .filter(|v| v.is_finite())
+            .collect();
+        assert!(data.len() < t.samples.len(), "some samples fell in the gap");
+        let expect = match method {
+            Method::Average => data.iter().sum::<f32>() / data.len() as f32,
+            Method::Maximum => data.iter().copied().fold(f32::MIN, f32::max),
+            _ => data.iter().copied().fold(f32::MAX, f32::min),
+        };
+        close(
+            t.projected_value.unwrap(),
+            expect,
+            1e-5,
+            &format!("{method:?}"),
+        );
+    }
+    // Shaded Accumulate next to the gap: the gradient there is zero, never NaN.
+    s.method = Method::Accumulate;
+    s.shading = true;
+    let t = trace(&v, &white(0.3), &s, ray.0, ray.1);
+    assert!(t.pixel.iter().all(|c| c.is_finite()) && t.opacity > 0.0);
+}

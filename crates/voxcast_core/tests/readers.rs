@@ -383,32 +383,29 @@ fn malformed_nrrd_files_give_clear_errors() {
         ),
         h,
     );
-    // NaN in float data.
+    // NaN in float data: kept as "no data" (a masked cell), counted, not refused.
     let nan: Vec<u8> = [0.0f32, f32::NAN]
         .iter()
         .flat_map(|v| v.to_le_bytes())
         .collect();
-    fails(
-        &write(
-            "nan.nrrd",
-            &[
-                nrrd(&[
-                    "type: float",
-                    "dimension: 3",
-                    "sizes: 2 1 1",
-                    "endian: little",
-                    "encoding: raw",
-                ]),
-                nan,
-            ]
-            .concat(),
-        ),
-        |p| {
-            matches!(
-                p,
-                LoadProblem::Volume(voxcast_core::VolumeError::NonFinite { index: 1, .. })
-            )
-        },
+    let path = write(
+        "nan.nrrd",
+        &[
+            nrrd(&[
+                "type: float",
+                "dimension: 3",
+                "sizes: 2 1 1",
+                "endian: little",
+                "encoding: raw",
+            ]),
+            nan,
+        ]
+        .concat(),
+    );
+    let v = load(&path).expect("no data is data of its own");
+    assert_eq!(
+        (v.volume.no_data_count(), v.volume.value_range()),
+        (1, (0.0, 0.0))
     );
     // A header asking for far more than its tiny gzip stream could hold is refused before any
     // allocation (this would need a terabyte otherwise).
