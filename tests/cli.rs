@@ -90,13 +90,13 @@ fn render_warns_when_the_sample_cap_cuts_rays_short() {
 /// `info` counts the voxels that hold no data (a masked volume's NaN and ±∞).
 #[test]
 fn info_counts_the_voxels_without_data() {
-    let o = voxcast(&["info", "--volume", "builtin:masked"]);
+    let o = voxcast(&["info", "builtin:masked"]);
     assert!(o.status.success(), "{}", text(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     let want = voxcast_core::builtin::masked().no_data_count();
     assert!(want > 0);
     assert!(out.contains(&format!("no data:    {want} voxels")), "{out}");
-    let o = voxcast(&["info", "--volume", "builtin:shells"]);
+    let o = voxcast(&["info", "builtin:shells"]);
     assert!(!String::from_utf8_lossy(&o.stdout).contains("no data"));
 }
 
