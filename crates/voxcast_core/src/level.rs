@@ -19,6 +19,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/02_sampling.json"),
     include_str!("../../../assets/levels/11_jitter.json"),
     include_str!("../../../assets/levels/09_trilinear.json"),
+    include_str!("../../../assets/levels/12_nearest.json"),
     include_str!("../../../assets/levels/03_methods.json"),
     include_str!("../../../assets/levels/04_opacity.json"),
     include_str!("../../../assets/levels/05_first_hit.json"),

@@ -1,11 +1,14 @@
 //! The step size's trade of speed for accuracy, measured: one view rendered at several steps,
 //! each timed, its samples counted and its error taken against a reference render at a much
-//! finer step. The sampling level shows these numbers; `voxcast bench` measures the same trade
-//! with repeats and the peer.
+//! finer step, always with trilinear interpolation (the best reconstruction the core has), so
+//! with nearest interpolation the error shows what the staircase costs as well. The sampling
+//! and interpolation levels show these numbers; `voxcast bench` measures the same trade with
+//! repeats and the peer.
 
 use crate::camera::Camera;
 use crate::error::SettingsError;
 use crate::render::{Cancelled, render};
+use crate::sample::Interpolation;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use crate::step::Length;
@@ -68,9 +71,10 @@ pub fn step_trade(
     steps.sort_by(|a, b| b.total_cmp(a));
     steps.dedup();
     let total = steps.len() + 1;
-    let timed = |step: f32| -> Result<_, TradeError> {
+    let timed = |step: f32, interpolation: Interpolation| -> Result<_, TradeError> {
         let mut s = settings.clone();
         s.step = Length::Voxels(step);
+        s.interpolation = interpolation;
         // Jitter would add noise the reference does not share.
         s.jitter = false;
         let scene = Scene::new(volume, transfer, &s, camera.forward())?;
@@ -79,11 +83,12 @@ pub fn step_trade(
         Ok((image, stats.samples, start.elapsed().as_secs_f64()))
     };
     progress(0, total);
-    let (reference, reference_samples, reference_seconds) = timed(REFERENCE)?;
+    let (reference, reference_samples, reference_seconds) =
+        timed(REFERENCE, Interpolation::Trilinear)?;
     let mut rows = Vec::with_capacity(steps.len());
     for (i, &step) in steps.iter().enumerate() {
         progress(i + 1, total);
-        let (image, samples, seconds) = timed(step)?;
+        let (image, samples, seconds) = timed(step, settings.interpolation)?;
         let diff = image.diff(&reference).expect("the same size");
         rows.push(TradeRow {
             step_voxels: step,
@@ -108,9 +113,14 @@ mod tests {
     use crate::builtin::bucky;
 
     fn trade(steps: &[f32]) -> Trade {
+        trade_with(steps, Interpolation::Trilinear)
+    }
+
+    fn trade_with(steps: &[f32], interpolation: Interpolation) -> Trade {
         let v = bucky();
         let p = crate::preset::for_volume("bucky").unwrap();
-        let s = p.settings_over(&RenderSettings::default()).unwrap();
+        let mut s = p.settings_over(&RenderSettings::default()).unwrap();
+        s.interpolation = interpolation;
         let (lo, hi) = v.bounds();
         let cam = Camera::framing(lo, hi, glam::Vec3::new(1.0, 0.8, 1.4), glam::Vec3::Y).unwrap();
         step_trade(
@@ -165,5 +175,26 @@ mod tests {
             &AtomicBool::new(true),
         );
         assert_eq!(r, Err(TradeError::Cancelled(Cancelled)));
+    }
+
+    /// The reference is trilinear whatever the settings: nearest interpolation errs more than
+    /// trilinear at every step, and keeps erring at the finest (its staircase does not go away).
+    #[test]
+    fn nearest_is_measured_against_the_trilinear_reference() {
+        let tri = trade_with(&[1.0, 0.25], Interpolation::Trilinear);
+        let near = trade_with(&[1.0, 0.25], Interpolation::Nearest);
+        for (t, n) in tri.rows.iter().zip(&near.rows) {
+            assert!(
+                n.rmse > 2.0 * t.rmse,
+                "{} vs {} at {}",
+                n.rmse,
+                t.rmse,
+                t.step_voxels
+            );
+        }
+        assert!(
+            near.rows[1].rmse > 0.5 * near.rows[0].rmse,
+            "the staircase stays"
+        );
     }
 }

@@ -19,7 +19,7 @@ pub(super) fn trade_section(
     ui.label(
         egui::RichText::new(format!(
             "This view at {}×{} pixels, rendered by the core at several steps and at a fine \
-             reference step; the error is against the reference.",
+             reference step (always trilinear); the error is against the reference.",
             TRADE_SIZE.0, TRADE_SIZE.1
         ))
         .small(),
