@@ -77,4 +77,6 @@ struct VolumeUniform {
     no_data: u32,
     /// Raw texels above this hold no data (the largest finite raw value; see sample.wgsl).
     no_data_above: f32,
+    /// Rays per pixel side: n×n rays averaged per pixel (1: one through the centre).
+    supersampling: u32,
 }

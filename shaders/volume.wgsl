@@ -27,10 +27,29 @@ fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
 
 @fragment
 fn fragment(mesh: VertexOutput) -> @location(0) vec4<f32> {
-    // The camera's ray through this pixel centre, computed as camera.rs computes it. The pixel
-    // is counted in the whole target: the camera's viewport may be a strip of it (the
+    // The pixel, counted in the whole target: the camera's viewport may be a strip of it (the
     // sandbox's progressive pass, which draws the resting view a few rows a frame).
-    let pixel = mesh.position.xy;
+    let px = vec2<u32>(mesh.position.xy);
+    let ndc = frag_coord_to_ndc(mesh.position).xy;
+    // n×n rays on a regular grid inside the pixel, as render.rs casts them (n = 1: the centre),
+    // each keyed for jitter by its sub-pixel; their premultiplied colour and opacity averaged.
+    let n = max(params.supersampling, 1u);
+    var sum = vec4(0.0);
+    for (var sy = 0u; sy < n; sy++) {
+        for (var sx = 0u; sx < n; sx++) {
+            let sub = (vec2<f32>(f32(sx), f32(sy)) + 0.5) / f32(n);
+            sum += trace_sub_pixel(vec2<f32>(px) + sub, ndc, mesh.position, px * n + vec2(sx, sy));
+        }
+    }
+    let acc = sum / f32(n * n);
+    let shown = blend_background(acc, params.background);
+    let rgb = srgb_to_linear(clamp(shown, vec3(0.0), vec3(1.0))) - (1.0 - acc.a) * srgb_to_linear(params.background);
+    return vec4(max(rgb, vec3(0.0)), acc.a);
+}
+
+/// The camera's ray through image position `pixel` (computed as camera.rs computes it),
+/// stopped at the scene's geometry where the depth prepass drew some, traced.
+fn trace_sub_pixel(pixel: vec2<f32>, ndc: vec2<f32>, frag: vec4<f32>, key: vec2<u32>) -> vec4<f32> {
     let ndc_x = 2.0 * pixel.x * params.cam_inv_width - 1.0;
     let ndc_y = 1.0 - 2.0 * pixel.y * params.cam_inv_height;
     let offset = params.cam_right * ndc_x + params.cam_up * ndc_y;
@@ -41,18 +60,14 @@ fn fragment(mesh: VertexOutput) -> @location(0) vec4<f32> {
     } else {
         origin = params.cam_eye + offset;
     }
-    let ndc = frag_coord_to_ndc(mesh.position).xy;
     var t_max = 3.4e38;
 #ifdef DEPTH_PREPASS
     if params.depth_termination != 0u {
-        let depth = prepass_utils::prepass_depth(mesh.position, 0u);
+        let depth = prepass_utils::prepass_depth(frag, 0u);
         if depth > 0.0 {
             t_max = dot(position_ndc_to_world(vec3(ndc, depth)) - origin, dir);
         }
     }
 #endif
-    let acc = trace(origin, dir, t_max, vec2<u32>(pixel));
-    let shown = blend_background(acc, params.background);
-    let rgb = srgb_to_linear(clamp(shown, vec3(0.0), vec3(1.0))) - (1.0 - acc.a) * srgb_to_linear(params.background);
-    return vec4(max(rgb, vec3(0.0)), acc.a);
+    return trace(origin, dir, t_max, key);
 }

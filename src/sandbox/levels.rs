@@ -342,6 +342,7 @@ pub(super) fn situation(
         trade_measured: trade.current(view, render, volume).is_some(),
         jitter: render.settings.jitter,
         trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
+        supersampling: render.settings.supersampling,
     }
 }
 

@@ -297,6 +297,7 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             s.step = Length::Voxels(*voxels)
         }
         Objective::Jitter { on } => s.jitter = *on,
+        Objective::SupersamplingAtLeast { rays } => s.supersampling = *rays,
         Objective::Interpolation { trilinear } => {
             s.interpolation = if *trilinear {
                 voxcast_core::sample::Interpolation::Trilinear

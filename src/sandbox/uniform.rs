@@ -125,6 +125,8 @@ pub struct VolumeUniform {
     pub no_data: u32,
     /// Raw texels above this hold no data (see `material::volume_image`).
     pub no_data_above: f32,
+    /// Rays per pixel side (n×n rays averaged per pixel).
+    pub supersampling: u32,
 }
 
 impl VolumeUniform {
@@ -214,6 +216,7 @@ impl VolumeUniform {
             ties_skippable: 0,
             no_data: (v.no_data_count() > 0) as u32,
             no_data_above: v.raw_value_range().1,
+            supersampling: s.supersampling.max(1),
         };
         match &scene.classifier {
             Classifier::Table => {}
@@ -365,6 +368,7 @@ mod tests {
             "ties_skippable" => n(u.ties_skippable),
             "no_data" => n(u.no_data),
             "no_data_above" => f(u.no_data_above),
+            "supersampling" => n(u.supersampling),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
     }
@@ -445,6 +449,7 @@ mod tests {
             ties_skippable: 122,
             no_data: 123,
             no_data_above: next(),
+            supersampling: 124,
         };
         let mut buffer = UniformBuffer::new(Vec::<u8>::new());
         buffer.write(&u).unwrap();
@@ -454,7 +459,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 54, "members in the WGSL struct");
+        assert_eq!(members.len(), 55, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

@@ -88,6 +88,7 @@ pub enum Control {
     StepTrade,
     Jitter,
     Interpolation,
+    Supersampling,
 }
 
 impl Control {
@@ -101,7 +102,8 @@ impl Control {
             | Control::Target
             | Control::Order
             | Control::Jitter
-            | Control::Interpolation => Some(Section::RayCasting),
+            | Control::Interpolation
+            | Control::Supersampling => Some(Section::RayCasting),
             Control::VirtualPixels => Some(Section::VirtualCamera),
             Control::Shading | Control::Light => Some(Section::ShadingAndLight),
             Control::Classification | Control::TransferFunction => Some(Section::TransferFunction),
@@ -129,6 +131,8 @@ pub enum Objective {
     Jitter { on: bool },
     /// Turn trilinear interpolation on (else: nearest).
     Interpolation { trilinear: bool },
+    /// Cast at least `rays` × `rays` rays a pixel.
+    SupersamplingAtLeast { rays: u32 },
     /// Choose this compositing method.
     Method { method: Method },
     /// Open the sample with the highest value on the selected ray.
@@ -232,6 +236,8 @@ pub struct Situation {
     pub jitter: bool,
     /// Trilinear interpolation (else nearest).
     pub trilinear: bool,
+    /// Rays per pixel side.
+    pub supersampling: u32,
 }
 
 impl Objective {
@@ -246,6 +252,7 @@ impl Objective {
             Objective::StepAtLeast { voxels } => s.step_voxels >= voxels - 1e-3,
             Objective::Jitter { on } => s.jitter == *on,
             Objective::Interpolation { trilinear } => s.trilinear == *trilinear,
+            Objective::SupersamplingAtLeast { rays } => s.supersampling >= *rays,
             Objective::Method { method } => s.method == Some(*method),
             Objective::OpenHighestSample => {
                 let highest = s
@@ -476,6 +483,7 @@ mod tests {
                     Objective::TfAlphaAtMost { value, alpha } => vec![*value, *alpha],
                     Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
                     Objective::Compared { max } => vec![*max],
+                    Objective::SupersamplingAtLeast { rays } => vec![*rays as f32],
                     Objective::PredictValue { point, tolerance } => {
                         point.iter().copied().chain([*tolerance]).collect()
                     }
@@ -559,6 +567,9 @@ mod tests {
         assert!(Objective::Interpolation { trilinear: false }.met(&s));
         s.trilinear = true;
         assert!(!Objective::Interpolation { trilinear: false }.met(&s));
+        assert!(!Objective::SupersamplingAtLeast { rays: 2 }.met(&s));
+        s.supersampling = 3;
+        assert!(Objective::SupersamplingAtLeast { rays: 2 }.met(&s));
         assert!(!Objective::VirtualPixelsAtLeast { pixels: 8 }.met(&s));
         assert!(
             !Objective::Method {

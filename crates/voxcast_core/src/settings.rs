@@ -196,6 +196,15 @@ pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
         },
     ));
     out.push((
+        "accumulate_supersampled".into(),
+        RenderSettings {
+            supersampling: 2,
+            jitter: true,
+            jitter_seed: 7,
+            ..accumulate.clone()
+        },
+    ));
+    out.push((
         "accumulate_jitter".into(),
         RenderSettings {
             jitter: true,

@@ -31,6 +31,7 @@ fn control_name(c: Control) -> String {
         Control::StepTrade => "Measure",
         Control::Jitter => "Jitter",
         Control::Interpolation => "Trilinear interpolation",
+        Control::Supersampling => "Supersampling",
     };
     match c.section() {
         Some(s) => format!("Settings › {} › {label}", super::title(s)),
