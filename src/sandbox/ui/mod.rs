@@ -307,12 +307,11 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
     marked(ui, spot, Control::Jitter, |ui| {
         checkbox(ui, &mut s.jitter, &t::JITTER)
     });
-    let mut rays = s.supersampling as f32;
-    if marked(ui, spot, Control::Supersampling, |ui| {
-        slider(ui, &mut rays, &t::SUPERSAMPLING, 1.0..=4.0, false)
-    }) {
-        s.supersampling = rays.round().clamp(1.0, 4.0) as u32;
-    }
+    marked(ui, spot, Control::Supersampling, |ui| {
+        // Whole rays: an integer slider (1 to 4: 16 rays a pixel is already 16 times the work).
+        ui.add(egui::Slider::new(&mut s.supersampling, 1..=4).text(t::SUPERSAMPLING.label))
+            .on_hover_text(t::SUPERSAMPLING.doc)
+    });
     let (lo, hi) = volume.volume.value_range();
     let mut target = s.target.unwrap_or(0.5 * (lo + hi));
     applies(ui, s.method.uses_target(), |ui| {
