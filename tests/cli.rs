@@ -55,34 +55,19 @@ fn render_writes_a_png_and_reports_speed() {
 #[test]
 fn render_warns_when_the_sample_cap_cuts_rays_short() {
     let png = out_dir().join("capped.png");
-    let o = voxcast(&[
-        "render",
-        "--volume",
-        "builtin:shells",
-        "--size",
-        "8x8",
-        "--step",
-        "0.000001",
-        "--max-samples",
-        "100",
-        "--out",
-        png.to_str().unwrap(),
-    ]);
+    let render = |settings: &[&str]| {
+        let size = ["render", "--volume", "builtin:shells", "--size", "8x8"];
+        let out = ["--out", png.to_str().unwrap()];
+        voxcast(&[&size[..], settings, &out].concat())
+    };
+    let o = render(&["--step", "0.000001", "--max-samples", "100"]);
     assert!(o.status.success(), "{}", text(&o));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         err.contains("warning:") && err.contains("of 64 rays") && err.contains("sample cap (100)"),
         "{err}"
     );
-    let o = voxcast(&[
-        "render",
-        "--volume",
-        "builtin:shells",
-        "--size",
-        "8x8",
-        "--out",
-        png.to_str().unwrap(),
-    ]);
+    let o = render(&[]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(!String::from_utf8_lossy(&o.stderr).contains("sample cap"));
 }

@@ -248,19 +248,25 @@ pub(crate) fn check_objective(
 ) {
     let step = lessons.step_in(*mode.get()).cloned();
     let spot = step.as_ref().and_then(|s| s.control);
-    let detail = match step.as_ref().map(|s| &s.objective) {
-        Some(Objective::PredictValue { point, .. }) => Some(detail_at(
-            &volume.volume,
-            Vec3::from_array(*point),
-            Interpolation::Trilinear,
-        )),
-        _ => None,
-    };
-    let composite = match step.as_ref().map(|s| &s.objective) {
-        Some(Objective::PredictComposite { points, .. }) => Some(
-            voxcast_core::worked::back_to_front(&volume.volume, &render.transfer, points),
+    // A prediction step's answer: the reconstruction at its point, or the worked composite.
+    let (detail, composite) = match step.as_ref().map(|s| &s.objective) {
+        Some(Objective::PredictValue { point, .. }) => (
+            Some(detail_at(
+                &volume.volume,
+                Vec3::from_array(*point),
+                Interpolation::Trilinear,
+            )),
+            None,
         ),
-        _ => None,
+        Some(Objective::PredictComposite { points, .. }) => (
+            None,
+            Some(voxcast_core::worked::back_to_front(
+                &volume.volume,
+                &render.transfer,
+                points,
+            )),
+        ),
+        _ => (None, None),
     };
     let met = step.is_some_and(|step| {
         let mut sit = situation(
@@ -288,8 +294,8 @@ pub(crate) fn check_objective(
     if met {
         lessons.met_for = here;
     }
-    (lessons.met, lessons.spot, lessons.detail) = (met, spot, detail);
-    lessons.composite = composite;
+    (lessons.met, lessons.spot) = (met, spot);
+    (lessons.detail, lessons.composite) = (detail, composite);
 }
 
 /// A number as a player types it: spaces around it and a decimal comma allowed.

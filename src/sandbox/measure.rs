@@ -63,7 +63,7 @@ fn measure_frames(
     (live, preview, progressive, motion): LiveParams,
 ) {
     m.seen += 1;
-    let gpu = preview.as_ref().is_some_and(|p| p.enabled && !p.cpu_live());
+    let gpu = preview.as_ref().is_some_and(|p| p.gpu_live());
     let live = live.filter(|_| preview.is_some_and(|p| p.cpu_live()));
     let now = time.elapsed_secs_f64();
     // Every ray and sample on screen from the start: the cost of the whole scene.

@@ -51,6 +51,11 @@ impl PreviewSettings {
         self.enabled && self.backend == Backend::Cpu
     }
 
+    /// Whether the GPU preview draws the volume (the preview is on and drawn by the GPU).
+    pub fn gpu_live(&self) -> bool {
+        self.enabled && self.backend == Backend::Gpu
+    }
+
     /// The resolution fraction and step multiplier in effect; `full` asks for the settings'
     /// own step at the resting resolution (while a comparison captures the preview).
     pub fn effective(&self, moving: bool, full: bool) -> (f32, f32) {
@@ -112,10 +117,10 @@ impl Quality<'_> {
     }
 
     /// While moving with adaptive quality: the resolution the measured frame time allows,
-    /// never below the moving resolution nor above the resting one (a GPU that draws the
-    /// whole view within a frame's share keeps it, and the scene's meshes stay sharp).
-    fn moving_scale(&self, p: &PreviewSettings, step: f32) -> f32 {
-        let lowest = p.moving_scale.min(p.scale);
+    /// never below `lowest` (the moving resolution `effective` gives) nor above the resting one
+    /// (a GPU that draws the whole view within a frame's share keeps it, and the scene's meshes
+    /// stay sharp).
+    fn moving_scale(&self, p: &PreviewSettings, lowest: f32, step: f32) -> f32 {
         let fitted = self.progressive.as_ref().and_then(|pr| {
             let per_work = pr.cost.per_work?;
             let (_, size) = self.viewport.as_ref()?.physical();
@@ -142,7 +147,7 @@ impl Quality<'_> {
             if p.backend == Backend::Cpu {
                 1.0
             } else if moving && p.adaptive && !full {
-                self.moving_scale(p, step)
+                self.moving_scale(p, scale, step)
             } else {
                 scale
             }
@@ -309,7 +314,7 @@ fn show_or_hide_volume(
     mut boxes: Query<&mut Visibility, With<VolumeBox>>,
 ) {
     for mut v in &mut boxes {
-        let want = if settings.enabled && settings.backend == Backend::Gpu {
+        let want = if settings.gpu_live() {
             Visibility::Inherited
         } else {
             Visibility::Hidden

@@ -11,7 +11,6 @@
 //! share of [`FRAME_BUDGET_S`]. On a GPU that draws a whole frame within its share the preview
 //! draws whole frames as before.
 
-use super::live::Backend;
 use super::preview::{FullQuality, Motion, PreviewSettings, PreviewTarget};
 use super::state::MainCamera;
 use bevy::camera::{CameraOutputMode, ClearColorConfig, RenderTarget, SubCameraView, Viewport};
@@ -89,8 +88,6 @@ pub struct Progressive {
     finished: Option<usize>,
     /// Whether the resting view is being drawn in strips.
     active: bool,
-    /// Passes finished since the start (measurements wait for one).
-    pub passes: u64,
 }
 
 /// Rows `[y0, y1)` of strip `k` of `n` in an image `height` rows high.
@@ -183,7 +180,7 @@ pub(super) fn give_camera_its_work(
     let (Some(target), Ok((mut camera, mut render_target))) = (target, cameras.single_mut()) else {
         return;
     };
-    let gpu = settings.enabled && settings.backend == Backend::Gpu && camera.is_active;
+    let gpu = settings.gpu_live() && camera.is_active;
     let step = f64::from(settings.effective(motion.moving, full.0).1.max(1e-3));
     let work = |size: UVec2| f64::from(size.x) * f64::from(size.y) / step;
     // Seconds of volume work the whole resting frame is predicted to take.
@@ -204,7 +201,6 @@ pub(super) fn give_camera_its_work(
             if p.strips > 0 {
                 p.finished = Some(p.filling);
                 p.filling ^= 1;
-                p.passes += 1;
             }
             p.strips = strips_for(predicted.unwrap_or(0.0), share, size.y);
             p.next = 0;

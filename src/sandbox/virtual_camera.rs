@@ -246,13 +246,7 @@ mod tests {
 
     #[test]
     fn frames_the_volume_at_the_default_resolution() {
-        let volume = VolumeState {
-            volume: std::sync::Arc::new(
-                voxcast_core::builtin::load_builtin("bucky").unwrap().volume,
-            ),
-            source: "builtin:bucky".into(),
-            preset: None,
-        };
+        let (volume, _) = crate::sandbox::inspect::tests::scene("bucky");
         let c = VirtualCamera::framing(&volume, None).unwrap();
         let n = t::VIRTUAL_RESOLUTION.default as u32;
         assert_eq!((c.width, c.height), (n, n));

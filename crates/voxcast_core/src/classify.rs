@@ -26,10 +26,10 @@
 use crate::error::SettingsError;
 use crate::transfer::Lut;
 
-/// How opacity is assigned (see the module docs for the formulas).
 /// The most isovalues a classification may have: the GPU preview's uniform holds this many.
 pub const MAX_ISOVALUES: usize = 4;
 
+/// How opacity is assigned (see the module docs for the formulas).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "mode")]
 pub enum Classification {

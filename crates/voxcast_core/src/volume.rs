@@ -216,8 +216,6 @@ pub struct Volume {
     data: VoxelData,
     slope: f32,
     intercept: f32,
-    /// (min, max) in data units, of the voxels that hold data.
-    range: (f32, f32),
     /// (min, max) of the stored (raw) values that are data.
     raw: (f32, f32),
     /// Voxels that hold no data (non-finite floats: masked cells).
@@ -267,8 +265,7 @@ impl Volume {
         if !(slope.is_finite() && intercept.is_finite() && slope != 0.0) {
             return Err(VolumeError::BadRescale { slope, intercept });
         }
-        let ((lo, hi), no_data) = raw_range(&data)?;
-        let (a, b) = (lo * slope + intercept, hi * slope + intercept);
+        let (raw, no_data) = raw_range(&data);
         Ok(Self {
             name: name.into(),
             dims,
@@ -276,8 +273,7 @@ impl Volume {
             data,
             slope,
             intercept,
-            range: (a.min(b), a.max(b)),
-            raw: (lo, hi),
+            raw,
             no_data,
             blocks: std::sync::OnceLock::new(),
             differences: std::sync::OnceLock::new(),
@@ -309,10 +305,14 @@ impl Volume {
         (self.slope, self.intercept)
     }
 
-    /// Smallest and largest value, in data units.
-    /// (min, max) in data units over the voxels that hold data ((0, 0) when none does).
+    /// (min, max) in data units over the voxels that hold data ((0, 0) when none does): the
+    /// raw range rescaled (a negative slope swaps its ends).
     pub fn value_range(&self) -> (f32, f32) {
-        self.range
+        let (a, b) = (
+            self.raw.0 * self.slope + self.intercept,
+            self.raw.1 * self.slope + self.intercept,
+        );
+        (a.min(b), a.max(b))
     }
 
     /// (min, max) of the stored values that are data, before the rescale ((0, 0) when none).
@@ -436,13 +436,13 @@ pub fn checked_voxel_count(nx: u64, ny: u64, nz: u64) -> Result<u64, VolumeError
 
 /// Raw (min, max) of the values that are data (finite), and how many are not (NaN or ±∞ in a
 /// float volume: masked cells, "no data"). With no finite value at all the range is (0, 0).
-fn raw_range(data: &VoxelData) -> Result<((f32, f32), u64), VolumeError> {
+fn raw_range(data: &VoxelData) -> ((f32, f32), u64) {
     fn int_range<T: Voxel + Ord>(v: &[T]) -> (f32, f32) {
         let lo = v.iter().copied().min().map_or(0.0, Voxel::to_f32);
         let hi = v.iter().copied().max().map_or(0.0, Voxel::to_f32);
         (lo, hi)
     }
-    Ok(match data {
+    match data {
         VoxelData::U8(v) => (int_range(v), 0),
         VoxelData::I16(v) => (int_range(v), 0),
         VoxelData::U16(v) => (int_range(v), 0),
@@ -464,7 +464,7 @@ fn raw_range(data: &VoxelData) -> Result<((f32, f32), u64), VolumeError> {
                 ((lo, hi), no_data)
             }
         }
-    })
+    }
 }
 
 #[cfg(test)]

@@ -170,20 +170,20 @@ fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Optio
         .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
         .show(ui, |ui| {
             egui::Grid::new("samples").striped(true).show(ui, |ui| {
-                for h in [
-                    "k",
-                    "t",
-                    "position (world)",
-                    "value",
-                    "TF rgba",
-                    "α",
-                    "α corrected",
-                    "C after",
-                    "O after",
-                ] {
-                    ui.strong(h);
-                }
-                ui.end_row();
+                super::header_row(
+                    ui,
+                    &[
+                        "k",
+                        "t",
+                        "position (world)",
+                        "value",
+                        "TF rgba",
+                        "α",
+                        "α corrected",
+                        "C after",
+                        "O after",
+                    ],
+                );
                 for (i, s) in t.samples.iter().enumerate() {
                     let chosen = opened == Some(i);
                     if ui.selectable_label(chosen, s.index.to_string()).clicked() {
@@ -228,16 +228,16 @@ fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
         v3(r.frac)
     ));
     egui::Grid::new("corners").striped(true).show(ui, |ui| {
-        for h in [
-            "corner (lecture's name)",
-            "lattice point",
-            "value",
-            "weight",
-            "weight × value",
-        ] {
-            ui.strong(h);
-        }
-        ui.end_row();
+        super::header_row(
+            ui,
+            &[
+                "corner (lecture's name)",
+                "lattice point",
+                "value",
+                "weight",
+                "weight × value",
+            ],
+        );
         for i in 0..8 {
             ui.label(format!(
                 "{i} (f{})",

@@ -149,10 +149,7 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
             // The answer: each corner (the lecture's name beside the core's), its weight and
             // its share.
             egui::Grid::new("prediction").striped(true).show(ui, |ui| {
-                for h in ["corner", "value", "weight", "weight × value"] {
-                    ui.strong(h);
-                }
-                ui.end_row();
+                super::header_row(ui, &["corner", "value", "weight", "weight × value"]);
                 // In the lecture's order, f1 … f8.
                 let mut order: Vec<usize> = (0..8).collect();
                 order.sort_by_key(|&i| voxcast_core::worked::lecture_corner(i));
@@ -202,17 +199,28 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
     command
 }
 
-/// For a typed prediction that is not right yet: too high or too low, and how to get there.
-/// `None` while nothing (or no number) is typed.
-pub(super) fn prediction_hint(typed: &str, d: &SampleDetail) -> Option<String> {
+/// A typed prediction judged against `truth`: `None` while nothing is typed; else the number
+/// and whether it is too high or too low, or (`Err`) why it is no number, with `example`.
+fn judged(typed: &str, truth: f32, example: &str) -> Option<Result<(f32, &'static str), String>> {
     let typed = typed.trim();
     if typed.is_empty() {
         return None;
     }
-    let Ok(v) = typed.replace(',', ".").parse::<f32>() else {
-        return Some(format!("“{typed}” is not a number: type one, like 12.5"));
+    Some(match crate::sandbox::levels::parse_typed(typed) {
+        Ok(v) => Ok((v, if v > truth { "too high" } else { "too low" })),
+        Err(_) => Err(format!(
+            "“{typed}” is not a number: type one, like {example}"
+        )),
+    })
+}
+
+/// For a typed prediction that is not right yet: too high or too low, and how to get there.
+/// `None` while nothing is typed.
+pub(super) fn prediction_hint(typed: &str, d: &SampleDetail) -> Option<String> {
+    let (v, side) = match judged(typed, d.value, "12.5")? {
+        Ok(judged) => judged,
+        Err(why) => return Some(why),
     };
-    let side = if v > d.value { "too high" } else { "too low" };
     let [fx, fy, fz] = d.frac;
     Some(format!(
         "Not yet: {} is {side}. The point sits at ({}, {}, {}) inside its cell; each corner's \
@@ -231,18 +239,9 @@ pub(super) fn composite_hint(
     typed: &str,
     rows: &[voxcast_core::worked::WorkedPoint],
 ) -> Option<String> {
-    let typed = typed.trim();
-    let last = rows.last()?;
-    if typed.is_empty() {
-        return None;
-    }
-    let Ok(v) = crate::sandbox::levels::parse_typed(typed) else {
-        return Some(format!("“{typed}” is not a number: type one, like 0.25"));
-    };
-    let side = if v > last.after[0] {
-        "too high"
-    } else {
-        "too low"
+    let (v, side) = match judged(typed, rows.last()?.after[0], "0.25")? {
+        Ok(judged) => judged,
+        Err(why) => return Some(why),
     };
     let values: Vec<String> = rows
         .iter()
@@ -262,17 +261,17 @@ pub(super) fn composite_hint(
 /// colour and opacity after it.
 fn composite_table(ui: &mut egui::Ui, rows: &[voxcast_core::worked::WorkedPoint]) {
     egui::Grid::new("composite").striped(true).show(ui, |ui| {
-        for h in [
-            "point",
-            "value",
-            "colour c",
-            "opacity α",
-            "C after",
-            "O after",
-        ] {
-            ui.strong(h);
-        }
-        ui.end_row();
+        super::header_row(
+            ui,
+            &[
+                "point",
+                "value",
+                "colour c",
+                "opacity α",
+                "C after",
+                "O after",
+            ],
+        );
         for (i, r) in rows.iter().enumerate() {
             let [x, y, z] = r.point;
             ui.label(format!("P{} ({x}, {y}, {z})", i + 1));

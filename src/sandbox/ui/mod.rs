@@ -507,6 +507,14 @@ fn slider(
     .changed()
 }
 
+/// A grid's header row: each title in bold, then the row's end.
+fn header_row(ui: &mut egui::Ui, titles: &[&str]) {
+    for title in titles {
+        ui.strong(*title);
+    }
+    ui.end_row();
+}
+
 fn checkbox(ui: &mut egui::Ui, value: &mut bool, tunable: &Tunable) -> bool {
     ui.checkbox(value, tunable.label)
         .on_hover_text(tunable.doc)

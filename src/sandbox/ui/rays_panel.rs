@@ -194,24 +194,12 @@ fn pixel_grid(ui: &mut egui::Ui, inspection: &Inspection, selection: &mut RaySel
 mod tests {
     use super::*;
     use crate::sandbox::inspect::compute;
-    use crate::sandbox::state::{RenderState, VolumeState};
 
     /// The pixel grid driven by the pointer events egui receives from a user: moving over a
     /// pixel hovers its ray, a click selects it, a second click lets it go.
     #[test]
     fn pointer_events_on_the_pixel_grid_hover_and_select_rays() {
-        let volume = VolumeState {
-            volume: std::sync::Arc::new(
-                voxcast_core::builtin::load_builtin("bucky").unwrap().volume,
-            ),
-            source: "builtin:bucky".into(),
-            preset: None,
-        };
-        let render = RenderState {
-            transfer: voxcast_core::transfer::TransferFunction::ramp(0.0, 255.0, 0.5).unwrap(),
-            settings: voxcast_core::settings::RenderSettings::default(),
-            depth_termination: true,
-        };
+        let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
         let mut vc = VirtualCamera::framing(&volume, None).unwrap();
         (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();

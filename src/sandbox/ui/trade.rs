@@ -60,10 +60,10 @@ pub(super) fn trade_section(
 
 fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
     egui::Grid::new("trade").striped(true).show(ui, |ui| {
-        for h in ["step", "time", "samples", "max err", "RMSE", "speed-up"] {
-            ui.strong(h);
-        }
-        ui.end_row();
+        super::header_row(
+            ui,
+            &["step", "time", "samples", "max err", "RMSE", "speed-up"],
+        );
         let ms = |s: f64| format!("{:.1} ms", s * 1e3);
         for r in &t.rows {
             let text = |s: String| {
