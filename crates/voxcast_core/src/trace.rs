@@ -161,6 +161,10 @@ struct Classified {
 }
 
 impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
+    /// Whether a sample's value may be non-finite ("no data"): only float volumes hold such
+    /// voxels, so for integer data the per-sample checks below fold away at compile time.
+    const MAY_LACK_DATA: bool = matches!(T::TYPE, crate::volume::ScalarType::F32);
+
     pub(crate) fn new(s: &'s Scene<'a>, g: Grid<'g, T>) -> Self {
         Self {
             inv_spacing: 1.0 / g.spacing,
@@ -190,14 +194,18 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             Some(d) => gradient_from_differences(&self.g, d, pv, self.interp),
             None => gradient(&self.g, pv, self.interp),
         };
-        if g.is_finite() { g } else { Vec3::ZERO }
+        if !Self::MAY_LACK_DATA || g.is_finite() {
+            g
+        } else {
+            Vec3::ZERO
+        }
     }
 
     /// Colour and opacity of value `v` at `pv`: the table, then the classifier. Unless `full`
     /// is asked for, a sample the table makes transparent returns at once (its colour unread).
     #[inline(always)]
     fn classify(&self, v: f32, pv: Vec3, full: bool) -> Classified {
-        if !v.is_finite() {
+        if Self::MAY_LACK_DATA && !v.is_finite() {
             // No data (a corner of the sample's cell holds none): transparent, unread.
             return Classified {
                 rgba: Vec4::ZERO,
