@@ -5,7 +5,7 @@
 #define_import_path voxcast::trace
 
 #import voxcast::bindings::params
-#import voxcast::ray::intersect_box
+#import voxcast::clip::clip_interval
 #import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction, first_index_from}
 #import voxcast::sample::{sample, to_data, gradient, cell, no_data_at}
 #import voxcast::skip::{block_of, block_exit, block_range, exit_if_empty}
@@ -39,7 +39,7 @@ fn shaded(c: vec3<f32>, pv: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
 /// One ray through the volume: premultiplied colour (rgb) and opacity (a), before the
 /// background. `t_max` stops the ray at opaque scene geometry; `pixel` keys the jitter.
 fn trace(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, pixel: vec2<u32>) -> vec4<f32> {
-    let hit = intersect_box(origin, dir, 0.0, t_max, params.box_lo, params.box_hi);
+    let hit = clip_interval(origin, dir, 0.0, t_max);
     if !hit.hit {
         return vec4(0.0);
     }

@@ -8,9 +8,10 @@
 #define_import_path voxcast::types
 
 struct VolumeUniform {
-    box_lo: vec3<f32>,
+    /// The volume's box after the crop box (world units; see clip.wgsl).
+    crop_lo: vec3<f32>,
     dt: f32,
-    box_hi: vec3<f32>,
+    crop_hi: vec3<f32>,
     dt_ref: f32,
     inv_spacing: vec3<f32>,
     cutoff: f32,
@@ -79,4 +80,7 @@ struct VolumeUniform {
     no_data_above: f32,
     /// Rays per pixel side: n×n rays averaged per pixel (1: one through the centre).
     supersampling: u32,
+    /// The clip plane keeps the points p with clip_normal·p ≤ clip_d; a zero normal keeps all.
+    clip_normal: vec3<f32>,
+    clip_d: f32,
 }

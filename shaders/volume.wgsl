@@ -1,5 +1,5 @@
 // The preview's fragment shader: one ray per pixel of the volume's box, traced by `trace`.
-// Twin: the image renderer, crates/voxcast_core/src/render.rs, and the camera's rays
+// Twin: crates/voxcast_core/src/render.rs (the image renderer) and the camera's rays
 // (camera.rs): origin at the eye (perspective) or on the eye's plane (orthographic).
 //
 // The box is drawn back faces only, so the camera may be inside it. With the depth prepass the

@@ -6,6 +6,7 @@ use clap::Args;
 use std::path::{Path, PathBuf};
 use voxcast_core::camera::{Camera, Projection};
 use voxcast_core::classify::Classification;
+use voxcast_core::clip::ClipPlane;
 use voxcast_core::composite::{Method, Order};
 use voxcast_core::error::io_words;
 use voxcast_core::glam::Vec3;
@@ -172,6 +173,14 @@ pub struct SettingsArgs {
     /// Background colour r,g,b in [0, 1].
     #[arg(long, value_parser = parse_vec3)]
     pub background: Option<Vec3>,
+    /// Crop box: LO,HI for x, then y, then z, as fractions of the volume's extent
+    /// (e.g. 0,1,0,1,0.5,1 keeps the upper half in z). Rays sample only inside it.
+    #[arg(long, value_parser = parse_crop, value_name = "X0,X1,Y0,Y1,Z0,Z1")]
+    pub crop: Option<(Vec3, Vec3)>,
+    /// Clip plane: NX,NY,NZ@POSITION removes the side the normal points to; POSITION runs from
+    /// −1 (removes everything) through 0 (the centre) to 1 (keeps all). @0 when left out.
+    #[arg(long, value_parser = parse_clip_plane, allow_hyphen_values = true, value_name = "NX,NY,NZ@POSITION")]
+    pub clip_plane: Option<ClipPlane>,
 }
 
 /// The transfer function and settings a run uses, with anything worth telling the user.
@@ -356,6 +365,13 @@ impl SettingsArgs {
         if let Some(bg) = self.background {
             s.background = bg;
         }
+        if let Some((lo, hi)) = self.crop {
+            s.clip.crop_lo = lo;
+            s.clip.crop_hi = hi;
+        }
+        if let Some(p) = self.clip_plane {
+            s.clip.plane = Some(p);
+        }
         Ok(())
     }
 }
@@ -392,6 +408,36 @@ fn parse_classification(s: &str) -> Result<Classification, CliError> {
 }
 
 /// `x,y,z` → Vec3.
+/// `--crop`: six numbers, lower and upper side per axis.
+fn parse_crop(s: &str) -> Result<(Vec3, Vec3), String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{s}': expected six numbers x0,x1,y0,y1,z0,z1"))?;
+    let [x0, x1, y0, y1, z0, z1]: [f32; 6] = v
+        .try_into()
+        .map_err(|_| format!("'{s}': expected six numbers x0,x1,y0,y1,z0,z1"))?;
+    Ok((Vec3::new(x0, y0, z0), Vec3::new(x1, y1, z1)))
+}
+
+/// `--clip-plane`: a normal and an optional position after `@`.
+fn parse_clip_plane(s: &str) -> Result<ClipPlane, String> {
+    let (normal, position) = match s.split_once('@') {
+        Some((n, p)) => (
+            n,
+            p.trim()
+                .parse::<f32>()
+                .map_err(|_| format!("'{s}': the position after @ must be a number"))?,
+        ),
+        None => (s, 0.0),
+    };
+    Ok(ClipPlane {
+        normal: parse_vec3(normal)?,
+        position,
+    })
+}
+
 pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
     let v: Vec<f32> = s
         .split(',')

@@ -111,7 +111,10 @@ fn print_table(t: &voxcast_core::trace::RayTrace) {
             p.jitter,
             if p.capped { ", capped" } else { "" }
         ),
-        _ => println!("misses the volume"),
+        _ => println!("{}", t.stop.words()),
+    }
+    if let Some(cut) = t.cut_words() {
+        println!("{cut}");
     }
     println!(
         "{:>5} {:>10} {:>26} {:>12} {:>34} {:>9} {:>9} {:>34}",

@@ -10,6 +10,7 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("types.wgsl", include_str!("../../shaders/types.wgsl")),
     ("bindings.wgsl", include_str!("../../shaders/bindings.wgsl")),
     ("ray.wgsl", include_str!("../../shaders/ray.wgsl")),
+    ("clip.wgsl", include_str!("../../shaders/clip.wgsl")),
     ("step.wgsl", include_str!("../../shaders/step.wgsl")),
     ("sample.wgsl", include_str!("../../shaders/sample.wgsl")),
     ("transfer.wgsl", include_str!("../../shaders/transfer.wgsl")),
@@ -42,4 +43,73 @@ pub(super) fn plugin(app: &mut App) {
         }
     }
     app.insert_resource(LibraryShaders(library));
+}
+
+#[cfg(test)]
+mod tests {
+    //! The WGSL mirrors the core file for file and name for name: each shader's header names
+    //! its twin file and the functions it mirrors, and both must define them.
+
+    /// The header comment of `source`: the lines before its `#define_import_path`.
+    fn header(source: &str) -> String {
+        source
+            .lines()
+            .take_while(|l| l.starts_with("//"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
+
+    #[test]
+    fn every_shader_names_a_twin_that_defines_its_functions() {
+        let root = env!("CARGO_MANIFEST_DIR");
+        let mut mirrored = 0;
+        for (name, source) in super::SOURCES {
+            let head = header(source);
+            let Some(twin) = head
+                .split("Twin: ")
+                .nth(1)
+                .and_then(|rest| rest.split_whitespace().next())
+            else {
+                assert_eq!(*name, "bindings.wgsl", "{name} names no twin");
+                continue;
+            };
+            let twin = twin.trim_end_matches([',', ':', '.']);
+            let rust = std::fs::read_to_string(format!("{root}/{twin}"))
+                .unwrap_or_else(|e| panic!("{name}: twin {twin}: {e}"));
+            let stem = name.trim_end_matches(".wgsl");
+            if twin.starts_with("crates/voxcast_core/src/") && stem != "volume" {
+                assert!(
+                    twin.ends_with(&format!("/{stem}.rs")),
+                    "{name} mirrors {twin}: the file names must match"
+                );
+            }
+            // Names in backticks inside the parentheses right after the twin's path.
+            let Some(list) = head
+                .split(twin)
+                .nth(1)
+                .filter(|r| r.trim_start().starts_with('('))
+                .and_then(|r| r.split(')').next())
+            else {
+                continue;
+            };
+            for quoted in list.split('`').skip(1).step_by(2) {
+                let function = quoted.rsplit("::").next().unwrap();
+                if !function.starts_with(|c: char| c.is_ascii_lowercase()) {
+                    continue; // a type: its fields are checked by the uniform's layout test
+                }
+                assert!(
+                    rust.contains(&format!("fn {function}")),
+                    "{name}: {twin} has no fn {function}"
+                );
+                if !quoted.contains("::") {
+                    assert!(
+                        source.contains(&format!("fn {function}(")),
+                        "{name} has no fn {function} (named in its header)"
+                    );
+                }
+                mirrored += 1;
+            }
+        }
+        assert!(mirrored >= 20, "only {mirrored} functions named in headers");
+    }
 }

@@ -67,9 +67,10 @@ pub fn shader_defs() -> Vec<ShaderDefVal> {
 /// The preview's uniform (see `shaders/types.wgsl` for each member's meaning).
 #[derive(Clone, Debug, Default, PartialEq, ShaderType)]
 pub struct VolumeUniform {
-    pub box_lo: Vec3,
+    /// The volume's box after the crop box (world units).
+    pub crop_lo: Vec3,
     pub dt: f32,
-    pub box_hi: Vec3,
+    pub crop_hi: Vec3,
     pub dt_ref: f32,
     pub inv_spacing: Vec3,
     pub cutoff: f32,
@@ -127,6 +128,9 @@ pub struct VolumeUniform {
     pub no_data_above: f32,
     /// Rays per pixel side (n×n rays averaged per pixel).
     pub supersampling: u32,
+    /// The clip plane keeps `clip_normal·p ≤ clip_d`; a zero normal keeps all.
+    pub clip_normal: Vec3,
+    pub clip_d: f32,
 }
 
 impl VolumeUniform {
@@ -136,7 +140,6 @@ impl VolumeUniform {
         let v = scene.volume;
         let s = &scene.settings;
         let dims = v.dims();
-        let (box_lo, box_hi) = scene.bounds;
         let (slope, intercept) = v.rescale();
         let mut flags = 0;
         for (on, bit) in [
@@ -158,9 +161,9 @@ impl VolumeUniform {
             ResolvedLight::Toward(d) => (LIGHT_TOWARD, d),
         };
         let mut u = Self {
-            box_lo,
+            crop_lo: scene.clip.lo,
             dt: scene.dt,
-            box_hi,
+            crop_hi: scene.clip.hi,
             dt_ref: scene.dt_ref,
             inv_spacing: 1.0 / v.spacing(),
             cutoff: s.cutoff,
@@ -217,6 +220,8 @@ impl VolumeUniform {
             no_data: (v.no_data_count() > 0) as u32,
             no_data_above: v.raw_value_range().1,
             supersampling: s.supersampling.max(1),
+            clip_normal: scene.clip.normal,
+            clip_d: scene.clip.d,
         };
         match &scene.classifier {
             Classifier::Table => {}
@@ -314,9 +319,9 @@ mod tests {
         let u3 = |v: UVec3| v.to_array().iter().flat_map(|x| x.to_le_bytes()).collect();
         let v4 = |v: Vec4| v.to_array().iter().flat_map(|x| x.to_le_bytes()).collect();
         match name {
-            "box_lo" => v3(u.box_lo),
+            "crop_lo" => v3(u.crop_lo),
             "dt" => f(u.dt),
-            "box_hi" => v3(u.box_hi),
+            "crop_hi" => v3(u.crop_hi),
             "dt_ref" => f(u.dt_ref),
             "inv_spacing" => v3(u.inv_spacing),
             "cutoff" => f(u.cutoff),
@@ -369,6 +374,8 @@ mod tests {
             "no_data" => n(u.no_data),
             "no_data_above" => f(u.no_data_above),
             "supersampling" => n(u.supersampling),
+            "clip_normal" => v3(u.clip_normal),
+            "clip_d" => f(u.clip_d),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
     }
@@ -395,9 +402,9 @@ mod tests {
             counter
         };
         let u = VolumeUniform {
-            box_lo: Vec3::new(next(), next(), next()),
+            crop_lo: Vec3::new(next(), next(), next()),
             dt: next(),
-            box_hi: Vec3::new(next(), next(), next()),
+            crop_hi: Vec3::new(next(), next(), next()),
             dt_ref: next(),
             inv_spacing: Vec3::new(next(), next(), next()),
             cutoff: next(),
@@ -450,6 +457,8 @@ mod tests {
             no_data: 123,
             no_data_above: next(),
             supersampling: 124,
+            clip_normal: Vec3::new(next(), next(), next()),
+            clip_d: next(),
         };
         let mut buffer = UniformBuffer::new(Vec::<u8>::new());
         buffer.write(&u).unwrap();
@@ -459,7 +468,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 55, "members in the WGSL struct");
+        assert_eq!(members.len(), 57, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

@@ -79,8 +79,12 @@ pub struct RayTrace {
     pub method: Method,
     /// The compositing order (Accumulate): the order the samples were visited and recorded in.
     pub order: Order,
-    /// `[t_enter, t_exit]` in the box, if it was hit.
+    /// `[t_enter, t_exit]` where the ray samples: in the box, cut by the crop box and clip
+    /// plane; `None` if nothing of the volume was left on its way.
     pub interval: Option<[f32; 2]>,
+    /// `[t_enter, t_exit]` in the whole box, before any cut (equal to `interval` when nothing
+    /// was cut).
+    pub box_interval: Option<[f32; 2]>,
     pub plan: Option<StepPlan>,
     pub samples: Vec<SampleRecord>,
     pub first_hit: Option<FirstHit>,
@@ -94,6 +98,26 @@ pub struct RayTrace {
     pub background: [f32; 3],
     /// The final pixel over the background.
     pub pixel: [f32; 3],
+}
+
+impl RayTrace {
+    /// What the crop box or clip plane cut from this ray, in words; `None` when nothing was.
+    pub fn cut_words(&self) -> Option<String> {
+        use crate::numbers::sig;
+        let [a, b] = self.box_interval?;
+        let span = format!("the box spans t = {} to {}", sig(a), sig(b));
+        let Some([c, d]) = self.interval else {
+            return Some(format!("the cut removed all of it ({span})"));
+        };
+        let mut parts = Vec::new();
+        if c > a {
+            parts.push(format!("t = {} to {} in front", sig(a), sig(c)));
+        }
+        if d < b {
+            parts.push(format!("t = {} to {} behind", sig(d), sig(b)));
+        }
+        (!parts.is_empty()).then(|| format!("the cut removed {} ({span})", parts.join(" and ")))
+    }
 }
 
 /// Receives each sample's record; [`NoRecord`] compiles to nothing.

@@ -6,7 +6,7 @@
 //! | stage | file | what it does |
 //! | --- | --- | --- |
 //! | data | [`volume`], [`io`], [`builtin`] | the voxel grid, its readers and the embedded datasets |
-//! | ray | [`camera`], [`ray`] | one ray per pixel centre; the ray–box slab test |
+//! | ray | [`camera`], [`ray`], [`clip`] | one ray per pixel centre; the ray–box slab test; the crop box and clip plane |
 //! | step | [`step`] | where samples sit along the ray, jitter, the sample cap |
 //! | sample | [`sample`] | nearest / trilinear reconstruction, the 8 corners, gradients |
 //! | classify | [`transfer`], [`classify`] | value → colour and opacity (LUT, Levoy's modes) |
@@ -38,6 +38,7 @@ pub mod breakdown;
 pub mod builtin;
 pub mod camera;
 pub mod classify;
+pub mod clip;
 pub mod composite;
 pub mod error;
 pub mod explain;

@@ -3,6 +3,7 @@
 //! view, and the acceleration structures ([`crate::skip`], precomputed gradients).
 
 use crate::classify::Classifier;
+use crate::clip::ResolvedClip;
 use crate::composite::{Method, Order};
 use crate::error::SettingsError;
 use crate::hash::jitter_fraction;
@@ -29,6 +30,8 @@ pub struct Scene<'a> {
     /// First-hit target value, data units.
     pub target: f32,
     pub bounds: (Vec3, Vec3),
+    /// The crop box and clip plane in world units ([`crate::clip`]).
+    pub clip: ResolvedClip,
     /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
     pub empty: Option<(EmptyBlocks, VisibleCells)>,
     /// Whether Maximum, Minimum and First may skip blocks that cannot change their result.
@@ -95,6 +98,7 @@ impl<'a> Scene<'a> {
             dt_ref: settings.reference_step.world(voxel),
             target: settings.target.unwrap_or(0.5 * (lo + hi)),
             bounds: volume.bounds(),
+            clip: settings.clip.resolve(volume.bounds()),
             lut,
             settings: settings.clone(),
         })

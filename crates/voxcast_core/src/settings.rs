@@ -3,6 +3,7 @@
 //! Defaults and ranges come from [`crate::tunables`], where each is documented once.
 
 use crate::classify::Classification;
+use crate::clip::Clip;
 use crate::composite::{Method, Order};
 use crate::error::SettingsError;
 use crate::sample::Interpolation;
@@ -51,6 +52,8 @@ pub struct RenderSettings {
     pub background: Vec3,
     /// How opacity is assigned ([`crate::classify`]).
     pub classification: Classification,
+    /// The crop box and clip plane ([`crate::clip`]).
+    pub clip: Clip,
 }
 
 impl Default for RenderSettings {
@@ -74,6 +77,7 @@ impl Default for RenderSettings {
             phong: Phong::default(),
             background: Vec3::ZERO,
             classification: Classification::Table,
+            clip: Clip::default(),
         }
     }
 }
@@ -153,6 +157,7 @@ impl RenderSettings {
                 "background channels must lie in [0, 1]".into(),
             ));
         }
+        self.clip.validate()?;
         self.classification.validate()
     }
 }
@@ -160,7 +165,8 @@ impl RenderSettings {
 /// The combinations on which the GPU preview must agree with the CPU render (the sandbox's
 /// `--screenshot DIR --sweep` and its test): every method at steps 1 and ½ voxel, shading off and
 /// on; plus nearest interpolation, jitter, back-to-front order and no opacity correction for
-/// Accumulate. Each with a file stem naming it.
+/// Accumulate, and a crop box with an oblique clip plane for Accumulate and First. Each with a
+/// file stem naming it.
 pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
     let mut out = Vec::new();
     for method in Method::ALL {
@@ -219,6 +225,24 @@ pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
             ..accumulate.clone()
         },
     ));
+    let clip = crate::clip::Clip {
+        crop_lo: Vec3::new(0.1, 0.0, 0.15),
+        crop_hi: Vec3::new(1.0, 0.85, 1.0),
+        plane: Some(crate::clip::ClipPlane {
+            normal: Vec3::new(0.6, 0.3, 0.75),
+            position: 0.1,
+        }),
+    };
+    for method in [Method::Accumulate, Method::First] {
+        out.push((
+            format!("{}_clipped", method.name()),
+            RenderSettings {
+                method,
+                clip: clip.clone(),
+                ..accumulate.clone()
+            },
+        ));
+    }
     out.push((
         "accumulate_uncorrected".into(),
         RenderSettings {

@@ -11,6 +11,7 @@
 //! cannot disagree.
 
 use crate::classify::Classifier;
+use crate::clip::clip_interval;
 use crate::composite::{
     Method, Order, ValueStats, accumulate_back_to_front, accumulate_front_to_back,
     blend_background, correct_opacity, crossing_fraction, reaches,
@@ -37,6 +38,8 @@ pub use crate::scene::Scene;
 pub enum StopReason {
     /// The ray never entered the volume's box.
     Missed,
+    /// It crossed the box, but the crop box or clip plane had cut away all of it on its way.
+    CutAway,
     /// It crossed the box (or took no sample, when jitter pushed the only one out).
     LeftVolume,
     /// Early ray termination: the accumulated opacity reached the cutoff.
@@ -52,6 +55,7 @@ impl StopReason {
     pub const fn words(self) -> &'static str {
         match self {
             StopReason::Missed => "missed the volume",
+            StopReason::CutAway => "the crop box or clip plane cut away everything on its way",
             StopReason::LeftVolume => "left the volume",
             StopReason::Cutoff => "early termination: the opacity reached the cutoff",
             StopReason::FirstHit => "found the target value",
@@ -122,6 +126,7 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
         method: scene.settings.method,
         order: scene.settings.order,
         interval: interval.map(|(a, b)| [a, b]),
+        box_interval: intersect_box(ray, scene.bounds.0, scene.bounds.1).map(|(a, b)| [a, b]),
         plan: rec.plan,
         samples: rec.samples,
         first_hit: rec.first_hit,
@@ -176,8 +181,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
     }
 
+    /// Where `ray` samples: its interval in the volume's box, cut by the crop box and the clip
+    /// plane.
     fn interval(&self, ray: &Ray) -> Option<(f32, f32)> {
-        intersect_box(ray, self.s.bounds.0, self.s.bounds.1)
+        clip_interval(ray, &self.s.clip)
     }
 
     /// The reconstructed value (data units) at voxel-space point `pv`.
@@ -262,7 +269,15 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     #[inline]
     pub(crate) fn march<R: Recorder>(&self, ray: &Ray, jitter: f32, rec: &mut R) -> RayOutcome {
         let Some((t0, t1)) = self.interval(ray) else {
-            return RayOutcome::MISS;
+            let cut = intersect_box(ray, self.s.bounds.0, self.s.bounds.1).is_some();
+            return RayOutcome {
+                stop: if cut {
+                    StopReason::CutAway
+                } else {
+                    StopReason::Missed
+                },
+                ..RayOutcome::MISS
+            };
         };
         let set = &self.s.settings;
         let plan = plan_steps(t0, t1, self.s.dt, jitter, set.max_samples);

@@ -353,6 +353,40 @@ pub const MOVING_STEP_MULTIPLIER: Tunable = Tunable {
     max: 16.0,
 };
 
+pub const CROP: Tunable = Tunable {
+    key: "crop",
+    label: "Crop box",
+    doc: "Keep only a sub-box of the volume, per axis from a lower to an upper side given as \
+          fractions of the volume's extent (0 to 1): rays start sampling where they enter the \
+          cropped box, so what it removes is not drawn and not paid for. Equal sides keep a \
+          single slice. Default: the whole volume (0 to 1 on every axis).",
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const CLIP_PLANE: Tunable = Tunable {
+    key: "clip-plane",
+    label: "Clip plane",
+    doc: "Cut the volume with a plane and remove the side its normal points to, to look inside \
+          (the ventricles behind the skull). Rays sample only the kept side, starting at the cut \
+          face where they cross it. Default off.",
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const CLIP_POSITION: Tunable = Tunable {
+    key: "clip-position",
+    label: "Plane position",
+    doc: "Where the clip plane sits along its normal, as a fraction of the volume's half-size in \
+          that direction: 0 cuts through the centre, 1 touches the farthest corner (keeps all), \
+          −1 the nearest (keeps nothing). Default 0.",
+    default: 0.0,
+    min: -1.0,
+    max: 1.0,
+};
+
 /// Every tunable, for listing and for the UI.
 pub const ALL: &[Tunable] = &[
     VIRTUAL_RESOLUTION,
@@ -386,6 +420,9 @@ pub const ALL: &[Tunable] = &[
     ADAPTIVE_QUALITY,
     MOVING_SCALE,
     MOVING_STEP_MULTIPLIER,
+    CROP,
+    CLIP_PLANE,
+    CLIP_POSITION,
 ];
 
 #[cfg(test)]

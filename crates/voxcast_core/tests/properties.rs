@@ -8,6 +8,7 @@ use proptest::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use voxcast_core::camera::Camera;
 use voxcast_core::classify::Classification;
+use voxcast_core::clip::{Clip, ClipPlane};
 use voxcast_core::composite::{Method, Order};
 use voxcast_core::glam::{UVec3, Vec3};
 use voxcast_core::image_out::LinearImage;
@@ -64,6 +65,30 @@ fn transfer() -> impl Strategy<Value = TransferFunction> {
     })
 }
 
+/// No cut a third of the time, else a random crop box and maybe a clip plane.
+fn clip() -> impl Strategy<Value = Clip> {
+    (
+        0u8..3,
+        proptest::array::uniform3(0f32..=1.0),
+        proptest::array::uniform3(0f32..=1.0),
+        proptest::array::uniform3(-1f32..=1.0),
+        -1f32..=1.0,
+    )
+        .prop_map(|(kind, a, b, n, position)| {
+            if kind == 0 {
+                return Clip::default();
+            }
+            let (a, b) = (Vec3::from(a), Vec3::from(b));
+            let normal = Vec3::from(n);
+            Clip {
+                crop_lo: a.min(b),
+                crop_hi: a.max(b),
+                plane: (kind == 2 && normal.length_squared() > 1e-6)
+                    .then_some(ClipPlane { normal, position }),
+            }
+        })
+}
+
 fn settings() -> impl Strategy<Value = RenderSettings> {
     (
         prop_oneof![
@@ -82,6 +107,7 @@ fn settings() -> impl Strategy<Value = RenderSettings> {
         prop_oneof![Just(Interpolation::Trilinear), Just(Interpolation::Nearest)],
         0f32..255.0,
         prop_oneof![Just(0u8), Just(1), Just(2)],
+        clip(),
     )
         .prop_map(
             |(
@@ -95,6 +121,7 @@ fn settings() -> impl Strategy<Value = RenderSettings> {
                 interpolation,
                 target,
                 mode,
+                clip,
             )| RenderSettings {
                 method,
                 step: Length::Voxels(step),
@@ -124,6 +151,7 @@ fn settings() -> impl Strategy<Value = RenderSettings> {
                         full_gradient: None,
                     },
                 },
+                clip,
                 ..RenderSettings::default()
             },
         )

@@ -133,15 +133,18 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace) {
     ));
     match (t.interval, &t.plan) {
         (Some([a, b]), Some(p)) => ui.label(format!(
-            "enters the box at t = {}, leaves at t = {}; {} samples {} apart (first at t = {})",
+            "enters the volume at t = {}, leaves at t = {}; {} samples {} apart (first at t = {})",
             sig(a),
             sig(b),
             p.count,
             sig(p.dt),
             sig(p.t_enter + p.jitter * p.dt)
         )),
-        _ => ui.label("misses the volume's box"),
+        _ => ui.label(t.stop.words()),
     };
+    if let Some(cut) = t.cut_words() {
+        ui.label(format!("Looking inside: {cut}."));
+    }
     ui.horizontal(|ui| {
         ui.label(format!(
             "stopped: {} · C = {} · O = {} · pixel",
