@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the README's screenshots from the scripted play-through (`voxcast
 # --play-levels`, the same run tests/levels.rs checks): free play, a level's first step, a ray's
-# breakdown and Render image, at 1280×720, in docs/screenshots/.
+# breakdown, Render image and a cut volume, at 1280×720, in docs/screenshots/.
 #
 #   bash docs/screenshots.sh
 #
@@ -18,4 +18,5 @@ cp "$run/free_play.png" "$out/free_play.png"
 cp "$(ls "$run"/*_first-hit.png)" "$out/level.png"
 cp "$(ls "$run"/*_sampling_step*.png | head -1)" "$out/breakdown.png"
 cp "$(ls "$run"/*_preview-render_step*.png | head -1)" "$out/render_image.png"
+cp "$(ls "$run"/*_clipping_step*.png | head -1)" "$out/looking_inside.png"
 ls -l "$out"

@@ -15,8 +15,8 @@ use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::collections::HashMap;
 use std::sync::atomic::AtomicBool;
+use voxcast_core::clip::clip_interval;
 use voxcast_core::image_out::LinearImage;
-use voxcast_core::ray::intersect_box;
 use voxcast_core::render::render;
 use voxcast_core::trace::{RayTrace, Scene, trace_ray};
 use voxcast_core::tunables as t;
@@ -243,7 +243,7 @@ pub fn compute(
 ) {
     let (w, h) = (vc.width.max(1), vc.height.max(1));
     let v = &volume.volume;
-    let (lo, hi) = v.bounds();
+    let cut = render_state.settings.clip.resolve(v.bounds());
     let view = vc.view;
     inspection.size = UVec2::new(w, h);
     inspection.generation += 1;
@@ -255,7 +255,7 @@ pub fn compute(
             RayPath {
                 origin: r.origin,
                 dir: r.dir,
-                interval: intersect_box(&r, lo, hi),
+                interval: clip_interval(&r, &cut),
             }
         })
         .collect();

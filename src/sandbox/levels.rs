@@ -349,6 +349,11 @@ pub(super) fn situation(
         jitter: render.settings.jitter,
         trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
         supersampling: render.settings.supersampling,
+        clip: render.settings.clip.clone(),
+        ray_cut: breakdown
+            .trace
+            .as_ref()
+            .is_some_and(|t| t.cut_words().is_some()),
     }
 }
 

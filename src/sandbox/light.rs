@@ -130,7 +130,7 @@ fn place_marker(
 }
 
 /// The ray under the cursor, from the main camera's view (shown in the viewport).
-fn cursor_ray(window: &Window, viewport: Option<&Viewport>, view: &View) -> Option<Ray> {
+pub(super) fn cursor_ray(window: &Window, viewport: Option<&Viewport>, view: &View) -> Option<Ray> {
     let (min, size) = Viewport::of(viewport, window);
     let cursor = window.physical_cursor_position()? - min;
     let inside = cursor.cmpge(Vec2::ZERO).all() && cursor.cmplt(size.as_vec2()).all();

@@ -7,6 +7,7 @@
 mod breakdown;
 mod compare;
 mod compare_cli;
+mod cut;
 mod inspect;
 mod lattice;
 pub(crate) mod levels;
@@ -270,7 +271,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             breakdown::plugin,
             orbit::plugin,
             compare::plugin,
-            light::plugin,
+            (light::plugin, cut::plugin),
             loading::plugin,
             virtual_camera::plugin,
             inspect::plugin,

@@ -110,6 +110,7 @@ fn orbit_camera(
     mut last_cursor: Local<Option<Vec2>>,
     egui: Option<Res<EguiWantsInput>>,
     light_drag: Option<Res<LightDrag>>,
+    cut_drag: Option<Res<super::cut::CutDrag>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
 ) {
     let cursor = window.single().ok().and_then(|w| w.cursor_position());
@@ -118,7 +119,10 @@ fn orbit_camera(
         _ => Vec2::ZERO,
     };
     *last_cursor = cursor;
-    if egui.is_some_and(|e| e.wants_any_pointer_input()) || light_drag.is_some_and(|d| d.active()) {
+    if egui.is_some_and(|e| e.wants_any_pointer_input())
+        || light_drag.is_some_and(|d| d.active())
+        || cut_drag.is_some_and(|d| d.active())
+    {
         return;
     }
     // Raw motion where it arrives; the cursor's own movement where it does not.

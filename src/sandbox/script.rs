@@ -2,8 +2,8 @@
 //! would — the Levels panel's commands (start, Next), then for each step the change its
 //! control makes (a method chosen, a slider moved, a ray clicked, a point added to the transfer
 //! function, Render image pressed) — and takes a window screenshot of each level's first step
-//! (`DIR/NN_id.png`), of the steps that open a ray's breakdown or compare Render image with the
-//! preview once they are done (`DIR/NN_id_stepK.png`), and of free play at the end
+//! (`DIR/NN_id.png`), of the steps that open a ray's breakdown, compare Render image with the
+//! preview or crop the volume once they are done (`DIR/NN_id_stepK.png`), and of free play at the end
 //! (`DIR/free_play.png`). It checks that no objective is met before the player acts and that
 //! each is met after; `DIR/report.txt` lists every step, and the exit code is non-zero on a
 //! failure.
@@ -226,10 +226,12 @@ fn drive(
                 run.frames = 0;
             }
             if lessons.met {
-                // The breakdown and Render image steps are pictured once done.
+                // The breakdown, Render image and crop steps are pictured once done.
                 let pictured = matches!(
                     step.objective,
-                    Objective::OpenHighestSample | Objective::Compared { .. }
+                    Objective::OpenHighestSample
+                        | Objective::Compared { .. }
+                        | Objective::CropAtMost { .. }
                 );
                 let met_at = *run.met_at.get_or_insert(run.frames);
                 match run.step_shot {
@@ -298,6 +300,31 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
         }
         Objective::Jitter { on } => s.jitter = *on,
         Objective::SupersamplingAtLeast { rays } => s.supersampling = *rays,
+        Objective::ClipPlane { on } => {
+            if s.clip.plane.is_some() != *on {
+                // "Face the camera" for the virtual camera: its rays cross the plane.
+                let normal = hands
+                    .cameras
+                    .iter()
+                    .next()
+                    .map_or(Vec3::X, |vc| -vc.view.forward());
+                s.clip.plane = on.then_some(voxcast_core::clip::ClipPlane {
+                    normal,
+                    position: 0.0,
+                });
+            }
+        }
+        Objective::ClipPositionBetween { lo, hi } => {
+            let normal = s.clip.plane.map_or(Vec3::X, |p| p.normal);
+            s.clip.plane = Some(voxcast_core::clip::ClipPlane {
+                normal,
+                position: 0.5 * (lo + hi),
+            });
+        }
+        Objective::CropAtMost { fraction } => {
+            s.clip.crop_hi.x = (s.clip.crop_lo.x + fraction).min(1.0);
+        }
+        Objective::SelectCutRay => select_centre(hands),
         Objective::Interpolation { trilinear } => {
             s.interpolation = if *trilinear {
                 voxcast_core::sample::Interpolation::Trilinear

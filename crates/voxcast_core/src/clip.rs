@@ -51,7 +51,12 @@ pub struct ClipPlane {
 impl Clip {
     /// Whether this keeps the whole volume (no crop, no plane).
     pub fn is_none(&self) -> bool {
-        self.crop_lo == Vec3::ZERO && self.crop_hi == Vec3::ONE && self.plane.is_none()
+        !self.is_cropped() && self.plane.is_none()
+    }
+
+    /// Whether the crop box keeps less than the whole volume.
+    pub fn is_cropped(&self) -> bool {
+        self.crop_lo != Vec3::ZERO || self.crop_hi != Vec3::ONE
     }
 
     /// Checks every value against its documented range.
@@ -118,6 +123,61 @@ pub struct ResolvedClip {
     pub hi: Vec3,
     pub normal: Vec3,
     pub d: f32,
+}
+
+impl ResolvedClip {
+    /// Whether there is a clip plane.
+    pub fn has_plane(&self) -> bool {
+        self.normal != Vec3::ZERO
+    }
+
+    /// Where the clip plane crosses the cropped box: the corners of that polygon (3 to 6) in
+    /// order around it; empty without a plane or where it misses the box.
+    pub fn plane_polygon(&self) -> Vec<Vec3> {
+        if !self.has_plane() {
+            return Vec::new();
+        }
+        let corner = |i: usize| {
+            Vec3::new(
+                if i & 1 == 0 { self.lo.x } else { self.hi.x },
+                if i & 2 == 0 { self.lo.y } else { self.hi.y },
+                if i & 4 == 0 { self.lo.z } else { self.hi.z },
+            )
+        };
+        let mut points: Vec<Vec3> = Vec::new();
+        for a in 0..8usize {
+            for bit in [1usize, 2, 4] {
+                if a & bit != 0 {
+                    continue;
+                }
+                let (pa, pb) = (corner(a), corner(a | bit));
+                let (sa, sb) = (self.normal.dot(pa) - self.d, self.normal.dot(pb) - self.d);
+                if (sa <= 0.0) == (sb <= 0.0) && sa != 0.0 && sb != 0.0 {
+                    continue;
+                }
+                let p = if sa == sb {
+                    pa
+                } else {
+                    pa + (pb - pa) * (sa / (sa - sb))
+                };
+                let scale = (self.hi - self.lo).max_element().max(f32::MIN_POSITIVE);
+                if points.iter().all(|q| q.distance(p) > 1e-5 * scale) {
+                    points.push(p);
+                }
+            }
+        }
+        if points.len() < 3 {
+            return Vec::new();
+        }
+        let centre = points.iter().copied().sum::<Vec3>() / points.len() as f32;
+        let u = self.normal.any_orthonormal_vector();
+        let v = self.normal.cross(u);
+        points.sort_by(|a, b| {
+            let angle = |p: &Vec3| (*p - centre).dot(v).atan2((*p - centre).dot(u));
+            angle(a).total_cmp(&angle(b))
+        });
+        points
+    }
 }
 
 /// `[t_enter, t_exit]` of `ray` in what the cut keeps of the volume, clipped to the ray's
@@ -235,6 +295,35 @@ mod tests {
         // Origin at x = 1 (removed: −x·1 > −2), looking +x: enters at x = 2.
         let r = ray(Vec3::new(1.0, 1.0, 1.0), Vec3::X);
         assert_eq!(clip_interval(&r, &c), Some((1.0, 3.0)));
+    }
+
+    #[test]
+    fn the_plane_polygon_lies_on_the_plane_and_on_the_box() {
+        // Through the centre along x: a 2×2 square at x = 2.
+        let c = plane(Vec3::X, 0.0).resolve(BOUNDS);
+        let square = c.plane_polygon();
+        assert_eq!(square.len(), 4);
+        assert!(square.iter().all(|p| p.x == 2.0));
+        // Oblique through the centre of a cube: a regular hexagon.
+        let cube = (Vec3::ZERO, Vec3::splat(2.0));
+        let hexagon = plane(Vec3::ONE, 0.0).resolve(cube).plane_polygon();
+        assert_eq!(hexagon.len(), 6);
+        for (i, p) in hexagon.iter().enumerate() {
+            assert!((p.dot(Vec3::ONE.normalize()) - 3f32.sqrt()).abs() < 1e-5);
+            let q = hexagon[(i + 1) % 6];
+            assert!(
+                (p.distance(q) - 2f32.sqrt()).abs() < 1e-5,
+                "neighbours in order"
+            );
+        }
+        // Touching one corner only, or no plane: nothing to draw.
+        assert!(
+            plane(Vec3::ONE, 1.0)
+                .resolve(cube)
+                .plane_polygon()
+                .is_empty()
+        );
+        assert!(Clip::default().resolve(cube).plane_polygon().is_empty());
     }
 
     #[test]

@@ -26,6 +26,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/06_levoy.json"),
     include_str!("../../../assets/levels/10_light.json"),
     include_str!("../../../assets/levels/07_transfer.json"),
+    include_str!("../../../assets/levels/13_clipping.json"),
     include_str!("../../../assets/levels/08_preview_render.json"),
 ];
 
@@ -65,6 +66,7 @@ pub enum Section {
     TransferFunction,
     VirtualCamera,
     Preview,
+    LookingInside,
 }
 
 /// A panel control a step is about (highlighted while the step is shown).
@@ -89,6 +91,8 @@ pub enum Control {
     Jitter,
     Interpolation,
     Supersampling,
+    CropBox,
+    ClipPlane,
 }
 
 impl Control {
@@ -108,6 +112,7 @@ impl Control {
             Control::Shading | Control::Light => Some(Section::ShadingAndLight),
             Control::Classification | Control::TransferFunction => Some(Section::TransferFunction),
             Control::StepTrade => Some(Section::SpeedAccuracy),
+            Control::CropBox | Control::ClipPlane => Some(Section::LookingInside),
             Control::PixelGrid | Control::Breakdown | Control::RenderImage => None,
         }
     }
@@ -178,6 +183,14 @@ pub enum Objective {
     Attenuated,
     /// Measure the step size's trade for the view on screen.
     TradeMeasured,
+    /// Turn the clip plane on or off.
+    ClipPlane { on: bool },
+    /// Put the clip plane (on) at a position within `[lo, hi]`.
+    ClipPositionBetween { lo: f32, hi: f32 },
+    /// Crop the box to at most `fraction` of the volume's extent along some axis.
+    CropAtMost { fraction: f32 },
+    /// Select a ray whose sampled part the crop box or clip plane shortened.
+    SelectCutRay,
 }
 
 /// One step of a level.
@@ -238,6 +251,10 @@ pub struct Situation {
     pub trilinear: bool,
     /// Rays per pixel side.
     pub supersampling: u32,
+    /// The crop box and clip plane.
+    pub clip: crate::clip::Clip,
+    /// The selected ray's sampled part was shortened by the cut.
+    pub ray_cut: bool,
 }
 
 impl Objective {
@@ -292,6 +309,16 @@ impl Objective {
             Objective::LightKind { light } => s.light_kind == light,
             Objective::Attenuated => s.attenuated,
             Objective::TradeMeasured => s.trade_measured,
+            Objective::ClipPlane { on } => s.clip.plane.is_some() == *on,
+            Objective::ClipPositionBetween { lo, hi } => s
+                .clip
+                .plane
+                .is_some_and(|p| p.position >= *lo && p.position <= *hi),
+            Objective::CropAtMost { fraction } => {
+                let kept = s.clip.crop_hi - s.clip.crop_lo;
+                kept.min_element() <= fraction + 1e-3
+            }
+            Objective::SelectCutRay => s.ray_selected && s.ray_cut,
         }
     }
 }
@@ -484,6 +511,8 @@ mod tests {
                     Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
                     Objective::Compared { max } => vec![*max],
                     Objective::SupersamplingAtLeast { rays } => vec![*rays as f32],
+                    Objective::ClipPositionBetween { lo, hi } => vec![*lo, *hi],
+                    Objective::CropAtMost { fraction } => vec![*fraction],
                     Objective::PredictValue { point, tolerance } => {
                         point.iter().copied().chain([*tolerance]).collect()
                     }
@@ -570,6 +599,25 @@ mod tests {
         assert!(!Objective::SupersamplingAtLeast { rays: 2 }.met(&s));
         s.supersampling = 3;
         assert!(Objective::SupersamplingAtLeast { rays: 2 }.met(&s));
+        let between = Objective::ClipPositionBetween { lo: -0.6, hi: -0.2 };
+        assert!(Objective::ClipPlane { on: false }.met(&s));
+        assert!(!between.met(&s), "no plane: no position");
+        s.clip.plane = Some(crate::clip::ClipPlane {
+            normal: glam::Vec3::X,
+            position: -0.4,
+        });
+        assert!(Objective::ClipPlane { on: true }.met(&s) && between.met(&s));
+        s.clip.plane.as_mut().unwrap().position = 0.0;
+        assert!(!between.met(&s));
+        let crop = Objective::CropAtMost { fraction: 0.5 };
+        assert!(!crop.met(&s));
+        s.clip.crop_lo.z = 0.3;
+        s.clip.crop_hi.z = 0.8;
+        assert!(crop.met(&s));
+        s.ray_selected = true;
+        assert!(!Objective::SelectCutRay.met(&s));
+        s.ray_cut = true;
+        assert!(Objective::SelectCutRay.met(&s));
         assert!(!Objective::VirtualPixelsAtLeast { pixels: 8 }.met(&s));
         assert!(
             !Objective::Method {

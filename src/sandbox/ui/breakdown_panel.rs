@@ -140,7 +140,10 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace) {
             sig(p.dt),
             sig(p.t_enter + p.jitter * p.dt)
         )),
-        _ => ui.label(t.stop.words()),
+        _ if t.stop == voxcast_core::trace::StopReason::CutAway => {
+            ui.label("crosses the volume's box, but the cut leaves nothing of it to sample")
+        }
+        _ => ui.label("misses the volume's box"),
     };
     if let Some(cut) = t.cut_words() {
         ui.label(format!("Looking inside: {cut}."));

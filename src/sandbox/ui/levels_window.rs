@@ -32,6 +32,8 @@ fn control_name(c: Control) -> String {
         Control::Jitter => "Jitter",
         Control::Interpolation => "Trilinear interpolation",
         Control::Supersampling => "Supersampling",
+        Control::CropBox => "Crop box",
+        Control::ClipPlane => "Clip plane",
     };
     match c.section() {
         Some(s) => format!("Settings › {} › {label}", super::title(s)),

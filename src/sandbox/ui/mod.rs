@@ -4,6 +4,7 @@
 mod breakdown_panel;
 mod classify;
 pub(crate) mod compare;
+mod cut;
 mod levels_window;
 mod light;
 mod ray_overlay;
@@ -133,6 +134,7 @@ fn title(s: Section) -> &'static str {
         Section::TransferFunction => "Transfer function",
         Section::VirtualCamera => "Virtual camera",
         Section::Preview => "Preview (slow hardware)",
+        Section::LookingInside => "Looking inside (crop and clip)",
     }
 }
 
@@ -533,7 +535,11 @@ fn settings_panel(
         Res<levels::Lessons>,
         Res<State<super::mode::Mode>>,
     ),
-    (mut render, mut step_trade): (ResMut<RenderState>, ResMut<super::trade::StepTrade>),
+    (mut render, mut step_trade, mut cut_handles): (
+        ResMut<RenderState>,
+        ResMut<super::trade::StepTrade>,
+        ResMut<super::cut::CutHandles>,
+    ),
     (diagnostics, mut preview, live): (
         Res<DiagnosticsStore>,
         ResMut<PreviewSettings>,
@@ -599,6 +605,16 @@ fn settings_panel(
                                 &mut step_trade,
                                 trade_current,
                                 edited.settings.step.voxels(voxel),
+                                spot,
+                            )
+                        });
+                        section(ui, Section::LookingInside, false, guide, |ui| {
+                            let forward = main_views.single().ok().map(|v| v.0.forward());
+                            cut::cut_section(
+                                ui,
+                                &mut edited.settings.clip,
+                                &mut cut_handles,
+                                forward,
                                 spot,
                             )
                         });
@@ -739,6 +755,12 @@ mod tests {
                 }
                 trade::trade_section(ui, &mut step_trade, false, 0.5, None);
                 preview_section(ui, &mut preview, Some(&live), &mut depth);
+                let mut handles = crate::sandbox::cut::CutHandles { crop: true };
+                s.clip.plane = Some(voxcast_core::clip::ClipPlane {
+                    normal: Vec3::X,
+                    position: 0.2,
+                });
+                cut::cut_section(ui, &mut s.clip, &mut handles, Some(Vec3::Z), None);
             });
             assert!(missing.is_empty(), "{method:?}: no glyph for {missing:?}");
         }
@@ -769,6 +791,8 @@ mod tests {
             (Control::Shading, Section::ShadingAndLight),
             (Control::StepTrade, Section::SpeedAccuracy),
             (Control::VirtualPixels, Section::VirtualCamera),
+            (Control::ClipPlane, Section::LookingInside),
+            (Control::CropBox, Section::LookingInside),
         ] {
             let guide = Guide {
                 spot: Some(c),
