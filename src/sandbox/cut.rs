@@ -328,7 +328,11 @@ mod tests {
         let clip = &render.settings.clip;
         assert_eq!((clip.crop_lo.z, clip.crop_hi.z), (0.7, 0.7));
         assert!(render.settings.validate().is_ok());
-        // A cropped box shows its handles without the switch.
+        // A cropped box shows its handles without the switch; the plane's handle goes where
+        // the plane misses what is left (here a slice of zero thickness it does not cross).
+        assert_eq!(handles(&render, &volume, false).len(), 6);
+        apply(&mut render, Handle::Crop(2, false), 0.2);
+        apply(&mut render, Handle::Plane, 0.0);
         assert_eq!(handles(&render, &volume, false).len(), 7);
     }
 }
