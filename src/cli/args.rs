@@ -121,6 +121,9 @@ pub struct SettingsArgs {
     /// Turn early ray termination off.
     #[arg(long)]
     pub no_early_termination: bool,
+    /// Turn empty-space skipping off (the image stays the same; only the time changes).
+    #[arg(long)]
+    pub no_skipping: bool,
     /// Accumulate's sample order.
     #[arg(long, value_parser = ["front-to-back", "back-to-front"])]
     pub order: Option<String>,
@@ -295,6 +298,9 @@ impl SettingsArgs {
         }
         if self.no_early_termination {
             s.early_termination = false;
+        }
+        if self.no_skipping {
+            s.skipping = false;
         }
         if let Some(o) = &self.order {
             s.order = if o == "back-to-front" {

@@ -7,6 +7,7 @@ use clap::Args;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
+use voxcast_core::cost::{CostView, render_cost};
 use voxcast_core::image_out::LinearImage;
 use voxcast_core::render::{RenderStats, render};
 use voxcast_core::trace::Scene;
@@ -31,6 +32,11 @@ pub struct RenderArgs {
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Also write what each pixel's rays cost as a heat map, beside the image (`_cost` added
+    /// to its name): samples (interpolated), skipped (positions passed without interpolating)
+    /// or stops (how the rays stopped).
+    #[arg(long, value_parser = ["samples", "skipped", "stops"])]
+    pub cost: Option<String>,
 }
 
 /// One timed render's outcome.
@@ -153,5 +159,44 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     if let Some(warning) = timed.stats.cap_warning(s.max_samples) {
         eprintln!("warning: {warning}");
     }
+    if let Some(view) = a.cost.as_deref().and_then(CostView::parse) {
+        write_cost(&scene, &camera, a, view)?;
+    }
+    Ok(())
+}
+
+/// Writes the cost heat map of the render beside its image, and says what its scale means.
+fn write_cost(
+    scene: &Scene<'_>,
+    camera: &voxcast_core::camera::Camera,
+    a: &RenderArgs,
+    view: CostView,
+) -> Result<(), CliError> {
+    let progress = Progress::new("cost");
+    let cancel = AtomicBool::new(false);
+    let map = render_cost(
+        scene,
+        camera,
+        a.size,
+        &|d, t| progress.update(d, t),
+        &cancel,
+    )
+    .map_err(|e| CliError::failed(e.to_string()))?;
+    progress.finish();
+    let stem = a.out.file_stem().unwrap_or_default().to_string_lossy();
+    let path = a.out.with_file_name(format!("{stem}_cost.png"));
+    map.image(view)
+        .save_png(&path)
+        .map_err(|e| CliError::failed(format!("cannot write {}: {e}", path.display())))?;
+    let scale = match view {
+        CostView::Stops => String::new(),
+        _ => format!(" (pale yellow = {} a pixel)", map.max(view)),
+    };
+    println!(
+        "cost ({}){scale} → {}: {}",
+        view.name(),
+        path.display(),
+        view.doc()
+    );
     Ok(())
 }

@@ -154,23 +154,14 @@ fn sync_volume_material(
         material.lut = assets.images.add(lut_image(&scene.lut));
         uploaded.lut = Some(render.transfer.clone());
     }
-    // Empty-space skipping where the core would skip (Accumulate, front to back, the table or
-    // boundary classification): the same blocks, re-marked when the table changes.
-    let skippable = settings.method == voxcast_core::composite::Method::Accumulate
-        && settings.order == voxcast_core::composite::Order::FrontToBack
-        && !matches!(
-            scene.classifier,
-            voxcast_core::classify::Classifier::IsoContours { .. }
-        );
+    // Empty-space skipping where the core would skip (`Scene::skips_empty`): the same blocks,
+    // re-marked when the table changes.
+    let skippable = scene.skips_empty();
     let blocks = state.volume.block_ranges();
     material.uniform.blocks = UVec3::new(blocks.blocks.x, blocks.blocks.y, blocks.blocks.z);
     material.uniform.skip_empty = skippable as u32;
     // First, Maximum and Minimum pass blocks by their value ranges, as the core does.
-    use voxcast_core::composite::Method;
-    material.uniform.skip_ranges = matches!(
-        settings.method,
-        Method::First | Method::Maximum | Method::Minimum
-    ) as u32;
+    material.uniform.skip_ranges = scene.skips_by_ranges() as u32;
     material.uniform.ties_skippable =
         (state.volume.scalar_type() != voxcast_core::volume::ScalarType::F32) as u32;
     let wanted = skippable.then(|| render.transfer.clone());

@@ -13,7 +13,7 @@
 //! | shade | [`shade`] | Phong / Blinn–Phong with central-difference normals |
 //! | composite | [`composite`] | Accumulate, First, Average, Maximum, Minimum |
 //! | trace | [`scene`], [`trace`], [`breakdown`], [`explain`] | what a render shares; one ray, optionally recorded sample by sample, and its formulas with the numbers put in |
-//! | render | [`render`] | every pixel, in parallel, cancellable |
+//! | render | [`render`], [`cost`] | every pixel, in parallel, cancellable; what each pixel's rays cost, as a heat map |
 //!
 //! # Conventions (written down once)
 //!
@@ -39,7 +39,9 @@ pub mod builtin;
 pub mod camera;
 pub mod classify;
 pub mod clip;
+pub mod colormap;
 pub mod composite;
+pub mod cost;
 pub mod error;
 pub mod explain;
 pub mod hash;

@@ -271,21 +271,21 @@ pub fn render_with_threads(
 type TileResult = (u32, u32, Vec<Vec4>, u64, u64, u64);
 
 /// One render's inputs, for either output.
-struct Job<'x, 'a> {
-    scene: &'x Scene<'a>,
-    camera: &'x Camera,
-    width: u32,
-    height: u32,
-    occluders: &'x [Occluder],
-    progress: &'x (dyn Fn(usize, usize) + Sync),
-    cancel: &'x AtomicBool,
+pub(crate) struct Job<'x, 'a> {
+    pub(crate) scene: &'x Scene<'a>,
+    pub(crate) camera: &'x Camera,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) occluders: &'x [Occluder],
+    pub(crate) progress: &'x (dyn Fn(usize, usize) + Sync),
+    pub(crate) cancel: &'x AtomicBool,
 }
 
 impl Job<'_, '_> {
     /// Every pixel's rays through `grid`, each ray's outcome turned into a value by `value`
     /// (given the background and the colour of the occluder that stopped it, if one did) and
     /// averaged over the supersamples; row by row.
-    fn run<T: Voxel>(
+    pub(crate) fn run<T: Voxel>(
         &self,
         grid: Grid<'_, T>,
         value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,

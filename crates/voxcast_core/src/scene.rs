@@ -51,10 +51,7 @@ impl<'a> Scene<'a> {
     ) -> Result<Self, SettingsError> {
         let mut scene = Self::plain(volume, tf, settings, view_forward)?;
         let lut = &scene.lut;
-        let skippable = settings.method == Method::Accumulate
-            && settings.order == Order::FrontToBack
-            && !matches!(scene.classifier, Classifier::IsoContours { .. });
-        scene.empty = skippable.then(|| {
+        scene.empty = scene.skips_empty().then(|| {
             (
                 EmptyBlocks::new(volume.block_ranges(), lut),
                 VisibleCells::new(volume, lut),
@@ -64,10 +61,7 @@ impl<'a> Scene<'a> {
         if needs_gradient {
             scene.differences = volume.lattice_differences();
         }
-        scene.block_skipping = matches!(
-            settings.method,
-            Method::Maximum | Method::Minimum | Method::First
-        );
+        scene.block_skipping = scene.skips_by_ranges();
         if scene.block_skipping {
             volume.block_ranges(); // computed now, not inside the first render
         }
@@ -102,6 +96,27 @@ impl<'a> Scene<'a> {
             lut,
             settings: settings.clone(),
         })
+    }
+
+    /// Whether empty space is skipped by the transfer function's visibility: on, for
+    /// Accumulate front to back, unless Levoy's isovalue contours (which make any value
+    /// visible near an isovalue) classify.
+    pub fn skips_empty(&self) -> bool {
+        let s = &self.settings;
+        s.skipping
+            && s.method == Method::Accumulate
+            && s.order == Order::FrontToBack
+            && !matches!(self.classifier, Classifier::IsoContours { .. })
+    }
+
+    /// Whether First, Maximum and Minimum pass blocks that cannot change their result, by the
+    /// blocks' value ranges (when skipping is on).
+    pub fn skips_by_ranges(&self) -> bool {
+        self.settings.skipping
+            && matches!(
+                self.settings.method,
+                Method::Maximum | Method::Minimum | Method::First
+            )
     }
 
     /// The jitter fraction for image position `key` (pixel, or sub-pixel with supersampling).

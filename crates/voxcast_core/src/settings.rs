@@ -28,6 +28,8 @@ pub struct RenderSettings {
     pub reference_step: Length,
     /// [`t::EARLY_TERMINATION`].
     pub early_termination: bool,
+    /// [`t::SKIPPING`].
+    pub skipping: bool,
     /// [`t::CUTOFF`].
     pub cutoff: f32,
     /// Sample order for Accumulate.
@@ -65,6 +67,7 @@ impl Default for RenderSettings {
             opacity_correction: t::OPACITY_CORRECTION.default != 0.0,
             reference_step: Length::Voxels(t::REFERENCE_STEP.default),
             early_termination: t::EARLY_TERMINATION.default != 0.0,
+            skipping: t::SKIPPING.default != 0.0,
             cutoff: t::CUTOFF.default,
             order: Order::FrontToBack,
             jitter: t::JITTER.default != 0.0,

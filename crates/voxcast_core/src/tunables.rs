@@ -67,6 +67,18 @@ pub const EARLY_TERMINATION: Tunable = Tunable {
     max: 1.0,
 };
 
+pub const SKIPPING: Tunable = Tunable {
+    key: "skipping",
+    label: "Empty-space skipping",
+    doc: "Pass over space that cannot change the pixel without sampling it: 8×8×8-voxel blocks \
+          (and, on the CPU, cells) the transfer function makes transparent under Accumulate, \
+          and blocks whose values cannot hold the First hit or beat the running Maximum or \
+          Minimum. It never changes a pixel, only the time. Default on.",
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+};
+
 pub const CUTOFF: Tunable = Tunable {
     key: "cutoff",
     label: "Opacity cutoff",
@@ -420,6 +432,7 @@ pub const ALL: &[Tunable] = &[
     ADAPTIVE_QUALITY,
     MOVING_SCALE,
     MOVING_STEP_MULTIPLIER,
+    SKIPPING,
     CROP,
     CLIP_PLANE,
     CLIP_POSITION,

@@ -224,6 +224,12 @@ proptest! {
         let (a, _) = render_with_threads(&skipping, &camera, 12, 9, 1).unwrap();
         let (b, _) = render_with_threads(&plain_scene, &camera, 12, 9, 1).unwrap();
         prop_assert_eq!(&a.pixels, &b.pixels);
+        // The switch a user turns does the same.
+        let off = RenderSettings { skipping: false, ..s.clone() };
+        let unskipped = Scene::new(&v, &tf, &off, camera.forward()).unwrap();
+        prop_assert!(unskipped.empty.is_none() && !unskipped.block_skipping);
+        let (c, _) = render_with_threads(&unskipped, &camera, 12, 9, 1).unwrap();
+        prop_assert_eq!(&a.pixels, &c.pixels);
         // The inspector's numbers are the renderer's.
         for (px, py) in [(0u32, 0u32), (6, 4), (11, 8), (3, 7)] {
             let t = trace_ray(&skipping, &camera.pixel_ray(px, py, 12, 9), [px, py]);
