@@ -17,6 +17,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 use voxcast_core::camera::Camera as CoreCamera;
+use voxcast_core::cost::CostMap;
 use voxcast_core::image_out::{ImageDiff, LinearImage};
 use voxcast_core::render::{RenderStats, render};
 use voxcast_core::settings::RenderSettings;
@@ -41,6 +42,8 @@ pub struct Comparison {
     pub result: Option<Compared>,
     /// Why the last request produced no result (cancelled, or an error).
     pub message: Option<String>,
+    /// What Render image shows of the render: the picture (`None`) or what its rays cost.
+    pub cost_view: Option<voxcast_core::cost::CostView>,
 }
 
 /// A render in flight and the preview capture it will be compared with.
@@ -88,6 +91,8 @@ struct Rendered {
     image: LinearImage,
     stats: RenderStats,
     seconds: f64,
+    /// What each pixel's rays cost (a second pass after the timed one).
+    cost: Option<CostMap>,
 }
 
 /// A finished comparison.
@@ -99,6 +104,8 @@ pub struct Compared {
     pub diff: Option<(ImageDiff, LinearImage)>,
     pub stats: RenderStats,
     pub seconds: f64,
+    /// What each pixel's rays cost (`voxcast_core::cost`).
+    pub cost: Option<CostMap>,
     pub snapshot: Snapshot,
     /// Bumped for every new result, so views can tell when to re-upload their textures.
     pub generation: u64,
@@ -171,6 +178,7 @@ impl Compared {
             diff,
             stats: cpu.stats,
             seconds: cpu.seconds,
+            cost: cpu.cost,
             snapshot,
             generation,
         }
@@ -215,11 +223,27 @@ pub fn save_pngs(result: &Compared, path: &str) -> Result<Vec<PathBuf>, String> 
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<Comparison>().add_systems(
         PostUpdate,
-        (start_capture, collect_result)
+        (forget_on_new_scene, start_capture, collect_result)
             .chain()
             .after(CameraUpdateSystems)
             .after(super::state::SyncSystems),
     );
+}
+
+/// A comparison belongs to the scene it was asked for: entering another level or free play
+/// cancels one under way (else it would capture the new scene a few frames later) and forgets
+/// the last result.
+fn forget_on_new_scene(
+    mode: Option<Res<State<super::mode::Mode>>>,
+    mut comparison: ResMut<Comparison>,
+) {
+    if mode.is_some_and(|m| m.is_changed() && !m.is_added()) {
+        comparison.cancel();
+        comparison.job = None; // dropping the task stops it
+        comparison.result = None;
+        comparison.message = None;
+        comparison.cost_view = None;
+    }
 }
 
 /// Counts the settle frames down, then captures the preview and starts the CPU render of the
@@ -341,10 +365,21 @@ fn start_capture(
                     *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));
                 }
             }
+            let seconds = started.elapsed().as_secs_f64();
+            // The cost view's counts, from the same march (not in the time above).
+            let cost = voxcast_core::cost::render_cost(
+                &scene,
+                &s.camera,
+                (s.size.x, s.size.y),
+                &|_, _| {},
+                &cancel,
+            )
+            .map_err(|_| "cancelled".to_string())?;
             Ok(Rendered {
                 image,
                 stats,
-                seconds: started.elapsed().as_secs_f64(),
+                seconds,
+                cost: Some(cost),
             })
         })
     };
@@ -403,6 +438,13 @@ pub(crate) mod tests {
         done.seconds = 0.123_456;
         done.stats.rays = 12;
         done.stats.capped = 3; // the sample cap's warning is drawn too
+        done.cost = Some(CostMap {
+            width: 4,
+            height: 3,
+            rays_per_pixel: 1,
+            pixels: vec![[3, 9, 1, 0, 1]; 12],
+            stats: done.stats,
+        });
         Compared::new(done, gpu, snapshot(), 1)
     }
 
@@ -428,6 +470,7 @@ pub(crate) mod tests {
             image: img,
             stats: RenderStats::default(),
             seconds: 0.0,
+            cost: None,
         }
     }
 

@@ -350,6 +350,13 @@ pub(super) fn situation(
         trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
         supersampling: render.settings.supersampling,
         clip: render.settings.clip.clone(),
+        skipping: render.settings.skipping,
+        cost_view: comparison
+            .result
+            .as_ref()
+            .filter(|r| r.snapshot.is_current(view, render, volume))
+            .and(comparison.cost_view)
+            .map(|v| v.name()),
         ray_cut: breakdown
             .trace
             .as_ref()

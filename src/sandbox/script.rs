@@ -118,6 +118,7 @@ struct Hands<'w, 's> {
     progressive: Option<Res<'w, super::progressive::Progressive>>,
     motion: Option<Res<'w, super::preview::Motion>>,
     volume: Res<'w, VolumeState>,
+    main_view: Query<'w, 's, &'static super::state::View, With<super::state::MainCamera>>,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -232,6 +233,7 @@ fn drive(
                     Objective::OpenHighestSample
                         | Objective::Compared { .. }
                         | Objective::CropAtMost { .. }
+                        | Objective::CostViewed { .. }
                 );
                 let met_at = *run.met_at.get_or_insert(run.frames);
                 match run.step_shot {
@@ -261,7 +263,10 @@ fn drive(
                 {
                     run.report.extend(trade_lines(t));
                 }
-                if matches!(step.objective, Objective::Compared { .. }) {
+                if matches!(
+                    step.objective,
+                    Objective::Compared { .. } | Objective::CostViewed { .. }
+                ) {
                     // Done comparing: the player closes the window.
                     hands.compare_window.open = false;
                 }
@@ -325,6 +330,19 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             s.clip.crop_hi.x = (s.clip.crop_lo.x + fraction).min(1.0);
         }
         Objective::SelectCutRay => select_centre(hands),
+        Objective::Skipping { on } => s.skipping = *on,
+        Objective::CostViewed { view } => {
+            // Render image pressed (again, if the settings changed), then the view chosen.
+            hands.compare_window.open = true;
+            let current = hands.comparison.result.as_ref().is_some_and(|r| {
+                r.snapshot
+                    .is_current(hands.main_view.single().ok(), &hands.render, &hands.volume)
+            });
+            if !current && !hands.comparison.busy() {
+                hands.comparison.start();
+            }
+            hands.comparison.cost_view = voxcast_core::cost::CostView::parse(view);
+        }
         Objective::Interpolation { trilinear } => {
             s.interpolation = if *trilinear {
                 voxcast_core::sample::Interpolation::Trilinear

@@ -27,6 +27,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/10_light.json"),
     include_str!("../../../assets/levels/07_transfer.json"),
     include_str!("../../../assets/levels/13_clipping.json"),
+    include_str!("../../../assets/levels/14_acceleration.json"),
     include_str!("../../../assets/levels/08_preview_render.json"),
 ];
 
@@ -93,6 +94,7 @@ pub enum Control {
     Supersampling,
     CropBox,
     ClipPlane,
+    Skipping,
 }
 
 impl Control {
@@ -107,7 +109,8 @@ impl Control {
             | Control::Order
             | Control::Jitter
             | Control::Interpolation
-            | Control::Supersampling => Some(Section::RayCasting),
+            | Control::Supersampling
+            | Control::Skipping => Some(Section::RayCasting),
             Control::VirtualPixels => Some(Section::VirtualCamera),
             Control::Shading | Control::Light => Some(Section::ShadingAndLight),
             Control::Classification | Control::TransferFunction => Some(Section::TransferFunction),
@@ -191,6 +194,11 @@ pub enum Objective {
     CropAtMost { fraction: f32 },
     /// Select a ray whose sampled part the crop box or clip plane shortened.
     SelectCutRay,
+    /// Turn empty-space skipping on or off.
+    Skipping { on: bool },
+    /// Show Render image's render as the cost view `view` (`samples`, `skipped`, `stops`),
+    /// rendered with the settings on screen.
+    CostViewed { view: String },
 }
 
 /// One step of a level.
@@ -255,6 +263,9 @@ pub struct Situation {
     pub clip: crate::clip::Clip,
     /// The selected ray's sampled part was shortened by the cut.
     pub ray_cut: bool,
+    pub skipping: bool,
+    /// The cost view Render image shows of a render of what is on screen, if any.
+    pub cost_view: Option<&'static str>,
 }
 
 impl Objective {
@@ -319,6 +330,8 @@ impl Objective {
                 kept.min_element() <= fraction + 1e-3
             }
             Objective::SelectCutRay => s.ray_selected && s.ray_cut,
+            Objective::Skipping { on } => s.skipping == *on,
+            Objective::CostViewed { view } => s.cost_view == Some(view.as_str()),
         }
     }
 }
@@ -618,6 +631,15 @@ mod tests {
         assert!(!Objective::SelectCutRay.met(&s));
         s.ray_cut = true;
         assert!(Objective::SelectCutRay.met(&s));
+        assert!(Objective::Skipping { on: false }.met(&s));
+        let stops = Objective::CostViewed {
+            view: "stops".into(),
+        };
+        assert!(!stops.met(&s));
+        s.cost_view = Some("samples");
+        assert!(!stops.met(&s));
+        s.cost_view = Some("stops");
+        assert!(stops.met(&s));
         assert!(!Objective::VirtualPixelsAtLeast { pixels: 8 }.met(&s));
         assert!(
             !Objective::Method {

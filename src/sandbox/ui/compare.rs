@@ -6,6 +6,7 @@ use crate::sandbox::compare::{Compared, Comparison, HEAT_FULL_SCALE, save_pngs};
 use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
+use voxcast_core::cost::CostView;
 use voxcast_core::image_out::LinearImage;
 use voxcast_core::numbers::{sig, sig64};
 
@@ -17,6 +18,8 @@ pub(crate) struct CompareWindow {
     textures: Option<(u64, [Option<egui::TextureHandle>; 3])>,
     path: String,
     saved: Option<Result<String, String>>,
+    /// The cost view's texture and the (result generation, view) it shows.
+    cost_texture: Option<((u64, CostView), egui::TextureHandle)>,
 }
 
 impl Default for CompareWindow {
@@ -26,6 +29,7 @@ impl Default for CompareWindow {
             textures: None,
             path: "voxcast_render.png".into(),
             saved: None,
+            cost_texture: None,
         }
     }
 }
@@ -109,7 +113,7 @@ fn contents(
         ui.label("No render yet.");
         return;
     };
-    result_view(ui, window, result);
+    result_view(ui, window, &mut comparison.cost_view, result);
     if !current {
         ui.colored_label(
             egui::Color32::YELLOW,
@@ -118,7 +122,73 @@ fn contents(
     }
 }
 
-fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared) {
+/// The picture or one of the cost views for the render's panel, with the view's legend.
+fn cost_choice(
+    ui: &mut egui::Ui,
+    window: &mut CompareWindow,
+    cost_view: &mut Option<CostView>,
+    result: &Compared,
+) {
+    let Some(cost) = &result.cost else {
+        return;
+    };
+    ui.horizontal(|ui| {
+        ui.label("Show the render as:");
+        ui.selectable_value(cost_view, None, "picture")
+            .on_hover_text("The rendered image");
+        for (view, words) in [
+            (CostView::Samples, "samples"),
+            (CostView::Skipped, "skipped"),
+            (CostView::Stops, "stops"),
+        ] {
+            ui.selectable_value(cost_view, Some(view), words)
+                .on_hover_text(view.doc());
+        }
+    });
+    let Some(view) = *cost_view else {
+        return;
+    };
+    let key = (result.generation, view);
+    if window.cost_texture.as_ref().map(|t| t.0) != Some(key) {
+        let tex = texture(ui.ctx(), "cost", &cost.image(view));
+        window.cost_texture = Some((key, tex));
+    }
+    let total = |i: usize| cost.pixels.iter().map(|p| p[i] as u64).sum::<u64>();
+    let legend = match view {
+        CostView::Stops => {
+            let rays = cost.stats.rays.max(1) as f32;
+            let share = |n: u64| voxcast_core::numbers::percent(n as f32 / rays);
+            let marched = total(4);
+            format!(
+                "{} Of the rays: {} stopped early, {} ran through, {} hit the cap, {} took no \
+                 sample.",
+                view.doc(),
+                share(total(2)),
+                share(marched - total(2) - total(3)),
+                share(total(3)),
+                share(cost.stats.rays - marched),
+            )
+        }
+        _ if cost.max(view) == 0 => format!("{} None in this image.", view.doc()),
+        _ => format!(
+            "{} Pale yellow: {} a pixel; in all {}.",
+            view.doc(),
+            cost.max(view),
+            sig64(match view {
+                CostView::Samples => total(0),
+                _ => total(1) - total(0),
+            } as f64)
+        ),
+    };
+    ui.label(egui::RichText::new(legend).small());
+}
+
+fn result_view(
+    ui: &mut egui::Ui,
+    window: &mut CompareWindow,
+    cost_view: &mut Option<CostView>,
+    result: &Compared,
+) {
     let ctx = ui.ctx().clone();
     if window.textures.as_ref().map(|t| t.0) != Some(result.generation) {
         let gpu = result
@@ -161,14 +231,27 @@ fn result_view(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared)
             result.gpu.as_ref().err().map_or("", |e| e.as_str())
         )),
     };
+    cost_choice(ui, window, cost_view, result);
     let Some((_, textures)) = &window.textures else {
         return;
     };
+    let mut textures = textures.clone();
+    let mut render_label = "CPU render";
+    if let (Some(view), Some(((_, shown), tex))) = (*cost_view, &window.cost_texture)
+        && view == *shown
+    {
+        textures[1] = Some(tex.clone());
+        render_label = match view {
+            CostView::Samples => "samples interpolated",
+            CostView::Skipped => "positions skipped",
+            CostView::Stops => "how rays stopped",
+        };
+    }
     let width = ((ui.available_width() - 16.0) / 3.0).max(64.0);
     let height = width * size.y as f32 / size.x.max(1) as f32;
     ui.horizontal(|ui| {
         let preview = if live { "CPU live view" } else { "GPU preview" };
-        for (label, tex) in [preview, "CPU render", "difference"].iter().zip(textures) {
+        for (label, tex) in [preview, render_label, "difference"].iter().zip(&textures) {
             ui.vertical(|ui| {
                 ui.label(*label);
                 match tex {
@@ -224,10 +307,13 @@ mod tests {
             let mut comparison = Comparison::default();
             comparison.result = Some(crate::sandbox::compare::tests::example(capture));
             comparison.message = Some("the preview had not drawn the volume yet".into());
-            let missing = crate::sandbox::ui::missing_glyphs(|ui| {
-                contents(ui, &mut window, &mut comparison, current)
-            });
-            assert!(missing.is_empty(), "no glyph for {missing:?}");
+            for view in [None, Some(CostView::Samples), Some(CostView::Stops)] {
+                comparison.cost_view = view;
+                let missing = crate::sandbox::ui::missing_glyphs(|ui| {
+                    contents(ui, &mut window, &mut comparison, current)
+                });
+                assert!(missing.is_empty(), "no glyph for {missing:?}");
+            }
         }
         let mut busy = Comparison::default();
         busy.start();

@@ -34,6 +34,7 @@ fn control_name(c: Control) -> String {
         Control::Supersampling => "Supersampling",
         Control::CropBox => "Crop box",
         Control::ClipPlane => "Clip plane",
+        Control::Skipping => "Empty-space skipping",
     };
     match c.section() {
         Some(s) => format!("Settings › {} › {label}", super::title(s)),

@@ -306,6 +306,9 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
     applies(ui, cutoff_applies, |ui| {
         slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
     });
+    marked(ui, spot, Control::Skipping, |ui| {
+        checkbox(ui, &mut s.skipping, &t::SKIPPING)
+    });
     marked(ui, spot, Control::Jitter, |ui| {
         checkbox(ui, &mut s.jitter, &t::JITTER)
     });
