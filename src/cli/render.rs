@@ -137,7 +137,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::failed(format!("cannot write {}: {e}", a.out.display())))?;
     let s = &resolved.settings;
     println!(
-        "rendered {}×{} {} ({}, step {:.4} voxel) in {:.3} s{}: {} sample positions, {} interpolated (the rest skipped), {:.1} M samples/s → {} (loading {:.2} s and preparation {:.2} s excluded)",
+        "rendered {}×{} {} ({}, step {:.4} voxel) in {:.3} s{}: {} sample positions, {} interpolated ({}), {:.1} M samples/s → {} (loading {:.2} s and preparation {:.2} s excluded)",
         a.size.0,
         a.size.1,
         loaded.volume.name(),
@@ -151,6 +151,11 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         },
         timed.stats.positions,
         timed.stats.samples,
+        if timed.stats.samples < timed.stats.positions {
+            "the rest skipped"
+        } else {
+            "none skipped"
+        },
         timed.samples_per_second() / 1e6,
         a.out.display(),
         load_s,
