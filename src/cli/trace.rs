@@ -116,10 +116,14 @@ fn print_table(t: &voxcast_core::trace::RayTrace) {
     if let Some(cut) = t.cut_words() {
         println!("{cut}");
     }
-    println!(
-        "{:>5} {:>10} {:>26} {:>12} {:>34} {:>9} {:>9} {:>34}",
-        "k", "t", "position (world)", "value", "TF rgba", "alpha", "alpha'", "C rgb, O after"
-    );
+    if t.samples.is_empty() {
+        println!("no samples");
+    } else {
+        println!(
+            "{:>5} {:>10} {:>26} {:>12} {:>34} {:>9} {:>9} {:>34}",
+            "k", "t", "position (world)", "value", "TF rgba", "alpha", "alpha'", "C rgb, O after"
+        );
+    }
     for s in &t.samples {
         println!(
             "{:>5} {:>10.5} ({:>7.3}, {:>7.3}, {:>7.3}) {:>12.5} ({:.4}, {:.4}, {:.4}, {:.4}) {:>9.6} {:>9.6} ({:.5}, {:.5}, {:.5}, {:.5})",
