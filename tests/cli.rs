@@ -220,6 +220,54 @@ fn bench_writes_its_table_and_plot() {
     assert!(image::open(&plot).is_ok());
 }
 
+/// `--knobs`: one table per knob, each ending with its reference, written into a section of an
+/// existing report; and `render --cost` writes its heat map beside the image.
+#[test]
+fn knobs_and_cost_maps_are_written() {
+    let dir = out_dir();
+    let report = dir.join("knobs.md");
+    std::fs::write(
+        &report,
+        "# kept\n<!-- bench:knobs -->\nold\n<!-- /bench:knobs -->\n# also kept\n",
+    )
+    .unwrap();
+    let o = voxcast(&[
+        "bench",
+        "--volume",
+        "builtin:bucky",
+        "--size",
+        "24x24",
+        "--knobs",
+        "--report",
+        report.to_str().unwrap(),
+        "--section",
+        "knobs",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let md = std::fs::read_to_string(&report).unwrap();
+    assert!(md.starts_with("# kept") && md.trim_end().ends_with("# also kept"));
+    assert!(!md.contains("old"));
+    for k in voxcast_core::knob::Knob::ALL {
+        assert!(md.contains(&format!("**{}**", k.label())), "{k:?}");
+    }
+    assert_eq!(md.matches("(reference) |").count(), 7);
+    let out = dir.join("costly.png");
+    let o = voxcast(&[
+        "render",
+        "--volume",
+        "builtin:bucky",
+        "--size",
+        "24x24",
+        "--cost",
+        "stops",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("left the volume"), "{}", text(&o));
+    assert!(image::open(dir.join("costly_cost.png")).is_ok());
+}
+
 #[test]
 fn bad_arguments_and_files_fail_clearly() {
     let cases: &[(&[&str], i32, &str)] = &[

@@ -75,6 +75,11 @@ pub struct BenchArgs {
     /// Keep the images (Voxcast at each step, the references, VTK's) in this folder.
     #[arg(long)]
     pub images: Option<PathBuf>,
+    /// Instead: measure every knob's trade (step, interpolation, cutoff, jitter,
+    /// supersampling, preview resolution and step multiplier) against its exact setting, and
+    /// print (or with --report, write) a markdown table per knob.
+    #[arg(long)]
+    pub knobs: bool,
 }
 
 /// One measured row.
@@ -122,6 +127,9 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
         eprintln!("note: {note}");
     }
     let camera = a.camera.camera(&loaded, resolved.preset.as_ref())?;
+    if a.knobs {
+        return super::knobs::report(a, &loaded, &resolved, &camera);
+    }
     let threads = a
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -194,16 +202,7 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
     );
     println!("{report}");
     if let Some(path) = &a.report {
-        let text = match &a.section {
-            None => report.clone(),
-            Some(name) => replace_section(
-                &std::fs::read_to_string(path).unwrap_or_default(),
-                name,
-                &report,
-            ),
-        };
-        std::fs::write(path, text)
-            .map_err(|e| CliError::failed(format!("{}: {}", path.display(), io_words(&e))))?;
+        write_report(path, a.section.as_deref(), &report)?;
     }
     if let Some(path) = &a.plot {
         let series: Vec<Series> = [(true, [31, 119, 180]), (false, [230, 120, 20])]
@@ -227,6 +226,24 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
     }
     Ok(())
+}
+
+/// Writes `report` to `path`, or with `section` only into that section of it.
+pub(super) fn write_report(
+    path: &Path,
+    section: Option<&str>,
+    report: &str,
+) -> Result<(), CliError> {
+    let text = match section {
+        None => report.to_string(),
+        Some(name) => replace_section(
+            &std::fs::read_to_string(path).unwrap_or_default(),
+            name,
+            report,
+        ),
+    };
+    std::fs::write(path, text)
+        .map_err(|e| CliError::failed(format!("{}: {}", path.display(), io_words(&e))))
 }
 
 /// `old` with the block between the `bench:NAME` markers replaced by `body` (or appended).

@@ -3,6 +3,7 @@
 pub mod args;
 pub mod bench;
 pub mod info;
+pub mod knobs;
 pub mod plot;
 pub mod progress;
 pub mod render;

@@ -345,7 +345,10 @@ pub(super) fn situation(
         back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
         light_kind: voxcast_core::level::light_kind(&render.settings.phong.light),
         attenuated: render.settings.phong.kl > 0.0 || render.settings.phong.kq > 0.0,
-        trade_measured: trade.current(view, render, volume).is_some(),
+        // The levels measure the step's trade.
+        trade_measured: trade
+            .current(view, render, volume)
+            .is_some_and(|t| t.knob == voxcast_core::knob::Knob::Step),
         jitter: render.settings.jitter,
         trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
         supersampling: render.settings.supersampling,

@@ -9,9 +9,10 @@ use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use voxcast_core::camera::Camera as CoreCamera;
+use voxcast_core::knob::Knob;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
-use voxcast_core::trade::{STEPS, Trade, TradeError, step_trade};
+use voxcast_core::trade::{STEPS, Trade, TradeError, View as TradeView};
 
 /// The measured image's size: small, so the five renders and the reference take moments.
 pub const TRADE_SIZE: (u32, u32) = (192, 108);
@@ -42,6 +43,8 @@ impl TradeKey {
 /// The measurement under way and the last result.
 #[derive(Resource, Default)]
 pub struct StepTrade {
+    /// The knob Measure measures (the step unless the player picks another).
+    pub knob: Knob,
     job: Option<Job>,
     pub result: Option<(Trade, TradeKey)>,
     pub error: Option<String>,
@@ -104,6 +107,7 @@ fn start(
         return;
     };
     let key = TradeKey::of(view.0, &render, &volume);
+    let knob = trade.knob;
     let voxel = volume.volume.spacing().min_element();
     let mut steps = STEPS.to_vec();
     steps.push(render.settings.step.voxels(voxel));
@@ -122,7 +126,13 @@ fn start(
                 done.0.store(d, Ordering::Relaxed);
                 done.1.store(total, Ordering::Relaxed);
             };
-            step_trade(&v, &tf, &s, &camera, TRADE_SIZE, &steps, &report, &cancel)
+            let view = TradeView {
+                volume: &v,
+                transfer: &tf,
+                camera: &camera,
+                size: TRADE_SIZE,
+            };
+            voxcast_core::trade::trade(&view, &s, knob, &steps, &report, &cancel)
         })
     };
     trade.error = None;

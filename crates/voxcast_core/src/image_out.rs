@@ -36,6 +36,28 @@ impl LinearImage {
         self.pixels[(y * self.width + x) as usize]
     }
 
+    /// This image stretched to `width × height` with bilinear filtering between texel centres,
+    /// clamped at the edges: what a GPU's linear sampler shows of a smaller render target.
+    pub fn resized_bilinear(&self, width: u32, height: u32) -> Self {
+        let mut out = Self::new(width, height);
+        let (sw, sh) = (self.width.max(1), self.height.max(1));
+        let coord = |d: u32, n: u32, s: u32| {
+            let f = ((d as f32 + 0.5) * s as f32 / n as f32 - 0.5).clamp(0.0, (s - 1) as f32);
+            let i = (f as u32).min(s - 1);
+            (i, (i + 1).min(s - 1), f - i as f32)
+        };
+        for y in 0..height {
+            let (y0, y1, fy) = coord(y, height, sh);
+            for x in 0..width {
+                let (x0, x1, fx) = coord(x, width, sw);
+                let top = self.get(x0, y0).lerp(self.get(x1, y0), fx);
+                let bottom = self.get(x0, y1).lerp(self.get(x1, y1), fx);
+                out.set(x, y, top.lerp(bottom, fy));
+            }
+        }
+        out
+    }
+
     pub fn set(&mut self, x: u32, y: u32, v: Vec3) {
         self.pixels[(y * self.width + x) as usize] = v;
     }
@@ -148,5 +170,19 @@ mod tests {
         let h = a.diff_heatmap(&b, 0.3).unwrap();
         assert_eq!(h.get(0, 0), Vec3::ZERO);
         assert_eq!(h.get(1, 0), Vec3::ONE);
+    }
+
+    #[test]
+    fn bilinear_resize_keeps_the_ends_and_blends_between() {
+        let mut small = LinearImage::new(2, 1);
+        small.set(0, 0, Vec3::ZERO);
+        small.set(1, 0, Vec3::ONE);
+        let big = small.resized_bilinear(4, 2);
+        // Texel centres at x = 0.25 and 0.75 of the width: the outer pixels clamp to them.
+        assert_eq!(big.get(0, 0), Vec3::ZERO);
+        assert_eq!(big.get(3, 1), Vec3::ONE);
+        assert_eq!(big.get(1, 0), Vec3::splat(0.25));
+        assert_eq!(big.get(2, 1), Vec3::splat(0.75));
+        assert_eq!(small.resized_bilinear(2, 1), small, "same size: unchanged");
     }
 }

@@ -48,6 +48,7 @@ pub mod hash;
 pub mod histogram;
 pub mod image_out;
 pub mod io;
+pub mod knob;
 pub mod level;
 pub mod marker;
 pub mod numbers;

@@ -7,11 +7,10 @@
 
 use crate::camera::Camera;
 use crate::error::SettingsError;
+use crate::knob::{Knob, Try};
 use crate::render::{Cancelled, render};
-use crate::sample::Interpolation;
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
-use crate::step::Length;
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 use std::sync::atomic::AtomicBool;
@@ -20,11 +19,14 @@ use std::time::Instant;
 /// The steps (voxels) the sampling level measures, besides the player's own.
 pub const STEPS: [f32; 4] = [2.0, 1.0, 0.5, 0.25];
 /// The reference step (voxels): sixteen samples per voxel.
-pub const REFERENCE: f32 = 1.0 / 16.0;
+pub const REFERENCE: f32 = crate::knob::REFERENCE_STEP;
 
-/// One step's render against the reference.
+/// One setting's render against the reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TradeRow {
+    /// The knob's value, in words ("0.5", "nearest", "2×2", "×4").
+    pub label: String,
+    /// The row's step (voxels).
     pub step_voxels: f32,
     /// Wall-clock seconds of the render (one run, every core).
     pub seconds: f64,
@@ -35,9 +37,12 @@ pub struct TradeRow {
     pub rmse: f32,
 }
 
-/// The trade: the reference's own cost, then one row per step, finest last.
+/// The trade: the reference's own cost, then one row per setting tried, cheapest first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Trade {
+    pub knob: Knob,
+    /// The reference, in words.
+    pub reference: String,
     pub reference_voxels: f32,
     pub reference_seconds: f64,
     pub reference_samples: u64,
@@ -53,45 +58,82 @@ pub enum TradeError {
     Cancelled(#[from] Cancelled),
 }
 
-/// Renders `camera`'s view (`width`×`height`) with `settings` at the reference step and at each
-/// of `steps` (voxels, sorted coarsest first, duplicates dropped); `progress(done, total)`
-/// counts renders.
+/// The step's trade: [`trade`] of [`Knob::Step`] at `steps` (voxels; sorted coarsest first,
+/// duplicates dropped).
 #[allow(clippy::too_many_arguments)]
 pub fn step_trade(
     volume: &Volume,
     transfer: &TransferFunction,
     settings: &RenderSettings,
     camera: &Camera,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     steps: &[f32],
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Trade, TradeError> {
-    let mut steps: Vec<f32> = steps.to_vec();
-    steps.sort_by(|a, b| b.total_cmp(a));
-    steps.dedup();
-    let total = steps.len() + 1;
-    let timed = |step: f32, interpolation: Interpolation| -> Result<_, TradeError> {
-        let mut s = settings.clone();
-        s.step = Length::Voxels(step);
-        s.interpolation = interpolation;
-        // Jitter would add noise the reference does not share.
-        s.jitter = false;
-        let scene = Scene::new(volume, transfer, &s, camera.forward())?;
+    let view = View {
+        volume,
+        transfer,
+        camera,
+        size,
+    };
+    trade(&view, settings, Knob::Step, steps, progress, cancel)
+}
+
+/// What a trade renders: a volume and transfer function seen by a camera at a size.
+pub struct View<'a> {
+    pub volume: &'a Volume,
+    pub transfer: &'a TransferFunction,
+    pub camera: &'a Camera,
+    pub size: (u32, u32),
+}
+
+/// Renders the view with `settings` at `knob`'s reference and at each of its tries
+/// ([`Knob::tries`]; `steps` for the step knob), timing each and taking its error against the
+/// reference; `progress(done, total)` counts renders.
+pub fn trade(
+    view: &View<'_>,
+    settings: &RenderSettings,
+    knob: Knob,
+    steps: &[f32],
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<Trade, TradeError> {
+    let voxel = view.volume.spacing().min_element();
+    let tries = knob.tries(settings, voxel, steps);
+    let total = tries.len() + 1;
+    let (w, h) = view.size;
+    let timed = |t: &Try| -> Result<_, TradeError> {
+        let scene = Scene::new(
+            view.volume,
+            view.transfer,
+            &t.settings,
+            view.camera.forward(),
+        )?;
+        let (sw, sh) = (
+            ((w as f32 * t.scale).round() as u32).max(1),
+            ((h as f32 * t.scale).round() as u32).max(1),
+        );
         let start = Instant::now();
-        let (image, stats) = render(&scene, camera, width, height, &|_, _| {}, cancel)?;
+        let (image, stats) = render(&scene, view.camera, sw, sh, &|_, _| {}, cancel)?;
+        let image = if (sw, sh) == (w, h) {
+            image
+        } else {
+            image.resized_bilinear(w, h)
+        };
         Ok((image, stats.samples, start.elapsed().as_secs_f64()))
     };
     progress(0, total);
-    let (reference, reference_samples, reference_seconds) =
-        timed(REFERENCE, Interpolation::Trilinear)?;
-    let mut rows = Vec::with_capacity(steps.len());
-    for (i, &step) in steps.iter().enumerate() {
+    let reference_try = knob.reference(settings);
+    let (reference, reference_samples, reference_seconds) = timed(&reference_try)?;
+    let mut rows = Vec::with_capacity(tries.len());
+    for (i, t) in tries.iter().enumerate() {
         progress(i + 1, total);
-        let (image, samples, seconds) = timed(step, settings.interpolation)?;
+        let (image, samples, seconds) = timed(t)?;
         let diff = image.diff(&reference).expect("the same size");
         rows.push(TradeRow {
-            step_voxels: step,
+            label: t.label.clone(),
+            step_voxels: t.settings.step.voxels(voxel),
             seconds,
             samples,
             max_error: diff.max_abs,
@@ -100,7 +142,9 @@ pub fn step_trade(
     }
     progress(total, total);
     Ok(Trade {
-        reference_voxels: REFERENCE,
+        knob,
+        reference: reference_try.label,
+        reference_voxels: reference_try.settings.step.voxels(voxel),
         reference_seconds,
         reference_samples,
         rows,
@@ -111,6 +155,7 @@ pub fn step_trade(
 mod tests {
     use super::*;
     use crate::builtin::bucky;
+    use crate::sample::Interpolation;
 
     fn trade(steps: &[f32]) -> Trade {
         trade_with(steps, Interpolation::Trilinear)
@@ -196,5 +241,50 @@ mod tests {
             near.rows[1].rmse > 0.5 * near.rows[0].rmse,
             "the staircase stays"
         );
+    }
+
+    /// Every other knob: its reference against itself has no error where it is one of its
+    /// tries; the cheaper setting errs more.
+    #[test]
+    fn every_knob_is_measured_against_its_own_exact_setting() {
+        let v = bucky();
+        let p = crate::preset::for_volume("bucky").unwrap();
+        let s = p.settings_over(&RenderSettings::default()).unwrap();
+        let (lo, hi) = v.bounds();
+        let cam = Camera::framing(lo, hi, glam::Vec3::new(1.0, 0.8, 1.4), glam::Vec3::Y).unwrap();
+        let view = View {
+            volume: &v,
+            transfer: &p.transfer,
+            camera: &cam,
+            size: (40, 40),
+        };
+        let run = |k: Knob| {
+            super::trade(&view, &s, k, &STEPS, &|_, _| {}, &AtomicBool::new(false)).unwrap()
+        };
+        let preview = run(Knob::PreviewScale);
+        assert!(
+            preview.rows[0].rmse > preview.rows[2].rmse,
+            "a quarter errs more than ¾"
+        );
+        assert!(preview.rows[0].samples * 8 < preview.reference_samples);
+        let multiplier = run(Knob::PreviewStepMultiplier);
+        assert!(
+            multiplier.rows[0].rmse > multiplier.rows[2].rmse,
+            "×8 errs more than ×2"
+        );
+        let cutoff = run(Knob::Cutoff);
+        assert!(cutoff.rows[0].max_error >= cutoff.rows[3].max_error);
+        assert!(
+            cutoff.rows[3].max_error <= 0.01 + 1.0 / 255.0,
+            "at most 1 − cutoff"
+        );
+        let supersampling = run(Knob::Supersampling);
+        let ratio = supersampling.rows[1].samples as f64 / supersampling.rows[0].samples as f64;
+        assert!((3.0..5.0).contains(&ratio), "2×2 rays cost ×{ratio}");
+        assert!(supersampling.rows[0].rmse > supersampling.rows[3].rmse);
+        let interpolation = run(Knob::Interpolation);
+        assert_eq!(interpolation.rows[0].label, "nearest");
+        assert!(interpolation.rows[0].rmse > interpolation.rows[1].rmse);
+        assert_eq!(run(Knob::Jitter).rows.len(), 4);
     }
 }

@@ -1,10 +1,13 @@
-//! The "Speed against accuracy" section: Measure renders the view at several steps and a fine
-//! reference (`sandbox::trade`) and tabulates time, samples and error, so the step size's trade
-//! is read as numbers; the player's own step is the highlighted row.
+//! The "Speed against accuracy" section: pick a knob (the step, interpolation, the cutoff,
+//! jitter, supersampling, the preview's resolution or step multiplier); Measure renders the view
+//! at several of its settings and at its exact reference (`voxcast_core::knob`, in the
+//! background: `sandbox::trade`) and shows time, samples and error as a table and a plot, so
+//! the trade is read as numbers; the player's own step is the highlighted row.
 
 use super::{Spot, marked};
 use crate::sandbox::trade::{StepTrade, TRADE_SIZE};
 use bevy_egui::egui;
+use voxcast_core::knob::Knob;
 use voxcast_core::level::Control;
 use voxcast_core::trade::Trade;
 
@@ -16,10 +19,20 @@ pub(super) fn trade_section(
     step_voxels: f32,
     spot: Spot,
 ) {
+    egui::ComboBox::from_label("Knob")
+        .selected_text(trade.knob.label())
+        .show_ui(ui, |ui| {
+            for k in Knob::ALL {
+                ui.selectable_value(&mut trade.knob, k, k.label())
+                    .on_hover_text(k.doc());
+            }
+        })
+        .response
+        .on_hover_text(trade.knob.doc());
     ui.label(
         egui::RichText::new(format!(
-            "This view at {}×{} pixels, rendered by the core at several steps and at a fine \
-             reference step (always trilinear); the error is against the reference.",
+            "This view at {}×{} pixels, rendered by the core at several settings of the knob \
+             and at its exact reference; the error is against the reference.",
             TRADE_SIZE.0, TRADE_SIZE.1
         ))
         .small(),
@@ -36,7 +49,7 @@ pub(super) fn trade_section(
             None => {
                 if ui
                     .button("Measure")
-                    .on_hover_text("Render this view at each step and compare")
+                    .on_hover_text("Render this view at each setting of the knob and compare")
                     .clicked()
                 {
                     trade.request();
@@ -55,26 +68,105 @@ pub(super) fn trade_section(
             );
         }
         table(ui, t, step_voxels);
+        plot(ui, t);
     }
+}
+
+/// Error against time, one point per row (the reference at zero error): the trade's curve.
+/// Time on a logarithmic axis, as the settings' costs span orders of magnitude.
+fn plot(ui: &mut egui::Ui, t: &Trade) {
+    let points: Vec<(f64, f32, &str)> = t
+        .rows
+        .iter()
+        .map(|r| (r.seconds, r.rmse * 255.0, r.label.as_str()))
+        .chain([(t.reference_seconds, 0.0, "ref.")])
+        .collect();
+    let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
+        (lo.min(p.0.max(1e-6)), hi.max(p.0))
+    });
+    let top = points.iter().map(|p| p.1).fold(0.0f32, f32::max).max(1e-3);
+    let (rect, _) = ui.allocate_exact_size(
+        egui::vec2(ui.available_width().min(320.0), 120.0),
+        egui::Sense::hover(),
+    );
+    let painter = ui.painter_at(rect);
+    let frame = rect.shrink2(egui::vec2(28.0, 14.0));
+    let stroke = egui::Stroke::new(1.0, egui::Color32::GRAY);
+    painter.line_segment([frame.left_bottom(), frame.right_bottom()], stroke);
+    painter.line_segment([frame.left_bottom(), frame.left_top()], stroke);
+    let span = (hi / lo).ln().max(1e-9);
+    let at = |(s, e): (f64, f32)| {
+        let x = ((s.max(1e-6) / lo).ln() / span) as f32;
+        egui::pos2(
+            frame.left() + x * frame.width(),
+            frame.bottom() - e / top * frame.height(),
+        )
+    };
+    let mut sorted = points.clone();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let line: Vec<egui::Pos2> = sorted.iter().map(|p| at((p.0, p.1))).collect();
+    painter.add(egui::Shape::line(
+        line,
+        egui::Stroke::new(1.5, egui::Color32::LIGHT_BLUE),
+    ));
+    let font = egui::FontId::proportional(10.0);
+    for p in &points {
+        let c = at((p.0, p.1));
+        painter.circle_filled(c, 3.0, egui::Color32::LIGHT_BLUE);
+        painter.text(
+            c + egui::vec2(4.0, -2.0),
+            egui::Align2::LEFT_BOTTOM,
+            p.2,
+            font.clone(),
+            egui::Color32::WHITE,
+        );
+    }
+    painter.text(
+        frame.left_top() - egui::vec2(2.0, 2.0),
+        egui::Align2::RIGHT_TOP,
+        format!("{top:.1}"),
+        font.clone(),
+        egui::Color32::GRAY,
+    );
+    painter.text(
+        frame.left_bottom() + egui::vec2(0.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        format!("{:.1} ms", lo * 1e3),
+        font.clone(),
+        egui::Color32::GRAY,
+    );
+    painter.text(
+        frame.right_bottom() + egui::vec2(0.0, 2.0),
+        egui::Align2::RIGHT_TOP,
+        format!("{:.1} ms   RMSE /255 against time", hi * 1e3),
+        font,
+        egui::Color32::GRAY,
+    );
 }
 
 fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
     egui::Grid::new("trade").striped(true).show(ui, |ui| {
+        let knob = match t.knob {
+            Knob::Step => "step",
+            Knob::PreviewScale => "resolution",
+            Knob::PreviewStepMultiplier => "step ×",
+            _ => t.knob.label(),
+        };
         super::header_row(
             ui,
-            &["step", "time", "samples", "max err", "RMSE", "speed-up"],
+            &[knob, "time", "samples", "max err", "RMSE", "speed-up"],
         );
         let ms = |s: f64| format!("{:.1} ms", s * 1e3);
         for r in &t.rows {
             let text = |s: String| {
                 let rich = egui::RichText::new(s);
-                if (r.step_voxels - step_voxels).abs() < 1e-4 {
+                if t.knob == Knob::Step && (r.step_voxels - step_voxels).abs() < 1e-4 {
                     rich.color(egui::Color32::LIGHT_BLUE)
                 } else {
                     rich
                 }
             };
-            ui.label(text(format!("{}", r.step_voxels)));
+            ui.label(text(r.label.clone()));
             ui.label(text(ms(r.seconds)));
             ui.label(text(r.samples.to_string()));
             ui.label(text(format!("{:.1}/255", r.max_error * 255.0)));
@@ -85,7 +177,8 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
             )));
             ui.end_row();
         }
-        ui.label(format!("{} (ref.)", t.reference_voxels));
+        ui.label(format!("{} (ref.)", t.reference))
+            .on_hover_text("The exact setting every row is measured against");
         ui.label(ms(t.reference_seconds));
         ui.label(t.reference_samples.to_string());
         ui.label("0");
@@ -94,7 +187,11 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
         ui.end_row();
     });
     ui.label(
-        egui::RichText::new("step in voxels; your step is in blue; speed-up against the reference")
-            .small(),
+        egui::RichText::new(if t.knob == Knob::Step {
+            "step in voxels; your step is in blue; speed-up against the reference"
+        } else {
+            "speed-up against the reference"
+        })
+        .small(),
     );
 }

@@ -1,0 +1,123 @@
+//! `voxcast bench --knobs`: the speed/accuracy trade of every knob (`voxcast_core::knob`) for
+//! one view, as markdown tables — the numbers the sandbox's "Speed against accuracy" shows.
+
+use super::CliError;
+use super::progress::Progress;
+use std::fmt::Write as _;
+use std::sync::atomic::AtomicBool;
+use voxcast_core::camera::Camera;
+use voxcast_core::knob::Knob;
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::trade::{STEPS, View, trade};
+
+/// Every knob's table for `view` with `settings`, each measured once on the global pool.
+pub fn tables(
+    view: &View<'_>,
+    settings: &RenderSettings,
+    camera_words: &str,
+) -> Result<String, CliError> {
+    let mut out = String::new();
+    let cpu = cpu_model();
+    let _ = writeln!(
+        out,
+        "{}×{} pixels, {camera_words}, {cpu}, {} threads; one render each (no repeats: read \
+         ratios within a table, not single times).\n",
+        view.size.0,
+        view.size.1,
+        rayon::current_num_threads()
+    );
+    let cancel = AtomicBool::new(false);
+    for knob in Knob::ALL {
+        let progress = Progress::new(knob.name());
+        let t = trade(
+            view,
+            settings,
+            knob,
+            &STEPS,
+            &|d, n| progress.update(d, n),
+            &cancel,
+        )
+        .map_err(|e| CliError::failed(e.to_string()))?;
+        progress.finish();
+        let _ = writeln!(out, "**{}** — against {}.\n", knob.label(), t.reference);
+        let _ = writeln!(
+            out,
+            "| {} | time (ms) | samples | max error (/255) | RMSE (/255) | speed-up |",
+            knob.label().to_lowercase()
+        );
+        let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: |");
+        for r in &t.rows {
+            let _ = writeln!(
+                out,
+                "| {} | {:.1} | {} | {:.1} | {:.2} | ×{:.1} |",
+                r.label,
+                r.seconds * 1e3,
+                r.samples,
+                r.max_error * 255.0,
+                r.rmse * 255.0,
+                t.reference_seconds / r.seconds.max(1e-9)
+            );
+        }
+        let _ = writeln!(
+            out,
+            "| {} (reference) | {:.1} | {} | 0 | 0 | ×1 |\n",
+            t.reference,
+            t.reference_seconds * 1e3,
+            t.reference_samples
+        );
+    }
+    Ok(out)
+}
+
+/// The CPU's model name (`lscpu`'s "Model name", from /proc/cpuinfo), or "an unnamed CPU".
+pub fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "an unnamed CPU".into())
+}
+
+/// The camera in words for the tables' heading.
+pub fn camera_words(c: &Camera) -> String {
+    format!(
+        "camera at ({:.3}, {:.3}, {:.3}) looking at ({:.3}, {:.3}, {:.3})",
+        c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z
+    )
+}
+
+/// `--knobs`: every knob's table, printed or written into the report's section.
+pub fn report(
+    a: &super::bench::BenchArgs,
+    loaded: &voxcast_core::io::Loaded,
+    resolved: &super::args::Resolved,
+    camera: &voxcast_core::camera::Camera,
+) -> Result<(), CliError> {
+    let view = voxcast_core::trade::View {
+        volume: &loaded.volume,
+        transfer: &resolved.transfer,
+        camera,
+        size: a.size,
+    };
+    let words = format!(
+        "{} ({}), {}",
+        loaded.volume.name(),
+        resolved.settings.method.name(),
+        camera_words(camera)
+    );
+    let text = tables(&view, &resolved.settings, &words)?;
+    match &a.report {
+        Some(path) => {
+            print!("{text}");
+            super::bench::write_report(path, a.section.as_deref(), &text)
+        }
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}
