@@ -244,7 +244,7 @@ pub(crate) fn check_objective(
     cameras: Query<&VirtualCamera>,
     (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
     (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
-    trade: Res<StepTrade>,
+    (trade, preview): (Res<StepTrade>, Option<Res<PreviewSettings>>),
 ) {
     let step = lessons.step_in(*mode.get()).cloned();
     let spot = step.as_ref().and_then(|s| s.control);
@@ -276,7 +276,7 @@ pub(crate) fn check_objective(
             &selection,
             &breakdown,
             (&comparison, views.single().ok()),
-            &trade,
+            (&trade, preview.as_deref()),
         );
         let truth = detail.as_ref().map(|d| d.value).or_else(|| {
             composite
@@ -311,7 +311,7 @@ pub(super) fn situation(
     selection: &RaySelection,
     breakdown: &BreakdownState,
     (comparison, view): (&Comparison, Option<&View>),
-    trade: &StepTrade,
+    (trade, preview): (&StepTrade, Option<&PreviewSettings>),
 ) -> Situation {
     let voxel = volume.volume.spacing().min_element();
     let (lo, hi) = volume.volume.bounds();
@@ -345,10 +345,13 @@ pub(super) fn situation(
         back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
         light_kind: voxcast_core::level::light_kind(&render.settings.phong.light),
         attenuated: render.settings.phong.kl > 0.0 || render.settings.phong.kq > 0.0,
-        // The levels measure the step's trade.
+        // The sampling levels measure the step's trade.
         trade_measured: trade
             .current(view, render, volume)
             .is_some_and(|t| t.knob == voxcast_core::knob::Knob::Step),
+        measured_knob: trade.current(view, render, volume).map(|t| t.knob.name()),
+        preview_on: preview.is_some_and(|p| p.enabled),
+        preview_scale: preview.map_or(1.0, |p| p.scale),
         jitter: render.settings.jitter,
         trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
         supersampling: render.settings.supersampling,

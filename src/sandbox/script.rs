@@ -3,7 +3,7 @@
 //! control makes (a method chosen, a slider moved, a ray clicked, a point added to the transfer
 //! function, Render image pressed) — and takes a window screenshot of each level's first step
 //! (`DIR/NN_id.png`), of the steps that open a ray's breakdown, compare Render image with the
-//! preview or crop the volume once they are done (`DIR/NN_id_stepK.png`), and of free play at the end
+//! preview, crop the volume, show a cost view or measure a knob once they are done (`DIR/NN_id_stepK.png`), and of free play at the end
 //! (`DIR/free_play.png`). It checks that no objective is met before the player acts and that
 //! each is met after; `DIR/report.txt` lists every step, and the exit code is non-zero on a
 //! failure.
@@ -114,7 +114,7 @@ struct Hands<'w, 's> {
     cameras: Query<'w, 's, &'static mut VirtualCamera>,
     inspection: Res<'w, Inspection>,
     live: Option<Res<'w, super::live::LiveView>>,
-    preview: Option<Res<'w, super::preview::PreviewSettings>>,
+    preview: Option<ResMut<'w, super::preview::PreviewSettings>>,
     progressive: Option<Res<'w, super::progressive::Progressive>>,
     motion: Option<Res<'w, super::preview::Motion>>,
     volume: Res<'w, VolumeState>,
@@ -234,6 +234,7 @@ fn drive(
                         | Objective::Compared { .. }
                         | Objective::CropAtMost { .. }
                         | Objective::CostViewed { .. }
+                        | Objective::KnobMeasured { .. }
                 );
                 let met_at = *run.met_at.get_or_insert(run.frames);
                 match run.step_shot {
@@ -432,8 +433,28 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
         }
         Objective::Attenuated => s.phong.kl = 0.5,
         Objective::TradeMeasured => {
+            hands.trade.knob = voxcast_core::knob::Knob::Step;
             if hands.trade.progress().is_none() {
                 hands.trade.request();
+            }
+        }
+        Objective::KnobMeasured { knob } => {
+            if let Some(k) = voxcast_core::knob::Knob::parse(knob) {
+                hands.trade.knob = k;
+            }
+            if hands.trade.progress().is_none() {
+                hands.trade.request();
+            }
+        }
+        Objective::PreviewScaleAtMost { scale } | Objective::PreviewScaleAtLeast { scale } => {
+            if let Some(p) = hands.preview.as_mut() {
+                p.enabled = true;
+                p.scale = *scale;
+            }
+        }
+        Objective::Preview { on } => {
+            if let Some(p) = hands.preview.as_mut() {
+                p.enabled = *on;
             }
         }
     }

@@ -29,6 +29,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/13_clipping.json"),
     include_str!("../../../assets/levels/14_acceleration.json"),
     include_str!("../../../assets/levels/08_preview_render.json"),
+    include_str!("../../../assets/levels/15_slow_hardware.json"),
 ];
 
 /// What a level's scene holds: only what it teaches.
@@ -95,6 +96,8 @@ pub enum Control {
     CropBox,
     ClipPlane,
     Skipping,
+    PreviewScale,
+    PreviewOn,
 }
 
 impl Control {
@@ -116,6 +119,7 @@ impl Control {
             Control::Classification | Control::TransferFunction => Some(Section::TransferFunction),
             Control::StepTrade => Some(Section::SpeedAccuracy),
             Control::CropBox | Control::ClipPlane => Some(Section::LookingInside),
+            Control::PreviewScale | Control::PreviewOn => Some(Section::Preview),
             Control::PixelGrid | Control::Breakdown | Control::RenderImage => None,
         }
     }
@@ -199,6 +203,15 @@ pub enum Objective {
     /// Show Render image's render as the cost view `view` (`samples`, `skipped`, `stops`),
     /// rendered with the settings on screen.
     CostViewed { view: String },
+    /// Set the preview's resolution to at most `scale`.
+    PreviewScaleAtMost { scale: f32 },
+    /// Set the preview's resolution to at least `scale`.
+    PreviewScaleAtLeast { scale: f32 },
+    /// Turn the preview on or off.
+    Preview { on: bool },
+    /// Measure the trade of the knob named `knob` (`crate::knob::Knob::name`) for the view on
+    /// screen.
+    KnobMeasured { knob: String },
 }
 
 /// One step of a level.
@@ -266,6 +279,10 @@ pub struct Situation {
     pub skipping: bool,
     /// The cost view Render image shows of a render of what is on screen, if any.
     pub cost_view: Option<&'static str>,
+    pub preview_on: bool,
+    pub preview_scale: f32,
+    /// The knob of a trade measured for what is on screen, if any.
+    pub measured_knob: Option<&'static str>,
 }
 
 impl Objective {
@@ -332,6 +349,11 @@ impl Objective {
             Objective::SelectCutRay => s.ray_selected && s.ray_cut,
             Objective::Skipping { on } => s.skipping == *on,
             Objective::CostViewed { view } => s.cost_view == Some(view.as_str()),
+            // A slider lands on 0.5 as 0.50000006: a thousandth is allowed.
+            Objective::PreviewScaleAtMost { scale } => s.preview_scale <= scale + 1e-3,
+            Objective::PreviewScaleAtLeast { scale } => s.preview_scale >= scale - 1e-3,
+            Objective::Preview { on } => s.preview_on == *on,
+            Objective::KnobMeasured { knob } => s.measured_knob == Some(knob.as_str()),
         }
     }
 }
@@ -526,6 +548,8 @@ mod tests {
                     Objective::SupersamplingAtLeast { rays } => vec![*rays as f32],
                     Objective::ClipPositionBetween { lo, hi } => vec![*lo, *hi],
                     Objective::CropAtMost { fraction } => vec![*fraction],
+                    Objective::PreviewScaleAtMost { scale }
+                    | Objective::PreviewScaleAtLeast { scale } => vec![*scale],
                     Objective::PredictValue { point, tolerance } => {
                         point.iter().copied().chain([*tolerance]).collect()
                     }
@@ -640,6 +664,16 @@ mod tests {
         assert!(!stops.met(&s));
         s.cost_view = Some("stops");
         assert!(stops.met(&s));
+        s.preview_scale = 0.50000006;
+        assert!(Objective::PreviewScaleAtMost { scale: 0.5 }.met(&s));
+        assert!(!Objective::PreviewScaleAtLeast { scale: 1.0 }.met(&s));
+        assert!(Objective::Preview { on: false }.met(&s));
+        let measured = Objective::KnobMeasured {
+            knob: "preview-scale".into(),
+        };
+        assert!(!measured.met(&s));
+        s.measured_knob = Some("preview-scale");
+        assert!(measured.met(&s));
         assert!(!Objective::VirtualPixelsAtLeast { pixels: 8 }.met(&s));
         assert!(
             !Objective::Method {
@@ -676,6 +710,28 @@ mod tests {
             }
             .met(&s)
         );
+    }
+
+    /// The names objectives use are real: knobs and cost views.
+    #[test]
+    fn objectives_name_real_knobs_and_views() {
+        for l in Level::all() {
+            for step in &l.steps {
+                match &step.objective {
+                    Objective::KnobMeasured { knob } => {
+                        assert!(crate::knob::Knob::parse(knob).is_some(), "{}: {knob}", l.id)
+                    }
+                    Objective::CostViewed { view } => {
+                        assert!(
+                            crate::cost::CostView::parse(view).is_some(),
+                            "{}: {view}",
+                            l.id
+                        )
+                    }
+                    _ => {}
+                }
+            }
+        }
     }
 
     /// A level that limits the panel shows every control its steps are about.

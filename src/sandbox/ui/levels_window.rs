@@ -35,6 +35,8 @@ fn control_name(c: Control) -> String {
         Control::CropBox => "Crop box",
         Control::ClipPlane => "Clip plane",
         Control::Skipping => "Empty-space skipping",
+        Control::PreviewScale => "Preview resolution",
+        Control::PreviewOn => "Show the preview",
     };
     match c.section() {
         Some(s) => format!("Settings › {} › {label}", super::title(s)),

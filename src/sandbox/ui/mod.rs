@@ -439,10 +439,13 @@ fn preview_section(
     preview: &mut PreviewSettings,
     live: Option<&super::live::LiveView>,
     depth: &mut bool,
+    spot: Spot,
 ) {
     let mut q = preview.clone();
-    ui.checkbox(&mut q.enabled, "Show the preview")
-        .on_hover_text("Turn the live preview off (Render image still works)");
+    marked(ui, spot, Control::PreviewOn, |ui| {
+        ui.checkbox(&mut q.enabled, "Show the preview")
+            .on_hover_text("Turn the live preview off (Render image still works)")
+    });
     ui.horizontal(|ui| {
         ui.label(t::PREVIEW_BACKEND.label)
             .on_hover_text(t::PREVIEW_BACKEND.doc);
@@ -457,7 +460,9 @@ fn preview_section(
     if let (super::live::Backend::Cpu, Some(live)) = (q.backend, live) {
         ui.label(format!("Live view: {}", live.status()));
     }
-    slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false);
+    marked(ui, spot, Control::PreviewScale, |ui| {
+        slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false)
+    });
     let gpu = q.backend == super::live::Backend::Gpu;
     let why = "The CPU live view always uses the settings' own step: it refines to the exact \
                render";
@@ -655,6 +660,7 @@ fn settings_panel(
                                 &mut preview,
                                 live.as_deref(),
                                 &mut edited.depth_termination,
+                                spot,
                             )
                         });
                     });
@@ -757,7 +763,7 @@ mod tests {
                     });
                 }
                 trade::trade_section(ui, &mut step_trade, false, 0.5, None);
-                preview_section(ui, &mut preview, Some(&live), &mut depth);
+                preview_section(ui, &mut preview, Some(&live), &mut depth, None);
                 let mut handles = crate::sandbox::cut::CutHandles { crop: true };
                 s.clip.plane = Some(voxcast_core::clip::ClipPlane {
                     normal: Vec3::X,
