@@ -192,6 +192,9 @@ fn set_up_scene(
     let Some(level) = lessons.levels.get(l) else {
         return;
     };
+    if let Some(scale) = level.scene.preview_scale {
+        preview.scale = scale;
+    }
     if level.scene.volume != volume.source {
         // The load brings the volume's defaults with it.
         loading.start(level.scene.volume.clone());

@@ -55,6 +55,10 @@ pub struct LevelScene {
     /// function that shows every method the level teaches.
     #[serde(default)]
     pub preset: Option<String>,
+    /// The preview resolution the level starts at (a level about it starts from a known one);
+    /// `None` keeps the player's.
+    #[serde(default)]
+    pub preview_scale: Option<f32>,
 }
 
 /// A section of the settings panel.
