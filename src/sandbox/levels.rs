@@ -247,9 +247,18 @@ pub(crate) fn check_objective(
     cameras: Query<&VirtualCamera>,
     (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
     (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
-    (trade, preview): (Res<StepTrade>, Option<Res<PreviewSettings>>),
+    (mut trade, preview): (ResMut<StepTrade>, Option<Res<PreviewSettings>>),
 ) {
     let step = lessons.step_in(*mode.get()).cloned();
+    // A step about the step's trade measures the step, whatever knob was picked before.
+    if step
+        .as_ref()
+        .is_some_and(|s| s.objective == Objective::TradeMeasured)
+        && trade.knob != voxcast_core::knob::Knob::Step
+        && trade.progress().is_none()
+    {
+        trade.knob = voxcast_core::knob::Knob::Step;
+    }
     let spot = step.as_ref().and_then(|s| s.control);
     // A prediction step's answer: the reconstruction at its point, or the worked composite.
     let (detail, composite) = match step.as_ref().map(|s| &s.objective) {
@@ -576,6 +585,28 @@ mod tests {
             assert_eq!(app.world().resource::<Lessons>().met, met, "{w}×{h}");
         }
         assert!(!dir.exists(), "nothing saved before a step is done");
+    }
+
+    /// A step about the step's trade picks the step knob, whatever was picked before.
+    #[test]
+    fn a_step_trade_step_measures_the_step() {
+        let dir = std::env::temp_dir().join(format!("voxcast-knob-{}", std::process::id()));
+        let mut app = app(dir.join("progress.json"));
+        app.update();
+        app.world_mut().resource_mut::<StepTrade>().knob = voxcast_core::knob::Knob::Cutoff;
+        let sampling = level(&app, "sampling");
+        send(&mut app, LevelCommand::Start(sampling));
+        let k = app.world().resource::<Lessons>().levels[sampling]
+            .steps
+            .iter()
+            .position(|s| s.objective == Objective::TradeMeasured)
+            .expect("the sampling level measures the step's trade");
+        app.world_mut().resource_mut::<Lessons>().step = k;
+        app.update();
+        assert_eq!(
+            app.world().resource::<StepTrade>().knob,
+            voxcast_core::knob::Knob::Step
+        );
     }
 
     /// Entering a level resets the settings to its volume's defaults, so a choice made in free

@@ -433,7 +433,6 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
         }
         Objective::Attenuated => s.phong.kl = 0.5,
         Objective::TradeMeasured => {
-            hands.trade.knob = voxcast_core::knob::Knob::Step;
             if hands.trade.progress().is_none() {
                 hands.trade.request();
             }
