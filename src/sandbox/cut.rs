@@ -9,9 +9,10 @@ use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy::window::PrimaryWindow;
 use bevy_egui::input::EguiWantsInput;
-use voxcast_core::clip::ResolvedClip;
+use voxcast_core::clip::{Clip, ResolvedClip};
 use voxcast_core::marker::light_marker_radius;
 use voxcast_core::ray::Ray;
+use voxcast_core::ray::box_edges;
 
 /// Colour of the crop box and its handles.
 const CROP_COLOR: Color = Color::srgb(1.0, 0.6, 0.2);
@@ -72,25 +73,27 @@ pub(super) fn plugin(app: &mut App) {
         );
 }
 
-/// The handles shown: where each stands, the axis it moves along, the setting's value and world
-/// units per unit of it.
-fn handles(render: &RenderState, volume: &VolumeState, crop: bool) -> Vec<Grab> {
-    let clip = &render.settings.clip;
-    let bounds = volume.volume.bounds();
-    let resolved = clip.resolve(bounds);
+/// The handles shown for `clip` (resolved as `resolved`, its plane crossing the box as
+/// `polygon`) on a volume spanning `bounds`: where each stands, the axis it moves along, the
+/// setting's value and world units per unit of it.
+fn handles(
+    clip: &Clip,
+    resolved: &ResolvedClip,
+    polygon: &[Vec3],
+    bounds: (Vec3, Vec3),
+    crop: bool,
+) -> Vec<Grab> {
     let mut out = Vec::new();
-    if let Some(plane) = clip.plane {
-        let polygon = resolved.plane_polygon();
-        if !polygon.is_empty() {
-            let size = bounds.1 - bounds.0;
-            out.push(Grab {
-                handle: Handle::Plane,
-                at: polygon.iter().copied().sum::<Vec3>() / polygon.len() as f32,
-                axis: resolved.normal,
-                start: plane.position,
-                scale: 0.5 * resolved.normal.abs().dot(size),
-            });
-        }
+    if let Some(plane) = clip.plane
+        && !polygon.is_empty()
+    {
+        out.push(Grab {
+            handle: Handle::Plane,
+            at: polygon.iter().copied().sum::<Vec3>() / polygon.len() as f32,
+            axis: resolved.normal,
+            start: plane.position,
+            scale: resolved.position_scale,
+        });
     }
     if crop || clip.is_cropped() {
         let size = bounds.1 - bounds.0;
@@ -173,10 +176,13 @@ fn drag_cut(
         if egui.is_some_and(|e| e.wants_any_pointer_input()) {
             return;
         }
-        let (lo, hi) = volume.volume.bounds();
-        let radius = grab_radius(lo, hi);
+        let bounds = volume.volume.bounds();
+        let radius = grab_radius(bounds.0, bounds.1);
+        let clip = &render.settings.clip;
+        let resolved = clip.resolve(bounds);
+        let polygon = resolved.plane_polygon();
         // The nearest handle the cursor's ray passes within reach of.
-        drag.grab = handles(&render, &volume, shown.crop)
+        drag.grab = handles(clip, &resolved, &polygon, bounds, shown.crop)
             .into_iter()
             .filter_map(|g| {
                 let t = (g.at - ray.origin).dot(ray.dir);
@@ -214,17 +220,19 @@ fn draw_cut(
 ) {
     let Ok(view) = views.single() else { return };
     let clip = &render.settings.clip;
-    let (lo, hi) = volume.volume.bounds();
-    let resolved = clip.resolve((lo, hi));
+    let bounds = volume.volume.bounds();
+    let resolved = clip.resolve(bounds);
     if clip.is_cropped() || shown.crop {
-        box_edges(&mut overlay, &resolved, CROP_COLOR);
+        for (a, b) in box_edges(resolved.lo, resolved.hi) {
+            overlay.line(a, b, CROP_COLOR, 1.5);
+        }
     }
     let polygon = resolved.plane_polygon();
     for (i, &p) in polygon.iter().enumerate() {
         overlay.line(p, polygon[(i + 1) % polygon.len()], PLANE_COLOR, 1.5);
     }
-    let radius = grab_radius(lo, hi);
-    for g in handles(&render, &volume, shown.crop) {
+    let radius = grab_radius(bounds.0, bounds.1);
+    for g in handles(clip, &resolved, &polygon, bounds, shown.crop) {
         let color = if drag.holds(g.handle) {
             Color::WHITE
         } else if g.handle == Handle::Plane {
@@ -240,29 +248,19 @@ fn draw_cut(
     }
 }
 
-/// The 12 edges of the cropped box.
-fn box_edges(overlay: &mut super::overlay::OverlayLines, c: &ResolvedClip, color: Color) {
-    let corner = |i: usize| {
-        Vec3::new(
-            if i & 1 == 0 { c.lo.x } else { c.hi.x },
-            if i & 2 == 0 { c.lo.y } else { c.hi.y },
-            if i & 4 == 0 { c.lo.z } else { c.hi.z },
-        )
-    };
-    for a in 0..8usize {
-        for bit in [1usize, 2, 4] {
-            if a & bit == 0 {
-                overlay.line(corner(a), corner(a | bit), color, 1.5);
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::sync::Arc;
-    use voxcast_core::clip::{Clip, ClipPlane};
+    use voxcast_core::clip::ClipPlane;
+
+    /// The handles shown for the state's cut, as the systems compute them.
+    fn shown(render: &RenderState, volume: &VolumeState, crop: bool) -> Vec<Grab> {
+        let clip = &render.settings.clip;
+        let bounds = volume.volume.bounds();
+        let resolved = clip.resolve(bounds);
+        handles(clip, &resolved, &resolved.plane_polygon(), bounds, crop)
+    }
     use voxcast_core::settings::RenderSettings;
 
     fn state(clip: Clip) -> (RenderState, VolumeState) {
@@ -303,14 +301,14 @@ mod tests {
             }),
             ..Clip::default()
         });
-        let shown = handles(&render, &volume, false);
+        let first = shown(&render, &volume, false);
         assert_eq!(
-            shown.len(),
+            first.len(),
             1,
             "the plane's handle only, until the crop is shown"
         );
         let (lo, hi) = volume.volume.bounds();
-        let plane = shown[0];
+        let plane = first[0];
         assert!((plane.at.x - 0.5 * (lo.x + hi.x)).abs() < 1e-3);
         // Half the box along x further: position 1.
         apply(
@@ -322,7 +320,7 @@ mod tests {
         apply(&mut render, Handle::Plane, -7.0);
         assert_eq!(render.settings.clip.plane.unwrap().position, -1.0);
         // Crop faces never cross.
-        assert_eq!(handles(&render, &volume, true).len(), 7);
+        assert_eq!(shown(&render, &volume, true).len(), 7);
         apply(&mut render, Handle::Crop(2, false), 0.7);
         apply(&mut render, Handle::Crop(2, true), 0.4);
         let clip = &render.settings.clip;
@@ -330,9 +328,9 @@ mod tests {
         assert!(render.settings.validate().is_ok());
         // A cropped box shows its handles without the switch; the plane's handle goes where
         // the plane misses what is left (here a slice of zero thickness it does not cross).
-        assert_eq!(handles(&render, &volume, false).len(), 6);
+        assert_eq!(shown(&render, &volume, false).len(), 6);
         apply(&mut render, Handle::Crop(2, false), 0.2);
         apply(&mut render, Handle::Plane, 0.0);
-        assert_eq!(handles(&render, &volume, false).len(), 7);
+        assert_eq!(shown(&render, &volume, false).len(), 7);
     }
 }

@@ -18,18 +18,7 @@ pub(super) fn plugin(app: &mut App) {
 pub fn lattice_lines(volume: &voxcast_core::volume::Volume) -> Vec<(Vec3, Vec3)> {
     let (lo, hi) = volume.bounds();
     let dims = volume.dims();
-    let corner = |i: usize| {
-        Vec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        )
-    };
-    let mut lines: Vec<(Vec3, Vec3)> = (0..8)
-        .flat_map(|i| [1, 2, 4].map(|bit| (i, i | bit)))
-        .filter(|(a, b)| a != b)
-        .map(|(a, b)| (corner(a), corner(b)))
-        .collect();
+    let mut lines = voxcast_core::ray::box_edges(lo, hi).to_vec();
     if dims.max_element() > LATTICE_MAX {
         return lines;
     }

@@ -332,6 +332,7 @@ pub(super) fn situation(
         .as_ref()
         .filter(|r| r.snapshot.is_current(view, render, volume))
         .and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0));
+    let measured = trade.current(view, render, volume).map(|t| t.knob);
     let light_inside_volume = matches!(render.settings.phong.light,
         voxcast_core::shade::Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all());
     Situation {
@@ -358,10 +359,8 @@ pub(super) fn situation(
         light_kind: voxcast_core::level::light_kind(&render.settings.phong.light),
         attenuated: render.settings.phong.kl > 0.0 || render.settings.phong.kq > 0.0,
         // The sampling levels measure the step's trade.
-        trade_measured: trade
-            .current(view, render, volume)
-            .is_some_and(|t| t.knob == voxcast_core::knob::Knob::Step),
-        measured_knob: trade.current(view, render, volume).map(|t| t.knob.name()),
+        trade_measured: measured == Some(voxcast_core::knob::Knob::Step),
+        measured_knob: measured.map(|k| k.name()),
         preview_on: preview.is_some_and(|p| p.enabled),
         preview_scale: preview.map_or(1.0, |p| p.scale),
         jitter: render.settings.jitter,

@@ -13,7 +13,7 @@
 //! marches and the breakdown use the same interval, so a cut changes no other rule.
 
 use crate::error::SettingsError;
-use crate::ray::{Ray, intersect_box};
+use crate::ray::{Ray, box_edges, intersect_box};
 use crate::tunables as t;
 use glam::Vec3;
 
@@ -93,16 +93,16 @@ impl Clip {
     pub fn resolve(&self, bounds: (Vec3, Vec3)) -> ResolvedClip {
         let (lo, hi) = bounds;
         let size = hi - lo;
-        let (normal, d) = match self.plane {
+        let (normal, d, position_scale) = match self.plane {
             Some(p) => {
                 let n = p.normal.normalize_or_zero();
                 let centre = 0.5 * (lo + hi);
                 // Half the box's extent along n (its support distance): position ±1 touches the
                 // farthest corners, so 1 keeps everything and −1 nothing.
                 let half = 0.5 * n.abs().dot(size);
-                (n, n.dot(centre) + p.position * half)
+                (n, n.dot(centre) + p.position * half, half)
             }
-            None => (Vec3::ZERO, 0.0),
+            None => (Vec3::ZERO, 0.0, 0.0),
         };
         // lo·(1 − f) + hi·f is exact at f = 0 and f = 1: an uncut side is the box's own.
         let at = |f: Vec3| lo * (Vec3::ONE - f) + hi * f;
@@ -111,6 +111,7 @@ impl Clip {
             hi: at(self.crop_hi),
             normal,
             d,
+            position_scale,
         }
     }
 }
@@ -123,6 +124,8 @@ pub struct ResolvedClip {
     pub hi: Vec3,
     pub normal: Vec3,
     pub d: f32,
+    /// World units the plane moves per unit of [`ClipPlane::position`] (0 without a plane).
+    pub position_scale: f32,
 }
 
 impl ResolvedClip {
@@ -137,33 +140,20 @@ impl ResolvedClip {
         if !self.has_plane() {
             return Vec::new();
         }
-        let corner = |i: usize| {
-            Vec3::new(
-                if i & 1 == 0 { self.lo.x } else { self.hi.x },
-                if i & 2 == 0 { self.lo.y } else { self.hi.y },
-                if i & 4 == 0 { self.lo.z } else { self.hi.z },
-            )
-        };
+        let scale = (self.hi - self.lo).max_element().max(f32::MIN_POSITIVE);
         let mut points: Vec<Vec3> = Vec::new();
-        for a in 0..8usize {
-            for bit in [1usize, 2, 4] {
-                if a & bit != 0 {
-                    continue;
-                }
-                let (pa, pb) = (corner(a), corner(a | bit));
-                let (sa, sb) = (self.normal.dot(pa) - self.d, self.normal.dot(pb) - self.d);
-                if (sa <= 0.0) == (sb <= 0.0) && sa != 0.0 && sb != 0.0 {
-                    continue;
-                }
-                let p = if sa == sb {
-                    pa
-                } else {
-                    pa + (pb - pa) * (sa / (sa - sb))
-                };
-                let scale = (self.hi - self.lo).max_element().max(f32::MIN_POSITIVE);
-                if points.iter().all(|q| q.distance(p) > 1e-5 * scale) {
-                    points.push(p);
-                }
+        for (pa, pb) in box_edges(self.lo, self.hi) {
+            let (sa, sb) = (self.normal.dot(pa) - self.d, self.normal.dot(pb) - self.d);
+            if (sa <= 0.0) == (sb <= 0.0) && sa != 0.0 && sb != 0.0 {
+                continue;
+            }
+            let p = if sa == sb {
+                pa
+            } else {
+                pa + (pb - pa) * (sa / (sa - sb))
+            };
+            if points.iter().all(|q| q.distance(p) > 1e-5 * scale) {
+                points.push(p);
             }
         }
         if points.len() < 3 {

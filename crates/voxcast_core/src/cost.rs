@@ -154,15 +154,7 @@ pub fn render_cost(
             })
         }
     }
-    let job = Job {
-        scene,
-        camera,
-        width,
-        height,
-        occluders: &[],
-        progress,
-        cancel,
-    };
+    let job = Job::plain(scene, camera, (width, height), progress, cancel);
     let (pixels, stats) = scene.volume.visit(Visit { job })?;
     // The job averages over a pixel's rays; multiplied back, every count is a whole number
     // again (they stay far below 2^24, where f32 holds integers exactly).

@@ -68,6 +68,24 @@ pub fn intersect_box(ray: &Ray, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
     (t_enter <= t_exit).then_some((t_enter, t_exit))
 }
 
+/// The 12 edges of the box `[lo, hi]`, each as its two corners (corner `i` takes `hi` on the
+/// axes whose bit is set in `i`: x 1, y 2, z 4).
+pub fn box_edges(lo: Vec3, hi: Vec3) -> [(Vec3, Vec3); 12] {
+    let corner =
+        |i: usize| Vec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), hi, lo);
+    let mut edges = [(lo, lo); 12];
+    let mut n = 0;
+    for a in 0..8usize {
+        for bit in [1usize, 2, 4] {
+            if a & bit == 0 {
+                edges[n] = (corner(a), corner(a | bit));
+                n += 1;
+            }
+        }
+    }
+    edges
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -133,5 +151,21 @@ mod tests {
         assert!(Ray::new(Vec3::ZERO, Vec3::ZERO).is_none());
         assert!(Ray::new(Vec3::ZERO, Vec3::new(f32::NAN, 0.0, 1.0)).is_none());
         assert!(Ray::new(Vec3::splat(f32::INFINITY), Vec3::X).is_none());
+    }
+
+    #[test]
+    fn a_box_has_twelve_edges_each_along_one_axis() {
+        let edges = box_edges(LO, HI);
+        let mut lengths: Vec<f32> = edges.iter().map(|(a, b)| a.distance(*b)).collect();
+        lengths.sort_by(f32::total_cmp);
+        assert_eq!(
+            lengths,
+            [1.0, 1.0, 1.0, 1.0, 2.0, 2.0, 2.0, 2.0, 4.0, 4.0, 4.0, 4.0]
+        );
+        assert!(
+            edges
+                .iter()
+                .all(|(a, b)| (*b - *a).cmpgt(Vec3::ZERO).bitmask().count_ones() == 1)
+        );
     }
 }

@@ -281,6 +281,27 @@ pub(crate) struct Job<'x, 'a> {
     pub(crate) cancel: &'x AtomicBool,
 }
 
+impl<'x, 'a> Job<'x, 'a> {
+    /// A job without occluders: the plain image of `camera`'s view.
+    pub(crate) fn plain(
+        scene: &'x Scene<'a>,
+        camera: &'x Camera,
+        (width, height): (u32, u32),
+        progress: &'x (dyn Fn(usize, usize) + Sync),
+        cancel: &'x AtomicBool,
+    ) -> Self {
+        Self {
+            scene,
+            camera,
+            width,
+            height,
+            occluders: &[],
+            progress,
+            cancel,
+        }
+    }
+}
+
 impl Job<'_, '_> {
     /// Every pixel's rays through `grid`, each ray's outcome turned into a value by `value`
     /// (given the background and the colour of the occluder that stopped it, if one did) and
@@ -401,15 +422,7 @@ fn render_typed<T: Voxel>(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(LinearImage, RenderStats), Cancelled> {
-    let job = Job {
-        scene,
-        camera,
-        width,
-        height,
-        occluders: &[],
-        progress,
-        cancel,
-    };
+    let job = Job::plain(scene, camera, (width, height), progress, cancel);
     let (pixels, stats) = job.run(grid, |out, background, _| {
         Vec4::from((out.pixel(background), 1.0))
     })?;
