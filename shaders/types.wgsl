@@ -7,6 +7,20 @@
 // Rust owns this layout: a test checks every member's offset against the Rust struct.
 #define_import_path voxcast::types
 
+/// One light of the scene, as the core's `ResolvedSource`.
+struct LightUniform {
+    /// A point light's position, or the unit direction towards a directional light.
+    at: vec3<f32>,
+    /// LIGHT_POINT or LIGHT_TOWARD.
+    kind: u32,
+    /// Colour and intensity (linear RGB).
+    color: vec3<f32>,
+    /// Attenuation 1/(kc + kl·d + kq·d²) of a point light at distance d.
+    kc: f32,
+    kl: f32,
+    kq: f32,
+}
+
 struct VolumeUniform {
     /// The volume's box after the crop box (world units; see clip.wgsl).
     crop_lo: vec3<f32>,
@@ -34,21 +48,16 @@ struct VolumeUniform {
     refine_steps: u32,
     max_samples: u32,
     jitter_seed: u32,
-    light_kind: u32,
+    /// How many of `lights` shine (0 … MAX_LIGHTS).
+    light_count: u32,
     classification: u32,
     iso_count: u32,
     ka: f32,
     kd: f32,
     ks: f32,
     shininess: f32,
-    kc: f32,
-    kl: f32,
-    kq: f32,
     gradient_threshold: f32,
-    /// A point light's position, or the unit direction towards a directional light.
-    light_vec: vec3<f32>,
     iso_r: f32,
-    light_color: vec3<f32>,
     inv_full_gradient: f32,
     background: vec3<f32>,
     /// 1 to stop rays at opaque scene geometry (the depth prepass), else 0.
@@ -83,4 +92,6 @@ struct VolumeUniform {
     /// The clip plane keeps the points p with clip_normal·p ≤ clip_d; a zero normal keeps all.
     clip_normal: vec3<f32>,
     clip_d: f32,
+    /// The lights (shade.wgsl sums over the first light_count).
+    lights: array<LightUniform, #{MAX_LIGHTS}>,
 }

@@ -44,9 +44,9 @@ fn main() {
 
 /// "Render image" without a window (`voxcast --compare`): the same capture, CPU render and
 /// difference the button produces, for two datasets and methods, within the tolerance, and the
-/// three pictures written; the third case has the camera inside the volume, the fourth a point
-/// light whose marker (an opaque sphere) stands in the volume: hidden while the preview is
-/// captured, since the CPU render has no meshes.
+/// three pictures written; the third case has the camera inside the volume, the fourth two
+/// coloured lights, one a point light whose marker (an opaque sphere) stands in the volume:
+/// hidden while the preview is captured, since the CPU render has no meshes.
 fn render_image_compares_the_preview_with_the_render() -> Outcome {
     let dir = out_dir().join("compare");
     std::fs::create_dir_all(&dir).unwrap();
@@ -61,7 +61,11 @@ fn render_image_compares_the_preview_with_the_render() -> Outcome {
         let mut command = Command::new(env!("CARGO_BIN_EXE_voxcast"));
         match camera {
             Some("light") => {
-                command.args(["--light", "point:15.5,15.5,15.5"]);
+                // An attenuated orange point light and a blue directional one, Levoy's
+                // highlight: the GPU's sum over lights against the core's.
+                command.args(["--light", "point:15.5,15.5,15.5@1,0.6,0.4"]);
+                command.args(["--light", "dir:1,-1,-1@0.3,0.5,1", "--kl", "0.01"]);
+                command.args(["--highlight", "levoy"]);
             }
             Some(c) => {
                 command.args(["--camera", c]);

@@ -110,7 +110,7 @@ fn the_lights_marker_stops_the_preview_rays() -> Outcome {
     let settings = RenderSettings {
         shading: false,
         phong: voxcast_core::shade::Phong {
-            light: Light::Point(centre),
+            lights: vec![voxcast_core::shade::LightSource::new(Light::Point(centre))],
             ..Default::default()
         },
         ..RenderSettings::default()

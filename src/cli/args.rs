@@ -15,7 +15,7 @@ use voxcast_core::io::{Endian, FileType, Loaded};
 use voxcast_core::preset::{self, Preset};
 use voxcast_core::sample::Interpolation;
 use voxcast_core::settings::RenderSettings;
-use voxcast_core::shade::{Light, SpecularModel};
+use voxcast_core::shade::{Highlight, Light, LightSource, SpecularModel};
 use voxcast_core::step::Length;
 use voxcast_core::transfer::TransferFunction;
 use voxcast_core::tunables as t;
@@ -159,9 +159,15 @@ pub struct SettingsArgs {
     pub kl: Option<f32>,
     #[arg(long, help = t::ATTENUATION_QUADRATIC.doc, allow_negative_numbers = true)]
     pub kq: Option<f32>,
-    /// Light: headlight, point:X,Y,Z (world position) or dir:X,Y,Z (direction it shines along).
+    /// A light: headlight, point:X,Y,Z (world position) or dir:X,Y,Z (direction it shines
+    /// along), each optionally @R,G,B for its colour (linear, 0 … 1 or brighter); repeat for up
+    /// to 4 lights, or none for ambient light only. kc, kl and kq apply to every light.
     #[arg(long, value_parser = parse_light)]
-    pub light: Option<Light>,
+    pub light: Vec<Option<LightSource>>,
+    /// The highlight's colour: white (OpenGL, VTK) or levoy (multiplied by the sample's colour,
+    /// as Levoy's formula in the lecture).
+    #[arg(long, value_parser = ["white", "levoy"])]
+    pub highlight: Option<String>,
     /// Specular model.
     #[arg(long, value_parser = ["phong", "blinn-phong"])]
     pub specular: Option<String>,
@@ -343,17 +349,32 @@ impl SettingsArgs {
             (&mut p.kd, self.kd),
             (&mut p.ks, self.ks),
             (&mut p.shininess, self.shininess),
-            (&mut p.kc, self.kc),
-            (&mut p.kl, self.kl),
-            (&mut p.kq, self.kq),
             (&mut p.gradient_threshold, self.gradient_threshold),
         ] {
             if let Some(v) = src {
                 *dst = v;
             }
         }
-        if let Some(l) = self.light {
-            p.light = l;
+        if !self.light.is_empty() {
+            p.lights = self.light.iter().flatten().copied().collect();
+        }
+        for l in &mut p.lights {
+            for (dst, src) in [
+                (&mut l.kc, self.kc),
+                (&mut l.kl, self.kl),
+                (&mut l.kq, self.kq),
+            ] {
+                if let Some(v) = src {
+                    *dst = v;
+                }
+            }
+        }
+        if let Some(h) = &self.highlight {
+            p.highlight = if h == "levoy" {
+                Highlight::Levoy
+            } else {
+                Highlight::White
+            };
         }
         if let Some(m) = &self.specular {
             p.model = if m == "phong" {
@@ -473,23 +494,39 @@ fn method_parser() -> impl clap::builder::TypedValueParser<Value = Method> {
     .map(|s| Method::parse(&s).expect("a possible value"))
 }
 
-fn parse_light(s: &str) -> Result<Light, String> {
-    if s == "headlight" {
-        return Ok(Light::Headlight);
+/// One `--light`: `none` (no light at all), or a place and an optional `@R,G,B` colour.
+fn parse_light(s: &str) -> Result<Option<LightSource>, String> {
+    if s == "none" {
+        return Ok(None);
     }
-    if let Some(p) = s.strip_prefix("point:") {
-        return parse_vec3(p).map(Light::Point);
-    }
-    if let Some(d) = s.strip_prefix("dir:") {
+    let (place, color) = match s.split_once('@') {
+        Some((place, color)) => (place, Some(color)),
+        None => (s, None),
+    };
+    let light = if place == "headlight" {
+        Light::Headlight
+    } else if let Some(p) = place.strip_prefix("point:") {
+        Light::Point(parse_vec3(p)?)
+    } else if let Some(d) = place.strip_prefix("dir:") {
         let v = parse_vec3(d)?;
         if v.length_squared() == 0.0 {
             return Err("dir:0,0,0 is not a direction".into());
         }
-        return Ok(Light::Directional(v));
+        Light::Directional(v)
+    } else {
+        return Err(format!(
+            "'{s}': expected none, headlight, point:X,Y,Z or dir:X,Y,Z, optionally @R,G,B"
+        ));
+    };
+    let mut source = LightSource::new(light);
+    if let Some(c) = color {
+        let c = parse_vec3(c)?;
+        if c.min_element() < 0.0 {
+            return Err(format!("light colour {c} has a negative channel"));
+        }
+        source.color = c;
     }
-    Err(format!(
-        "'{s}': expected headlight, point:X,Y,Z or dir:X,Y,Z"
-    ))
+    Ok(Some(source))
 }
 
 /// The camera options.

@@ -333,8 +333,16 @@ pub(super) fn situation(
         .filter(|r| r.snapshot.is_current(view, render, volume))
         .and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0));
     let measured = trade.current(view, render, volume).map(|t| t.knob);
-    let light_inside_volume = matches!(render.settings.phong.light,
-        voxcast_core::shade::Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all());
+    let lights = &render.settings.phong.lights;
+    let light_inside_volume = lights.iter().any(|l| {
+        matches!(l.light,
+            voxcast_core::shade::Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all())
+    });
+    let opened_sample_lights = breakdown
+        .opened
+        .and_then(|i| breakdown.trace.as_ref()?.samples.get(i)?.shading)
+        .filter(|t| t.lit)
+        .map(|t| t.light_count);
     Situation {
         method: Some(render.settings.method),
         step_voxels: render.settings.step.voxels(voxel),
@@ -356,8 +364,11 @@ pub(super) fn situation(
         light_inside_volume,
         prediction: None,
         back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
-        light_kind: voxcast_core::level::light_kind(&render.settings.phong.light),
-        attenuated: render.settings.phong.kl > 0.0 || render.settings.phong.kq > 0.0,
+        light_kinds: lights.iter().map(|l| l.light.kind_label()).collect(),
+        light_colors: lights.iter().map(|l| l.color.to_array()).collect(),
+        attenuated: lights.iter().any(|l| l.attenuated()),
+        levoy_highlight: render.settings.phong.highlight == voxcast_core::shade::Highlight::Levoy,
+        opened_sample_lights,
         // The sampling levels measure the step's trade.
         trade_measured: measured == Some(voxcast_core::knob::Knob::Step),
         measured_knob: measured.map(|k| k.name()),
@@ -467,7 +478,10 @@ mod tests {
         ]
         .concat();
         assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
-        assert_eq!(entities::<LightMarker>(&mut app).len(), 1);
+        assert_eq!(
+            entities::<LightMarker>(&mut app).len(),
+            voxcast_core::shade::MAX_LIGHTS
+        );
 
         // The trilinear level: the 2³ voxel, one ray, no preview, no light marker.
         let trilinear = level(&app, "trilinear");
@@ -548,7 +562,10 @@ mod tests {
         assert_eq!(app.world().resource::<RenderState>().settings.method, last);
         until(&mut app, |a| !entities::<SampleSphere>(a).is_empty());
         assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
-        assert_eq!(entities::<LightMarker>(&mut app).len(), 1);
+        assert_eq!(
+            entities::<LightMarker>(&mut app).len(),
+            voxcast_core::shade::MAX_LIGHTS
+        );
         assert_eq!(
             app.world().resource::<Lessons>().panel_in(mode(&app)),
             None,

@@ -1,7 +1,8 @@
-//! The Light entity: a small opaque sphere standing where the point light is (or where a
-//! directional light comes from), drawn with a gizmo, and dragged with the mouse in the plane
-//! facing the camera. The settings' light is the single truth; the marker follows it, and a
-//! drag writes it, so the preview and the CPU render always shade with the same light.
+//! The Light entities: one small opaque sphere per light, standing where a point light is (or
+//! where a directional light comes from), ringed in the light's colour, and dragged with the
+//! mouse in the plane facing the camera. The settings' lights are the single truth; each marker
+//! follows its light, and a drag writes it, so the preview and the CPU render always shade with
+//! the same lights.
 //!
 //! The marker is a real mesh: inside the volume it writes depth and the preview's rays stop at
 //! it. It is hidden while a comparison captures the preview (the CPU render has no meshes).
@@ -16,16 +17,18 @@ use voxcast_core::marker::{
     LIGHT_MARKER_COLOR, direction_from_marker, directional_marker_position, light_marker_radius,
 };
 use voxcast_core::ray::Ray;
-use voxcast_core::shade::Light;
+use voxcast_core::shade::{Light, MAX_LIGHTS};
 
-/// Marks the light's sphere.
-#[derive(Component)]
-pub struct LightMarker;
+/// Marks the sphere of the light at this index of the settings' lights (one sphere per slot,
+/// hidden while its slot is empty or holds a headlight).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightMarker(pub usize);
 
-/// The drag under way: the plane the light moves in (through the marker, facing the camera).
+/// The drag under way: the plane the light moves in (through the marker, facing the camera),
+/// and which light.
 #[derive(Resource, Default)]
 pub struct LightDrag {
-    plane: Option<(Vec3, Vec3)>,
+    plane: Option<(Vec3, Vec3, usize)>,
 }
 
 impl LightDrag {
@@ -53,6 +56,12 @@ pub(super) fn plugin(app: &mut App) {
     );
 }
 
+/// Where the marker of light `i` stands, `None` for a headlight (it moves with the camera) or
+/// an empty slot.
+fn marker_of(render: &RenderState, i: usize, volume: &VolumeState) -> Option<Vec3> {
+    marker_position(render.settings.phong.lights.get(i)?.light, volume)
+}
+
 /// Where the marker stands for `light`, `None` for the headlight (it moves with the camera).
 fn marker_position(light: Light, volume: &VolumeState) -> Option<Vec3> {
     let (lo, hi) = volume.volume.bounds();
@@ -63,7 +72,7 @@ fn marker_position(light: Light, volume: &VolumeState) -> Option<Vec3> {
     }
 }
 
-/// (Re)spawns the sphere when the mode changes (if its scene has one; it leaves with the mode)
+/// (Re)spawns the spheres when the mode changes (if its scene has one; it leaves with the mode)
 /// or a volume is loaded (its size follows the volume).
 fn spawn_marker(
     mut commands: Commands,
@@ -84,38 +93,40 @@ fn spawn_marker(
     }
     let (lo, hi) = volume.volume.bounds();
     let c = LIGHT_MARKER_COLOR;
-    commands.spawn((
-        LightMarker,
-        Mesh3d(
-            meshes.add(
-                Sphere::new(light_marker_radius(lo, hi))
-                    .mesh()
-                    .ico(3)
-                    .unwrap(),
-            ),
-        ),
-        MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::srgb(c.x, c.y, c.z),
-            unlit: true,
-            ..default()
-        })),
-        Transform::default(),
-        Visibility::Hidden,
-        DespawnOnExit(*mode.get()),
-        bevy::camera::visibility::RenderLayers::layer(super::live::OCCLUDER_LAYER),
-    ));
+    let mesh = meshes.add(
+        Sphere::new(light_marker_radius(lo, hi))
+            .mesh()
+            .ico(3)
+            .unwrap(),
+    );
+    let material = materials.add(StandardMaterial {
+        base_color: Color::srgb(c.x, c.y, c.z),
+        unlit: true,
+        ..default()
+    });
+    for i in 0..MAX_LIGHTS {
+        commands.spawn((
+            LightMarker(i),
+            Mesh3d(mesh.clone()),
+            MeshMaterial3d(material.clone()),
+            Transform::default(),
+            Visibility::Hidden,
+            DespawnOnExit(*mode.get()),
+            bevy::camera::visibility::RenderLayers::layer(super::live::OCCLUDER_LAYER),
+        ));
+    }
 }
 
-/// Keeps the marker where the settings' light is.
+/// Keeps each marker where its light is.
 fn place_marker(
     render: Res<RenderState>,
     volume: Res<VolumeState>,
     full: Option<Res<FullQuality>>,
-    mut markers: Query<(&mut Transform, &mut Visibility), With<LightMarker>>,
+    mut markers: Query<(&LightMarker, &mut Transform, &mut Visibility)>,
 ) {
     let capturing = full.as_ref().is_some_and(|f| f.0);
-    let at = marker_position(render.settings.phong.light, &volume);
-    for (mut transform, mut visibility) in &mut markers {
+    for (marker, mut transform, mut visibility) in &mut markers {
+        let at = marker_of(&render, marker.0, &volume);
         let want = match at {
             Some(_) if !capturing => Visibility::Visible,
             _ => Visibility::Hidden,
@@ -154,7 +165,7 @@ pub(super) fn drag_light(
     (window, viewport): (Query<&Window, With<PrimaryWindow>>, Option<Res<Viewport>>),
     egui: Option<Res<EguiWantsInput>>,
     views: Query<&View, With<MainCamera>>,
-    markers: Query<(&Transform, &Visibility), With<LightMarker>>,
+    markers: Query<(&LightMarker, &Transform, &Visibility)>,
     volume: Res<VolumeState>,
     mut render: ResMut<RenderState>,
     mut drag: ResMut<LightDrag>,
@@ -175,13 +186,20 @@ pub(super) fn drag_light(
             return;
         }
         let radius = light_marker_radius(lo, hi) * GRAB_SLACK;
-        for (t, v) in &markers {
-            if *v != Visibility::Hidden && hits_sphere(&ray, t.translation, radius) {
-                drag.plane = Some((t.translation, view.0.forward()));
+        // The nearest marker under the cursor is grabbed.
+        let mut best: Option<(f32, Vec3, usize)> = None;
+        for (m, t, v) in &markers {
+            let d = (t.translation - ray.origin).dot(ray.dir);
+            if *v != Visibility::Hidden
+                && hits_sphere(&ray, t.translation, radius)
+                && best.is_none_or(|b| d < b.0)
+            {
+                best = Some((d, t.translation, m.0));
             }
         }
+        drag.plane = best.map(|(_, at, i)| (at, view.0.forward(), i));
     }
-    let Some((point, normal)) = drag.plane else {
+    let Some((point, normal, index)) = drag.plane else {
         return;
     };
     let denom = ray.dir.dot(normal);
@@ -193,13 +211,17 @@ pub(super) fn drag_light(
         return;
     }
     let at = ray.origin + ray.dir * t;
-    let light = match render.settings.phong.light {
+    let Some(current) = render.settings.phong.lights.get(index).map(|l| l.light) else {
+        drag.plane = None; // the light was removed while held
+        return;
+    };
+    let light = match current {
         Light::Point(_) => Light::Point(at),
         Light::Directional(d) => Light::Directional(direction_from_marker(at, lo, hi).unwrap_or(d)),
         Light::Headlight => return,
     };
-    if render.settings.phong.light != light {
-        render.settings.phong.light = light;
+    if current != light {
+        render.settings.phong.lights[index].light = light;
     }
 }
 
@@ -211,18 +233,22 @@ fn draw_ring(
     views: Query<&View, With<MainCamera>>,
 ) {
     let Ok(view) = views.single() else { return };
-    let light = render.settings.phong.light;
-    let Some(at) = marker_position(light, &volume) else {
-        return;
-    };
     let (lo, hi) = volume.volume.bounds();
     let r = light_marker_radius(lo, hi);
-    let c = LIGHT_MARKER_COLOR;
-    let color = Color::srgb(c.x, c.y, c.z);
-    let ring = if drag.active() { Color::WHITE } else { color };
-    overlay.ring(at, r * GRAB_SLACK, view, ring, 1.5);
-    if let Light::Directional(_) = light {
-        overlay.arrow(at, (lo + hi) * 0.5, view, color, 1.5);
+    for (i, source) in render.settings.phong.lights.iter().enumerate() {
+        let Some(at) = marker_position(source.light, &volume) else {
+            continue;
+        };
+        // The ring and arrow in the light's own colour (scaled to full brightness), so several
+        // lights are told apart; white while held.
+        let c = source.color / source.color.max_element().max(1e-6);
+        let color = Color::srgb(c.x, c.y, c.z);
+        let held = drag.plane.is_some_and(|(_, _, k)| k == i);
+        let ring = if held { Color::WHITE } else { color };
+        overlay.ring(at, r * GRAB_SLACK, view, ring, 1.5);
+        if let Light::Directional(_) = source.light {
+            overlay.arrow(at, (lo + hi) * 0.5, view, color, 1.5);
+        }
     }
 }
 
@@ -256,7 +282,7 @@ mod tests {
         let (lo, hi) = volume.bounds();
         let camera = Camera::framing(lo, hi, Vec3::new(0.3, 0.2, 1.0), Vec3::Y).unwrap();
         let mut settings = RenderSettings::default();
-        settings.phong.light = start;
+        settings.phong.lights = vec![voxcast_core::shade::LightSource::new(start)];
         let mut app = App::new();
         app.insert_resource(VolumeState {
             volume: Arc::new(volume),
@@ -272,8 +298,10 @@ mod tests {
         .init_resource::<ButtonInput<MouseButton>>()
         .add_systems(Update, (drag_light, place_marker).chain());
         app.world_mut().spawn((MainCamera, View(camera)));
-        app.world_mut()
-            .spawn((LightMarker, Transform::default(), Visibility::Hidden));
+        for i in 0..MAX_LIGHTS {
+            app.world_mut()
+                .spawn((LightMarker(i), Transform::default(), Visibility::Hidden));
+        }
         app.world_mut().spawn((
             Window {
                 resolution: WindowResolution::new(W, H).with_scale_factor_override(1.0),
@@ -318,14 +346,21 @@ mod tests {
     }
 
     fn light(app: &App) -> Light {
-        app.world().resource::<RenderState>().settings.phong.light
+        app.world().resource::<RenderState>().settings.phong.lights[0].light
+    }
+
+    /// Where light `i`'s marker stands, if shown.
+    fn marker_at(app: &mut App, i: usize) -> Option<Vec3> {
+        let mut q = app
+            .world_mut()
+            .query::<(&LightMarker, &Transform, &Visibility)>();
+        q.iter(app.world())
+            .find(|(m, _, v)| m.0 == i && **v != Visibility::Hidden)
+            .map(|(_, t, _)| t.translation)
     }
 
     fn marker(app: &mut App) -> Vec3 {
-        let mut q = app
-            .world_mut()
-            .query_filtered::<&Transform, With<LightMarker>>();
-        q.single(app.world()).unwrap().translation
+        marker_at(app, 0).expect("the first light's marker is shown")
     }
 
     #[test]
@@ -387,5 +422,57 @@ mod tests {
         let now = marker(&mut app);
         assert!((d - direction_from_marker(now, lo, hi).unwrap()).length() < 1e-5);
         assert!((now - from).dot(camera.basis().0) < 0.0);
+    }
+
+    #[test]
+    fn each_light_has_its_marker_and_a_drag_moves_only_the_one_held() {
+        let first = Vec3::new(120.0, 130.0, 110.0);
+        let second = Vec3::new(-30.0, 40.0, 60.0);
+        let (mut app, camera) = app(Light::Point(first));
+        {
+            let mut render = app.world_mut().resource_mut::<RenderState>();
+            let lights = &mut render.settings.phong.lights;
+            lights.push(voxcast_core::shade::LightSource::new(Light::Headlight));
+            lights.push(voxcast_core::shade::LightSource::new(Light::Point(second)));
+        }
+        app.update();
+        assert_eq!(marker_at(&mut app, 0), Some(first));
+        assert_eq!(marker_at(&mut app, 1), None, "a headlight has no marker");
+        assert_eq!(marker_at(&mut app, 2), Some(second));
+        assert_eq!(marker_at(&mut app, 3), None, "an empty slot has no marker");
+        let at = pixel_of(&camera, second);
+        set_cursor(&mut app, at);
+        press(&mut app, true);
+        app.update();
+        set_cursor(&mut app, at + Vec2::new(-40.0, 30.0));
+        press(&mut app, true);
+        app.update();
+        let lights = app
+            .world()
+            .resource::<RenderState>()
+            .settings
+            .phong
+            .lights
+            .clone();
+        assert_eq!(
+            lights[0].light,
+            Light::Point(first),
+            "the other light stays"
+        );
+        let Light::Point(moved) = lights[2].light else {
+            panic!("still a point light")
+        };
+        assert!((pixel_of(&camera, moved) - (at + Vec2::new(-40.0, 30.0))).length() <= 1.0);
+        // The held light removed mid-drag: the drag ends, nothing panics.
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .phong
+            .lights
+            .truncate(1);
+        press(&mut app, true);
+        app.update();
+        assert!(!app.world().resource::<LightDrag>().active());
+        assert_eq!(marker_at(&mut app, 2), None);
     }
 }

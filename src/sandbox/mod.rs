@@ -230,6 +230,11 @@ fn build_headless(app: &mut App, args: &SandboxArgs) -> Result<(), CliError> {
             path: path.clone(),
             sweep: args.sweep,
         });
+        if args.sweep {
+            // The sweep is compared with the CPU render, which has no meshes: the preview is
+            // captured as Render image captures it (full quality, no light markers).
+            app.insert_resource(preview::FullQuality(true));
+        }
         app.add_plugins(screenshot::plugin);
     }
     if let Some(path) = &args.compare {

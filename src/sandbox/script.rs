@@ -22,7 +22,7 @@ use bevy::render::view::screenshot::{Screenshot, save_to_disk};
 use std::path::PathBuf;
 use voxcast_core::classify::Classification;
 use voxcast_core::level::Objective;
-use voxcast_core::shade::Light;
+use voxcast_core::shade::{Light, LightSource};
 use voxcast_core::step::Length;
 
 /// Frames a new scene is drawn before its screenshot (pipelines compile synchronously here).
@@ -405,7 +405,7 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 hands.comparison.start();
             }
         }
-        Objective::LightInsideVolume => s.phong.light = Light::Point(centre),
+        Objective::LightInsideVolume => first_light(s).light = Light::Point(centre),
         Objective::PredictValue { .. } => {
             // The player works the lecture's formula out; here the core's answer is typed.
             if let Some(d) = &lessons.detail {
@@ -425,13 +425,55 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             }
         }
         Objective::LightKind { light } => {
-            s.phong.light = match light.as_str() {
+            first_light(s).light = match light.as_str() {
                 "point" => Light::Point(hi + (hi - lo) * 0.25),
                 "directional" => Light::Directional(Vec3::new(-1.0, -1.0, -1.0).normalize()),
                 _ => Light::Headlight,
             }
         }
-        Objective::Attenuated => s.phong.kl = 0.5,
+        Objective::Attenuated => {
+            let l = first_light(s);
+            if !matches!(l.light, Light::Point(_)) {
+                l.light = Light::Point(hi + (hi - lo) * 0.25);
+            }
+            l.kl = 0.5 / (hi - lo).length();
+        }
+        Objective::LightsAtLeast { count } => {
+            // "Add a light" pressed until there are enough.
+            while s.phong.lights.len() < *count && s.phong.add_light() {}
+        }
+        Objective::DistinctLightColours { count } => {
+            const PALETTE: [Vec3; 4] = [
+                Vec3::new(1.0, 0.45, 0.3),
+                Vec3::new(0.3, 0.55, 1.0),
+                Vec3::new(0.4, 1.0, 0.4),
+                Vec3::new(1.0, 1.0, 1.0),
+            ];
+            for (l, c) in s.phong.lights.iter_mut().zip(PALETTE).take(*count) {
+                l.color = c;
+            }
+        }
+        Objective::OpenLitSample { lights } => {
+            // Click a ray, then a row the lights shaded.
+            let lit = hands.breakdown.trace.as_ref().and_then(|t| {
+                t.samples.iter().position(|x| {
+                    x.shading
+                        .is_some_and(|sh| sh.lit && sh.light_count >= *lights)
+                        && x.alpha > 0.0
+                })
+            });
+            match lit {
+                Some(i) => hands.breakdown.opened = Some(i),
+                None => select_centre(hands),
+            }
+        }
+        Objective::LevoyHighlight { on } => {
+            s.phong.highlight = if *on {
+                voxcast_core::shade::Highlight::Levoy
+            } else {
+                voxcast_core::shade::Highlight::White
+            }
+        }
         Objective::TradeMeasured => {
             if hands.trade.progress().is_none() {
                 hands.trade.request();
@@ -485,6 +527,14 @@ fn trade_lines(t: &voxcast_core::trade::Trade) -> Vec<String> {
 }
 
 /// Clicks the pixel in the middle of the virtual camera's image.
+/// The light the panel's first row edits (a headlight added if there is none).
+fn first_light(s: &mut voxcast_core::settings::RenderSettings) -> &mut LightSource {
+    if s.phong.lights.is_empty() {
+        s.phong.lights.push(LightSource::default());
+    }
+    &mut s.phong.lights[0]
+}
+
 fn select_centre(hands: &mut Hands) {
     let size = hands.inspection.size;
     if size != UVec2::ZERO && hands.selection.selected.is_none() {

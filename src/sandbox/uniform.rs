@@ -10,7 +10,7 @@ use voxcast_core::camera::ImageRays;
 use voxcast_core::classify::Classifier;
 use voxcast_core::composite::{Method, Order};
 use voxcast_core::sample::Interpolation;
-use voxcast_core::shade::{ResolvedLight, SpecularModel};
+use voxcast_core::shade::{Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel};
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::LUT_SIZE;
 
@@ -23,8 +23,9 @@ pub const FLAG_TRILINEAR: u32 = 16;
 pub const FLAG_TWO_SIDED: u32 = 32;
 pub const FLAG_BLINN_PHONG: u32 = 64;
 pub const FLAG_BACK_TO_FRONT: u32 = 128;
+pub const FLAG_LEVOY_HIGHLIGHT: u32 = 256;
 
-/// Light kinds of [`VolumeUniform::light_kind`].
+/// Light kinds of [`LightUniform::kind`].
 pub const LIGHT_POINT: u32 = 0;
 pub const LIGHT_TOWARD: u32 = 1;
 
@@ -49,6 +50,8 @@ pub fn shader_defs() -> Vec<ShaderDefVal> {
         ShaderDefVal::UInt("FLAG_TWO_SIDED".into(), FLAG_TWO_SIDED),
         ShaderDefVal::UInt("FLAG_BLINN_PHONG".into(), FLAG_BLINN_PHONG),
         ShaderDefVal::UInt("FLAG_BACK_TO_FRONT".into(), FLAG_BACK_TO_FRONT),
+        ShaderDefVal::UInt("FLAG_LEVOY_HIGHLIGHT".into(), FLAG_LEVOY_HIGHLIGHT),
+        ShaderDefVal::UInt("MAX_LIGHTS".into(), MAX_LIGHTS as u32),
         ShaderDefVal::UInt("LIGHT_POINT".into(), LIGHT_POINT),
         ShaderDefVal::UInt("LIGHT_TOWARD".into(), LIGHT_TOWARD),
         ShaderDefVal::UInt("CLASSIFY_TABLE".into(), CLASSIFY_TABLE),
@@ -89,20 +92,15 @@ pub struct VolumeUniform {
     pub refine_steps: u32,
     pub max_samples: u32,
     pub jitter_seed: u32,
-    pub light_kind: u32,
+    pub light_count: u32,
     pub classification: u32,
     pub iso_count: u32,
     pub ka: f32,
     pub kd: f32,
     pub ks: f32,
     pub shininess: f32,
-    pub kc: f32,
-    pub kl: f32,
-    pub kq: f32,
     pub gradient_threshold: f32,
-    pub light_vec: Vec3,
     pub iso_r: f32,
-    pub light_color: Vec3,
     pub inv_full_gradient: f32,
     pub background: Vec3,
     pub depth_termination: u32,
@@ -131,6 +129,19 @@ pub struct VolumeUniform {
     /// The clip plane keeps `clip_normal·p ≤ clip_d`; a zero normal keeps all.
     pub clip_normal: Vec3,
     pub clip_d: f32,
+    /// The lights; the first `light_count` shine.
+    pub lights: [LightUniform; MAX_LIGHTS],
+}
+
+/// One light (see `LightUniform` in `shaders/types.wgsl`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, ShaderType)]
+pub struct LightUniform {
+    pub at: Vec3,
+    pub kind: u32,
+    pub color: Vec3,
+    pub kc: f32,
+    pub kl: f32,
+    pub kq: f32,
 }
 
 impl VolumeUniform {
@@ -151,15 +162,27 @@ impl VolumeUniform {
             (s.phong.two_sided, FLAG_TWO_SIDED),
             (s.phong.model == SpecularModel::BlinnPhong, FLAG_BLINN_PHONG),
             (s.order == Order::BackToFront, FLAG_BACK_TO_FRONT),
+            (s.phong.highlight == Highlight::Levoy, FLAG_LEVOY_HIGHLIGHT),
         ] {
             if on {
                 flags |= bit;
             }
         }
-        let (light_kind, light_vec) = match scene.light {
-            ResolvedLight::Point(p) => (LIGHT_POINT, p),
-            ResolvedLight::Toward(d) => (LIGHT_TOWARD, d),
-        };
+        let mut lights = [LightUniform::default(); MAX_LIGHTS];
+        for (u, l) in lights.iter_mut().zip(scene.lights.as_slice()) {
+            let (kind, at) = match l.at {
+                ResolvedLight::Point(p) => (LIGHT_POINT, p),
+                ResolvedLight::Toward(d) => (LIGHT_TOWARD, d),
+            };
+            *u = LightUniform {
+                at,
+                kind,
+                color: l.color,
+                kc: l.kc,
+                kl: l.kl,
+                kq: l.kq,
+            };
+        }
         let mut u = Self {
             crop_lo: scene.clip.lo,
             dt: scene.dt,
@@ -186,20 +209,15 @@ impl VolumeUniform {
             refine_steps: s.refine_steps,
             max_samples: s.max_samples,
             jitter_seed: s.jitter_seed,
-            light_kind,
+            light_count: scene.lights.as_slice().len() as u32,
             classification: CLASSIFY_TABLE,
             iso_count: 0,
             ka: s.phong.ka,
             kd: s.phong.kd,
             ks: s.phong.ks,
             shininess: s.phong.shininess,
-            kc: s.phong.kc,
-            kl: s.phong.kl,
-            kq: s.phong.kq,
             gradient_threshold: s.phong.gradient_threshold,
-            light_vec,
             iso_r: 0.0,
-            light_color: s.phong.light_color,
             inv_full_gradient: 0.0,
             background: s.background,
             depth_termination: depth_termination as u32,
@@ -222,6 +240,7 @@ impl VolumeUniform {
             supersampling: s.supersampling.max(1),
             clip_normal: scene.clip.normal,
             clip_d: scene.clip.d,
+            lights,
         };
         match &scene.classifier {
             Classifier::Table => {}
@@ -340,20 +359,15 @@ mod tests {
             "refine_steps" => n(u.refine_steps),
             "max_samples" => n(u.max_samples),
             "jitter_seed" => n(u.jitter_seed),
-            "light_kind" => n(u.light_kind),
+            "light_count" => n(u.light_count),
             "classification" => n(u.classification),
             "iso_count" => n(u.iso_count),
             "ka" => f(u.ka),
             "kd" => f(u.kd),
             "ks" => f(u.ks),
             "shininess" => f(u.shininess),
-            "kc" => f(u.kc),
-            "kl" => f(u.kl),
-            "kq" => f(u.kq),
             "gradient_threshold" => f(u.gradient_threshold),
-            "light_vec" => v3(u.light_vec),
             "iso_r" => f(u.iso_r),
-            "light_color" => v3(u.light_color),
             "inv_full_gradient" => f(u.inv_full_gradient),
             "background" => v3(u.background),
             "depth_termination" => n(u.depth_termination),
@@ -376,8 +390,74 @@ mod tests {
             "supersampling" => n(u.supersampling),
             "clip_normal" => v3(u.clip_normal),
             "clip_d" => f(u.clip_d),
+            "lights" => lights_bytes(&u.lights, light_layout()),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
+    }
+
+    /// The WGSL's light struct: each member's name and offset, and the array's stride.
+    fn light_layout() -> (Vec<(String, u32)>, u32) {
+        let module = module();
+        let members = module
+            .types
+            .iter()
+            .find_map(|(_, t)| match (&t.name, &t.inner) {
+                (Some(name), naga::TypeInner::Struct { members, .. })
+                    if name.contains("LightUniform") =>
+                {
+                    Some(members.clone())
+                }
+                _ => None,
+            })
+            .expect("LightUniform in the WGSL");
+        let stride = module
+            .types
+            .iter()
+            .find_map(|(_, t)| match t.inner {
+                naga::TypeInner::Array { stride, .. } if stride >= 32 => Some(stride),
+                _ => None,
+            })
+            .expect("the lights' array");
+        let names = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap(), m.offset))
+            .collect();
+        (names, stride)
+    }
+
+    /// The bytes the WGSL expects for `lights`, laid out by its own offsets and stride (the
+    /// padding left as zeros, as encase writes it).
+    fn lights_bytes(
+        lights: &[LightUniform],
+        (members, stride): (Vec<(String, u32)>, u32),
+    ) -> Vec<u8> {
+        let mut out = vec![0u8; stride as usize * lights.len()];
+        for (i, l) in lights.iter().enumerate() {
+            for (name, offset) in &members {
+                let bytes: Vec<u8> = match name.as_str() {
+                    "at" => {
+                        l.at.to_array()
+                            .iter()
+                            .flat_map(|x| x.to_le_bytes())
+                            .collect()
+                    }
+                    "kind" => l.kind.to_le_bytes().to_vec(),
+                    "color" => l
+                        .color
+                        .to_array()
+                        .iter()
+                        .flat_map(|x| x.to_le_bytes())
+                        .collect(),
+                    "kc" => l.kc.to_le_bytes().to_vec(),
+                    "kl" => l.kl.to_le_bytes().to_vec(),
+                    "kq" => l.kq.to_le_bytes().to_vec(),
+                    other => panic!("WGSL light member {other} has no Rust twin"),
+                };
+                let at = i * stride as usize + *offset as usize;
+                out[at..at + bytes.len()].copy_from_slice(&bytes);
+            }
+        }
+        out
     }
 
     #[test]
@@ -423,20 +503,15 @@ mod tests {
             refine_steps: 109,
             max_samples: 110,
             jitter_seed: 111,
-            light_kind: 112,
+            light_count: 112,
             classification: 113,
             iso_count: 114,
             ka: next(),
             kd: next(),
             ks: next(),
             shininess: next(),
-            kc: next(),
-            kl: next(),
-            kq: next(),
             gradient_threshold: next(),
-            light_vec: Vec3::new(next(), next(), next()),
             iso_r: next(),
-            light_color: Vec3::new(next(), next(), next()),
             inv_full_gradient: next(),
             background: Vec3::new(next(), next(), next()),
             depth_termination: 115,
@@ -459,6 +534,14 @@ mod tests {
             supersampling: 124,
             clip_normal: Vec3::new(next(), next(), next()),
             clip_d: next(),
+            lights: std::array::from_fn(|i| LightUniform {
+                at: Vec3::new(next(), next(), next()),
+                kind: 130 + i as u32,
+                color: Vec3::new(next(), next(), next()),
+                kc: next(),
+                kl: next(),
+                kq: next(),
+            }),
         };
         let mut buffer = UniformBuffer::new(Vec::<u8>::new());
         buffer.write(&u).unwrap();
@@ -468,7 +551,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 57, "members in the WGSL struct");
+        assert_eq!(members.len(), 53, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

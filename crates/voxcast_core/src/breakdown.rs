@@ -170,7 +170,8 @@ pub fn to_json(trace: &RayTrace) -> String {
 
 /// The CSV header: one row per sample.
 pub const CSV_HEADER: &str = "index,t,ds,x,y,z,u,v,w,value,value_normalized,\
-tf_r,tf_g,tf_b,tf_a,alpha,alpha_corrected,grad_x,grad_y,grad_z,lit,n_dot_l,\
+tf_r,tf_g,tf_b,tf_a,alpha,alpha_corrected,grad_x,grad_y,grad_z,lit,lights,\
+ambient_r,ambient_g,ambient_b,diffuse_r,diffuse_g,diffuse_b,specular_r,specular_g,specular_b,\
 color_r,color_g,color_b,C_r,C_g,C_b,O,\
 corner0_value,corner1_value,corner2_value,corner3_value,corner4_value,corner5_value,corner6_value,corner7_value,\
 weight0,weight1,weight2,weight3,weight4,weight5,weight6,weight7";
@@ -196,8 +197,19 @@ pub fn to_csv(trace: &RayTrace) -> String {
             .chain((0..3).map(|i| opt(g.map(|g| g[i]))))
             .chain([
                 lit.map_or(String::new(), |l| l.to_string()),
-                opt(s.shading.map(|t| t.n_dot_l)),
+                s.shading
+                    .filter(|t| t.lit)
+                    .map_or(String::new(), |t| t.light_count.to_string()),
             ])
+            .chain(
+                [
+                    s.shading.map(|t| t.ambient),
+                    s.shading.map(|t| t.diffuse),
+                    s.shading.map(|t| t.specular),
+                ]
+                .into_iter()
+                .flat_map(|term| (0..3).map(move |i| opt(term.map(|v| v[i])))),
+            )
             .chain(s.color.iter().map(|v| v.to_string()))
             .chain(s.composite_after.iter().map(|v| v.to_string()))
             .chain(s.reconstruction.values.iter().map(|v| v.to_string()))

@@ -25,6 +25,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/05_first_hit.json"),
     include_str!("../../../assets/levels/06_levoy.json"),
     include_str!("../../../assets/levels/10_light.json"),
+    include_str!("../../../assets/levels/16_lights.json"),
     include_str!("../../../assets/levels/07_transfer.json"),
     include_str!("../../../assets/levels/13_clipping.json"),
     include_str!("../../../assets/levels/14_acceleration.json"),
@@ -188,10 +189,18 @@ pub enum Objective {
     },
     /// Composite back to front (`true`) or front to back.
     BackToFront { on: bool },
-    /// Choose the light: `headlight`, `point` or `directional`.
+    /// Have a light of this kind: `headlight`, `point` or `directional`.
     LightKind { light: String },
-    /// Give the point light a falloff with distance (kl or kq above zero).
+    /// Give a point light a falloff with distance (kl or kq above zero).
     Attenuated,
+    /// Have at least `count` lights.
+    LightsAtLeast { count: usize },
+    /// Have at least `count` lights of distinct colours (no channel within 0.1 of each other's).
+    DistinctLightColours { count: usize },
+    /// Open, in the selected ray's breakdown, a shaded sample lit by at least `lights` lights.
+    OpenLitSample { lights: usize },
+    /// Choose the highlight's colour: Levoy's (the sample's colour, `true`) or white.
+    LevoyHighlight { on: bool },
     /// Measure the step size's trade for the view on screen.
     TradeMeasured,
     /// Turn the clip plane on or off.
@@ -265,10 +274,16 @@ pub struct Situation {
     /// worked composite's red component).
     pub prediction: Option<(f32, f32)>,
     pub back_to_front: bool,
-    /// `headlight`, `point` or `directional`.
-    pub light_kind: &'static str,
-    /// kl or kq above zero.
+    /// Each light's kind: `headlight`, `point` or `directional`.
+    pub light_kinds: Vec<&'static str>,
+    /// Each light's colour.
+    pub light_colors: Vec<[f32; 3]>,
+    /// Some point light has kl or kq above zero.
     pub attenuated: bool,
+    /// The highlight takes the sample's colour (Levoy).
+    pub levoy_highlight: bool,
+    /// How many lights shaded the opened sample (`None`: none opened, or it was not shaded).
+    pub opened_sample_lights: Option<usize>,
     /// A step-trade measurement matches the view and settings on screen.
     pub trade_measured: bool,
     pub jitter: bool,
@@ -338,8 +353,16 @@ impl Objective {
                 .prediction
                 .is_some_and(|(typed, truth)| (typed - truth).abs() <= *tolerance),
             Objective::BackToFront { on } => s.back_to_front == *on,
-            Objective::LightKind { light } => s.light_kind == light,
+            Objective::LightKind { light } => s.light_kinds.contains(&light.as_str()),
             Objective::Attenuated => s.attenuated,
+            Objective::LightsAtLeast { count } => s.light_kinds.len() >= *count,
+            Objective::DistinctLightColours { count } => {
+                distinct_colours(&s.light_colors) >= *count
+            }
+            Objective::OpenLitSample { lights } => {
+                s.opened_sample_lights.is_some_and(|n| n >= *lights)
+            }
+            Objective::LevoyHighlight { on } => s.levoy_highlight == *on,
             Objective::TradeMeasured => s.trade_measured,
             Objective::ClipPlane { on } => s.clip.plane.is_some() == *on,
             Objective::ClipPositionBetween { lo, hi } => s
@@ -362,13 +385,19 @@ impl Objective {
     }
 }
 
-/// The name [`Objective::LightKind`] uses for `l`.
-pub fn light_kind(l: &crate::shade::Light) -> &'static str {
-    match l {
-        crate::shade::Light::Headlight => "headlight",
-        crate::shade::Light::Point(_) => "point",
-        crate::shade::Light::Directional(_) => "directional",
+/// How many of `colors` differ from every other one by more than 0.1 in some channel (greedy:
+/// each colour counts if it is distinct from those already counted).
+pub fn distinct_colours(colors: &[[f32; 3]]) -> usize {
+    let mut kept: Vec<[f32; 3]> = Vec::new();
+    for c in colors {
+        let new = kept
+            .iter()
+            .all(|k| (0..3).any(|i| (k[i] - c[i]).abs() > 0.1));
+        if new {
+            kept.push(*c);
+        }
     }
+    kept.len()
 }
 
 /// The name [`Objective::Classification`] uses for `c`.
@@ -532,6 +561,45 @@ mod tests {
         assert!(s.target.unwrap() < HEAD_SKIN);
     }
 
+    #[test]
+    fn light_objectives_count_lights_colours_and_the_opened_sample() {
+        let white = [1.0, 1.0, 1.0];
+        assert_eq!(distinct_colours(&[white, white]), 1);
+        assert_eq!(
+            distinct_colours(&[white, [0.95, 1.0, 0.92]]),
+            1,
+            "too close to tell"
+        );
+        assert_eq!(
+            distinct_colours(&[white, [1.0, 0.4, 0.3], [0.3, 0.5, 1.0]]),
+            3
+        );
+        let mut s = Situation {
+            light_kinds: vec!["headlight", "directional"],
+            light_colors: vec![white, white],
+            ..Situation::default()
+        };
+        assert!(Objective::LightsAtLeast { count: 2 }.met(&s));
+        assert!(!Objective::LightsAtLeast { count: 3 }.met(&s));
+        assert!(
+            Objective::LightKind {
+                light: "directional".into()
+            }
+            .met(&s)
+        );
+        assert!(!Objective::DistinctLightColours { count: 2 }.met(&s));
+        s.light_colors[1] = [0.3, 0.5, 1.0];
+        assert!(Objective::DistinctLightColours { count: 2 }.met(&s));
+        assert!(!Objective::OpenLitSample { lights: 2 }.met(&s));
+        s.opened_sample_lights = Some(1);
+        assert!(!Objective::OpenLitSample { lights: 2 }.met(&s));
+        s.opened_sample_lights = Some(2);
+        assert!(Objective::OpenLitSample { lights: 2 }.met(&s));
+        assert!(!Objective::LevoyHighlight { on: true }.met(&s));
+        s.levoy_highlight = true;
+        assert!(Objective::LevoyHighlight { on: true }.met(&s));
+    }
+
     /// Every number an objective checks is quoted in its step's text, so the text never asks
     /// for something other than what Next waits for (the first-hit step once said "past 80"
     /// while its objective wanted 120 to 200).
@@ -550,6 +618,9 @@ mod tests {
                     Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
                     Objective::Compared { max } => vec![*max],
                     Objective::SupersamplingAtLeast { rays } => vec![*rays as f32],
+                    Objective::LightsAtLeast { count }
+                    | Objective::DistinctLightColours { count } => vec![*count as f32],
+                    Objective::OpenLitSample { lights } => vec![*lights as f32],
                     Objective::ClipPositionBetween { lo, hi } => vec![*lo, *hi],
                     Objective::CropAtMost { fraction } => vec![*fraction],
                     Objective::PreviewScaleAtMost { scale }

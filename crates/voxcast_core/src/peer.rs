@@ -18,7 +18,7 @@
 use crate::error::SettingsError;
 use crate::sample::Interpolation;
 use crate::settings::RenderSettings;
-use crate::shade::{Light, SpecularModel};
+use crate::shade::{Light, LightSource, SpecularModel};
 use crate::step::Length;
 use crate::transfer::{ControlPoint, TransferFunction};
 use glam::Vec3;
@@ -84,7 +84,7 @@ impl PeerTransfer {
         }
         if let Some(s) = a.shade {
             settings.shading = s;
-            settings.phong.light = Light::Headlight;
+            settings.phong.lights = vec![LightSource::new(Light::Headlight)];
             settings.phong.model = SpecularModel::BlinnPhong;
         }
         let p = &mut settings.phong;

@@ -8,7 +8,7 @@ use crate::composite::{Method, Order};
 use crate::error::SettingsError;
 use crate::hash::jitter_fraction;
 use crate::settings::RenderSettings;
-use crate::shade::ResolvedLight;
+use crate::shade::ResolvedLights;
 use crate::skip::{EmptyBlocks, VisibleCells};
 use crate::transfer::{Lut, TransferFunction};
 use crate::volume::Volume;
@@ -22,7 +22,7 @@ pub struct Scene<'a> {
     pub lut: Lut,
     pub settings: RenderSettings,
     pub classifier: Classifier,
-    pub light: ResolvedLight,
+    pub lights: ResolvedLights,
     /// Step between samples, world units.
     pub dt: f32,
     /// Reference step of the transfer function's opacity, world units.
@@ -87,7 +87,7 @@ impl<'a> Scene<'a> {
             differences: None,
             volume,
             classifier,
-            light: settings.phong.light.resolve(view_forward),
+            lights: settings.phong.resolve(view_forward),
             dt: settings.step.world(voxel),
             dt_ref: settings.reference_step.world(voxel),
             target: settings.target.unwrap_or(0.5 * (lo + hi)),

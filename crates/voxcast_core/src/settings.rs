@@ -7,7 +7,7 @@ use crate::clip::Clip;
 use crate::composite::{Method, Order};
 use crate::error::SettingsError;
 use crate::sample::Interpolation;
-use crate::shade::{Light, Phong};
+use crate::shade::{Light, LightSource, MAX_LIGHTS, Phong};
 use crate::step::Length;
 use crate::tunables as t;
 use glam::Vec3;
@@ -89,6 +89,32 @@ fn check(tn: &t::Tunable, v: f32) -> Result<(), SettingsError> {
     SettingsError::check_range(tn.key, v, tn.min, tn.max)
 }
 
+/// Checks one light: its attenuation, colour and place.
+fn validate_light(l: &LightSource) -> Result<(), SettingsError> {
+    check(&t::ATTENUATION_CONSTANT, l.kc)?;
+    check(&t::ATTENUATION_LINEAR, l.kl)?;
+    check(&t::ATTENUATION_QUADRATIC, l.kq)?;
+    if l.kc + l.kl + l.kq <= 0.0 {
+        return Err(SettingsError::Invalid(
+            "attenuation kc + kl + kq must be positive (else a point light is infinitely bright)"
+                .into(),
+        ));
+    }
+    if !l.color.is_finite() || l.color.min_element() < 0.0 {
+        return Err(SettingsError::Invalid(
+            "light colour must be finite and non-negative".into(),
+        ));
+    }
+    match l.light {
+        Light::Headlight => Ok(()),
+        Light::Point(v) if v.is_finite() => Ok(()),
+        Light::Directional(v) if v.is_finite() && v.length_squared() > 0.0 => Ok(()),
+        other => Err(SettingsError::Invalid(format!(
+            "{other:?} is not a finite position or direction"
+        ))),
+    }
+}
+
 impl RenderSettings {
     /// Sample positions a ray along the volume's diagonal (the longest there is) needs at this
     /// step.
@@ -128,29 +154,16 @@ impl RenderSettings {
         check(&t::DIFFUSE, p.kd)?;
         check(&t::SPECULAR, p.ks)?;
         check(&t::SHININESS, p.shininess)?;
-        check(&t::ATTENUATION_CONSTANT, p.kc)?;
-        check(&t::ATTENUATION_LINEAR, p.kl)?;
-        check(&t::ATTENUATION_QUADRATIC, p.kq)?;
         check(&t::GRADIENT_THRESHOLD, p.gradient_threshold)?;
-        if p.kc + p.kl + p.kq <= 0.0 {
-            return Err(SettingsError::Invalid(
-                "attenuation kc + kl + kq must be positive (else a point light is infinitely bright)".into(),
-            ));
+        if p.lights.len() > MAX_LIGHTS {
+            return Err(SettingsError::Invalid(format!(
+                "{} lights: at most {MAX_LIGHTS} (the preview's shader holds that many)",
+                p.lights.len()
+            )));
         }
-        if !p.light_color.is_finite() || p.light_color.min_element() < 0.0 {
-            return Err(SettingsError::Invalid(
-                "light colour must be finite and non-negative".into(),
-            ));
-        }
-        match p.light {
-            Light::Headlight => {}
-            Light::Point(v) if v.is_finite() => {}
-            Light::Directional(v) if v.is_finite() && v.length_squared() > 0.0 => {}
-            other => {
-                return Err(SettingsError::Invalid(format!(
-                    "light {other:?} is not a finite position or direction"
-                )));
-            }
+        for (i, l) in p.lights.iter().enumerate() {
+            validate_light(l)
+                .map_err(|e| SettingsError::Invalid(format!("light {}: {e}", i + 1)))?;
         }
         if !self.background.is_finite()
             || self.background.min_element() < 0.0
@@ -228,6 +241,47 @@ pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
             ..accumulate.clone()
         },
     ));
+    // Four coloured lights (every slot the GPU holds), one an attenuated point light, and
+    // Levoy's highlight: the sum over lights on both sides. The sweep hides the lights' markers
+    // as Render image does (the CPU render has no meshes).
+    let lights = crate::shade::Phong {
+        lights: vec![
+            LightSource {
+                color: Vec3::new(0.9, 0.5, 0.4),
+                ..LightSource::new(Light::Headlight)
+            },
+            LightSource {
+                color: Vec3::new(0.3, 0.5, 1.0),
+                ..LightSource::new(Light::Directional(Vec3::new(1.0, -0.5, -0.6)))
+            },
+            LightSource {
+                color: Vec3::new(0.4, 1.0, 0.4),
+                ..LightSource::new(Light::Directional(Vec3::new(-1.0, -0.5, -0.6)))
+            },
+            LightSource {
+                color: Vec3::new(1.0, 0.9, 0.6),
+                kl: 0.004,
+                ..LightSource::new(Light::Point(Vec3::new(-40.0, 150.0, 120.0)))
+            },
+        ],
+        highlight: crate::shade::Highlight::Levoy,
+        ..base.phong.clone()
+    };
+    out.push((
+        "accumulate_lights".into(),
+        RenderSettings {
+            phong: lights.clone(),
+            ..accumulate.clone()
+        },
+    ));
+    out.push((
+        "first_lights".into(),
+        RenderSettings {
+            method: Method::First,
+            phong: lights,
+            ..accumulate.clone()
+        },
+    ));
     let clip = crate::clip::Clip {
         crop_lo: Vec3::new(0.1, 0.0, 0.15),
         crop_hi: Vec3::new(1.0, 0.85, 1.0),
@@ -273,8 +327,15 @@ mod tests {
         s.step = Length::Voxels(-1.0);
         assert!(s.validate().unwrap_err().to_string().contains("step"));
         s.step = Length::Voxels(0.5);
-        s.phong.kc = 0.0;
-        assert!(s.validate().is_err());
+        s.phong.lights[0].kc = 0.0;
+        let e = s.validate().unwrap_err().to_string();
+        assert!(e.starts_with("light 1: "), "{e}");
+        s.phong.lights = vec![LightSource::default(); MAX_LIGHTS];
+        assert!(s.validate().is_ok());
+        s.phong.lights.push(LightSource::default());
+        assert!(s.validate().unwrap_err().to_string().contains("at most 4"));
+        s.phong.lights.clear();
+        assert!(s.validate().is_ok(), "no light: ambient only");
     }
 
     #[test]

@@ -328,7 +328,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         } else {
             self.s.empty.as_ref()
         };
-        let viewing = Viewing::new(-ray.dir, self.s.light);
+        let viewing = Viewing::new(-ray.dir, &self.s.lights);
         let mut stopped_at = None;
         match skip {
             Some((blocks, cells)) if plan.count > 0 => {
@@ -703,7 +703,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let t = ta + (tb - ta) * crossing_fraction(va, vb, target);
         let pv = o_v + d_v * t;
         let rgba = self.s.lut.lookup(target);
-        let viewing = Viewing::new(-ray.dir, self.s.light);
+        let viewing = Viewing::new(-ray.dir, &self.s.lights);
         let (color, _, terms) = self.shade(rgba.truncate(), pv, None, &viewing);
         if R::ACTIVE {
             let value = self.value(pv);

@@ -16,7 +16,7 @@ use voxcast_core::ray::Ray;
 use voxcast_core::render::{Cancelled, render, render_with_threads};
 use voxcast_core::sample::Interpolation;
 use voxcast_core::settings::RenderSettings;
-use voxcast_core::shade::Light;
+use voxcast_core::shade::{Highlight, Light, LightSource};
 use voxcast_core::step::Length;
 use voxcast_core::trace::{Scene, trace_ray};
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
@@ -133,12 +133,25 @@ fn settings() -> impl Strategy<Value = RenderSettings> {
                 interpolation,
                 target: Some(target),
                 phong: voxcast_core::shade::Phong {
-                    light: if mode == 2 {
-                        Light::Point(Vec3::new(-3.0, 5.0, 9.0))
+                    // Mode 2 lights with a coloured, attenuated point light beside the
+                    // headlight, and Levoy's highlight: every light term is exercised.
+                    lights: if mode == 2 {
+                        vec![
+                            LightSource::new(Light::Headlight),
+                            LightSource {
+                                color: Vec3::new(0.9, 0.3, 0.2),
+                                kl: 0.05,
+                                ..LightSource::new(Light::Point(Vec3::new(-3.0, 5.0, 9.0)))
+                            },
+                        ]
                     } else {
-                        Light::Headlight
+                        vec![LightSource::new(Light::Headlight)]
                     },
-                    kl: 0.05,
+                    highlight: if mode == 2 {
+                        Highlight::Levoy
+                    } else {
+                        Highlight::White
+                    },
                     ..Default::default()
                 },
                 classification: match mode {

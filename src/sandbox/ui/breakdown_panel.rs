@@ -271,15 +271,53 @@ fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
         ui.label(format!("gradient (central differences) {}", v3(g)));
     }
     if let Some(sh) = &s.shading {
-        ui.label(format!(
-            "shading: N·L = {}, ambient {}, diffuse {}, specular {}, so the colour is {}",
-            sig(sh.n_dot_l),
-            v3(sh.ambient),
-            v3(sh.diffuse),
-            v3(sh.specular),
-            v3(s.color)
-        ));
+        shading_terms(ui, sh, s.color);
     }
+}
+
+/// The shading of one sample: the ambient term, each light's diffuse and specular terms, and
+/// their sum (the lecture's Σ over lights i).
+fn shading_terms(ui: &mut egui::Ui, sh: &voxcast_core::shade::ShadeTerms, color: [f32; 3]) {
+    if !sh.lit {
+        ui.label(
+            "shading: the gradient is too small here to give a normal, so the sample keeps its \
+             colour",
+        );
+        return;
+    }
+    ui.label(format!(
+        "shading (normal N = {}): colour = ka·c + Σ over lights of f·I·(kd·max(N·L, 0)·c + ks·spec·h)",
+        v3(sh.normal)
+    ));
+    egui::Grid::new("shading").striped(true).show(ui, |ui| {
+        super::header_row(ui, &["term", "N·L", "falloff f", "diffuse", "specular"]);
+        ui.label("ambient ka·c");
+        ui.label("");
+        ui.label("");
+        ui.label(v3(sh.ambient));
+        ui.label("");
+        ui.end_row();
+        for (i, l) in sh.per_light().iter().enumerate() {
+            ui.label(format!("light {}", i + 1));
+            ui.label(sig(l.n_dot_l));
+            ui.label(sig(l.attenuation));
+            ui.label(v3(l.diffuse));
+            ui.label(v3(l.specular));
+            ui.end_row();
+        }
+        if sh.per_light().len() > 1 {
+            ui.label("sum");
+            ui.label("");
+            ui.label("");
+            ui.label(v3(sh.diffuse));
+            ui.label(v3(sh.specular));
+            ui.end_row();
+        }
+    });
+    ui.label(format!(
+        "ambient + diffuse + specular, each channel clipped to [0, 1]: the colour is {}",
+        v3(color)
+    ));
 }
 
 fn export(

@@ -1,11 +1,13 @@
-//! The light's controls: kind (headlight, point, directional), its position or direction
-//! (also dragged in the scene by its marker), colour, and the point light's attenuation.
+//! The lights' controls: up to four lights, each with its kind (headlight, point, directional),
+//! its position or direction (also dragged in the scene by its marker), colour, and a point
+//! light's attenuation; lights are added and removed here; and the highlight's colour (white or
+//! Levoy's).
 
 use super::slider;
 use bevy::prelude::Vec3;
 use bevy_egui::egui;
 use voxcast_core::marker::direction_from_marker;
-use voxcast_core::shade::{Light, Phong};
+use voxcast_core::shade::{Highlight, Light, LightSource, MAX_LIGHTS, Phong};
 use voxcast_core::tunables as t;
 
 /// Where a newly chosen point light stands: above and to the side of the volume, outside it.
@@ -15,14 +17,70 @@ fn default_point(lo: Vec3, hi: Vec3) -> Vec3 {
 
 /// Draws the controls; `lo..hi` are the volume's bounds (for defaults and slider ranges).
 pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec3) {
+    let mut remove = None;
+    let count = p.lights.len();
+    for (i, source) in p.lights.iter_mut().enumerate() {
+        ui.push_id(("light", i), |ui| {
+            egui::Frame::group(ui.style()).show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.strong(format!("Light {}", i + 1));
+                    if ui
+                        .small_button("Remove")
+                        .on_hover_text(if count == 1 {
+                            "With no light only the ambient term ka·c is left"
+                        } else {
+                            "Remove this light: its terms leave the sum over lights"
+                        })
+                        .clicked()
+                    {
+                        remove = Some(i);
+                    }
+                });
+                one_light(ui, source, lo, hi);
+            });
+        });
+    }
+    if let Some(i) = remove {
+        p.lights.remove(i);
+    }
+    if p.lights.is_empty() {
+        ui.label("No light: every sample shows only its ambient colour ka·c.");
+    }
+    let room = p.lights.len() < MAX_LIGHTS;
+    let add = ui
+        .add_enabled(room, egui::Button::new("Add a light"))
+        .on_hover_text(
+            "Another light: the lecture's formula sums diffuse and specular over lights i, each \
+             with its own colour and attenuation",
+        )
+        .on_disabled_hover_text(format!(
+            "At most {MAX_LIGHTS} lights: the preview's shader holds that many"
+        ));
+    if add.clicked() {
+        p.add_light();
+    }
+    egui::ComboBox::from_label("Highlight")
+        .selected_text(p.highlight.label())
+        .show_ui(ui, |ui| {
+            for h in [Highlight::White, Highlight::Levoy] {
+                ui.selectable_value(&mut p.highlight, h, h.label())
+                    .on_hover_text(h.doc());
+            }
+        })
+        .response
+        .on_hover_text(p.highlight.doc());
+}
+
+/// One light's kind, place, colour and attenuation.
+fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
     let names = ["Headlight", "Point", "Directional"];
-    let current = match p.light {
+    let current = match source.light {
         Light::Headlight => 0,
         Light::Point(_) => 1,
         Light::Directional(_) => 2,
     };
     let mut chosen = current;
-    egui::ComboBox::from_label("Light")
+    egui::ComboBox::from_label("Kind")
         .selected_text(names[current])
         .show_ui(ui, |ui| {
             let docs = [
@@ -36,18 +94,18 @@ pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec
             }
         });
     if chosen != current {
-        let point = match p.light {
+        let point = match source.light {
             Light::Point(q) => q,
             _ => default_point(lo, hi),
         };
-        p.light = match chosen {
+        source.light = match chosen {
             0 => Light::Headlight,
             1 => Light::Point(point),
             _ => Light::Directional(direction_from_marker(point, lo, hi).unwrap_or(Vec3::NEG_Y)),
         };
     }
     let diagonal = (hi - lo).length().max(f32::MIN_POSITIVE);
-    match &mut p.light {
+    match &mut source.light {
         Light::Headlight => {}
         Light::Point(q) => {
             ui.horizontal(|ui| {
@@ -74,25 +132,31 @@ pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec
             }
         }
     }
-    let mut color = p.light_color.to_array();
+    let mut color = source.color.to_array();
     ui.horizontal(|ui| {
         ui.color_edit_button_rgb(&mut color)
             .on_hover_text("The light's colour and intensity (linear RGB)");
-        ui.label("Light colour");
+        ui.label("Colour");
     });
-    p.light_color = Vec3::from_array(color);
-    if let Light::Point(_) = p.light {
-        slider(ui, &mut p.kc, &t::ATTENUATION_CONSTANT, 0.0..=4.0, false);
+    source.color = Vec3::from_array(color);
+    if let Light::Point(_) = source.light {
         slider(
             ui,
-            &mut p.kl,
+            &mut source.kc,
+            &t::ATTENUATION_CONSTANT,
+            0.0..=4.0,
+            false,
+        );
+        slider(
+            ui,
+            &mut source.kl,
             &t::ATTENUATION_LINEAR,
             0.0..=10.0 / diagonal,
             true,
         );
         slider(
             ui,
-            &mut p.kq,
+            &mut source.kq,
             &t::ATTENUATION_QUADRATIC,
             0.0..=100.0 / (diagonal * diagonal),
             true,
