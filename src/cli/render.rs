@@ -195,7 +195,12 @@ fn write_cost(
         .map_err(|e| CliError::failed(format!("cannot write {}: {e}", path.display())))?;
     let scale = match view {
         CostView::Stops => String::new(),
-        _ => format!(" (pale yellow = {} a pixel)", map.max(view)),
+        _ => format!(
+            " (log scale: middle = {}, pale yellow = {} a pixel; the busiest has {})",
+            voxcast_core::cost::count_at(0.5, map.full_scale).round(),
+            map.full_scale,
+            map.max(view)
+        ),
     };
     println!(
         "cost ({}){scale} → {}: {}",

@@ -444,6 +444,7 @@ pub(crate) mod tests {
             rays_per_pixel: 1,
             pixels: vec![[3, 9, 1, 0, 1]; 12],
             stats: done.stats,
+            full_scale: 16,
         });
         Compared::new(done, gpu, snapshot(), 1)
     }

@@ -6,6 +6,10 @@
 //! the full resolution, which is the exact render (the same pixels as Render image). A
 //! refinement is cancelled as soon as the view, the settings or the scene change.
 //!
+//! It also draws the preview's cost views, on either backend: the core's counts of what each
+//! pixel's rays did (`voxcast_core::cost`), refined the same way, on the same fixed scale as
+//! Render image's.
+//!
 //! The scene's opaque spheres (sample spheres, the light's marker) stop the rays as the GPU
 //! preview's depth prepass does, and their flat colour shows through the volume in front of
 //! them (`voxcast_core::render::render_layer`); gizmo lines and transparent meshes are drawn by
@@ -22,7 +26,8 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 use voxcast_core::camera::Camera as CoreCamera;
-use voxcast_core::image_out::to_u8;
+use voxcast_core::cost::{CostView, render_cost};
+use voxcast_core::image_out::{LinearImage, to_u8};
 use voxcast_core::marker::{LIGHT_MARKER_COLOR, light_marker_radius};
 use voxcast_core::render::{Occluder, render_layer};
 use voxcast_core::settings::RenderSettings;
@@ -81,6 +86,8 @@ pub struct LiveKey {
     pub occluders: Vec<Occluder>,
     /// The resting resolution.
     pub full: UVec2,
+    /// A cost view instead of the picture.
+    pub cost_view: Option<CostView>,
 }
 
 /// A finished frame: the image and what it shows.
@@ -91,6 +98,8 @@ pub struct LiveFrame {
     /// background).
     pub rgb: Vec<[u8; 3]>,
     pub seconds: f64,
+    /// For a cost view: the count drawn pale yellow and the busiest pixel's count.
+    pub cost_scale: Option<(u32, u32)>,
 }
 
 impl LiveFrame {
@@ -133,7 +142,11 @@ impl LiveView {
             return "rendering the first frame…".into();
         };
         let what = if f.full() && self.job.is_none() {
-            "the exact render"
+            if f.key.cost_view.is_some() {
+                "the exact counts"
+            } else {
+                "the exact render"
+            }
         } else if self.job.as_ref().is_some_and(|j| j.refine) {
             "refining…"
         } else {
@@ -328,6 +341,7 @@ fn drive_live_view(
         volume: Arc::as_ptr(&volume.volume) as usize,
         occluders: spheres.occluders(&render, &volume),
         full,
+        cost_view: preview.cost_view,
     };
     if let Some(job) = &live.job {
         if job.key == key || !job.refine {
@@ -405,29 +419,41 @@ fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: b
             job_key.camera.forward(),
         )
         .ok()?;
-        let render = || {
-            render_layer(
-                &scene,
-                &job_key.camera,
-                (size.x, size.y),
-                &job_key.occluders,
-                &|_, _| {},
-                &flag,
-            )
+        let draw = || -> Option<(LinearImage, Option<(u32, u32)>)> {
+            match job_key.cost_view {
+                None => {
+                    let (layer, _) = render_layer(
+                        &scene,
+                        &job_key.camera,
+                        (size.x, size.y),
+                        &job_key.occluders,
+                        &|_, _| {},
+                        &flag,
+                    )
+                    .ok()?;
+                    Some((layer.over(job_key.settings.background), None))
+                }
+                // The volume's rays only: the scene's spheres are no work of the march.
+                Some(view) => {
+                    let map =
+                        render_cost(&scene, &job_key.camera, (size.x, size.y), &|_, _| {}, &flag)
+                            .ok()?;
+                    Some((map.image(view), Some((map.full_scale, map.max(view)))))
+                }
+            }
         };
-        let (layer, _) = if refine {
-            render()
+        let (image, cost_scale) = if refine {
+            draw()
         } else {
-            moving_pool().install(render)
-        }
-        .ok()?;
-        let image = layer.over(job_key.settings.background);
+            moving_pool().install(draw)
+        }?;
         let rgb = image.pixels.iter().map(|p| to_u8(*p)).collect();
         Some(LiveFrame {
             key: job_key,
             size,
             rgb,
             seconds: started.elapsed().as_secs_f64(),
+            cost_scale,
         })
     });
     LiveJob {
@@ -506,6 +532,58 @@ mod tests {
         let expect: Vec<[u8; 3]> = image.to_rgb8().pixels().map(|p| p.0).collect();
         assert!(frame.rgb == expect, "the live view differs from the render");
         assert!(live.generation >= 2, "coarse first, then refined");
+    }
+
+    /// A cost view at rest is the core's cost map of the view, on its fixed scale, whichever
+    /// backend draws the picture; back to the picture, the render returns.
+    #[test]
+    fn the_cost_view_at_rest_is_the_cores_map() {
+        let mut app = app();
+        {
+            let mut p = app.world_mut().resource_mut::<PreviewSettings>();
+            p.backend = Backend::Gpu;
+            p.cost_view = Some(CostView::Samples);
+            assert!(
+                p.cpu_live() && !p.gpu_live(),
+                "the core counts, the GPU rests"
+            );
+        }
+        until_exact(&mut app);
+        let live = app.world().resource::<LiveView>();
+        let frame = live.shown.as_ref().unwrap();
+        let key = &frame.key;
+        assert_eq!(key.cost_view, Some(CostView::Samples));
+        let volume = app.world().resource::<VolumeState>().volume.clone();
+        let scene =
+            Scene::new(&volume, &key.transfer, &key.settings, key.camera.forward()).unwrap();
+        let map = render_cost(
+            &scene,
+            &key.camera,
+            (64, 48),
+            &|_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        let expect: Vec<[u8; 3]> = map
+            .image(CostView::Samples)
+            .pixels
+            .iter()
+            .map(|p| to_u8(*p))
+            .collect();
+        assert!(
+            frame.rgb == expect,
+            "the live cost view differs from the core's map"
+        );
+        assert_eq!(
+            frame.cost_scale,
+            Some((map.full_scale, map.max(CostView::Samples)))
+        );
+        assert!(live.status().contains("exact counts"), "{}", live.status());
+        app.world_mut().resource_mut::<PreviewSettings>().cost_view = None;
+        app.world_mut().resource_mut::<PreviewSettings>().backend = Backend::Cpu;
+        until_exact(&mut app);
+        let live = app.world().resource::<LiveView>();
+        assert_eq!(live.shown.as_ref().unwrap().cost_scale, None);
     }
 
     /// A changed view leaves the old frame out of date and brings a new one for the new view.

@@ -28,6 +28,9 @@ pub struct PreviewSettings {
     pub adaptive: bool,
     pub moving_scale: f32,
     pub moving_step_multiplier: f32,
+    /// What the preview shows: the picture (`None`) or what its rays cost, counted by the core
+    /// (the CPU live view draws it, whichever backend draws the picture).
+    pub cost_view: Option<voxcast_core::cost::CostView>,
 }
 
 impl Default for PreviewSettings {
@@ -41,19 +44,22 @@ impl Default for PreviewSettings {
             adaptive: t::ADAPTIVE_QUALITY.default != 0.0,
             moving_scale: t::MOVING_SCALE.default,
             moving_step_multiplier: t::MOVING_STEP_MULTIPLIER.default,
+            cost_view: None,
         }
     }
 }
 
 impl PreviewSettings {
-    /// Whether the CPU live view draws the volume (the preview is on and drawn by the CPU).
+    /// Whether the CPU live view draws the volume (the preview is on and drawn by the CPU, or
+    /// shows a cost view: the core counts what each ray did).
     pub fn cpu_live(&self) -> bool {
-        self.enabled && self.backend == Backend::Cpu
+        self.enabled && (self.backend == Backend::Cpu || self.cost_view.is_some())
     }
 
-    /// Whether the GPU preview draws the volume (the preview is on and drawn by the GPU).
+    /// Whether the GPU preview draws the volume (the preview is on, drawn by the GPU, and
+    /// shows the picture).
     pub fn gpu_live(&self) -> bool {
-        self.enabled && self.backend == Backend::Gpu
+        self.enabled && self.backend == Backend::Gpu && self.cost_view.is_none()
     }
 
     /// The resolution fraction and step multiplier in effect; `full` asks for the settings'

@@ -5,9 +5,11 @@
 //! interpolated, the sample positions it passed (interpolated or skipped as empty space: what a
 //! caster without skipping would have interpolated), and how its rays stopped. [`CostMap::image`]
 //! draws one of these as the Radeon Raytracing Analyzer draws its traversal counters: a heat map
-//! through [`crate::colormap::inferno`] scaled to the image's largest count, or the stop reasons
-//! in flat colours. Turning early termination or skipping off and rendering again shows where the
-//! work they save lies, pixel by pixel.
+//! through [`crate::colormap::inferno`], or the stop reasons in flat colours. The heat map's
+//! scale is fixed by the volume and the step, not by the image, and logarithmic ([`heat`]): pale
+//! yellow is every position of the longest ray through the volume ([`CostMap::full_scale`]), so
+//! two maps of the same view compare by colour — turning early termination or skipping off and rendering again shows the
+//! cost rise, pixel by pixel, where the work they save lies.
 
 use crate::camera::Camera;
 use crate::colormap::inferno;
@@ -46,11 +48,12 @@ impl CostView {
         match self {
             CostView::Samples => {
                 "Samples interpolated per pixel: the work of the march, dark (none) to pale \
-                 yellow (the most in this image)."
+                 yellow (as many as the longest ray through the volume has positions)."
             }
             CostView::Skipped => {
                 "Sample positions passed without interpolating, per pixel: the work empty-space \
-                 skipping saved, dark (none) to pale yellow (the most)."
+                 skipping saved, dark (none) to pale yellow (as many as the longest ray through \
+                 the volume has positions)."
             }
             CostView::Stops => {
                 "How each pixel's rays stopped: blue, they left the volume; orange, early \
@@ -82,6 +85,9 @@ pub struct CostMap {
     /// `[samples, positions, early, capped, marched]` per pixel, row by row.
     pub pixels: Vec<[u32; 5]>,
     pub stats: RenderStats,
+    /// The count drawn pale yellow: a pixel's rays each taking every position of the longest
+    /// ray through the volume at this step (its diagonal; at most the sample cap).
+    pub full_scale: u32,
 }
 
 impl CostMap {
@@ -103,11 +109,10 @@ impl CostMap {
             .unwrap_or(0)
     }
 
-    /// The view as an image: counts through inferno, 0 to the image's maximum; or the stops'
-    /// colours, blended by the share of the pixel's rays that stopped each way.
+    /// The view as an image: counts through inferno, 0 to [`CostMap::full_scale`]; or the
+    /// stops' colours, blended by the share of the pixel's rays that stopped each way.
     pub fn image(&self, view: CostView) -> LinearImage {
         let mut image = LinearImage::new(self.width, self.height);
-        let max = self.max(view).max(1) as f32;
         let rays = self.rays_per_pixel.max(1) as f32;
         for (i, p) in self.pixels.iter().enumerate() {
             let c = match view {
@@ -116,12 +121,27 @@ impl CostMap {
                     let left = marched - early - capped;
                     (LEFT_COLOR * left + EARLY_COLOR * early + CAPPED_COLOR * capped) / rays
                 }
-                _ => inferno(self.count(view, p) as f32 / max),
+                _ => inferno(heat(self.count(view, p), self.full_scale)),
             };
             image.set(i as u32 % self.width, i as u32 / self.width, c);
         }
         image
     }
+}
+
+/// Where `count` lies on a heat map whose pale-yellow end is `full`, in `[0, 1]`: on a log
+/// scale, `ln(1 + count)/ln(1 + full)`, so a ray that early termination stopped after a tenth
+/// of the longest ray's positions still shows (at about 0.6), and a map stays comparable with
+/// another of the same view.
+pub fn heat(count: u32, full: u32) -> f32 {
+    let full = full.max(1) as f32;
+    ((count as f32).ln_1p() / full.ln_1p()).clamp(0.0, 1.0)
+}
+
+/// The count at `fraction` of a heat map whose end is `full` (the inverse of [`heat`]), for
+/// the legend's marks.
+pub fn count_at(fraction: f32, full: u32) -> f32 {
+    ((full.max(1) as f32).ln_1p() * fraction).exp_m1()
 }
 
 /// Renders what every pixel of `camera`'s view costs (see the module's text); progress and
@@ -169,12 +189,18 @@ pub fn render_cost(
             [whole(p.x), whole(p.y), whole(p.z), capped, n * n - missed]
         })
         .collect();
+    let longest = scene
+        .settings
+        .longest_ray_samples(scene.volume)
+        .ceil()
+        .min(f64::from(scene.settings.max_samples)) as u32;
     Ok(CostMap {
         width,
         height,
         rays_per_pixel: n * n,
         pixels,
         stats,
+        full_scale: longest.max(1) * n * n,
     })
 }
 
@@ -256,9 +282,22 @@ mod tests {
             on.max(CostView::Skipped) > 0,
             "the air around the head is skipped"
         );
-        // The heat map spans inferno: the busiest pixel is its last colour.
-        let image = on.image(CostView::Samples);
-        assert!(image.pixels.contains(&inferno(1.0)));
+        // One scale for both: the same count has the same colour in either map, and a map
+        // without early termination is brighter where the scalp stopped the rays.
+        assert_eq!(on.full_scale, no_early.full_scale);
+        let (a, b) = (
+            on.image(CostView::Samples),
+            no_early.image(CostView::Samples),
+        );
+        for (i, (p, q)) in on.pixels.iter().zip(&no_early.pixels).enumerate() {
+            if p[0] == q[0] {
+                assert_eq!(a.pixels[i], b.pixels[i]);
+            }
+        }
+        let lightness = |im: &LinearImage| im.pixels.iter().map(|c| c.length()).sum::<f32>();
+        assert!(lightness(&b) > lightness(&a));
+        // No pixel passes the scale: the longest ray's positions per ray.
+        assert!(no_skip.pixels.iter().all(|p| p[1] <= no_skip.full_scale));
         let stops = on.image(CostView::Stops);
         assert!(stops.pixels.contains(&EARLY_COLOR) && stops.pixels.contains(&Vec3::ZERO));
         let coarse = cost(
@@ -272,6 +311,21 @@ mod tests {
             coarse.pixels.iter().all(|p| p[1] <= 1),
             "one position a ray"
         );
+    }
+
+    #[test]
+    fn the_heat_scale_is_logarithmic_and_inverts() {
+        assert_eq!(heat(0, 400), 0.0);
+        assert_eq!(heat(400, 400), 1.0);
+        assert_eq!(heat(900, 400), 1.0, "clamped");
+        assert!(
+            (heat(20, 440) - 0.5).abs() < 1e-6,
+            "√441 − 1 = 20 is the middle"
+        );
+        for c in [0u32, 1, 3, 20, 150, 400] {
+            assert!((count_at(heat(c, 400), 400) - c as f32).abs() < 1e-3 * (1 + c) as f32);
+        }
+        assert_eq!(heat(5, 0), 1.0, "an empty scale does not divide by zero");
     }
 
     #[test]

@@ -4,6 +4,7 @@
 mod breakdown_panel;
 mod classify;
 pub(crate) mod compare;
+mod cost_view;
 mod cut;
 mod levels_window;
 mod light;
@@ -457,7 +458,15 @@ fn preview_section(
                 .on_hover_text(t::PREVIEW_BACKEND.doc);
         }
     });
-    if let (super::live::Backend::Cpu, Some(live)) = (q.backend, live) {
+    cost_view::choice(ui, &mut q.cost_view);
+    if let Some(view) = q.cost_view {
+        let scale = live
+            .and_then(|l| l.shown.as_ref())
+            .filter(|f| f.key.cost_view == Some(view))
+            .and_then(|f| f.cost_scale);
+        cost_view::legend(ui, view, scale);
+    }
+    if let (true, Some(live)) = (q.cpu_live(), live) {
         ui.label(format!("Live view: {}", live.status()));
     }
     marked(ui, spot, Control::PreviewScale, |ui| {
