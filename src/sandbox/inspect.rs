@@ -45,6 +45,8 @@ pub struct Inspection {
     pub image: Option<LinearImage>,
     /// Why the samples are not shown (the budget), if they are not.
     pub message: Option<String>,
+    /// The skip blocks the rays crossed and looked into (`voxcast_core::traffic`).
+    pub blocks: Option<voxcast_core::traffic::BlockTraffic>,
     /// Bumped at every recomputation.
     pub generation: u64,
 }
@@ -88,6 +90,8 @@ pub struct InspectSettings {
     /// Sphere transparency follows the sample's opacity.
     pub show_opacity: bool,
     pub budget: usize,
+    /// Draw the skip blocks the rays crossed (`super::blocks`).
+    pub show_blocks: bool,
 }
 
 impl Default for InspectSettings {
@@ -97,6 +101,7 @@ impl Default for InspectSettings {
             speed: t::RAY_SPEED.default,
             show_opacity: false,
             budget: t::SAMPLE_BUDGET.default as usize,
+            show_blocks: false,
         }
     }
 }
@@ -273,6 +278,11 @@ pub fn compute(
     inspection.image = render(&scene, &view, w, h, &|_, _| {}, &AtomicBool::new(false))
         .ok()
         .map(|(img, _)| img);
+    let keyed: Vec<(voxcast_core::ray::Ray, [u32; 2])> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| (view.pixel_ray(x, y, w, h), [x, y]))
+        .collect();
+    inspection.blocks = Some(voxcast_core::traffic::block_traffic(&scene, &keyed));
     let mut traces = Vec::with_capacity((w * h) as usize);
     let mut samples = 0usize;
     for y in 0..h {

@@ -4,6 +4,7 @@
 //! One plugin per feature file; the ECS holds only what the scene needs: the main camera, the
 //! volume's box (carrying the material) and the settings as resources.
 
+mod blocks;
 mod breakdown;
 mod compare;
 mod compare_cli;
@@ -281,7 +282,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             virtual_camera::plugin,
             inspect::plugin,
             trade::plugin,
-            lattice::plugin,
+            (lattice::plugin, blocks::plugin),
             live::plugin,
             overlay::plugin,
             progressive::plugin,

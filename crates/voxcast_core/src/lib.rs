@@ -65,6 +65,7 @@ pub mod skip;
 pub mod step;
 pub mod trace;
 pub mod trade;
+pub mod traffic;
 pub mod transfer;
 pub mod transfer_edit;
 pub mod tunables;

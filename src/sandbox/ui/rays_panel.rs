@@ -91,6 +91,17 @@ fn contents(
     });
     ui.checkbox(&mut edited.show_opacity, "Sample opacity")
         .on_hover_text("Draw each sample as transparent as its opacity");
+    ui.checkbox(&mut edited.show_blocks, "Skip blocks")
+        .on_hover_text(
+            "Draw the volume's 8³ blocks these rays crossed: orange where the march looked \
+             inside, blue where empty-space skipping passed them (the transfer function shows \
+             nothing there); the more rays crossed a block, the more opaque its lines",
+        );
+    if edited.show_blocks
+        && let Some(traffic) = &inspection.blocks
+    {
+        ui.label(egui::RichText::new(crate::sandbox::blocks::summary(traffic)).small());
+    }
     let mut budget = edited.budget as f32;
     ui.label(t::SAMPLE_BUDGET.label)
         .on_hover_text(t::SAMPLE_BUDGET.doc);
