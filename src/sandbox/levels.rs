@@ -247,7 +247,11 @@ pub(crate) fn check_objective(
     cameras: Query<&VirtualCamera>,
     (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
     (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
-    (mut trade, preview): (ResMut<StepTrade>, Option<Res<PreviewSettings>>),
+    (mut trade, preview, inspect): (
+        ResMut<StepTrade>,
+        Option<Res<PreviewSettings>>,
+        Option<Res<super::inspect::InspectSettings>>,
+    ),
 ) {
     let step = lessons.step_in(*mode.get()).cloned();
     // A step about the step's trade measures the step, whatever knob was picked before.
@@ -288,7 +292,7 @@ pub(crate) fn check_objective(
             &selection,
             &breakdown,
             (&comparison, views.single().ok()),
-            (&trade, preview.as_deref()),
+            (&trade, preview.as_deref(), inspect.as_deref()),
         );
         let truth = detail.as_ref().map(|d| d.value).or_else(|| {
             composite
@@ -323,7 +327,11 @@ pub(super) fn situation(
     selection: &RaySelection,
     breakdown: &BreakdownState,
     (comparison, view): (&Comparison, Option<&View>),
-    (trade, preview): (&StepTrade, Option<&PreviewSettings>),
+    (trade, preview, inspect): (
+        &StepTrade,
+        Option<&PreviewSettings>,
+        Option<&super::inspect::InspectSettings>,
+    ),
 ) -> Situation {
     let voxel = volume.volume.spacing().min_element();
     let (lo, hi) = volume.volume.bounds();
@@ -374,6 +382,8 @@ pub(super) fn situation(
         measured_knob: measured.map(|k| k.name()),
         preview_on: preview.is_some_and(|p| p.enabled),
         preview_scale: preview.map_or(1.0, |p| p.scale),
+        preview_cost_view: preview.and_then(|p| p.cost_view).map(|v| v.name()),
+        skip_blocks_shown: inspect.is_some_and(|i| i.show_blocks),
         jitter: render.settings.jitter,
         trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
         supersampling: render.settings.supersampling,

@@ -115,6 +115,7 @@ struct Hands<'w, 's> {
     inspection: Res<'w, Inspection>,
     live: Option<Res<'w, super::live::LiveView>>,
     preview: Option<ResMut<'w, super::preview::PreviewSettings>>,
+    inspect: ResMut<'w, super::inspect::InspectSettings>,
     progressive: Option<Res<'w, super::progressive::Progressive>>,
     motion: Option<Res<'w, super::preview::Motion>>,
     volume: Res<'w, VolumeState>,
@@ -227,7 +228,8 @@ fn drive(
                 run.frames = 0;
             }
             if lessons.met {
-                // The breakdown, Render image and crop steps are pictured once done.
+                // The breakdown, Render image, crop, lights and cost steps are pictured once
+                // done.
                 let pictured = matches!(
                     step.objective,
                     Objective::OpenHighestSample
@@ -235,6 +237,11 @@ fn drive(
                         | Objective::CropAtMost { .. }
                         | Objective::CostViewed { .. }
                         | Objective::KnobMeasured { .. }
+                        | Objective::OpenLitSample { .. }
+                        | Objective::LevoyHighlight { .. }
+                        | Objective::SkipBlocks { .. }
+                        | Objective::Skipping { on: true }
+                        | Objective::PreviewCostView { .. }
                 );
                 let met_at = *run.met_at.get_or_insert(run.frames);
                 match run.step_shot {
@@ -498,6 +505,12 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 p.enabled = *on;
             }
         }
+        Objective::PreviewCostView { view } => {
+            if let Some(p) = hands.preview.as_mut() {
+                p.cost_view = voxcast_core::cost::CostView::parse(view);
+            }
+        }
+        Objective::SkipBlocks { on } => hands.inspect.show_blocks = *on,
     }
 }
 

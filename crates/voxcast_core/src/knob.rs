@@ -23,6 +23,8 @@ pub enum Knob {
     Supersampling,
     PreviewScale,
     PreviewStepMultiplier,
+    /// The preview's frame while the camera moves: resolution and step multiplier together.
+    AdaptiveQuality,
 }
 
 /// One setting a measurement renders: its words, the settings, and the fraction of the image's
@@ -34,13 +36,18 @@ pub struct Try {
     pub scale: f32,
 }
 
+/// The moving frames adaptive quality is measured at, cheapest first: (resolution fraction,
+/// step multiplier); the sandbox's defaults ([`t::MOVING_SCALE`], [`t::MOVING_STEP_MULTIPLIER`])
+/// are the second.
+pub const MOVING_FRAMES: [(f32, f32); 4] = [(0.125, 4.0), (0.25, 2.0), (0.5, 2.0), (0.5, 1.0)];
+
 /// The step (voxels) the exact reference of the step, interpolation and jitter uses.
 pub const REFERENCE_STEP: f32 = 1.0 / 16.0;
 /// Rays per pixel side of supersampling's reference.
 pub const REFERENCE_SUPERSAMPLING: u32 = 8;
 
 impl Knob {
-    pub const ALL: [Knob; 7] = [
+    pub const ALL: [Knob; 8] = [
         Knob::Step,
         Knob::Interpolation,
         Knob::Cutoff,
@@ -48,6 +55,7 @@ impl Knob {
         Knob::Supersampling,
         Knob::PreviewScale,
         Knob::PreviewStepMultiplier,
+        Knob::AdaptiveQuality,
     ];
 
     /// Its key on the command line.
@@ -60,6 +68,7 @@ impl Knob {
             Knob::Supersampling => "supersampling",
             Knob::PreviewScale => "preview-scale",
             Knob::PreviewStepMultiplier => "preview-step-multiplier",
+            Knob::AdaptiveQuality => "adaptive-quality",
         }
     }
 
@@ -73,6 +82,7 @@ impl Knob {
             Knob::Supersampling => "Supersampling",
             Knob::PreviewScale => "Preview resolution",
             Knob::PreviewStepMultiplier => "Preview step ×",
+            Knob::AdaptiveQuality => "Adaptive quality (the moving frame)",
         }
     }
 
@@ -96,6 +106,12 @@ impl Knob {
                 "Rendered small and stretched bilinearly; against the full resolution.",
             ),
             Knob::PreviewStepMultiplier => (t::PREVIEW_STEP_MULTIPLIER.doc, "Against ×1."),
+            Knob::AdaptiveQuality => (
+                t::ADAPTIVE_QUALITY.doc,
+                "Each try is a moving frame as a whole — a lower resolution stretched bilinearly \
+                 and a longer step together, the defaults among them — against the resting \
+                 frame (full resolution, ×1).",
+            ),
         };
         format!("{what} {against}")
     }
@@ -125,6 +141,7 @@ impl Knob {
             }
             Knob::PreviewScale => "full resolution".into(),
             Knob::PreviewStepMultiplier => "×1".into(),
+            Knob::AdaptiveQuality => "the resting frame: full resolution, ×1".into(),
         };
         Try {
             label,
@@ -224,6 +241,10 @@ impl Knob {
                 .into_iter()
                 .map(|m| with(format!("×{m}"), &|r| r.step = r.step.scaled(m), 1.0))
                 .collect(),
+            Knob::AdaptiveQuality => MOVING_FRAMES
+                .into_iter()
+                .map(|(f, m)| with(format!("{f} and ×{m}"), &|r| r.step = r.step.scaled(m), f))
+                .collect(),
         }
     }
 }
@@ -262,5 +283,12 @@ mod tests {
         assert_eq!(Knob::PreviewScale.reference(&s).scale, 1.0);
         let x4 = &Knob::PreviewStepMultiplier.tries(&s, 1.0, &[])[1];
         assert_eq!(x4.settings.step, Length::Voxels(2.0), "0.5 voxel ×4");
+        // Adaptive quality tries the sandbox's own moving frame among others.
+        let defaults = (t::MOVING_SCALE.default, t::MOVING_STEP_MULTIPLIER.default);
+        assert_eq!(MOVING_FRAMES[1], defaults);
+        let moving = &Knob::AdaptiveQuality.tries(&s, 1.0, &[])[1];
+        assert_eq!(moving.scale, 0.25);
+        assert_eq!(moving.settings.step, Length::Voxels(1.0), "0.5 voxel ×2");
+        assert_eq!(Knob::AdaptiveQuality.reference(&s).scale, 1.0);
     }
 }

@@ -201,6 +201,10 @@ pub enum Objective {
     OpenLitSample { lights: usize },
     /// Choose the highlight's colour: Levoy's (the sample's colour, `true`) or white.
     LevoyHighlight { on: bool },
+    /// Show the live preview as the cost view `view` (`samples`, `skipped`, `stops`).
+    PreviewCostView { view: String },
+    /// Show or hide the skip blocks the virtual camera's rays crossed.
+    SkipBlocks { on: bool },
     /// Measure the step size's trade for the view on screen.
     TradeMeasured,
     /// Turn the clip plane on or off.
@@ -300,6 +304,10 @@ pub struct Situation {
     pub cost_view: Option<&'static str>,
     pub preview_on: bool,
     pub preview_scale: f32,
+    /// The cost view the live preview shows, if any.
+    pub preview_cost_view: Option<&'static str>,
+    /// The skip blocks the virtual camera's rays crossed are drawn.
+    pub skip_blocks_shown: bool,
     /// The knob of a trade measured for what is on screen, if any.
     pub measured_knob: Option<&'static str>,
 }
@@ -363,6 +371,8 @@ impl Objective {
                 s.opened_sample_lights.is_some_and(|n| n >= *lights)
             }
             Objective::LevoyHighlight { on } => s.levoy_highlight == *on,
+            Objective::PreviewCostView { view } => s.preview_cost_view == Some(view.as_str()),
+            Objective::SkipBlocks { on } => s.skip_blocks_shown == *on,
             Objective::TradeMeasured => s.trade_measured,
             Objective::ClipPlane { on } => s.clip.plane.is_some() == *on,
             Objective::ClipPositionBetween { lo, hi } => s
@@ -598,6 +608,22 @@ mod tests {
         assert!(!Objective::LevoyHighlight { on: true }.met(&s));
         s.levoy_highlight = true;
         assert!(Objective::LevoyHighlight { on: true }.met(&s));
+    }
+
+    #[test]
+    fn cost_objectives_read_the_preview_and_the_blocks() {
+        let mut s = Situation::default();
+        let samples = Objective::PreviewCostView {
+            view: "samples".into(),
+        };
+        assert!(!samples.met(&s));
+        s.preview_cost_view = Some("stops");
+        assert!(!samples.met(&s));
+        s.preview_cost_view = Some("samples");
+        assert!(samples.met(&s));
+        assert!(!Objective::SkipBlocks { on: true }.met(&s));
+        s.skip_blocks_shown = true;
+        assert!(Objective::SkipBlocks { on: true }.met(&s));
     }
 
     /// Every number an objective checks is quoted in its step's text, so the text never asks

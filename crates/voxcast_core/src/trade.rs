@@ -286,5 +286,16 @@ mod tests {
         assert_eq!(interpolation.rows[0].label, "nearest");
         assert!(interpolation.rows[0].rmse > interpolation.rows[1].rmse);
         assert_eq!(run(Knob::Jitter).rows.len(), 4);
+        // The moving frame as a whole: the cheapest errs most and costs least; every one is
+        // cheaper than the resting frame.
+        let adaptive = run(Knob::AdaptiveQuality);
+        assert!(adaptive.rows[0].rmse > adaptive.rows[3].rmse);
+        assert!(adaptive.rows[0].samples < adaptive.rows[3].samples);
+        assert!(
+            adaptive
+                .rows
+                .iter()
+                .all(|r| r.samples < adaptive.reference_samples)
+        );
     }
 }

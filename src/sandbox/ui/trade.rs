@@ -150,6 +150,7 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
             Knob::Step => "step",
             Knob::PreviewScale => "resolution",
             Knob::PreviewStepMultiplier => "step ×",
+            Knob::AdaptiveQuality => "resolution and step ×",
             _ => t.knob.label(),
         };
         super::header_row(
