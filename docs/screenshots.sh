@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates the README's screenshots from the scripted play-through (`voxcast
 # --play-levels`, the same run tests/levels.rs checks): free play, a level's first step, a ray's
-# breakdown, Render image and a cut volume, at 1280×720, in docs/screenshots/.
+# breakdown, Render image, a cut volume, several lights, the skip blocks and the preview's cost
+# view, at 1280×720, in docs/screenshots/.
 #
 #   bash docs/screenshots.sh
 #
@@ -19,4 +20,7 @@ cp "$(ls "$run"/*_first-hit.png)" "$out/level.png"
 cp "$(ls "$run"/*_sampling_step*.png | head -1)" "$out/breakdown.png"
 cp "$(ls "$run"/*_preview-render_step*.png | head -1)" "$out/render_image.png"
 cp "$(ls "$run"/*_clipping_step*.png | head -1)" "$out/looking_inside.png"
+cp "$(ls "$run"/*_lights_step5.png)" "$out/lights.png"
+cp "$(ls "$run"/*_acceleration_step9.png)" "$out/skip_blocks.png"
+cp "$(ls "$run"/*_acceleration_step10.png)" "$out/cost_view.png"
 ls -l "$out"

@@ -250,7 +250,10 @@ fn knobs_and_cost_maps_are_written() {
     for k in voxcast_core::knob::Knob::ALL {
         assert!(md.contains(&format!("**{}**", k.label())), "{k:?}");
     }
-    assert_eq!(md.matches("(reference) |").count(), 7);
+    assert_eq!(
+        md.matches("(reference) |").count(),
+        voxcast_core::knob::Knob::ALL.len()
+    );
     let out = dir.join("costly.png");
     let o = voxcast(&[
         "render",

@@ -335,6 +335,9 @@ pub struct ShadeTerms {
     pub diffuse: [f32; 3],
     /// Σ_i of the lights' specular terms.
     pub specular: [f32; 3],
+    /// Which highlight, and its tint h: 1 (white) or the sample's colour (Levoy's).
+    pub highlight: Highlight,
+    pub tint: [f32; 3],
     /// Each light's terms; the first [`ShadeTerms::light_count`] are used.
     #[serde(serialize_with = "serialize_lights")]
     pub lights: [LightTerms; MAX_LIGHTS],
@@ -403,6 +406,8 @@ pub fn shade(c: Vec3, grad: Vec3, p_world: Vec3, v: &Viewing, k: &Phong) -> (Vec
     let mut terms = ShadeTerms {
         lit: true,
         normal: n.to_array(),
+        highlight: k.highlight,
+        tint: tint.to_array(),
         light_count: v.lights.len,
         ..ShadeTerms::default()
     };
@@ -655,6 +660,15 @@ mod tests {
             "{white}"
         );
         assert!((levoy - c * 0.3).abs().max_element() < 1e-6, "{levoy}");
+        let terms = shade(
+            c,
+            Vec3::NEG_Z,
+            Vec3::ZERO,
+            &Viewing::new(Vec3::Z, &lights(&p)),
+            &p,
+        )
+        .1;
+        assert_eq!(terms.tint, c.to_array(), "the breakdown shows h");
     }
 
     #[test]

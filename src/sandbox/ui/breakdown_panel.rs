@@ -285,8 +285,16 @@ fn shading_terms(ui: &mut egui::Ui, sh: &voxcast_core::shade::ShadeTerms, color:
         );
         return;
     }
+    let h = if sh.highlight == voxcast_core::shade::Highlight::White {
+        "h = 1: a white highlight (OpenGL, VTK)".to_string()
+    } else {
+        format!(
+            "h = c = {}: Levoy's highlight, tinted by the sample's colour",
+            v3(sh.tint)
+        )
+    };
     ui.label(format!(
-        "shading (normal N = {}): colour = ka·c + Σ over lights of f·I·(kd·max(N·L, 0)·c + ks·spec·h)",
+        "shading (normal N = {}): colour = ka·c + Σ over lights of f·I·(kd·max(N·L, 0)·c + ks·spec·h), {h}",
         v3(sh.normal)
     ));
     egui::Grid::new("shading").striped(true).show(ui, |ui| {
