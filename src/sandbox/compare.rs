@@ -10,6 +10,7 @@ use super::preview::{FullQuality, PreviewTarget};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::camera::CameraUpdateSystems;
 use bevy::prelude::*;
+use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::path::{Path, PathBuf};
@@ -246,6 +247,26 @@ fn forget_on_new_scene(
     }
 }
 
+/// An 8-bit RGBA texture read back from the GPU (`data`, rows padded to the copy alignment) as
+/// an image of `size`.
+pub fn image_from_rows(data: &[u8], size: UVec2) -> Result<LinearImage, String> {
+    let (w, h) = (size.x as usize, size.y as usize);
+    let stride = data.len().checked_div(h).unwrap_or(0);
+    if h == 0 || stride < w * 4 {
+        return Err(format!(
+            "the preview's read-back holds {} bytes, too few for {w}×{h}",
+            data.len()
+        ));
+    }
+    let mut rgb = image::RgbImage::new(size.x, size.y);
+    for (y, row) in data.chunks_exact(stride).take(h).enumerate() {
+        for (x, px) in row[..w * 4].chunks_exact(4).enumerate() {
+            rgb.put_pixel(x as u32, y as u32, image::Rgb([px[0], px[1], px[2]]));
+        }
+    }
+    Ok(LinearImage::from_rgb8(&rgb))
+}
+
 /// Counts the settle frames down, then captures the preview and starts the CPU render of the
 /// same view in the same frame.
 #[allow(clippy::too_many_arguments)]
@@ -259,6 +280,7 @@ fn start_capture(
     render_state: Res<RenderState>,
     preview_visible: Query<&Visibility, With<super::state::VolumeBox>>,
     preview: Option<Res<super::preview::PreviewSettings>>,
+    progressive: Option<Res<super::progressive::Progressive>>,
 ) {
     let Some(left) = comparison.settling else {
         // Cancelled while settling: nothing will be captured, so nothing else resets it.
@@ -272,6 +294,16 @@ fn start_capture(
     }
     if left > 0 {
         comparison.settling = Some(left - 1);
+        return;
+    }
+    // A GPU preview drawn in strips is captured once a full-quality pass has finished: the
+    // window goes on answering meanwhile (settling stays at zero until then).
+    let live = preview.as_ref().is_some_and(|p| p.cpu_live());
+    if !live
+        && progressive
+            .as_ref()
+            .is_some_and(|p| p.active() && p.finished_full_image().is_none())
+    {
         return;
     }
     comparison.settling = None;
@@ -298,12 +330,31 @@ fn start_capture(
         transfer: render_state.transfer.clone(),
         source: state.source.clone(),
     };
+    // A GPU preview drawn in strips is read back from its finished full-quality pass (a
+    // screenshot captures only what a camera draws this frame, and none draws that image now).
+    let finished_pass = progressive
+        .as_ref()
+        .filter(|p| p.active() && !cpu_live)
+        .and_then(|p| p.finished_full_image());
     let gpu = Arc::new(Mutex::new(None));
     let previewing = preview_visible.iter().any(|v| *v != Visibility::Hidden);
     if cpu_live {
         // The CPU live view is compared as it draws this view at rest (the job renders it,
         // without the scene's spheres, which the render has not either).
         full.0 = false;
+    } else if let (true, Some(pass)) = (previewing, finished_pass) {
+        let (slot, size) = (gpu.clone(), target.size);
+        commands.spawn(Readback::texture(pass)).observe(
+            move |done: On<ReadbackComplete>,
+                  mut full: ResMut<FullQuality>,
+                  mut commands: Commands| {
+                if let Ok(mut s) = slot.lock() {
+                    *s = Some(image_from_rows(&done.data, size));
+                }
+                full.0 = false;
+                commands.entity(done.entity).despawn(); // else it reads back every frame
+            },
+        );
     } else if previewing {
         let slot = gpu.clone();
         commands
@@ -507,6 +558,25 @@ pub(crate) mod tests {
         );
         assert!(c.diff.is_none());
         assert!(c.gpu.unwrap_err().contains("5×3"));
+    }
+
+    #[test]
+    fn read_back_rows_lose_their_padding() {
+        // 3×2 pixels, rows padded to 16 bytes.
+        let mut data = vec![0u8; 32];
+        for y in 0..2usize {
+            for x in 0..3usize {
+                let i = y * 16 + x * 4;
+                data[i..i + 4].copy_from_slice(&[(10 * x + y) as u8, 7, 200, 255]);
+            }
+            data[y * 16 + 12] = 99; // padding, ignored
+        }
+        let img = image_from_rows(&data, UVec2::new(3, 2)).unwrap();
+        let rgb = img.to_rgb8();
+        assert_eq!(rgb.get_pixel(2, 1).0, [21, 7, 200]);
+        assert_eq!(rgb.get_pixel(0, 0).0, [0, 7, 200]);
+        assert!(image_from_rows(&data[..8], UVec2::new(3, 2)).is_err());
+        assert!(image_from_rows(&[], UVec2::new(3, 0)).is_err());
     }
 
     #[test]

@@ -88,6 +88,10 @@ pub struct Progressive {
     finished: Option<usize>,
     /// Whether the resting view is being drawn in strips.
     active: bool,
+    /// The pass under way is drawn at full quality (a comparison is capturing the preview).
+    pass_full: bool,
+    /// The finished pass was drawn at full quality.
+    finished_full: bool,
 }
 
 /// Rows `[y0, y1)` of strip `k` of `n` in an image `height` rows high.
@@ -120,6 +124,15 @@ impl Progressive {
     /// Whether the resting view is on screen at full quality: drawn whole, or a pass finished.
     pub fn full_quality_shown(&self) -> bool {
         !self.active || self.finished.is_some()
+    }
+
+    /// The image of the last pass finished at full quality ([`FullQuality`]), while the view
+    /// is drawn in strips: what Render image captures instead of holding the window for a
+    /// whole full-quality frame.
+    pub fn finished_full_image(&self) -> Option<Handle<Image>> {
+        let (images, _) = self.images.as_ref()?;
+        let f = self.finished?;
+        (self.active && self.finished_full).then(|| images[f].clone())
     }
 
     /// What to paint over the viewport, bottom first: the finished image alone; or the last
@@ -186,7 +199,9 @@ pub(super) fn give_camera_its_work(
     // Seconds of volume work the whole resting frame is predicted to take.
     let predicted = p.cost.per_work.map(|c| c * work(target.size));
     let share = p.cost.share();
-    let strips = gpu && !motion.moving && !full.0 && predicted.is_some_and(|s| s > share);
+    // Full quality (a comparison capturing) is drawn in strips too: the window keeps
+    // answering, and the capture waits for a finished full-quality pass.
+    let strips = gpu && !motion.moving && predicted.is_some_and(|s| s > share);
     let (image, rows) = if strips {
         let size = target.size;
         if p.images.as_ref().is_none_or(|(_, s)| *s != size) {
@@ -194,14 +209,20 @@ pub(super) fn give_camera_its_work(
             p.images = Some((made, size));
             p.active = false;
         }
+        if p.active && p.pass_full != full.0 {
+            // The quality changed: a new pass, from the first strip.
+            (p.strips, p.next) = (0, 0);
+        }
         if !p.active {
             (p.active, p.finished, p.strips, p.next) = (true, None, 0, 0);
         }
         if p.next >= p.strips {
             if p.strips > 0 {
                 p.finished = Some(p.filling);
+                p.finished_full = p.pass_full;
                 p.filling ^= 1;
             }
+            p.pass_full = full.0;
             p.strips = strips_for(predicted.unwrap_or(0.0), share, size.y);
             p.next = 0;
         }
