@@ -333,7 +333,8 @@ fn show_or_hide_volume(
 
 /// With the CPU drawing the volume, the main camera draws only what lies over it — the
 /// transparent sample spheres — on a transparent background; the opaque spheres (on the
-/// occluders' layer) are in the CPU's image. With the GPU it draws everything. (Lines are
+/// occluders' layer) are in the CPU's image, and drawn again over it, sharp, when the preview
+/// runs below full resolution. With the GPU it draws everything. (Lines are
 /// egui's: `overlay`.)
 fn camera_for_backend(
     settings: Res<PreviewSettings>,
@@ -344,17 +345,20 @@ fn camera_for_backend(
     let cpu = settings.cpu_live();
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
     let through = render.is_some_and(|r| !r.depth_termination);
+    // Below full resolution the CPU image's spheres are as coarse as the image: the camera
+    // draws them again over it at the window's resolution (over the volume in front of them).
+    let coarse = settings.scale < 1.0;
     let transparent = inspect.is_some_and(|i| i.shown && i.show_opacity);
     let (clear, layers, active) = if cpu {
         (
             ClearColorConfig::Custom(Color::NONE),
-            if through {
+            if through || coarse {
                 RenderLayers::from_layers(&[0, OCCLUDER_LAYER])
             } else {
                 RenderLayers::layer(0)
             },
             // Nothing for it to draw: no pass at all (a software rasterizer pays for each).
-            through || transparent,
+            through || transparent || coarse,
         )
     } else {
         (
