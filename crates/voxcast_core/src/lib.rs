@@ -55,6 +55,7 @@ pub mod numbers;
 pub mod peer;
 pub mod preset;
 pub mod ray;
+pub mod rays;
 pub mod recompute;
 pub mod render;
 pub mod sample;

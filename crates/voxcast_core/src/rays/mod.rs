@@ -1,0 +1,9 @@
+//! Ray data sets, as RayVis (seed 002) visualises them: a set of rays from some renderer — their
+//! origins, directions and where each stopped — and the views of it: the density of rays per
+//! cell of a grid over the scene, and their mean direction per cell.
+//!
+//! [`set`] holds the rays and RayVis's rules (hit or miss, the counted segment, filters and
+//! stride); [`density`] traverses them through a sparse grid of cells (Amanatides & Woo).
+
+pub mod density;
+pub mod set;
