@@ -331,7 +331,18 @@ pub fn compute(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Density, Cancelled> {
-    let keys = chunks_touched(set, p);
+    compute_in(set, p, chunks_touched(set, p), progress, cancel)
+}
+
+/// [`compute`] with the chunks found beforehand: `keys`, sorted (visits to others are added
+/// one by one at the end).
+fn compute_in(
+    set: &RaySet,
+    p: &DensityParams,
+    keys: Vec<IVec3Key>,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<Density, Cancelled> {
     let per_chunk = (p.chunk as usize).pow(3);
     if keys.len() as u64 * per_chunk as u64 > u64::from(u32::MAX) {
         // Far more than memory holds anyway: refuse rather than wrap the indices.
@@ -735,6 +746,26 @@ mod tests {
             .check()
             .is_err()
         );
+    }
+
+    /// Visits to chunks the chunk pass did not find (a rounding's graze) are added all the
+    /// same: with none found beforehand, or half of them, the density is the one computed with
+    /// all of them.
+    #[test]
+    fn visits_to_chunks_found_late_are_kept() {
+        let set = random_set(3000, 11);
+        let p = DensityParams {
+            cell: 0.8,
+            chunk: 4,
+            ..Default::default()
+        };
+        let cancel = AtomicBool::new(false);
+        let all = compute(&set, &p, &|_, _| {}, &cancel).unwrap();
+        let none = compute_in(&set, &p, Vec::new(), &|_, _| {}, &cancel).unwrap();
+        assert!(all == none, "nothing found beforehand");
+        let half: Vec<IVec3Key> = chunks_touched(&set, &p).into_iter().step_by(2).collect();
+        let some = compute_in(&set, &p, half, &|_, _| {}, &cancel).unwrap();
+        assert!(all == some, "half found beforehand");
     }
 
     #[test]
