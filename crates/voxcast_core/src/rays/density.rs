@@ -126,6 +126,33 @@ pub struct Report {
     pub visits: u64,
 }
 
+impl Report {
+    /// Adds another block's report.
+    fn add(&mut self, r: &Report) {
+        self.rays += r.rays;
+        self.malformed += r.malformed;
+        self.out_of_range += r.out_of_range;
+        self.capped += r.capped;
+        self.visits += r.visits;
+    }
+}
+
+/// The chunk holding `cell` in chunks of `n` cells a side, and the cell's index in it (x
+/// fastest).
+fn locate(cell: IVec3, n: i32) -> (IVec3, usize) {
+    let chunk = cell.div_euclid(IVec3::splat(n));
+    let l = cell - chunk * n;
+    (chunk, (l.x + n * (l.y + n * l.z)) as usize)
+}
+
+/// Counts one ray through a cell: its count and its fixed-point unit direction.
+fn add_visit(count: &mut u32, sum: &mut [i64; 3], unit: [i32; 3]) {
+    *count += 1;
+    for (s, u) in sum.iter_mut().zip(unit) {
+        *s += i64::from(u);
+    }
+}
+
 /// A computed ray density.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Density {
@@ -140,10 +167,8 @@ pub type IVec3Key = [i32; 3];
 
 impl Density {
     fn locate(&self, cell: IVec3) -> (IVec3Key, usize) {
-        let n = self.params.chunk as i32;
-        let c = cell.div_euclid(IVec3::splat(n));
-        let r = cell.rem_euclid(IVec3::splat(n));
-        (c.to_array(), (r.x + n * (r.y + n * r.z)) as usize)
+        let (c, i) = locate(cell, self.params.chunk as i32);
+        (c.to_array(), i)
     }
 
     /// Rays through `cell`.
@@ -397,7 +422,7 @@ fn compute_in(
                         p.cell,
                         p.max_cells_per_ray,
                         |c| {
-                            let chunk = c.div_euclid(IVec3::splat(n));
+                            let (chunk, local) = locate(c, n);
                             let base = match cached {
                                 Some((k, b)) if k == chunk => b,
                                 _ => match index.get(&chunk.to_array()) {
@@ -412,9 +437,7 @@ fn compute_in(
                                     }
                                 },
                             };
-                            let l = c - chunk * n;
-                            let local = (l.x + n * (l.y + n * l.z)) as u32;
-                            visits.push((base + local, unit));
+                            visits.push((base + local as u32, unit));
                         },
                     );
                     r.rays += 1;
@@ -437,21 +460,14 @@ fn compute_in(
                         let i = cell as usize;
                         if i >= start && i < end {
                             let c = &mut range[i - start];
-                            c.0 += 1;
-                            for (sum, u) in c.1.iter_mut().zip(unit) {
-                                *sum += i64::from(u);
-                            }
+                            add_visit(&mut c.0, &mut c.1, unit);
                         }
                     }
                 }
             });
         for (_, strays, r) in lists {
             stray_visits.extend(strays);
-            report.rays += r.rays;
-            report.malformed += r.malformed;
-            report.out_of_range += r.out_of_range;
-            report.capped += r.capped;
-            report.visits += r.visits;
+            report.add(&r);
         }
     }
     let mut chunks: BTreeMap<IVec3Key, Chunk> = keys
@@ -469,17 +485,12 @@ fn compute_in(
         })
         .collect();
     for (c, unit) in stray_visits {
-        let chunk = c.div_euclid(IVec3::splat(n));
-        let l = c - chunk * n;
-        let i = (l.x + n * (l.y + n * l.z)) as usize;
+        let (chunk, i) = locate(c, n);
         let ch = chunks.entry(chunk.to_array()).or_insert_with(|| Chunk {
             counts: vec![0; per_chunk],
             directions: vec![[0; 3]; per_chunk],
         });
-        ch.counts[i] += 1;
-        for (sum, u) in ch.directions[i].iter_mut().zip(unit) {
-            *sum += i64::from(u);
-        }
+        add_visit(&mut ch.counts[i], &mut ch.directions[i], unit);
     }
     Ok(Density {
         params: *p,
