@@ -296,14 +296,12 @@ fn start_capture(
         comparison.settling = Some(left - 1);
         return;
     }
-    // A GPU preview drawn in strips is captured once a full-quality pass has finished: the
-    // window goes on answering meanwhile (settling stays at zero until then).
-    let live = preview.as_ref().is_some_and(|p| p.cpu_live());
-    if !live
-        && progressive
-            .as_ref()
-            .is_some_and(|p| p.active() && p.finished_full_image().is_none())
-    {
+    // A GPU preview drawn in strips is captured once a full-quality pass has finished, from
+    // that pass's image: the window goes on answering meanwhile (settling stays at zero until
+    // then).
+    let cpu_live = preview.as_ref().is_some_and(|p| p.cpu_live());
+    let strips = progressive.as_deref().filter(|p| !cpu_live && p.active());
+    if strips.is_some_and(|p| p.finished_full_image().is_none()) {
         return;
     }
     comparison.settling = None;
@@ -314,8 +312,7 @@ fn start_capture(
     };
     // The CPU live view rests at the preview's resolution of the window (the main camera's
     // target, then, is the whole window: its lines are drawn sharp).
-    let live_scale = preview.filter(|p| p.cpu_live()).map(|p| p.scale);
-    let cpu_live = live_scale.is_some();
+    let live_scale = preview.filter(|_| cpu_live).map(|p| p.scale);
     let size = live_scale.map_or(target.size, |scale| {
         (target.size.as_vec2() * scale)
             .round()
@@ -330,12 +327,9 @@ fn start_capture(
         transfer: render_state.transfer.clone(),
         source: state.source.clone(),
     };
-    // A GPU preview drawn in strips is read back from its finished full-quality pass (a
-    // screenshot captures only what a camera draws this frame, and none draws that image now).
-    let finished_pass = progressive
-        .as_ref()
-        .filter(|p| p.active() && !cpu_live)
-        .and_then(|p| p.finished_full_image());
+    // Read back rather than screenshot: a screenshot captures only what a camera draws this
+    // frame, and none draws the finished pass's image now.
+    let finished_pass = strips.and_then(|p| p.finished_full_image());
     let gpu = Arc::new(Mutex::new(None));
     let previewing = preview_visible.iter().any(|v| *v != Visibility::Hidden);
     if cpu_live {
