@@ -196,10 +196,8 @@ fn write_cost(
     let scale = match view {
         CostView::Stops => String::new(),
         _ => format!(
-            " (log scale: middle = {}, pale yellow = {} a pixel; the busiest has {})",
-            voxcast_core::cost::count_at(0.5, map.full_scale).round(),
-            map.full_scale,
-            map.max(view)
+            " ({})",
+            voxcast_core::cost::scale_words(map.full_scale, map.max(view))
         ),
     };
     println!(

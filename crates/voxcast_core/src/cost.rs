@@ -144,6 +144,16 @@ pub fn count_at(fraction: f32, full: u32) -> f32 {
     ((full.max(1) as f32).ln_1p() * fraction).exp_m1()
 }
 
+/// The heat map's scale in words: its middle and its pale-yellow end (`full`), and the busiest
+/// pixel's count — one wording for Render image, the preview's legend and `render --cost`.
+pub fn scale_words(full: u32, busiest: u32) -> String {
+    format!(
+        "Log scale: middle {}, pale yellow {full} a pixel (every position of the longest ray); \
+         the busiest pixel here {busiest}",
+        count_at(0.5, full).round()
+    )
+}
+
 /// Renders what every pixel of `camera`'s view costs (see the module's text); progress and
 /// cancel as [`crate::render::render`].
 pub fn render_cost(
@@ -326,6 +336,12 @@ mod tests {
             assert!((count_at(heat(c, 400), 400) - c as f32).abs() < 1e-3 * (1 + c) as f32);
         }
         assert_eq!(heat(5, 0), 1.0, "an empty scale does not divide by zero");
+        let words = scale_words(440, 123);
+        assert!(
+            words.contains("middle 20,")
+                && words.contains("yellow 440 ")
+                && words.contains("here 123")
+        );
     }
 
     #[test]

@@ -171,11 +171,9 @@ fn cost_choice(
         }
         _ if cost.max(view) == 0 => format!("{} None in this image.", view.doc()),
         _ => format!(
-            "{} Log scale: middle {}, pale yellow {} a pixel; the busiest here {}; in all {}.",
+            "{} {}; in all {}.",
             view.doc(),
-            voxcast_core::cost::count_at(0.5, cost.full_scale).round(),
-            cost.full_scale,
-            cost.max(view),
+            voxcast_core::cost::scale_words(cost.full_scale, cost.max(view)),
             sig64(match view {
                 CostView::Samples => total(0),
                 _ => total(1) - total(0),

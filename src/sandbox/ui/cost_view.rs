@@ -18,11 +18,6 @@ pub(super) fn choice(ui: &mut egui::Ui, cost_view: &mut Option<CostView>) {
     });
 }
 
-fn color32(c: voxcast_core::glam::Vec3) -> egui::Color32 {
-    let u = voxcast_core::image_out::to_u8(c);
-    egui::Color32::from_rgb(u[0], u[1], u[2])
-}
-
 /// The legend of `view`: `scale` is the count drawn pale yellow and the busiest pixel's count
 /// in the frame on screen (`None` until a frame of this view is drawn).
 pub(super) fn legend(ui: &mut egui::Ui, view: CostView, scale: Option<(u32, u32)>) {
@@ -41,7 +36,7 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, scale: Option<(u32, u32)
             for (i, c) in parts.into_iter().enumerate() {
                 let x = rect.left() + w * i as f32;
                 let r = egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w, 10.0));
-                painter.rect_filled(r, 0.0, color32(c));
+                painter.rect_filled(r, 0.0, super::color32(c.to_array()));
             }
         }
         _ => {
@@ -51,7 +46,11 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, scale: Option<(u32, u32)
                 let x = rect.left() + w * i as f32;
                 let r =
                     egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w + 0.5, 10.0));
-                painter.rect_filled(r, 0.0, color32(inferno((i as f32 + 0.5) / n as f32)));
+                painter.rect_filled(
+                    r,
+                    0.0,
+                    super::color32(inferno((i as f32 + 0.5) / n as f32).to_array()),
+                );
             }
         }
     }
@@ -61,11 +60,7 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, scale: Option<(u32, u32)
                                  black: missed"
                 .to_string()
         }
-        (_, Some((full, busiest))) => format!(
-            "log scale: 0 (dark), {} (middle), {full} (pale yellow: every position of the longest \
-             ray) a pixel; the busiest pixel here: {busiest}",
-            voxcast_core::cost::count_at(0.5, full).round()
-        ),
+        (_, Some((full, busiest))) => voxcast_core::cost::scale_words(full, busiest),
         (_, None) => "counting…".to_string(),
     };
     ui.label(egui::RichText::new(words).small())
