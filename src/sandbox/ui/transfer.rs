@@ -43,12 +43,6 @@ impl Default for TransferEditor {
     }
 }
 
-/// Display colour of a transfer-function colour (its values are display values).
-fn color32(c: [f32; 3]) -> Color32 {
-    let [r, g, b] = voxcast_core::image_out::to_u8(glam::Vec3::from_array(c));
-    Color32::from_rgb(r, g, b)
-}
-
 /// Maps between data values/opacities and the plot's points.
 struct Plot {
     rect: Rect,
@@ -191,7 +185,7 @@ impl TransferEditor {
             painter.circle(
                 plot.at(p.value.clamp(lo, hi), p.alpha),
                 if selected { 6.0 } else { 4.5 },
-                color32(p.color),
+                super::color32(p.color),
                 Stroke::new(
                     if selected { 2.5 } else { 1.0 },
                     if selected {
@@ -211,7 +205,7 @@ impl TransferEditor {
             painter.rect_filled(
                 Rect::from_min_max(pos2(x0, strip_top), pos2(x0 + 2.0, full.bottom())),
                 0.0,
-                color32([rgba.x, rgba.y, rgba.z]),
+                super::color32([rgba.x, rgba.y, rgba.z]),
             );
         }
         response.on_hover_text(
