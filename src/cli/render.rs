@@ -196,12 +196,12 @@ fn write_cost(
     let scale = match view {
         CostView::Stops => String::new(),
         _ => format!(
-            " ({})",
+            " {}.",
             voxcast_core::cost::scale_words(map.full_scale, map.max(view))
         ),
     };
     println!(
-        "cost ({}){scale} → {}: {}",
+        "cost ({}) → {}: {}{scale}",
         view.name(),
         path.display(),
         view.doc()
