@@ -92,6 +92,19 @@ fn play(backend: &str) -> Outcome {
         colours.sort_unstable();
         colours.dedup();
         assert!(colours.len() > 50, "{} is nearly blank", shot.display());
+        if i == 0 {
+            // The first level shows the virtual camera: its body is drawn (by the sharp
+            // camera, as the preview runs at half resolution on the GPU).
+            let body = voxcast_core::marker::BODY_COLOR * 255.0;
+            let near =
+                |p: &image::Rgb<u8>| (0..3).all(|c| (f32::from(p.0[c]) - body[c]).abs() <= 12.0);
+            let drawn = img.pixels().filter(|p| near(p)).count();
+            assert!(
+                drawn >= 500,
+                "{}: the virtual camera's body covers {drawn} pixels",
+                shot.display()
+            );
+        }
     }
     // Free play at the end, and the done steps that open a breakdown or compare a render.
     let free = image::open(dir.join("free_play.png")).expect("free play's screenshot");

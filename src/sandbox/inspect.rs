@@ -433,7 +433,7 @@ fn place_spheres(
             commands
                 .entity(entity)
                 .insert(Visibility::Hidden)
-                .remove::<SampleSphere>();
+                .remove::<(SampleSphere, super::sharp::Solid)>();
             continue;
         };
         let key = color_key(rgba, show_opacity);
@@ -461,6 +461,13 @@ fn place_spheres(
         } else {
             0
         };
+        // Opaque spheres stop the rays of a preview drawn below full resolution through a
+        // depth-only twin (`sharp`).
+        if key[3] == 255 {
+            commands.entity(entity).insert(super::sharp::Solid);
+        } else {
+            commands.entity(entity).remove::<super::sharp::Solid>();
+        }
         commands.entity(entity).insert((
             SampleSphere { ray, t },
             bevy::camera::visibility::RenderLayers::layer(layer),

@@ -107,6 +107,7 @@ fn spawn_marker(
     for i in 0..MAX_LIGHTS {
         commands.spawn((
             LightMarker(i),
+            super::sharp::Solid,
             Mesh3d(mesh.clone()),
             MeshMaterial3d(material.clone()),
             Transform::default(),

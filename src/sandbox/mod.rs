@@ -26,6 +26,7 @@ mod progressive;
 pub mod screenshot;
 mod script;
 mod shaders;
+mod sharp;
 mod state;
 mod trade;
 mod ui;
@@ -285,7 +286,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             (lattice::plugin, blocks::plugin),
             live::plugin,
             overlay::plugin,
-            progressive::plugin,
+            (progressive::plugin, sharp::plugin),
         ))
         .insert_resource(free_play)
         .insert_resource(free_play.0)
@@ -379,7 +380,7 @@ pub fn preview_camera(view: &voxcast_core::camera::Camera) -> impl Bundle {
         Tonemapping::None,
         DebandDither::Disabled,
         DepthPrepass,
-        bevy::camera::visibility::RenderLayers::from_layers(&[0, live::OCCLUDER_LAYER]),
+        sharp::everything(),
         MainCamera,
         View(*view),
         Transform::from_translation(view.eye).looking_at(view.target, view.up),

@@ -4,6 +4,7 @@
 //! turned off. The CPU render is never affected.
 
 use super::live::{Backend, LiveView, OCCLUDER_LAYER};
+use super::sharp::{GpuPlan, SharpCamera, SharpTarget};
 use super::state::{MainCamera, View, VolumeBox};
 use bevy::camera::RenderTarget;
 use bevy::camera::visibility::RenderLayers;
@@ -331,16 +332,23 @@ fn show_or_hide_volume(
     }
 }
 
+/// The main camera, not the sharp camera beneath it.
+type MainOnly = (With<MainCamera>, Without<SharpCamera>);
+
 /// With the CPU drawing the volume, the main camera draws only what lies over it — the
 /// transparent sample spheres — on a transparent background; the opaque spheres (on the
 /// occluders' layer) are in the CPU's image, and drawn again over it, sharp, when the preview
-/// runs below full resolution. With the GPU it draws everything. (Lines are
-/// egui's: `overlay`.)
+/// runs below full resolution. With the GPU it draws everything at full resolution; below it,
+/// the volume alone over the meshes the sharp camera draws (`sharp`). (Lines are egui's:
+/// `overlay`.)
 fn camera_for_backend(
     settings: Res<PreviewSettings>,
+    quality: Quality,
     render: Option<Res<super::state::RenderState>>,
     inspect: Option<Res<super::inspect::InspectSettings>>,
-    mut cameras: Query<(&mut Camera, &mut RenderLayers), With<MainCamera>>,
+    mut cameras: Query<(&mut Camera, &mut RenderLayers), MainOnly>,
+    mut sharp: Query<&mut Camera, With<SharpCamera>>,
+    progressive: Option<Res<super::progressive::Progressive>>,
 ) {
     let cpu = settings.cpu_live();
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
@@ -349,6 +357,7 @@ fn camera_for_backend(
     // draws them again over it at the window's resolution (over the volume in front of them).
     let coarse = settings.scale < 1.0;
     let transparent = inspect.is_some_and(|i| i.shown && i.show_opacity);
+    let plan = GpuPlan::for_scale(quality.scale());
     let (clear, layers, active) = if cpu {
         (
             ClearColorConfig::Custom(Color::NONE),
@@ -362,20 +371,34 @@ fn camera_for_backend(
         )
     } else {
         (
-            ClearColorConfig::Default,
-            RenderLayers::from_layers(&[0, OCCLUDER_LAYER]),
+            if plan.transparent {
+                ClearColorConfig::Custom(Color::NONE)
+            } else {
+                ClearColorConfig::Default
+            },
+            plan.preview_layers.clone(),
             true,
         )
     };
+    // While strips refine, the last whole frame beneath them may be a coarse one, which needs
+    // the meshes beneath it.
+    let refining = progressive.is_some_and(|p| p.active());
+    // (With the preview off the meshes are drawn the same way, the volume's box hidden.)
+    let sharp_active = !cpu && (plan.sharp || refining);
+    for mut camera in &mut sharp {
+        if camera.is_active != sharp_active {
+            camera.is_active = sharp_active;
+        }
+    }
     for (mut camera, mut l) in &mut cameras {
         if camera.is_active != active {
             camera.is_active = active;
         }
-        let same = matches!(
-            (&camera.clear_color, &clear),
-            (ClearColorConfig::Default, ClearColorConfig::Default)
-                | (ClearColorConfig::Custom(_), ClearColorConfig::Custom(_))
-        );
+        let same = match (&camera.clear_color, &clear) {
+            (ClearColorConfig::Default, ClearColorConfig::Default) => true,
+            (ClearColorConfig::Custom(a), ClearColorConfig::Custom(b)) => a == b,
+            _ => false,
+        };
         if !same {
             camera.clear_color = clear;
         }
@@ -387,7 +410,10 @@ fn camera_for_backend(
 
 /// Paints the preview into the viewport, beneath every panel: the CPU live view's image when
 /// the CPU draws the volume, then the main camera's image (with the CPU, only its lines; at
-/// rest with a slow GPU, the progressive pass's images).
+/// rest with a slow GPU, the progressive pass's images). Beneath a GPU preview drawn below full
+/// resolution, the sharp camera's meshes, again beneath each new strip (a strip is
+/// transparent where no volume is in front of them).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn paint_preview(
     mut contexts: EguiContexts,
     target: Option<Res<PreviewTarget>>,
@@ -395,11 +421,16 @@ pub(super) fn paint_preview(
     viewport: Option<Res<Viewport>>,
     mut live: Option<ResMut<LiveView>>,
     cameras: Query<&Camera, With<MainCamera>>,
+    sharp: Query<&Camera, With<SharpCamera>>,
+    sharp_target: Option<Res<SharpTarget>>,
     progressive: Option<Res<super::progressive::Progressive>>,
 ) -> Result {
     let Some(target) = target else { return Ok(()) };
     let camera_drew = cameras.iter().any(|c| c.is_active);
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
+    let sharp_id = sharp_target
+        .filter(|_| sharp.iter().any(|c| c.is_active))
+        .map(|t| contexts.add_image(EguiTextureHandle::Weak(t.image.id())));
     let ctx = contexts.ctx_mut()?.clone();
     let rect = Viewport::rect(viewport.as_deref(), &ctx);
     let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
@@ -408,13 +439,20 @@ pub(super) fn paint_preview(
     if cpu && let Some(live_id) = live.as_mut().and_then(|l| l.texture(&ctx)) {
         painter.image(live_id, rect, uv, egui::Color32::WHITE);
     }
+    let beneath = |screen: egui::Rect, uv: egui::Rect| {
+        if let Some(sharp_id) = sharp_id {
+            painter.image(sharp_id, screen, uv, egui::Color32::WHITE);
+        }
+    };
     if let Some(p) = progressive.filter(|p| p.active()) {
         for (image, y0, y1) in p.layers() {
             let id = contexts.add_image(EguiTextureHandle::Weak(image.id()));
             let (screen, uv) = super::progressive::strip_rects(rect, y0, y1);
+            beneath(screen, uv);
             painter.image(id, screen, uv, egui::Color32::WHITE);
         }
     } else if camera_drew {
+        beneath(rect, uv);
         painter.image(id, rect, uv, egui::Color32::WHITE);
     }
     Ok(())

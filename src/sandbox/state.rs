@@ -93,6 +93,7 @@ fn spawn_volume(
         Mesh3d(meshes.add(Cuboid::from_size(hi - lo))),
         MeshMaterial3d(materials.add(material)),
         Transform::from_translation((lo + hi) * 0.5),
+        bevy::camera::visibility::RenderLayers::layer(super::sharp::VOLUME_LAYER),
     ));
 }
 

@@ -144,9 +144,13 @@ pub(crate) fn stage_camera(
     let size = BODY_SIZE * (hi - lo).length();
     commands.spawn((
         Body,
+        super::sharp::Solid,
         Mesh3d(meshes.add(Cuboid::new(size, size, size * 1.5))),
         MeshMaterial3d(materials.add(StandardMaterial {
-            base_color: Color::srgb(0.25, 0.55, 0.9),
+            base_color: {
+                let c = voxcast_core::marker::BODY_COLOR;
+                Color::srgb(c.x, c.y, c.z)
+            },
             unlit: true,
             ..default()
         })),

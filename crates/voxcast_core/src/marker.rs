@@ -1,6 +1,7 @@
 //! The light's marker in the sandbox: a small opaque sphere that stands in the scene where a
 //! point light is (and, for a directional light, where its direction comes from). Its size and
-//! colour live here so the sandbox draws it and tests predict it from one definition.
+//! colour live here so the sandbox draws it and tests predict it from one definition; so does
+//! the colour of the virtual camera's body.
 
 use glam::Vec3;
 
@@ -9,6 +10,9 @@ pub const LIGHT_MARKER_RADIUS: f32 = 0.025;
 
 /// The marker's colour (unlit; the 8-bit value a screenshot holds, as a fraction of 255).
 pub const LIGHT_MARKER_COLOR: Vec3 = Vec3::new(1.0, 0.85, 0.25);
+
+/// The virtual camera's body's colour (unlit, as [`LIGHT_MARKER_COLOR`]).
+pub const BODY_COLOR: Vec3 = Vec3::new(0.25, 0.55, 0.9);
 
 /// How far from the volume's centre, in diagonals, a directional light's marker stands.
 pub const DIRECTIONAL_MARKER_DISTANCE: f32 = 0.9;
