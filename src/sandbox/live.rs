@@ -21,7 +21,6 @@ use super::preview::{PreviewSettings, Viewport};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
-use bevy_egui::egui;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -128,11 +127,9 @@ pub struct LiveView {
     pub generation: u64,
     /// Pixels per second of the last frames (each frame's, smoothed).
     pub rate: Option<f64>,
-    /// The texture painted, and the generation it holds.
-    texture: Option<(u64, egui::TextureHandle)>,
-    /// A newer frame's texture, uploaded this frame and painted from the next (a texture is
-    /// not drawn in the frame it is created: painting it at once flashed black).
-    incoming: Option<(u64, egui::TextureHandle)>,
+    /// The image painted (a Bevy image, rewritten in place: the frame that receives a new
+    /// picture draws it), and the generation it holds.
+    image: Option<(u64, Handle<Image>)>,
 }
 
 impl LiveView {
@@ -166,28 +163,26 @@ impl LiveView {
         }
     }
 
-    /// The texture to paint this frame (called once a frame): the newest frame uploaded in an
-    /// earlier one; a frame that arrived since is uploaded now, to be painted next time.
-    pub fn texture(&mut self, ctx: &egui::Context) -> Option<egui::TextureId> {
-        if let Some(incoming) = self.incoming.take() {
-            self.texture = Some(incoming);
+    /// The image to paint this frame: the newest frame, written into it now if it is new.
+    /// (An egui texture made for each frame was drawn black in the frame it was made in, so
+    /// each picture reached the screen a frame late.)
+    pub fn image(&mut self, images: &mut Assets<Image>) -> Option<Handle<Image>> {
+        let frame = self.shown.as_ref()?;
+        let current = self.image.as_ref().map(|(g, _)| *g);
+        if current != Some(self.generation) {
+            let picture = frame_image(frame);
+            let handle = match self.image.take() {
+                Some((_, h)) if images.get(&h).is_some() => {
+                    if let Some(mut old) = images.get_mut(&h) {
+                        *old = picture;
+                    }
+                    h
+                }
+                _ => images.add(picture),
+            };
+            self.image = Some((self.generation, handle));
         }
-        let newest = self
-            .incoming
-            .as_ref()
-            .or(self.texture.as_ref())
-            .map(|(g, _)| *g);
-        if let Some(frame) = &self.shown
-            && newest != Some(self.generation)
-        {
-            let image = egui::ColorImage::from_rgb(
-                [frame.size.x as usize, frame.size.y as usize],
-                frame.rgb.as_flattened(),
-            );
-            let handle = ctx.load_texture("live view", image, egui::TextureOptions::LINEAR);
-            self.incoming = Some((self.generation, handle));
-        }
-        self.texture.as_ref().map(|(_, h)| h.id())
+        self.image.as_ref().map(|(_, h)| h.clone())
     }
 
     /// Whether the window shows the exact render of the view the last frame was made for:
@@ -196,10 +191,30 @@ impl LiveView {
         self.job.is_none()
             && self.shown.as_ref().is_some_and(|f| f.full())
             && self
-                .texture
+                .image
                 .as_ref()
                 .is_some_and(|(g, _)| *g == self.generation)
     }
+}
+
+/// A frame's pixels as an image the window can draw (display values, opaque).
+fn frame_image(frame: &LiveFrame) -> Image {
+    let rgba: Vec<u8> = frame
+        .rgb
+        .iter()
+        .flat_map(|&[r, g, b]| [r, g, b, 255])
+        .collect();
+    Image::new(
+        bevy::render::render_resource::Extent3d {
+            width: frame.size.x,
+            height: frame.size.y,
+            depth_or_array_layers: 1,
+        },
+        bevy::render::render_resource::TextureDimension::D2,
+        rgba,
+        bevy::render::render_resource::TextureFormat::Rgba8UnormSrgb,
+        bevy::asset::RenderAssetUsages::RENDER_WORLD | bevy::asset::RenderAssetUsages::MAIN_WORLD,
+    )
 }
 
 pub(super) fn plugin(app: &mut App) {
@@ -393,7 +408,7 @@ pub fn quick_size(full: UVec2, rate: Option<f64>) -> UVec2 {
 
 /// The live view's threads while the view moves: one core fewer than the machine has (at
 /// least one), so the window's thread and the rasterizer keep a core for the next frame. At
-/// rest the refinement takes every core (rayon's global pool): the exact render sooner.
+/// rest the refinement takes more than every core ([`resting_pool`]): the exact render sooner.
 fn moving_pool() -> &'static rayon::ThreadPool {
     static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
     POOL.get_or_init(|| {
@@ -401,6 +416,23 @@ fn moving_pool() -> &'static rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
             .num_threads(cores.saturating_sub(1).max(1))
             .thread_name(|i| format!("voxcast-live-{i}"))
+            .build()
+            .expect("a thread pool can be built")
+    })
+}
+
+/// The live view's threads at rest: two for each core, so the exact render gets most of
+/// the machine while the window's own threads (the frame, the rasterizer) keep drawing, a
+/// little slower for the moment it takes. (With one thread a core the window's frames took
+/// one of two cores and the bunny's exact 1280×720 frame came 320–410 ms after the camera
+/// stopped; with two, 235–310 ms: BENCHMARKS.md.)
+fn resting_pool() -> &'static rayon::ThreadPool {
+    static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
+    POOL.get_or_init(|| {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(2 * cores)
+            .thread_name(|i| format!("voxcast-exact-{i}"))
             .build()
             .expect("a thread pool can be built")
     })
@@ -443,7 +475,7 @@ fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: b
             }
         };
         let (image, cost_scale) = if refine {
-            draw()
+            resting_pool().install(draw)
         } else {
             moving_pool().install(draw)
         }?;

@@ -424,6 +424,7 @@ pub(super) fn paint_preview(
     sharp: Query<&Camera, With<SharpCamera>>,
     sharp_target: Option<Res<SharpTarget>>,
     progressive: Option<Res<super::progressive::Progressive>>,
+    mut images: ResMut<Assets<Image>>,
 ) -> Result {
     let Some(target) = target else { return Ok(()) };
     let camera_drew = cameras.iter().any(|c| c.is_active);
@@ -436,7 +437,8 @@ pub(super) fn paint_preview(
     let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
     let painter = ctx.layer_painter(egui::LayerId::background());
     let cpu = settings.is_some_and(|s| s.cpu_live());
-    if cpu && let Some(live_id) = live.as_mut().and_then(|l| l.texture(&ctx)) {
+    if cpu && let Some(live_image) = live.as_mut().and_then(|l| l.image(&mut images)) {
+        let live_id = contexts.add_image(EguiTextureHandle::Weak(live_image.id()));
         painter.image(live_id, rect, uv, egui::Color32::WHITE);
     }
     let beneath = |screen: egui::Rect, uv: egui::Rect| {
