@@ -9,7 +9,16 @@ fn correct_opacity(alpha: f32, ds: f32, ds_ref: f32) -> f32 {
     if alpha >= 1.0 {
         return select(0.0, 1.0, ds > 0.0);
     }
-    return 1.0 - pow(1.0 - alpha, ds / ds_ref);
+    let e = ds / ds_ref;
+    let keep = 1.0 - alpha;
+    if e == 1.0 {
+        return alpha;
+    } else if e == 0.5 {
+        return 1.0 - sqrt(keep);
+    } else if e == 2.0 {
+        return 1.0 - keep * keep;
+    }
+    return 1.0 - pow(keep, e);
 }
 
 /// Front to back: C + (1 − O)·α·c, O + (1 − O)·α (premultiplied colour in rgb, opacity in a).

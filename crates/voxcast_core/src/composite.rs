@@ -190,7 +190,10 @@ impl Order {
 }
 
 /// `α' = 1 − (1 − α)^(ds/ds_ref)`: the opacity of a sample standing for path length `ds`
-/// when the transfer function's `α` is for `ds_ref`. Exact at α = 0 and α = 1.
+/// when the transfer function's `α` is for `ds_ref`. Exact at α = 0 and α = 1. The steps
+/// users pick most — the reference step itself, half of it, twice it — take a square root or
+/// a product instead of `powf` (correctly rounded, so never further from the exact value:
+/// the profile put `powf` at 4 % of a render).
 #[inline(always)]
 pub fn correct_opacity(alpha: f32, ds: f32, ds_ref: f32) -> f32 {
     if alpha <= 0.0 {
@@ -199,7 +202,17 @@ pub fn correct_opacity(alpha: f32, ds: f32, ds_ref: f32) -> f32 {
     if alpha >= 1.0 {
         return if ds > 0.0 { 1.0 } else { 0.0 };
     }
-    1.0 - (1.0 - alpha).powf(ds / ds_ref)
+    let e = ds / ds_ref;
+    let keep = 1.0 - alpha;
+    if e == 1.0 {
+        alpha
+    } else if e == 0.5 {
+        1.0 - keep.sqrt()
+    } else if e == 2.0 {
+        1.0 - keep * keep
+    } else {
+        1.0 - keep.powf(e)
+    }
 }
 
 /// One front-to-back step: `C + (1 − O)·α·c`, `O + (1 − O)·α`.
@@ -304,6 +317,30 @@ mod tests {
         assert_eq!(correct_opacity(0.0, 3.0, 1.0), 0.0);
         assert_eq!(correct_opacity(1.0, 1e-6, 1.0), 1.0);
         assert_eq!(correct_opacity(1.0, 0.0, 1.0), 0.0);
+    }
+
+    /// The square-root and product paths are as close to the exact value (in f64) as `powf`
+    /// is, over every opacity the table can give and then some.
+    #[test]
+    fn the_common_steps_are_as_exact_as_powf() {
+        for e in [0.5f32, 1.0, 2.0] {
+            for i in 1..20_000 {
+                let alpha = i as f32 / 20_000.0;
+                let fast = correct_opacity(alpha, e, 1.0);
+                let exact = 1.0 - (1.0 - f64::from(alpha)).powf(f64::from(e));
+                let slow = 1.0 - (1.0 - alpha).powf(e);
+                let err = |v: f32| (f64::from(v) - exact).abs();
+                // Within the rounding of the final subtraction either way.
+                assert!(
+                    err(fast) <= err(slow) + f64::from(f32::EPSILON),
+                    "α {alpha} e {e}: {fast} vs powf {slow}, exact {exact}"
+                );
+                assert!(
+                    err(fast) <= 1.5 * f64::from(f32::EPSILON),
+                    "α {alpha} e {e}"
+                );
+            }
+        }
     }
 
     #[test]
