@@ -4,6 +4,13 @@
 //!
 //! [`set`] holds the rays and RayVis's rules (hit or miss, the counted segment, filters and
 //! stride); [`density`] traverses them through a sparse grid of cells (Amanatides & Woo).
+//! [`mesh`] holds triangle scenes and their brute-force tracer, [`cornell`] the embedded Cornell
+//! box, and [`effects`] the sets Voxcast traces through a scene itself (primary, shadow,
+//! reflection and ambient-occlusion rays).
 
+pub mod cornell;
 pub mod density;
+pub mod effects;
+pub mod grid;
+pub mod mesh;
 pub mod set;

@@ -1,0 +1,295 @@
+//! Ray sets Voxcast traces itself through a triangle scene, one per effect of RayVis's study:
+//! primary rays of a pinhole camera, and from every primary hit a shadow ray towards a
+//! directional light, a mirror reflection ray and a few short ambient-occlusion rays
+//! (cosine-distributed over the hemisphere of the surface's normal). Seeded and reproducible:
+//! every random number is a hash of the seed, the primary ray and the secondary ray's index,
+//! so any thread count gives the same sets.
+//!
+//! Trace ids: [`Effect::id`]. Every ray's direction has unit length (`t` is a distance); a
+//! ray that hits nothing keeps `t_hit = −1`.
+
+use super::mesh::{Hit, TriangleScene};
+use super::set::{RayRecord, RaySet};
+use crate::camera::{Camera, Projection};
+use crate::hash::pcg_hash;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// One effect's rays.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Effect {
+    Primary,
+    Shadow,
+    Reflection,
+    AmbientOcclusion,
+}
+
+impl Effect {
+    pub const ALL: [Effect; 4] = [
+        Effect::Primary,
+        Effect::Shadow,
+        Effect::Reflection,
+        Effect::AmbientOcclusion,
+    ];
+
+    /// Its trace id in the data set.
+    pub const fn id(self) -> u32 {
+        self as u32
+    }
+
+    /// Its name, in words.
+    pub const fn words(self) -> &'static str {
+        match self {
+            Effect::Primary => "primary rays",
+            Effect::Shadow => "shadow rays",
+            Effect::Reflection => "reflection rays",
+            Effect::AmbientOcclusion => "ambient-occlusion rays",
+        }
+    }
+}
+
+/// How the sets are traced (each documented where the CLI and the panel show it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TraceParams {
+    /// The camera's image: one primary ray per pixel centre.
+    pub width: u32,
+    pub height: u32,
+    /// The direction the light shines along.
+    pub light: Vec3,
+    /// Ambient-occlusion rays per primary hit, and how far they look.
+    pub ao_rays: u32,
+    pub ao_radius: f32,
+    pub seed: u32,
+    /// How far every other ray may go.
+    pub far: f32,
+}
+
+/// How far off its surface a secondary ray starts, as a fraction of the scene's size (so it
+/// does not hit the surface it leaves through rounding).
+pub const SURFACE_OFFSET: f32 = 1e-4;
+
+/// A secondary ray leaving a surface.
+struct Leaving {
+    origin: Vec3,
+    normal: Vec3,
+}
+
+/// One primary ray's records: the primary ray, then its secondaries by effect.
+#[derive(Default)]
+struct PixelRays {
+    sets: [Vec<RayRecord>; 4],
+}
+
+/// A ray record from a trace through `scene`.
+fn traced(scene: &TriangleScene, origin: Vec3, dir: Vec3, t_max: f32) -> (RayRecord, Option<Hit>) {
+    let hit = scene.intersect(origin, dir, 0.0, t_max);
+    let record = RayRecord {
+        id: 0,
+        origin,
+        direction: dir,
+        t_min: 0.0,
+        t_max,
+        t_hit: hit.map_or(-1.0, |h| h.t),
+    };
+    (record, hit)
+}
+
+/// A number in `[0, 1)` from the hash of `keys`.
+fn uniform(keys: [u32; 4]) -> f32 {
+    let h = keys.iter().fold(0u32, |h, &k| pcg_hash(h ^ k));
+    (h >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// A unit direction on the hemisphere around unit `n`, cosine-distributed, from two uniform
+/// numbers (Malley's method: a uniform point on the disc raised to the hemisphere).
+pub fn cosine_direction(n: Vec3, u1: f32, u2: f32) -> Vec3 {
+    let (a, b) = n.any_orthonormal_pair();
+    let r = u1.sqrt();
+    let phi = std::f32::consts::TAU * u2;
+    let local = Vec3::new(r * phi.cos(), r * phi.sin(), (1.0 - u1).max(0.0).sqrt());
+    (a * local.x + b * local.y + n * local.z).normalize()
+}
+
+/// The pinhole camera of the sets.
+pub fn camera(
+    eye: Vec3,
+    target: Vec3,
+    fov_y_deg: f32,
+) -> Result<Camera, crate::error::SettingsError> {
+    Camera::new(eye, target, Vec3::Y, Projection::Perspective { fov_y_deg })
+}
+
+/// Traces the four sets (in [`Effect::ALL`]'s order) through `scene` from `camera`.
+pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) -> Vec<RaySet> {
+    let size = scene
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).length().max(f32::MIN_POSITIVE));
+    let offset = SURFACE_OFFSET * size;
+    let to_light = -p.light.normalize_or_zero();
+    let rays = camera.rays(p.width.max(1), p.height.max(1));
+    let pixels: Vec<PixelRays> = (0..p.width * p.height)
+        .into_par_iter()
+        .map(|i| {
+            let (px, py) = (i % p.width, i / p.width);
+            let ray = rays.ray(px as f32 + 0.5, py as f32 + 0.5);
+            let mut out = PixelRays::default();
+            let (primary, hit) = traced(scene, ray.origin, ray.dir, p.far);
+            out.sets[0].push(primary);
+            let Some(hit) = hit else { return out };
+            let at = ray.origin + ray.dir * hit.t;
+            let leave = Leaving {
+                origin: at + hit.normal * offset,
+                normal: hit.normal,
+            };
+            // A surface facing away from the light is dark without a ray.
+            if to_light != Vec3::ZERO && leave.normal.dot(to_light) > 0.0 {
+                out.sets[1].push(traced(scene, leave.origin, to_light, p.far).0);
+            }
+            let mirror = ray.dir - 2.0 * ray.dir.dot(leave.normal) * leave.normal;
+            out.sets[2].push(traced(scene, leave.origin, mirror.normalize(), p.far).0);
+            for k in 0..p.ao_rays {
+                let u1 = uniform([p.seed, i, k, 1]);
+                let u2 = uniform([p.seed, i, k, 2]);
+                let d = cosine_direction(leave.normal, u1, u2);
+                out.sets[3].push(traced(scene, leave.origin, d, p.ao_radius).0);
+            }
+            out
+        })
+        .collect();
+    let mut sets: Vec<RaySet> = Effect::ALL
+        .iter()
+        .map(|e| RaySet {
+            trace_id: e.id(),
+            rays: Vec::new(),
+        })
+        .collect();
+    for pixel in pixels {
+        for (set, rays) in sets.iter_mut().zip(pixel.sets) {
+            set.rays.extend(rays);
+        }
+    }
+    for set in &mut sets {
+        for (id, r) in set.rays.iter_mut().enumerate() {
+            r.id = id as u32;
+        }
+    }
+    sets
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::cornell;
+    use super::*;
+
+    fn params(width: u32, height: u32, seed: u32) -> TraceParams {
+        TraceParams {
+            width,
+            height,
+            light: cornell::light_direction(),
+            ao_rays: 4,
+            ao_radius: 100.0,
+            seed,
+            far: 10_000.0,
+        }
+    }
+
+    fn cornell_sets(width: u32, height: u32, seed: u32) -> Vec<RaySet> {
+        let cam = camera(
+            cornell::CAMERA_EYE,
+            cornell::CAMERA_TARGET,
+            cornell::CAMERA_FOV_Y_DEG,
+        )
+        .unwrap();
+        trace_effects(&cornell::scene(), &cam, &params(width, height, seed))
+    }
+
+    #[test]
+    fn every_effect_has_its_rays_and_its_rules() {
+        let sets = cornell_sets(48, 48, 7);
+        let scene = cornell::scene();
+        let (lo, hi) = scene.bounds().unwrap();
+        assert_eq!(sets.len(), 4);
+        let primary = &sets[0];
+        assert_eq!(primary.rays.len(), 48 * 48);
+        let (hits, misses) = primary.hits_and_misses(0.0);
+        // The camera looks in through the open front: almost every ray hits, a few at the
+        // image's edges pass outside the box.
+        assert!(hits > 48 * 48 * 9 / 10, "{hits} hits, {misses} misses");
+        for r in &primary.rays {
+            assert!((r.direction.length() - 1.0).abs() < 1e-5);
+            if r.is_hit(0.0) {
+                let p = r.at(r.t_hit);
+                assert!(p.cmpge(lo - 0.01).all() && p.cmple(hi + 0.01).all(), "{p}");
+            }
+        }
+        // Secondary rays leave from primary hits: reflections one each, AO four each.
+        assert_eq!(sets[2].rays.len(), hits);
+        assert_eq!(sets[3].rays.len(), 4 * hits);
+        // Shadow rays all point at the light; some surfaces lie in shadow, most are lit.
+        let to_light = -cornell::light_direction();
+        assert!(!sets[1].rays.is_empty() && sets[1].rays.len() <= hits);
+        assert!(
+            sets[1]
+                .rays
+                .iter()
+                .all(|r| r.direction.abs_diff_eq(to_light, 1e-6))
+        );
+        let (shadowed, lit) = sets[1].hits_and_misses(0.0);
+        assert!(
+            shadowed > 0 && lit > shadowed,
+            "{shadowed} shadowed, {lit} lit"
+        );
+        // AO rays are short and on their surface's hemisphere; ids count up from 0.
+        for set in &sets {
+            assert!(set.rays.iter().enumerate().all(|(i, r)| r.id == i as u32));
+        }
+        for r in &sets[3].rays {
+            assert_eq!(r.t_max, 100.0);
+            assert!(r.t_hit < 100.0);
+        }
+    }
+
+    #[test]
+    fn the_floor_behind_the_tall_block_is_in_its_shadow_and_the_open_floor_is_lit() {
+        let scene = cornell::scene();
+        let l = cornell::light_direction();
+        // From inside the tall block along the light: out of the block, then the surface its
+        // shadow falls on.
+        let inside = Vec3::new(368.5, 200.0, 351.25);
+        let exit = scene.intersect(inside, l, 0.0, 1e4).unwrap();
+        assert_eq!(scene.meshes[exit.mesh].name, "tall block");
+        let behind = scene.intersect(inside, l, exit.t + 1e-3, 1e4).unwrap();
+        assert_ne!(scene.meshes[behind.mesh].name, "tall block");
+        let p = inside + l * behind.t;
+        let shadow = traced(&scene, p + behind.normal * 0.05, -l, 1e4).0;
+        assert!(shadow.is_hit(0.0), "{p} should be in shadow");
+        let open = Vec3::new(100.0, 0.0, 50.0);
+        let lit = traced(&scene, open + Vec3::Y * 0.05, -l, 1e4).0;
+        assert!(!lit.is_hit(0.0));
+    }
+
+    #[test]
+    fn the_sets_are_reproducible_and_follow_the_seed() {
+        let a = cornell_sets(16, 16, 3);
+        assert_eq!(a, cornell_sets(16, 16, 3));
+        let b = cornell_sets(16, 16, 4);
+        // Only the random rays change with the seed.
+        assert_eq!(a[..3], b[..3]);
+        assert_ne!(a[3], b[3]);
+    }
+
+    #[test]
+    fn cosine_directions_lie_on_the_hemisphere_with_the_cosine_mean() {
+        let n = Vec3::new(0.3, -0.8, 0.52).normalize();
+        let mut mean_cos = 0.0;
+        let count = 4000;
+        for k in 0..count {
+            let d = cosine_direction(n, uniform([1, k, 0, 1]), uniform([1, k, 0, 2]));
+            assert!((d.length() - 1.0).abs() < 1e-5);
+            assert!(d.dot(n) >= -1e-6);
+            mean_cos += d.dot(n) / count as f32;
+        }
+        // E[cos θ] under a cosine distribution is 2/3.
+        assert!((mean_cos - 2.0 / 3.0).abs() < 0.02, "{mean_cos}");
+    }
+}
