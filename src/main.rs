@@ -9,7 +9,7 @@ mod cli;
 mod sandbox;
 
 use clap::{Parser, Subcommand};
-use cli::{bench, info, render, trace};
+use cli::{bench, info, rays, render, trace};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -36,6 +36,8 @@ enum Command {
     Info(info::InfoArgs),
     /// Measure time and error against the step size (and against VTK with --peer).
     Bench(bench::BenchArgs),
+    /// Ray data sets as RayVis views them: what a set holds, its density over a grid.
+    Rays(rays::RaysArgs),
     /// List the embedded datasets and presets.
     List,
 }
@@ -50,6 +52,7 @@ fn main() {
         Some(Command::Trace(a)) => trace::run(a),
         Some(Command::Info(a)) => info::run(a),
         Some(Command::Bench(a)) => bench::run(a),
+        Some(Command::Rays(a)) => rays::run(a),
         Some(Command::List) => {
             list();
             Ok(())
@@ -79,5 +82,9 @@ fn list() {
     println!("presets (--tf NAME):");
     for p in voxcast_core::preset::all() {
         println!("  {:<16} {}", p.name, p.description);
+    }
+    println!("ray data (voxcast rays … builtin:NAME):");
+    for (name, what) in voxcast_core::rays::source::BUILTIN {
+        println!("  {name:<16} {what}");
     }
 }

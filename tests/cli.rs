@@ -401,3 +401,90 @@ fn help_and_info_say_what_they_mean() {
         assert!(o.status.success(), "{spelling}: {}", text(&o));
     }
 }
+
+/// `voxcast rays`: the Cornell box's traces, and their density written as NRRD volumes that
+/// `voxcast info` (and so Slicer and ParaView) opens; bad values fail before any work.
+#[test]
+fn rays_info_and_density_describe_and_write_the_cornell_box() {
+    let o = voxcast(&["rays", "info", "builtin:cornell"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = text(&o);
+    for line in [
+        "30 triangles",
+        "trace 0 (primary rays): 65536 rays",
+        "trace 1 (shadow rays)",
+        "trace 2 (reflection rays)",
+        "trace 3 (ambient-occlusion rays)",
+    ] {
+        assert!(out.contains(line), "{line} in\n{out}");
+    }
+    let counts = out_dir().join("cornell_counts.nrrd");
+    let dirs = out_dir().join("cornell_dirs.nrrd");
+    let o = voxcast(&[
+        "rays",
+        "density",
+        "builtin:cornell",
+        "--trace",
+        "1",
+        "--filter",
+        "hit",
+        "--cell",
+        "20",
+        "--out",
+        counts.to_str().unwrap(),
+        "--directions",
+        dirs.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = text(&o);
+    assert!(
+        out.contains("trace 1 (shadow rays)") && out.contains("cell visits"),
+        "{out}"
+    );
+    let info = voxcast(&["info", counts.to_str().unwrap()]);
+    assert!(info.status.success(), "{}", text(&info));
+    assert!(
+        text(&info).contains("spacing:    20 × 20 × 20"),
+        "{}",
+        text(&info)
+    );
+    let header = std::fs::read(&dirs).unwrap();
+    let header = String::from_utf8_lossy(&header[..400]);
+    assert!(
+        header.contains("kinds: vector domain domain domain"),
+        "{header}"
+    );
+    for (args, words) in [
+        (
+            vec!["--cell", "-1"],
+            "cell size -1 must be a positive number",
+        ),
+        (vec!["--cell", "0.01"], "more than the 2048 MiB allowed"),
+        (
+            vec!["--cell", "20", "--trace", "9"],
+            "has traces 0, 1, 2, 3",
+        ),
+        (vec!["--cell", "20", "--chunk", "0"], "chunk size 0"),
+    ] {
+        let mut all = vec!["rays", "density", "builtin:cornell", "--out"];
+        all.push(counts.to_str().unwrap());
+        all.extend(args);
+        let o = voxcast(&all);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(text(&o).contains(words), "{words} in {}", text(&o));
+    }
+    let o = voxcast(&[
+        "rays",
+        "density",
+        "builtin:cornell",
+        "--cell",
+        "20",
+        "--out",
+        "/nonexistent/c.nrrd",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(text(&o).contains("does not exist"), "{}", text(&o));
+    let o = voxcast(&["rays", "info", "scene.rayvis"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("not read yet"), "{}", text(&o));
+}

@@ -1,4 +1,4 @@
-//! The `voxcast` command line: render, trace, info and bench over the core.
+//! The `voxcast` command line: render, trace, info, bench and rays over the core.
 
 pub mod args;
 pub mod bench;
@@ -6,6 +6,7 @@ pub mod info;
 pub mod knobs;
 pub mod plot;
 pub mod progress;
+pub mod rays;
 pub mod render;
 pub mod trace;
 

@@ -106,10 +106,14 @@ pub const CAMERA_EYE: Vec3 = Vec3::new(278.0, 273.0, -800.0);
 pub const CAMERA_TARGET: Vec3 = Vec3::new(278.0, 273.0, 0.0);
 pub const CAMERA_FOV_Y_DEG: f32 = 39.3;
 
-/// The direction the directional light shines along: in through the open front, from above
-/// and from the left, so both blocks cast shadows on the floor and the back wall.
+/// The direction the directional light shines along (not normalised): in through the open
+/// front, from above and from the left, so both blocks cast shadows on the floor and the back
+/// wall.
+pub const LIGHT: Vec3 = Vec3::new(-0.35, -0.55, 1.0);
+
+/// [`LIGHT`] as a unit vector.
 pub fn light_direction() -> Vec3 {
-    v(-0.35, -0.55, 1.0).normalize()
+    LIGHT.normalize()
 }
 
 #[cfg(test)]

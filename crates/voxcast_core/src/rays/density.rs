@@ -300,6 +300,10 @@ fn walkable(r: &RayRecord, p: &DensityParams) -> Result<(f32, f32), Skip> {
     Ok((t0, t1))
 }
 
+/// The most memory a density may take, bytes: a computation whose [`estimate`] needs more is
+/// refused before it starts, with the estimate and what to change.
+pub const MAX_BYTES: usize = 2 << 30;
+
 /// What computing a density would take: the chunks it would store and their bytes, found by
 /// walking the rays through the chunks alone (cells of edge `N·S`) — cheap, and shown before
 /// the computation starts. (A segment that grazes a chunk only by rounding may add one more.)
@@ -311,37 +315,59 @@ pub struct Estimate {
 
 /// The estimate for `set` under `params`.
 pub fn estimate(set: &RaySet, p: &DensityParams) -> Estimate {
-    let chunks = chunks_touched(set, p).len();
-    Estimate {
+    estimate_within(set, p, usize::MAX).expect("no limit")
+}
+
+/// The estimate, or `None` as soon as it is sure to pass `max_bytes` (so a hopeless choice —
+/// cells far too small — is refused at once instead of after walking every ray).
+pub fn estimate_within(set: &RaySet, p: &DensityParams, max_bytes: usize) -> Option<Estimate> {
+    let limit = max_bytes / p.chunk_bytes().max(1);
+    let chunks = chunks_touched_within(set, p, limit)?.len();
+    Some(Estimate {
         chunks,
         bytes: chunks * p.chunk_bytes(),
-    }
+    })
 }
 
 /// The chunks the counted segments pass through, sorted: the rays walked through cells of edge
 /// `N·S` (in parallel).
 fn chunks_touched(set: &RaySet, p: &DensityParams) -> Vec<IVec3Key> {
+    chunks_touched_within(set, p, usize::MAX).expect("no limit")
+}
+
+/// [`chunks_touched`], or `None` once one block of rays alone touches more than `limit`.
+fn chunks_touched_within(set: &RaySet, p: &DensityParams, limit: usize) -> Option<Vec<IVec3Key>> {
     let edge = p.cell * p.chunk as f32;
     let max = p.max_cells_per_ray / p.chunk + 2;
     let rays: Vec<&RayRecord> = set.selected(p.filter, p.tolerance, p.stride).collect();
+    let over = AtomicBool::new(false);
     let sets: Vec<HashSet<IVec3Key>> = rays
         .par_chunks(RAYS_PER_BLOCK)
         .map(|block| {
             let mut chunks = HashSet::new();
             for r in block {
+                if over.load(Ordering::Relaxed) {
+                    break;
+                }
                 if let Ok(t) = walkable(r, p) {
                     walk_cells(r.origin, r.direction, t, edge, max, |c| {
                         chunks.insert(c.to_array());
                     });
                 }
+                if chunks.len() > limit {
+                    over.store(true, Ordering::Relaxed);
+                }
             }
             chunks
         })
         .collect();
+    if over.load(Ordering::Relaxed) {
+        return None;
+    }
     let mut all: Vec<IVec3Key> = sets.into_iter().flatten().collect();
     all.sort_unstable();
     all.dedup();
-    all
+    Some(all)
 }
 
 /// One block's cell visits (global cell index, fixed-point unit direction), the visits to
@@ -655,6 +681,9 @@ mod tests {
         assert_eq!(e.chunks, one.chunks.len());
         assert_eq!(e.bytes, one.memory_bytes());
         assert!(one.memory_bytes() <= one.dense_bytes());
+        // Within a limit it holds, the same estimate; below it, refused.
+        assert_eq!(estimate_within(&set, &p, e.bytes), Some(e));
+        assert_eq!(estimate_within(&set, &p, e.bytes / 2), None);
     }
 
     /// Against a brute-force reference: the segment sampled at 20 000 points finds every cell

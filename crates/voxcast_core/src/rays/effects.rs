@@ -6,7 +6,9 @@
 //! so any thread count gives the same sets.
 //!
 //! Trace ids: [`Effect::id`]. Every ray's direction has unit length (`t` is a distance); a
-//! ray that hits nothing keeps `t_hit = −1`.
+//! ray that hits nothing keeps `t_hit = −1`. A ray may go as far as it takes to leave the box
+//! around the scene and the camera (padded by [`WORLD_PADDING`]): a miss is counted up to
+//! there, as a renderer's far plane would end it, not a thousand scene sizes away.
 
 use super::mesh::{Hit, TriangleScene};
 use super::set::{RayRecord, RaySet};
@@ -60,13 +62,28 @@ pub struct TraceParams {
     pub ao_rays: u32,
     pub ao_radius: f32,
     pub seed: u32,
-    /// How far every other ray may go.
-    pub far: f32,
 }
 
 /// How far off its surface a secondary ray starts, as a fraction of the scene's size (so it
 /// does not hit the surface it leaves through rounding).
 pub const SURFACE_OFFSET: f32 = 1e-4;
+
+/// How much larger than the box around the scene and the camera the world is, as a fraction
+/// of that box's diagonal.
+pub const WORLD_PADDING: f32 = 0.01;
+
+/// Where a ray from `origin` (inside the box `lo..hi`) along `dir` leaves it.
+fn exit_distance(origin: Vec3, dir: Vec3, lo: Vec3, hi: Vec3) -> f32 {
+    let mut t = f32::INFINITY;
+    for a in 0..3 {
+        if dir[a] > 0.0 {
+            t = t.min((hi[a] - origin[a]) / dir[a]);
+        } else if dir[a] < 0.0 {
+            t = t.min((lo[a] - origin[a]) / dir[a]);
+        }
+    }
+    t.max(0.0)
+}
 
 /// A secondary ray leaving a surface.
 struct Leaving {
@@ -121,9 +138,12 @@ pub fn camera(
 
 /// Traces the four sets (in [`Effect::ALL`]'s order) through `scene` from `camera`.
 pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) -> Vec<RaySet> {
-    let size = scene
-        .bounds()
-        .map_or(1.0, |(lo, hi)| (hi - lo).length().max(f32::MIN_POSITIVE));
+    let (lo, hi) = scene.bounds().map_or((camera.eye, camera.eye), |(lo, hi)| {
+        (lo.min(camera.eye), hi.max(camera.eye))
+    });
+    let size = (hi - lo).length().max(f32::MIN_POSITIVE);
+    let (lo, hi) = (lo - WORLD_PADDING * size, hi + WORLD_PADDING * size);
+    let far = |o: Vec3, d: Vec3| exit_distance(o, d, lo, hi);
     let offset = SURFACE_OFFSET * size;
     let to_light = -p.light.normalize_or_zero();
     let rays = camera.rays(p.width.max(1), p.height.max(1));
@@ -133,7 +153,7 @@ pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) ->
             let (px, py) = (i % p.width, i / p.width);
             let ray = rays.ray(px as f32 + 0.5, py as f32 + 0.5);
             let mut out = PixelRays::default();
-            let (primary, hit) = traced(scene, ray.origin, ray.dir, p.far);
+            let (primary, hit) = traced(scene, ray.origin, ray.dir, far(ray.origin, ray.dir));
             out.sets[0].push(primary);
             let Some(hit) = hit else { return out };
             let at = ray.origin + ray.dir * hit.t;
@@ -143,15 +163,19 @@ pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) ->
             };
             // A surface facing away from the light is dark without a ray.
             if to_light != Vec3::ZERO && leave.normal.dot(to_light) > 0.0 {
-                out.sets[1].push(traced(scene, leave.origin, to_light, p.far).0);
+                let t_max = far(leave.origin, to_light);
+                out.sets[1].push(traced(scene, leave.origin, to_light, t_max).0);
             }
             let mirror = ray.dir - 2.0 * ray.dir.dot(leave.normal) * leave.normal;
-            out.sets[2].push(traced(scene, leave.origin, mirror.normalize(), p.far).0);
+            let mirror = mirror.normalize();
+            let t_max = far(leave.origin, mirror);
+            out.sets[2].push(traced(scene, leave.origin, mirror, t_max).0);
             for k in 0..p.ao_rays {
                 let u1 = uniform([p.seed, i, k, 1]);
                 let u2 = uniform([p.seed, i, k, 2]);
                 let d = cosine_direction(leave.normal, u1, u2);
-                out.sets[3].push(traced(scene, leave.origin, d, p.ao_radius).0);
+                let t_max = p.ao_radius.min(far(leave.origin, d));
+                out.sets[3].push(traced(scene, leave.origin, d, t_max).0);
             }
             out
         })
@@ -189,7 +213,6 @@ mod tests {
             ao_rays: 4,
             ao_radius: 100.0,
             seed,
-            far: 10_000.0,
         }
     }
 
@@ -215,6 +238,17 @@ mod tests {
         // The camera looks in through the open front: almost every ray hits, a few at the
         // image's edges pass outside the box.
         assert!(hits > 48 * 48 * 9 / 10, "{hits} hits, {misses} misses");
+        // Misses end where they leave the world: the box around the scene and the camera.
+        let (w_lo, w_hi) = (lo.min(cornell::CAMERA_EYE), hi.max(cornell::CAMERA_EYE));
+        let pad = WORLD_PADDING * (w_hi - w_lo).length() + 0.01;
+        let (world_lo, world_hi) = (w_lo - pad, w_hi + pad);
+        for r in sets.iter().flat_map(|s| &s.rays) {
+            let end = r.at(r.t_max);
+            assert!(
+                end.cmpge(world_lo).all() && end.cmple(world_hi).all(),
+                "{end}"
+            );
+        }
         for r in &primary.rays {
             assert!((r.direction.length() - 1.0).abs() < 1e-5);
             if r.is_hit(0.0) {
@@ -244,9 +278,9 @@ mod tests {
             assert!(set.rays.iter().enumerate().all(|(i, r)| r.id == i as u32));
         }
         for r in &sets[3].rays {
-            assert_eq!(r.t_max, 100.0);
-            assert!(r.t_hit < 100.0);
+            assert!(r.t_max <= 100.0 && r.t_hit < 100.0);
         }
+        assert!(sets[3].rays.iter().filter(|r| r.t_max == 100.0).count() > sets[3].rays.len() / 2);
     }
 
     #[test]

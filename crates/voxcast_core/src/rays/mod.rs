@@ -14,3 +14,4 @@ pub mod effects;
 pub mod grid;
 pub mod mesh;
 pub mod set;
+pub mod source;

@@ -1,0 +1,133 @@
+//! Where a ray data set comes from: a scene and its traces, by name. `builtin:cornell` is the
+//! Cornell box with the four effect sets Voxcast traces through it at [`CORNELL`]'s settings.
+
+use super::cornell;
+use super::effects::{Effect, TraceParams, camera, trace_effects};
+use super::mesh::TriangleScene;
+use super::set::RaySet;
+
+/// A scene and the traces cast through it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RayData {
+    /// What it is, in words.
+    pub description: String,
+    pub scene: TriangleScene,
+    pub traces: Vec<RaySet>,
+}
+
+impl RayData {
+    /// The trace with id `id`.
+    pub fn trace(&self, id: u32) -> Option<&RaySet> {
+        self.traces.iter().find(|t| t.trace_id == id)
+    }
+
+    /// Every trace's rays in one set (trace id 0; ray ids as in their own traces).
+    pub fn all_rays(&self) -> RaySet {
+        RaySet {
+            trace_id: 0,
+            rays: self
+                .traces
+                .iter()
+                .flat_map(|t| t.rays.iter().copied())
+                .collect(),
+        }
+    }
+}
+
+/// How `builtin:cornell` is traced: 256 × 256 primary rays, four ambient-occlusion rays of
+/// 100 mm (about a fifth of the box) per hit, seed 1.
+pub const CORNELL: TraceParams = TraceParams {
+    width: 256,
+    height: 256,
+    light: cornell::LIGHT,
+    ao_rays: 4,
+    ao_radius: 100.0,
+    seed: 1,
+};
+
+/// The embedded ray data sets, `builtin:NAME`, and what each is.
+pub const BUILTIN: &[(&str, &str)] = &[(
+    "cornell",
+    "the Cornell box (five walls, two blocks) with primary, shadow, reflection and \
+     ambient-occlusion rays traced by Voxcast",
+)];
+
+/// Why a ray data source cannot be had.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SourceError {
+    #[error("no embedded ray data set is called '{0}' (there is: {1})")]
+    UnknownBuiltin(String, String),
+    #[error(
+        "{0}: Voxcast reads ray data from the embedded sets so far (builtin:cornell); \
+         .rayvis files are not read yet"
+    )]
+    FilesNotRead(String),
+}
+
+/// The ray data named `name`: `builtin:NAME`.
+pub fn load(name: &str) -> Result<RayData, SourceError> {
+    let Some(builtin) = name.strip_prefix("builtin:") else {
+        return Err(SourceError::FilesNotRead(name.into()));
+    };
+    match builtin {
+        "cornell" => {
+            let scene = cornell::scene();
+            let cam = camera(
+                cornell::CAMERA_EYE,
+                cornell::CAMERA_TARGET,
+                cornell::CAMERA_FOV_Y_DEG,
+            )
+            .expect("the Cornell box's camera is valid");
+            let p = CORNELL;
+            let traces = trace_effects(&scene, &cam, &p);
+            Ok(RayData {
+                description: format!(
+                    "the Cornell box, {}×{} primary rays from its published camera, a directional \
+                     light through the open front, {} ambient-occlusion rays of {} mm per hit, seed {}",
+                    p.width, p.height, p.ao_rays, p.ao_radius, p.seed
+                ),
+                scene,
+                traces,
+            })
+        }
+        other => Err(SourceError::UnknownBuiltin(
+            other.into(),
+            BUILTIN
+                .iter()
+                .map(|(n, _)| format!("builtin:{n}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+        )),
+    }
+}
+
+/// The effect a trace of `builtin:cornell` holds.
+pub fn effect_of(trace_id: u32) -> Option<Effect> {
+    Effect::ALL.into_iter().find(|e| e.id() == trace_id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cornell_box_loads_with_its_four_traces_and_names_fail_clearly() {
+        let d = load("builtin:cornell").unwrap();
+        assert_eq!(d.traces.len(), 4);
+        assert_eq!(d.trace(0).unwrap().rays.len(), 256 * 256);
+        assert!(d.trace(4).is_none());
+        let all = d.all_rays();
+        assert_eq!(
+            all.rays.len(),
+            d.traces.iter().map(|t| t.rays.len()).sum::<usize>()
+        );
+        assert_eq!(effect_of(3), Some(Effect::AmbientOcclusion));
+        let e = load("builtin:nosuch").unwrap_err().to_string();
+        assert!(e.contains("builtin:cornell"), "{e}");
+        let e = load("scene.rayvis").unwrap_err().to_string();
+        assert!(
+            e.contains("scene.rayvis") && e.contains("not read yet"),
+            "{e}"
+        );
+    }
+}

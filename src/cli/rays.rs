@@ -1,0 +1,246 @@
+//! `voxcast rays`: ray data sets as RayVis views them — what a set holds (`info`) and its
+//! density over a grid of cells, written as NRRD volumes (`density`).
+
+use super::CliError;
+use super::progress::Progress;
+use clap::{Args, Subcommand};
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use voxcast_core::numbers::sig;
+use voxcast_core::rays::density::{DensityParams, MAX_BYTES, compute, estimate_within};
+use voxcast_core::rays::grid::DenseDensity;
+use voxcast_core::rays::set::{Filter, RaySet};
+use voxcast_core::rays::source::{RayData, effect_of, load};
+
+#[derive(Args, Debug)]
+pub struct RaysArgs {
+    #[command(subcommand)]
+    pub command: RaysCommand,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum RaysCommand {
+    /// Per trace its id and its rays, hits and misses; the scene's meshes and triangles.
+    Info(InfoArgs),
+    /// The number of rays through each cell of a grid, and their mean direction, as NRRD
+    /// volumes (Slicer, ParaView and Voxcast open them).
+    Density(DensityArgs),
+}
+
+/// The ray data (`builtin:cornell`).
+#[derive(Args, Debug)]
+pub struct SourceArg {
+    /// The ray data: builtin:cornell (the Cornell box with rays Voxcast traces through it).
+    #[arg(value_name = "FILE|builtin:NAME")]
+    pub source: String,
+    /// A ray hits when t_hit ≥ 0 and t_hit < t_max − T: RayVis's miss-detection tolerance,
+    /// for renderers that report a miss as a hit at t_max. World units along the ray; default 0.
+    #[arg(long, value_name = "T", default_value_t = 0.0, value_parser = non_negative)]
+    pub miss_tolerance: f32,
+}
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    pub source: SourceArg,
+}
+
+#[derive(Args, Debug)]
+pub struct DensityArgs {
+    #[command(flatten)]
+    pub source: SourceArg,
+    /// Count only this trace (see `voxcast rays info`); every trace when left out.
+    #[arg(long, value_name = "ID")]
+    pub trace: Option<u32>,
+    /// Which rays are counted: all, the hits (their segment ends at the hit) or the misses.
+    #[arg(long, default_value = "all", value_parser = ["all", "hit", "miss"])]
+    pub filter: String,
+    /// Cell edge S in world units: cell (i, j, k) spans [iS, (i+1)S) on each axis.
+    #[arg(long, value_name = "S", allow_hyphen_values = true)]
+    pub cell: f32,
+    /// Cells per chunk edge N: only chunks a counted ray passes through are stored.
+    #[arg(long, value_name = "N", default_value_t = 16)]
+    pub chunk: u32,
+    /// Where to write the counts (a float NRRD volume over the stored chunks' box).
+    #[arg(long, value_name = "COUNTS.nrrd")]
+    pub out: PathBuf,
+    /// Where to write the mean unit direction per cell (a 3-vector NRRD; zero where no ray
+    /// passed).
+    #[arg(long, value_name = "DIRS.nrrd")]
+    pub directions: Option<PathBuf>,
+}
+
+fn non_negative(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("'{s}' is not a number ≥ 0")),
+    }
+}
+
+pub fn run(a: &RaysArgs) -> Result<(), CliError> {
+    match &a.command {
+        RaysCommand::Info(i) => info(i),
+        RaysCommand::Density(d) => density(d),
+    }
+}
+
+fn source(s: &SourceArg) -> Result<RayData, CliError> {
+    load(&s.source).map_err(|e| CliError::usage(e.to_string()))
+}
+
+/// A trace's name in words, where its effect is known.
+fn trace_words(data: &RayData, id: u32) -> String {
+    match effect_of(id).filter(|_| data.traces.len() == 4) {
+        Some(e) => format!("trace {id} ({})", e.words()),
+        None => format!("trace {id}"),
+    }
+}
+
+fn info(a: &InfoArgs) -> Result<(), CliError> {
+    let data = source(&a.source)?;
+    println!("{}: {}", a.source.source, data.description);
+    println!(
+        "scene: {} meshes, {} triangles",
+        data.scene.meshes.len(),
+        data.scene.triangle_count()
+    );
+    for m in &data.scene.meshes {
+        println!("  {:<12} {} triangles", m.name, m.triangles.len());
+    }
+    for t in &data.traces {
+        let (hits, misses) = t.hits_and_misses(a.source.miss_tolerance);
+        println!(
+            "{}: {} rays, {} hits, {} misses",
+            trace_words(&data, t.trace_id),
+            t.rays.len(),
+            hits,
+            misses
+        );
+    }
+    Ok(())
+}
+
+fn density(a: &DensityArgs) -> Result<(), CliError> {
+    let params = DensityParams {
+        cell: a.cell,
+        chunk: a.chunk,
+        filter: Filter::parse(&a.filter).unwrap_or_default(),
+        tolerance: a.source.miss_tolerance,
+        ..Default::default()
+    };
+    params.check().map_err(CliError::usage)?;
+    // A folder that is not there fails now, not after the computation.
+    for path in std::iter::once(&a.out).chain(&a.directions) {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+            && !dir.is_dir()
+        {
+            return Err(CliError::usage(format!(
+                "{}: the folder {} does not exist",
+                path.display(),
+                dir.display()
+            )));
+        }
+    }
+    let data = source(&a.source)?;
+    let set: RaySet = match a.trace {
+        Some(id) => data.trace(id).cloned().ok_or_else(|| {
+            let ids: Vec<String> = data.traces.iter().map(|t| t.trace_id.to_string()).collect();
+            CliError::usage(format!(
+                "--trace {id}: {} has traces {}",
+                a.source.source,
+                ids.join(", ")
+            ))
+        })?,
+        None => data.all_rays(),
+    };
+    let what = a
+        .trace
+        .map_or("every trace".to_string(), |id| trace_words(&data, id));
+    let Some(est) = estimate_within(&set, &params, MAX_BYTES).filter(|e| e.bytes <= MAX_BYTES)
+    else {
+        return Err(CliError::usage(format!(
+            "{what} through cells of {} would take more than the {} MiB allowed: choose larger \
+             cells (--cell), smaller chunks (--chunk), one trace (--trace) or a filter (--filter)",
+            sig(params.cell),
+            MAX_BYTES >> 20
+        )));
+    };
+    println!(
+        "{what}: {} rays; about {} chunks of {}³ cells of {}, {} MiB",
+        set.rays.len(),
+        est.chunks,
+        params.chunk,
+        sig(params.cell),
+        sig(est.bytes as f32 / 1_048_576.0)
+    );
+    let started = Instant::now();
+    let progress = Progress::new("density");
+    let d = compute(
+        &set,
+        &params,
+        &|done, total| progress.update(done, total),
+        &AtomicBool::new(false),
+    )
+    .map_err(|_| CliError::failed("cancelled"))?;
+    progress.finish();
+    let seconds = started.elapsed().as_secs_f64();
+    let r = &d.report;
+    println!(
+        "{} rays counted, {} cell visits in {:.2} s ({} M rays/s, {} M visits/s); {} chunks \
+         stored, {} MiB (a dense grid: {} MiB)",
+        r.rays,
+        r.visits,
+        seconds,
+        sig((r.rays as f64 / seconds.max(1e-9) / 1e6) as f32),
+        sig((r.visits as f64 / seconds.max(1e-9) / 1e6) as f32),
+        d.chunks.len(),
+        sig(d.memory_bytes() as f32 / 1_048_576.0),
+        sig(d.dense_bytes() as f32 / 1_048_576.0)
+    );
+    for (n, why) in [
+        (r.malformed, "skipped as malformed"),
+        (r.out_of_range, "skipped for starting too far out"),
+        (r.capped, "cut short at the cells-per-ray cap"),
+    ] {
+        if n > 0 {
+            println!("{n} rays {why}");
+        }
+    }
+    let Some(dense) = DenseDensity::new(&d).map_err(CliError::failed)? else {
+        return Err(CliError::failed(format!(
+            "no ray of {what} passed the filter '{}': nothing to write",
+            a.filter
+        )));
+    };
+    if dense.inexact_counts() {
+        println!("note: some cells hold more than 16 777 216 rays; their float counts are rounded");
+    }
+    write(&a.out, &dense.counts_nrrd())?;
+    let o = dense.origin();
+    println!(
+        "counts → {} ({} × {} × {} cells, first cell's centre at ({}, {}, {}))",
+        a.out.display(),
+        dense.dims.x,
+        dense.dims.y,
+        dense.dims.z,
+        sig(o.x),
+        sig(o.y),
+        sig(o.z)
+    );
+    if let Some(path) = &a.directions {
+        write(path, &dense.directions_nrrd())?;
+        println!("mean directions → {}", path.display());
+    }
+    Ok(())
+}
+
+fn write(path: &std::path::Path, bytes: &[u8]) -> Result<(), CliError> {
+    std::fs::write(path, bytes).map_err(|e| {
+        CliError::failed(format!(
+            "{}: {}",
+            path.display(),
+            voxcast_core::error::io_words(&e)
+        ))
+    })
+}
