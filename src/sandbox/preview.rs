@@ -231,6 +231,7 @@ pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PreviewSettings>() // kept if already inserted (measurements)
         .init_resource::<Motion>()
         .init_resource::<FullQuality>()
+        .init_resource::<SharpBeneath>()
         .add_systems(Startup, spawn_display_camera)
         .add_systems(
             Update,
@@ -332,6 +333,14 @@ fn show_or_hide_volume(
     }
 }
 
+/// Whether the sharp camera's image is painted beneath the preview, and whether the
+/// progressive pass was refining last frame.
+#[derive(Resource, Default)]
+pub struct SharpBeneath {
+    shown: bool,
+    refining: bool,
+}
+
 /// The main camera, not the sharp camera beneath it.
 type MainOnly = (With<MainCamera>, Without<SharpCamera>);
 
@@ -341,6 +350,7 @@ type MainOnly = (With<MainCamera>, Without<SharpCamera>);
 /// runs below full resolution. With the GPU it draws everything at full resolution; below it,
 /// the volume alone over the meshes the sharp camera draws (`sharp`). (Lines are egui's:
 /// `overlay`.)
+#[allow(clippy::too_many_arguments)]
 fn camera_for_backend(
     settings: Res<PreviewSettings>,
     quality: Quality,
@@ -349,6 +359,7 @@ fn camera_for_backend(
     mut cameras: Query<(&mut Camera, &mut RenderLayers), MainOnly>,
     mut sharp: Query<&mut Camera, With<SharpCamera>>,
     progressive: Option<Res<super::progressive::Progressive>>,
+    mut beneath: ResMut<SharpBeneath>,
 ) {
     let cpu = settings.cpu_live();
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
@@ -381,10 +392,14 @@ fn camera_for_backend(
         )
     };
     // While strips refine, the last whole frame beneath them may be a coarse one, which needs
-    // the meshes beneath it.
+    // the meshes beneath it: drawn once as the refinement starts (the view rests; a software
+    // rasterizer pays for every pass), kept while it lasts.
     let refining = progressive.is_some_and(|p| p.active());
+    let starts = refining && !beneath.refining;
+    beneath.refining = refining;
     // (With the preview off the meshes are drawn the same way, the volume's box hidden.)
-    let sharp_active = !cpu && (plan.sharp || refining);
+    beneath.shown = !cpu && (plan.sharp || refining);
+    let sharp_active = !cpu && (plan.sharp || starts);
     for mut camera in &mut sharp {
         if camera.is_active != sharp_active {
             camera.is_active = sharp_active;
@@ -421,7 +436,7 @@ pub(super) fn paint_preview(
     viewport: Option<Res<Viewport>>,
     mut live: Option<ResMut<LiveView>>,
     cameras: Query<&Camera, With<MainCamera>>,
-    sharp: Query<&Camera, With<SharpCamera>>,
+    beneath: Res<SharpBeneath>,
     sharp_target: Option<Res<SharpTarget>>,
     progressive: Option<Res<super::progressive::Progressive>>,
     mut images: ResMut<Assets<Image>>,
@@ -430,7 +445,7 @@ pub(super) fn paint_preview(
     let camera_drew = cameras.iter().any(|c| c.is_active);
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
     let sharp_id = sharp_target
-        .filter(|_| sharp.iter().any(|c| c.is_active))
+        .filter(|_| beneath.shown)
         .map(|t| contexts.add_image(EguiTextureHandle::Weak(t.image.id())));
     let ctx = contexts.ctx_mut()?.clone();
     let rect = Viewport::rect(viewport.as_deref(), &ctx);
