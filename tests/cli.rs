@@ -484,7 +484,33 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(text(&o).contains("does not exist"), "{}", text(&o));
-    let o = voxcast(&["rays", "info", "scene.rayvis"]);
+    let o = voxcast(&["rays", "info", "/nonexistent/scene.rayvis"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o).contains("not read yet"), "{}", text(&o));
+    assert!(text(&o).contains("no such file"), "{}", text(&o));
+    // Exported as a .rayvis file and read back: the same traces.
+    let file = out_dir().join("cornell.rayvis");
+    let o = voxcast(&[
+        "rays",
+        "export",
+        "builtin:cornell",
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = voxcast(&["rays", "info", file.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = text(&o);
+    assert!(
+        out.contains("30 triangles") && out.contains("trace 0: 65536 rays, 61204 hits"),
+        "{out}"
+    );
+    let garbage = out_dir().join("garbage.rayvis");
+    std::fs::write(&garbage, b"AMD_RDF \x03\0\0\0").unwrap();
+    let o = voxcast(&["rays", "info", garbage.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("the file ends inside the header"),
+        "{}",
+        text(&o)
+    );
 }

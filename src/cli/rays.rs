@@ -26,12 +26,24 @@ pub enum RaysCommand {
     /// The number of rays through each cell of a grid, and their mean direction, as NRRD
     /// volumes (Slicer, ParaView and Voxcast open them).
     Density(DensityArgs),
+    /// Write the ray data as a .rayvis file (an RDF container RayVis reads).
+    Export(ExportArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub source: SourceArg,
+    /// The .rayvis file to write.
+    #[arg(long, value_name = "FILE.rayvis")]
+    pub out: PathBuf,
 }
 
 /// The ray data (`builtin:cornell`).
 #[derive(Args, Debug)]
 pub struct SourceArg {
-    /// The ray data: builtin:cornell (the Cornell box with rays Voxcast traces through it).
+    /// The ray data: a .rayvis file, or builtin:cornell (the Cornell box with rays Voxcast
+    /// traces through it).
     #[arg(value_name = "FILE|builtin:NAME")]
     pub source: String,
     /// A ray hits when t_hit ≥ 0 and t_hit < t_max − T: RayVis's miss-detection tolerance,
@@ -82,16 +94,33 @@ pub fn run(a: &RaysArgs) -> Result<(), CliError> {
     match &a.command {
         RaysCommand::Info(i) => info(i),
         RaysCommand::Density(d) => density(d),
+        RaysCommand::Export(e) => export(e),
     }
+}
+
+fn export(a: &ExportArgs) -> Result<(), CliError> {
+    let data = source(&a.source)?;
+    let bytes = voxcast_core::rays::rayvis::write(&data);
+    write(&a.out, &bytes)?;
+    let rays: usize = data.traces.iter().map(|t| t.rays.len()).sum();
+    println!(
+        "{} traces, {} rays, {} triangles → {} ({} MiB)",
+        data.traces.len(),
+        rays,
+        data.scene.triangle_count(),
+        a.out.display(),
+        sig(bytes.len() as f32 / 1_048_576.0)
+    );
+    Ok(())
 }
 
 fn source(s: &SourceArg) -> Result<RayData, CliError> {
     load(&s.source).map_err(|e| CliError::usage(e.to_string()))
 }
 
-/// A trace's name in words, where its effect is known.
-fn trace_words(data: &RayData, id: u32) -> String {
-    match effect_of(id).filter(|_| data.traces.len() == 4) {
+/// A trace's name in words, with its effect for the sets Voxcast traces itself.
+fn trace_words(source: &str, id: u32) -> String {
+    match effect_of(id).filter(|_| source.starts_with("builtin:cornell")) {
         Some(e) => format!("trace {id} ({})", e.words()),
         None => format!("trace {id}"),
     }
@@ -112,7 +141,7 @@ fn info(a: &InfoArgs) -> Result<(), CliError> {
         let (hits, misses) = t.hits_and_misses(a.source.miss_tolerance);
         println!(
             "{}: {} rays, {} hits, {} misses",
-            trace_words(&data, t.trace_id),
+            trace_words(&a.source.source, t.trace_id),
             t.rays.len(),
             hits,
             misses
@@ -154,9 +183,9 @@ fn density(a: &DensityArgs) -> Result<(), CliError> {
         })?,
         None => data.all_rays(),
     };
-    let what = a
-        .trace
-        .map_or("every trace".to_string(), |id| trace_words(&data, id));
+    let what = a.trace.map_or("every trace".to_string(), |id| {
+        trace_words(&a.source.source, id)
+    });
     let Some(est) = estimate_within(&set, &params, MAX_BYTES).filter(|e| e.bytes <= MAX_BYTES)
     else {
         return Err(CliError::usage(format!(

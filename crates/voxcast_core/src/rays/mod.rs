@@ -13,5 +13,7 @@ pub mod density;
 pub mod effects;
 pub mod grid;
 pub mod mesh;
+pub mod rayvis;
+pub mod rdf;
 pub mod set;
 pub mod source;

@@ -1,5 +1,6 @@
-//! Where a ray data set comes from: a scene and its traces, by name. `builtin:cornell` is the
-//! Cornell box with the four effect sets Voxcast traces through it at [`CORNELL`]'s settings.
+//! Where a ray data set comes from: a scene and its traces, by name — a `.rayvis` file
+//! (`rayvis`), or `builtin:cornell`, the Cornell box with the four effect sets Voxcast traces
+//! through it at [`CORNELL`]'s settings.
 
 use super::cornell;
 use super::effects::{Effect, TraceParams, camera, trace_effects};
@@ -57,17 +58,17 @@ pub const BUILTIN: &[(&str, &str)] = &[(
 pub enum SourceError {
     #[error("no embedded ray data set is called '{0}' (there is: {1})")]
     UnknownBuiltin(String, String),
-    #[error(
-        "{0}: Voxcast reads ray data from the embedded sets so far (builtin:cornell); \
-         .rayvis files are not read yet"
-    )]
-    FilesNotRead(String),
+    #[error("{0}: {1}")]
+    File(String, String),
 }
 
-/// The ray data named `name`: `builtin:NAME`.
+/// The ray data named `name`: `builtin:NAME` or a `.rayvis` file's path.
 pub fn load(name: &str) -> Result<RayData, SourceError> {
     let Some(builtin) = name.strip_prefix("builtin:") else {
-        return Err(SourceError::FilesNotRead(name.into()));
+        let bytes = std::fs::read(name)
+            .map_err(|e| SourceError::File(name.into(), crate::error::io_words(&e)))?;
+        return super::rayvis::read(&bytes, name)
+            .map_err(|e| SourceError::File(name.into(), e.to_string()));
     };
     match builtin {
         "cornell" => {
@@ -124,10 +125,7 @@ mod tests {
         assert_eq!(effect_of(3), Some(Effect::AmbientOcclusion));
         let e = load("builtin:nosuch").unwrap_err().to_string();
         assert!(e.contains("builtin:cornell"), "{e}");
-        let e = load("scene.rayvis").unwrap_err().to_string();
-        assert!(
-            e.contains("scene.rayvis") && e.contains("not read yet"),
-            "{e}"
-        );
+        let e = load("/nonexistent/scene.rayvis").unwrap_err().to_string();
+        assert!(e.contains("scene.rayvis: no such file"), "{e}");
     }
 }
