@@ -106,6 +106,16 @@ impl<'b> Cursor<'b> {
     fn vec3(&mut self, what: &str) -> Result<Vec3, RdfError> {
         Ok(Vec3::new(self.f32(what)?, self.f32(what)?, self.f32(what)?))
     }
+    /// `count` items of `each` bytes, all of them within the bytes left.
+    fn array(&mut self, count: u64, each: u64, what: &str) -> Result<&'b [u8], RdfError> {
+        let left = (self.bytes.len() - self.at) as u64;
+        let n = count
+            .checked_mul(each)
+            .filter(|&n| n <= left)
+            .ok_or_else(|| RdfError::Truncated(format!("{}'s {count} {what}", self.chunk)))?;
+        self.take(n as usize, what)
+    }
+
     /// A count of items of at least `min_bytes` each: no more than the bytes left can hold.
     fn count(&mut self, min_bytes: usize, what: &str) -> Result<usize, RdfError> {
         let n = self.u64(what)?;
@@ -127,7 +137,7 @@ fn read_trace(c: &Chunk) -> Result<RaySet, RdfError> {
         chunk: TRACE_CHUNK,
     };
     let trace_id = h.u32("header (traceId)")?;
-    if c.data.len() % RAY_BYTES != 0 {
+    if !c.data.len().is_multiple_of(RAY_BYTES) {
         return Err(RdfError::Bad(format!(
             "{TRACE_CHUNK} {trace_id}: {} bytes of rays are not a whole number of {RAY_BYTES}-byte records",
             c.data.len()
@@ -209,13 +219,7 @@ fn read_scene(c: &Chunk) -> Result<TriangleScene, RdfError> {
                 )));
             }
             let index_count = d.u64("indexCount")?;
-            let vertex_span = vertex_count
-                .checked_mul(vertex_bytes)
-                .filter(|&n| n <= (d.bytes.len() - d.at) as u64)
-                .ok_or_else(|| {
-                    RdfError::Truncated(format!("{SCENE_CHUNK}'s {vertex_count} vertices"))
-                })?;
-            let raw = d.take(vertex_span as usize, "vertices")?;
+            let raw = d.array(vertex_count, vertex_bytes, "vertices")?;
             let vertices: Vec<Vec3> = raw
                 .chunks_exact(vertex_bytes as usize)
                 .map(|v| {
@@ -224,13 +228,7 @@ fn read_scene(c: &Chunk) -> Result<TriangleScene, RdfError> {
                     Vec3::new(f(0), f(1), f(2))
                 })
                 .collect();
-            let index_span = index_count
-                .checked_mul(index_bytes)
-                .filter(|&n| n <= (d.bytes.len() - d.at) as u64)
-                .ok_or_else(|| {
-                    RdfError::Truncated(format!("{SCENE_CHUNK}'s {index_count} indices"))
-                })?;
-            let raw = d.take(index_span as usize, "indices")?;
+            let raw = d.array(index_count, index_bytes, "indices")?;
             let indices: Vec<usize> = raw
                 .chunks_exact(index_bytes as usize)
                 .map(|b| match b.len() {

@@ -82,7 +82,7 @@ pub fn read(file: &[u8]) -> Result<Vec<Chunk>, RdfError> {
         return Err(RdfError::Version(version));
     }
     let index = span(file, i64_at(file, 16), i64_at(file, 24), "the chunk index")?;
-    if index.len() % ENTRY_BYTES != 0 {
+    if !index.len().is_multiple_of(ENTRY_BYTES) {
         return Err(RdfError::Bad(format!(
             "the chunk index's {} bytes are not a whole number of 64-byte entries",
             index.len()
