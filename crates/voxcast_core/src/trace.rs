@@ -18,12 +18,11 @@ use crate::composite::{
 };
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
-    Cell, Interpolation, cell, gradient, gradient_from_differences, sample, sample_detail,
+    Cell, Interpolation, gradient, gradient_from_differences, sample, sample_detail,
     trilinear_in_cell,
 };
 use crate::shade::{Phong, ShadeTerms, Viewing, shade};
-use crate::skip::{BlockWalk, Cell as CellState};
-use crate::step::{StepPlan, first_index_from, plan_steps, sample_t, segment_length};
+use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
 use crate::volume::{Grid, GridVisitor, Voxel};
 use glam::{Vec3, Vec4};
 use serde::Serialize;
@@ -31,6 +30,8 @@ use serde::Serialize;
 use crate::breakdown::Breakdown;
 pub use crate::breakdown::{FirstHit, NoRecord, RayTrace, Recorder, RefineStep, SampleRecord};
 pub use crate::scene::Scene;
+
+mod skipping;
 
 /// Why a ray stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -332,70 +333,15 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut stopped_at = None;
         match skip {
             Some((blocks, cells)) if plan.count > 0 => {
-                // Empty-space skipping (see `crate::skip`): walk the blocks, sampling only those
-                // that can be seen, and in them only the cells that can be seen. A sample within
-                // `margin_t` of a block face is always looked at.
-                let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
-                let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
-                let mut walk = blocks.walk(first, o_v, d_v);
-                let inv_d = 1.0 / d_v;
-                // Multiplying by the inverse step may round the index of the first sample past a
-                // face up or down by one; either way that sample lies within rounding of the
-                // margin inside the skipped region, or is simply taken.
-                let inv_dt = 1.0 / plan.dt;
-                let mut k = 0u32;
-                'blocks: loop {
-                    let (is_empty, t_out) = blocks.current(&walk);
-                    if is_empty {
-                        k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
-                    } else {
-                        while k < plan.count {
-                            let t = sample_t(plan, k);
-                            if t >= t_out + margin_t {
-                                break;
-                            }
-                            let pv = o_v + d_v * t;
-                            let here = cell(&self.g, pv);
-                            match cells.lookup(here.lo) {
-                                CellState::Visible => {
-                                    let stop = self.accumulate_sample(
-                                        &viewing,
-                                        plan,
-                                        k,
-                                        t,
-                                        pv,
-                                        Some(&here),
-                                        stop_at,
-                                        &mut acc,
-                                        rec,
-                                    );
-                                    if stop {
-                                        stopped_at = Some(k);
-                                        break 'blocks;
-                                    }
-                                }
-                                CellState::EmptyBrick => {
-                                    // Skip the rest of the brick (see `VisibleCells::brick_exit`).
-                                    if let Some(t_brick) = cells.brick_exit(here.lo, pv, o_v, inv_d)
-                                    {
-                                        let next =
-                                            first_index_from(plan, t_brick.min(t_out), inv_dt);
-                                        if next > k + 1 {
-                                            k = next;
-                                            continue;
-                                        }
-                                    }
-                                }
-                                CellState::Invisible => {}
-                            }
-                            k += 1;
-                        }
-                    }
-                    if k >= plan.count || !t_out.is_finite() {
-                        break;
-                    }
-                    blocks.advance(&mut walk);
-                }
+                stopped_at = self.accumulate_skipping(
+                    (blocks, cells),
+                    plan,
+                    (o_v, d_v),
+                    &viewing,
+                    stop_at,
+                    &mut acc,
+                    rec,
+                );
             }
             _ => {
                 for i in 0..plan.count {
@@ -530,48 +476,6 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
     }
 
-    /// Maximum and Minimum with block skipping: a block whose value range cannot beat the
-    /// running maximum (minimum) is crossed without sampling, which leaves the result exactly
-    /// as it was (see `crate::skip`; ranges include a one-point apron for rounding).
-    fn project_extreme(&self, plan: &StepPlan, o_v: Vec3, d_v: Vec3, stats: &mut ValueStats) {
-        let ranges = self.s.volume.block_ranges();
-        let maximum = self.s.settings.method == Method::Maximum;
-        // Interpolating integers never leaves the corners' range, so a block that can only tie
-        // the running extreme is skippable too; float rounding could exceed it by an ulp.
-        let ties_skippable = T::TABLE.is_some();
-        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
-        let inv_dt = 1.0 / plan.dt;
-        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
-        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
-        let mut k = 0u32;
-        loop {
-            let t_out = walk.exit();
-            let (lo, hi) = ranges.ranges[walk.index()];
-            let useless = stats.count > 0
-                && if maximum {
-                    hi < stats.max || (ties_skippable && hi == stats.max)
-                } else {
-                    lo > stats.min || (ties_skippable && lo == stats.min)
-                };
-            if useless {
-                k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
-            } else {
-                while k < plan.count {
-                    let t = sample_t(plan, k);
-                    if t >= t_out + margin_t {
-                        break;
-                    }
-                    stats.add(self.value(o_v + d_v * t));
-                    k += 1;
-                }
-            }
-            if k >= plan.count || !t_out.is_finite() {
-                break;
-            }
-            walk.advance();
-        }
-    }
-
     fn first<R: Recorder>(
         &self,
         ray: &Ray,
@@ -603,65 +507,6 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
         RayOutcome {
             samples: plan.count,
-            positions: plan.count,
-            stop: StopReason::LeftVolume,
-            ..RayOutcome::MISS
-        }
-    }
-
-    /// First with block skipping: a block whose values all lie below the target holds no hit, so
-    /// its samples are passed over — except the last, which becomes the previous sample (the
-    /// lower end of a later hit's bracket). The hits found, and so the image, are exactly those
-    /// of the plain march.
-    fn first_skipping(&self, ray: &Ray, plan: &StepPlan, o_v: Vec3, d_v: Vec3) -> RayOutcome {
-        let target = self.s.target;
-        let ranges = self.s.volume.block_ranges();
-        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
-        let inv_dt = 1.0 / plan.dt;
-        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
-        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
-        let mut prev: Option<(f32, f32)> = None;
-        let mut taken = 0u32;
-        let mut k = 0u32;
-        loop {
-            let t_out = walk.exit();
-            let (_, hi) = ranges.ranges[walk.index()];
-            if hi < target {
-                let next = first_index_from(plan, t_out - margin_t, inv_dt);
-                if next > k {
-                    // Samples k..last are inside the block: only `last` is needed, as `prev`.
-                    let last = next - 1;
-                    let t = sample_t(plan, last);
-                    let v = self.value(o_v + d_v * t);
-                    prev = v.is_finite().then_some((t, v));
-                    taken += 1;
-                    k = last + 1;
-                }
-            } else {
-                while k < plan.count {
-                    let t = sample_t(plan, k);
-                    if t >= t_out + margin_t {
-                        break;
-                    }
-                    let v = self.value(o_v + d_v * t);
-                    taken += 1;
-                    if reaches(v, target) {
-                        let (pt, p) = prev.unwrap_or((t, v));
-                        let mut out = self.hit(ray, (pt, p, t, v), o_v, d_v, k + 1, &mut NoRecord);
-                        out.samples = taken;
-                        return out;
-                    }
-                    prev = v.is_finite().then_some((t, v));
-                    k += 1;
-                }
-            }
-            if k >= plan.count || !t_out.is_finite() {
-                break;
-            }
-            walk.advance();
-        }
-        RayOutcome {
-            samples: taken,
             positions: plan.count,
             stop: StopReason::LeftVolume,
             ..RayOutcome::MISS

@@ -1,0 +1,211 @@
+//! The skipping marches: the same samples as the plain marches of `trace.rs` (the twin of
+//! `shaders/trace.wgsl`), with empty space passed over where that leaves every pixel as it
+//! was (`crate::skip`) — Accumulate through blocks, bricks and cells the transfer function makes
+//! transparent, First through blocks below the target, Maximum and Minimum through blocks
+//! that cannot beat the running extreme.
+
+use super::{
+    Accumulation, Marcher, NoRecord, RayOutcome, Recorder, SKIP_MARGIN_VOXELS, StopReason,
+};
+use crate::composite::{Method, ValueStats, reaches};
+use crate::ray::Ray;
+use crate::sample::cell;
+use crate::shade::Viewing;
+use crate::skip::{BlockWalk, Cell as CellState, EmptyBlocks, VisibleCells};
+use crate::step::{StepPlan, first_index_from, sample_t};
+use crate::volume::Voxel;
+use glam::Vec3;
+
+impl<T: Voxel> Marcher<'_, '_, '_, T> {
+    /// Accumulate front to back with empty-space skipping (see `crate::skip`): walks the
+    /// blocks, sampling only those that can be seen, and in them only the cells that can be
+    /// seen. A sample within `margin_t` of a block face is always looked at. Returns the index
+    /// of the sample that stopped the ray, if one did.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(super) fn accumulate_skipping<R: Recorder>(
+        &self,
+        (blocks, cells): (&EmptyBlocks, &VisibleCells),
+        plan: &StepPlan,
+        (o_v, d_v): (Vec3, Vec3),
+        viewing: &Viewing,
+        stop_at: f32,
+        acc: &mut Accumulation,
+        rec: &mut R,
+    ) -> Option<u32> {
+        let mut stopped_at = None;
+        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
+        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
+        let mut walk = blocks.walk(first, o_v, d_v);
+        let inv_d = 1.0 / d_v;
+        // Multiplying by the inverse step may round the index of the first sample past a
+        // face up or down by one; either way that sample lies within rounding of the
+        // margin inside the skipped region, or is simply taken.
+        let inv_dt = 1.0 / plan.dt;
+        let mut k = 0u32;
+        'blocks: loop {
+            let (is_empty, t_out) = blocks.current(&walk);
+            if is_empty {
+                k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
+            } else {
+                while k < plan.count {
+                    let t = sample_t(plan, k);
+                    if t >= t_out + margin_t {
+                        break;
+                    }
+                    let pv = o_v + d_v * t;
+                    let here = cell(&self.g, pv);
+                    match cells.lookup(here.lo) {
+                        CellState::Visible => {
+                            let stop = self.accumulate_sample(
+                                viewing,
+                                plan,
+                                k,
+                                t,
+                                pv,
+                                Some(&here),
+                                stop_at,
+                                acc,
+                                rec,
+                            );
+                            if stop {
+                                stopped_at = Some(k);
+                                break 'blocks;
+                            }
+                        }
+                        CellState::EmptyBrick => {
+                            // Skip the rest of the brick (see `VisibleCells::brick_exit`).
+                            if let Some(t_brick) = cells.brick_exit(here.lo, pv, o_v, inv_d) {
+                                let next = first_index_from(plan, t_brick.min(t_out), inv_dt);
+                                if next > k + 1 {
+                                    k = next;
+                                    continue;
+                                }
+                            }
+                        }
+                        CellState::Invisible => {}
+                    }
+                    k += 1;
+                }
+            }
+            if k >= plan.count || !t_out.is_finite() {
+                break;
+            }
+            blocks.advance(&mut walk);
+        }
+        stopped_at
+    }
+
+    /// Maximum and Minimum with block skipping: a block whose value range cannot beat the
+    /// running maximum (minimum) is crossed without sampling, which leaves the result exactly
+    /// as it was (see `crate::skip`; ranges include a one-point apron for rounding).
+    pub(super) fn project_extreme(
+        &self,
+        plan: &StepPlan,
+        o_v: Vec3,
+        d_v: Vec3,
+        stats: &mut ValueStats,
+    ) {
+        let ranges = self.s.volume.block_ranges();
+        let maximum = self.s.settings.method == Method::Maximum;
+        // Interpolating integers never leaves the corners' range, so a block that can only tie
+        // the running extreme is skippable too; float rounding could exceed it by an ulp.
+        let ties_skippable = T::TABLE.is_some();
+        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
+        let inv_dt = 1.0 / plan.dt;
+        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
+        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
+        let mut k = 0u32;
+        loop {
+            let t_out = walk.exit();
+            let (lo, hi) = ranges.ranges[walk.index()];
+            let useless = stats.count > 0
+                && if maximum {
+                    hi < stats.max || (ties_skippable && hi == stats.max)
+                } else {
+                    lo > stats.min || (ties_skippable && lo == stats.min)
+                };
+            if useless {
+                k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
+            } else {
+                while k < plan.count {
+                    let t = sample_t(plan, k);
+                    if t >= t_out + margin_t {
+                        break;
+                    }
+                    stats.add(self.value(o_v + d_v * t));
+                    k += 1;
+                }
+            }
+            if k >= plan.count || !t_out.is_finite() {
+                break;
+            }
+            walk.advance();
+        }
+    }
+
+    /// First with block skipping: a block whose values all lie below the target holds no hit, so
+    /// its samples are passed over — except the last, which becomes the previous sample (the
+    /// lower end of a later hit's bracket). The hits found, and so the image, are exactly those
+    /// of the plain march.
+    pub(super) fn first_skipping(
+        &self,
+        ray: &Ray,
+        plan: &StepPlan,
+        o_v: Vec3,
+        d_v: Vec3,
+    ) -> RayOutcome {
+        let target = self.s.target;
+        let ranges = self.s.volume.block_ranges();
+        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
+        let inv_dt = 1.0 / plan.dt;
+        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
+        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
+        let mut prev: Option<(f32, f32)> = None;
+        let mut taken = 0u32;
+        let mut k = 0u32;
+        loop {
+            let t_out = walk.exit();
+            let (_, hi) = ranges.ranges[walk.index()];
+            if hi < target {
+                let next = first_index_from(plan, t_out - margin_t, inv_dt);
+                if next > k {
+                    // Samples k..last are inside the block: only `last` is needed, as `prev`.
+                    let last = next - 1;
+                    let t = sample_t(plan, last);
+                    let v = self.value(o_v + d_v * t);
+                    prev = v.is_finite().then_some((t, v));
+                    taken += 1;
+                    k = last + 1;
+                }
+            } else {
+                while k < plan.count {
+                    let t = sample_t(plan, k);
+                    if t >= t_out + margin_t {
+                        break;
+                    }
+                    let v = self.value(o_v + d_v * t);
+                    taken += 1;
+                    if reaches(v, target) {
+                        let (pt, p) = prev.unwrap_or((t, v));
+                        let mut out = self.hit(ray, (pt, p, t, v), o_v, d_v, k + 1, &mut NoRecord);
+                        out.samples = taken;
+                        return out;
+                    }
+                    prev = v.is_finite().then_some((t, v));
+                    k += 1;
+                }
+            }
+            if k >= plan.count || !t_out.is_finite() {
+                break;
+            }
+            walk.advance();
+        }
+        RayOutcome {
+            samples: taken,
+            positions: plan.count,
+            stop: StopReason::LeftVolume,
+            ..RayOutcome::MISS
+        }
+    }
+}
