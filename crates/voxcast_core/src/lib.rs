@@ -51,6 +51,7 @@ pub mod io;
 pub mod knob;
 pub mod level;
 pub mod marker;
+mod minmax;
 pub mod numbers;
 pub mod peer;
 pub mod preset;

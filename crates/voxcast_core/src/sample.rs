@@ -29,6 +29,7 @@
 //! offset of exactly one voxel (`(f(p + sx·x̂) − f(p − sx·x̂)) / 2sx`, the thesis's "centralDiff"
 //! with Δ = one voxel), because interpolation is linear. Units: data units per world unit.
 
+use crate::minmax::{fmax, fmin};
 use crate::volume::{Grid, Voxel};
 use glam::{Vec3, Vec3A};
 
@@ -52,20 +53,6 @@ pub struct Cell {
     pub hi: [usize; 3],
     /// Position inside the cell per axis, in `[0, 1]`.
     pub t: Vec3,
-}
-
-/// `max(a, b)` as one `maxss` (Rust's `f32::max` adds NaN handling the marcher never needs).
-/// If `a` is NaN the comparison is false and the result is `b`: the samplers rely on this to map
-/// a NaN position onto the lattice.
-#[inline(always)]
-pub(crate) fn fmax(a: f32, b: f32) -> f32 {
-    if a > b { a } else { b }
-}
-
-/// `min(a, b)` as one `minss` (see [`fmax`]).
-#[inline(always)]
-pub(crate) fn fmin(a: f32, b: f32) -> f32 {
-    if a < b { a } else { b }
 }
 
 /// Locates `p_voxel` in the lattice (clamped to it).

@@ -19,7 +19,7 @@
 //! Skipping is used by the image renderer for Accumulate with table or boundary classification;
 //! the recorded breakdown ([`crate::trace::trace_ray`]) visits every sample.
 
-use crate::sample::{fmax, fmin};
+use crate::minmax::{fmax, fmin};
 use crate::transfer::Lut;
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
 use glam::{UVec3, Vec3};

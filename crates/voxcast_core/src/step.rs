@@ -106,7 +106,7 @@ pub fn plan_steps(t_enter: f32, t_exit: f32, dt: f32, jitter: f32, max_samples: 
 /// Where sample `k` sits: `t_enter + (j + k)·dt`, never past `t_exit`.
 #[inline(always)]
 pub fn sample_t(plan: &StepPlan, k: u32) -> f32 {
-    crate::sample::fmin(
+    crate::minmax::fmin(
         plan.t_enter + (plan.jitter + k as f32) * plan.dt,
         plan.t_exit,
     )

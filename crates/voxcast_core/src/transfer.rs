@@ -207,8 +207,8 @@ impl Lut {
     /// Position of `value` in entries (clamped), split into index and fraction.
     #[inline(always)]
     pub fn locate(&self, value: f32) -> (usize, f32) {
-        let x = crate::sample::fmin(
-            crate::sample::fmax((value - self.lo) * self.scale, 0.0),
+        let x = crate::minmax::fmin(
+            crate::minmax::fmax((value - self.lo) * self.scale, 0.0),
             self.last,
         );
         // SAFETY: `fmax` first maps NaN to 0, so x is finite and in [0, LUT_SIZE − 1]: it fits
