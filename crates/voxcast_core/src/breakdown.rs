@@ -1,6 +1,7 @@
 //! A ray's breakdown: the record of every sample ([`SampleRecord`]), of the First hit, and of
-//! the whole ray ([`RayTrace`]), the [`Recorder`] the march writes them to, and their exports as
-//! JSON and CSV — the same numbers `voxcast trace` prints and the sandbox's inspector saves.
+//! the whole ray ([`RayTrace`]) and why it stopped ([`StopReason`]), the [`Recorder`] the march
+//! writes them to, and their exports as JSON and CSV — the same numbers `voxcast trace` prints
+//! and the sandbox's inspector saves.
 //!
 //! Numbers are written with Rust's shortest round-trip formatting, so every `f32` reads back to
 //! the identical value: a student can redo each step by hand from the file.
@@ -9,10 +10,41 @@ use crate::composite::{Method, Order, ValueStats};
 use crate::sample::SampleDetail;
 use crate::shade::ShadeTerms;
 use crate::step::StepPlan;
-use crate::trace::StopReason;
 use serde::Serialize;
 
 use std::fmt::Write;
+
+/// Why a ray stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StopReason {
+    /// The ray never entered the volume's box.
+    Missed,
+    /// It crossed the box, but the crop box or clip plane had cut away all of it on its way.
+    CutAway,
+    /// It crossed the box (or took no sample, when jitter pushed the only one out).
+    LeftVolume,
+    /// Early ray termination: the accumulated opacity reached the cutoff.
+    Cutoff,
+    /// First: a value at or above the target was found.
+    FirstHit,
+    /// The sample cap was reached before the ray left the box.
+    SampleCap,
+}
+
+impl StopReason {
+    /// Why the ray stopped, in words.
+    pub const fn words(self) -> &'static str {
+        match self {
+            StopReason::Missed => "missed the volume",
+            StopReason::CutAway => "the crop box or clip plane cut away everything on its way",
+            StopReason::LeftVolume => "left the volume",
+            StopReason::Cutoff => "early termination: the opacity reached the cutoff",
+            StopReason::FirstHit => "found the target value",
+            StopReason::SampleCap => "the sample cap was reached before the ray left the volume",
+        }
+    }
+}
 
 /// Everything about one sample, for the inspector and `voxcast trace --json`.
 #[derive(Clone, Debug, PartialEq, Serialize)]

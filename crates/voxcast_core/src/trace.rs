@@ -28,42 +28,12 @@ use glam::{Vec3, Vec4};
 use serde::Serialize;
 
 use crate::breakdown::Breakdown;
-pub use crate::breakdown::{FirstHit, NoRecord, RayTrace, Recorder, RefineStep, SampleRecord};
+pub use crate::breakdown::{
+    FirstHit, NoRecord, RayTrace, Recorder, RefineStep, SampleRecord, StopReason,
+};
 pub use crate::scene::Scene;
 
 mod skipping;
-
-/// Why a ray stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum StopReason {
-    /// The ray never entered the volume's box.
-    Missed,
-    /// It crossed the box, but the crop box or clip plane had cut away all of it on its way.
-    CutAway,
-    /// It crossed the box (or took no sample, when jitter pushed the only one out).
-    LeftVolume,
-    /// Early ray termination: the accumulated opacity reached the cutoff.
-    Cutoff,
-    /// First: a value at or above the target was found.
-    FirstHit,
-    /// The sample cap was reached before the ray left the box.
-    SampleCap,
-}
-
-impl StopReason {
-    /// Why the ray stopped, in words.
-    pub const fn words(self) -> &'static str {
-        match self {
-            StopReason::Missed => "missed the volume",
-            StopReason::CutAway => "the crop box or clip plane cut away everything on its way",
-            StopReason::LeftVolume => "left the volume",
-            StopReason::Cutoff => "early termination: the opacity reached the cutoff",
-            StopReason::FirstHit => "found the target value",
-            StopReason::SampleCap => "the sample cap was reached before the ray left the volume",
-        }
-    }
-}
 
 /// The result of one ray.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
