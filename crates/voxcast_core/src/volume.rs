@@ -208,7 +208,9 @@ pub trait GridVisitor {
 }
 
 /// A scalar volume on a regular lattice. Construct with [`Volume::new`], which validates.
-#[derive(Clone, Debug, PartialEq)]
+/// Two volumes are equal when their name, lattice, data and rescaling are (the caches computed
+/// from them are not compared: a volume that has been rendered equals its fresh copy).
+#[derive(Clone, Debug)]
 pub struct Volume {
     name: String,
     dims: UVec3,
@@ -224,6 +226,20 @@ pub struct Volume {
     blocks: std::sync::OnceLock<crate::skip::BlockRanges>,
     /// Lattice differences for fast exact gradients, computed on first use where they fit.
     differences: std::sync::OnceLock<Option<Vec<crate::sample::Differences>>>,
+}
+
+impl PartialEq for Volume {
+    fn eq(&self, other: &Self) -> bool {
+        // `raw` and `no_data` follow from the data; compared anyway, they cost nothing.
+        self.name == other.name
+            && self.dims == other.dims
+            && self.spacing == other.spacing
+            && self.slope == other.slope
+            && self.intercept == other.intercept
+            && self.raw == other.raw
+            && self.no_data == other.no_data
+            && self.data == other.data
+    }
 }
 
 /// The most memory precomputed gradients may take (8 bytes a voxel): beyond it, gradients are
@@ -473,6 +489,24 @@ mod tests {
 
     fn vol(dims: UVec3, data: VoxelData) -> Result<Volume, VolumeError> {
         Volume::new("t", dims, Vec3::ONE, data)
+    }
+
+    /// The caches a render fills are not part of what a volume is.
+    #[test]
+    fn a_rendered_volume_equals_its_fresh_copy() {
+        let fresh = crate::builtin::load_builtin("shells").unwrap().volume;
+        let used = fresh.clone();
+        used.block_ranges();
+        used.lattice_differences();
+        assert_eq!(used, fresh);
+        let other = Volume::new("t", UVec3::ONE, Vec3::ONE, VoxelData::U8(vec![1])).unwrap();
+        let renamed = Volume::new("u", UVec3::ONE, Vec3::ONE, VoxelData::U8(vec![1])).unwrap();
+        let spaced =
+            Volume::new("t", UVec3::ONE, Vec3::splat(2.0), VoxelData::U8(vec![1])).unwrap();
+        let valued = Volume::new("t", UVec3::ONE, Vec3::ONE, VoxelData::U8(vec![2])).unwrap();
+        for different in [&renamed, &spaced, &valued] {
+            assert_ne!(&other, different);
+        }
     }
 
     #[test]
