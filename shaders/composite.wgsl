@@ -50,3 +50,9 @@ fn crossing_fraction(prev: f32, cur: f32, target_value: f32) -> f32 {
     }
     return clamp((target_value - prev) / d, 0.0, 1.0);
 }
+
+/// Sum's table position: s clamped to range = (a, b) and stretched over table = (lo, hi).
+fn sum_to_value(s: f32, range: vec2<f32>, table: vec2<f32>) -> f32 {
+    let x = clamp((s - range.x) / (range.y - range.x), 0.0, 1.0);
+    return table.x + (table.y - table.x) * select(0.0, x, x == x);
+}

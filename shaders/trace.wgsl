@@ -12,7 +12,7 @@
 #import voxcast::transfer::lut_lookup
 #import voxcast::classify::classify
 #import voxcast::shade::shade
-#import voxcast::composite::{correct_opacity, accumulate_front_to_back, accumulate_back_to_front, reaches, crossing_fraction}
+#import voxcast::composite::{correct_opacity, accumulate_front_to_back, accumulate_back_to_front, reaches, crossing_fraction, sum_to_value}
 
 /// The value (data units) at voxel position pv.
 fn value_at(pv: vec3<f32>) -> f32 {
@@ -177,6 +177,14 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
         value = hi;
     } else if extreme {
         value = lo;
+    } else if params.method == #{METHOD_SUM}u {
+        // Σv·Δs with Δs the step in voxels along this ray, stretched over the table.
+        let table_hi = params.lut_lo + f32(#{LUT_SIZE}u - 1u) / params.lut_scale;
+        value = sum_to_value(
+            sum * params.dt * length(d_v),
+            vec2(params.sum_lo, params.sum_hi),
+            vec2(params.lut_lo, table_hi),
+        );
     }
     let rgba = lut_lookup(value);
     return vec4(rgba.rgb * rgba.a, rgba.a);

@@ -89,6 +89,9 @@ struct VolumeUniform {
     no_data_above: f32,
     /// Rays per pixel side: n×n rays averaged per pixel (1: one through the centre).
     supersampling: u32,
+    /// Sum's range: sums from sum_lo to sum_hi are stretched over the table.
+    sum_lo: f32,
+    sum_hi: f32,
     /// The clip plane keeps the points p with clip_normal·p ≤ clip_d; a zero normal keeps all.
     clip_normal: vec3<f32>,
     clip_d: f32,

@@ -95,7 +95,8 @@ impl VolumeArgs {
 #[derive(Args, Debug, Clone, Default)]
 pub struct SettingsArgs {
     /// Transfer function: a preset name (bunny, brainsmall, brainsmall-projections, shells,
-    /// marschner-lobb, bucky, voxel, head, blobs, masked, ct_skin_bone, mri_brain), a Voxcast preset or
+    /// marschner-lobb, bucky, voxel, head, blobs, masked, ct_skin_bone, mri_brain; inferno,
+    /// matplotlib's colour map over the volume's values, for Sum), a Voxcast preset or
     /// transfer-function JSON file, or a peer TF JSON (../shared/tools/peer/tf/*.json).
     /// Default: the volume's preset.
     #[arg(long)]
@@ -134,6 +135,8 @@ pub struct SettingsArgs {
     pub jitter_seed: Option<u32>,
     #[arg(long, help = t::TARGET.doc, allow_negative_numbers = true)]
     pub target: Option<f32>,
+    #[arg(long, help = t::SUM_RANGE.doc, value_name = "LOW,HIGH", value_parser = parse_range, allow_negative_numbers = true)]
+    pub sum_range: Option<(f32, f32)>,
     #[arg(long, help = t::REFINE_STEPS.doc, allow_negative_numbers = true)]
     pub refine_steps: Option<u32>,
     /// Reconstruction between lattice points.
@@ -224,6 +227,10 @@ impl SettingsArgs {
                     TransferFunction::ramp(lo, hi, 0.5)?
                 }
             },
+            Some(name) if name == voxcast_core::colormap::INFERNO_PRESET => {
+                let (lo, hi) = volume.value_range();
+                voxcast_core::colormap::inferno_transfer(lo, hi)
+            }
             Some(name) => {
                 if let Some(p) = preset::by_name(name) {
                     settings = p.settings_over(&settings)?;
@@ -323,6 +330,9 @@ impl SettingsArgs {
         }
         if let Some(v) = self.target {
             s.target = Some(v);
+        }
+        if let Some(r) = self.sum_range {
+            s.sum_range = Some(r);
         }
         if let Some(v) = self.refine_steps {
             s.refine_steps = v;
@@ -465,6 +475,20 @@ fn parse_clip_plane(s: &str) -> Result<ClipPlane, String> {
     })
 }
 
+/// `LOW,HIGH`: two finite numbers, the first below the second.
+pub fn parse_range(s: &str) -> Result<(f32, f32), String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{s}': expected two numbers low,high"))?;
+    match v[..] {
+        [a, b] if a.is_finite() && b.is_finite() && a < b => Ok((a, b)),
+        [_, _] => Err(format!("'{s}': two finite numbers, the low one first")),
+        _ => Err(format!("'{s}': expected two numbers low,high")),
+    }
+}
+
 pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
     let v: Vec<f32> = s
         .split(',')
@@ -561,7 +585,7 @@ impl CameraArgs {
 }
 
 /// `eye=1,2,3,target=0,0,0,up=0,1,0,fov=30` (a token with `=` starts a new key).
-fn parse_camera_spec(spec: &str) -> Result<Camera, CliError> {
+pub(crate) fn parse_camera_spec(spec: &str) -> Result<Camera, CliError> {
     let mut fields: Vec<(String, Vec<String>)> = Vec::new();
     for token in spec.split(',') {
         match token.split_once('=') {
@@ -668,6 +692,10 @@ mod tests {
         assert!(parse_size("0x10").is_err());
         assert!(parse_size("99999x10").is_err());
         assert!(parse_vec3("1,2").is_err());
+        assert_eq!(parse_range("-1,2.5").unwrap(), (-1.0, 2.5));
+        for bad in ["1", "2,1", "1,1", "1,inf", "a,b", "1,2,3", ""] {
+            assert!(parse_range(bad).is_err(), "{bad} accepted");
+        }
         assert!(parse_vec3("1,nan,2").is_err());
         assert!(parse_light("dir:0,0,0").is_err());
     }

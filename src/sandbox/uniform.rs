@@ -126,6 +126,9 @@ pub struct VolumeUniform {
     pub no_data_above: f32,
     /// Rays per pixel side (n×n rays averaged per pixel).
     pub supersampling: u32,
+    /// Sum's range: sums from `sum_lo` to `sum_hi` are stretched over the table.
+    pub sum_lo: f32,
+    pub sum_hi: f32,
     /// The clip plane keeps `clip_normal·p ≤ clip_d`; a zero normal keeps all.
     pub clip_normal: Vec3,
     pub clip_d: f32,
@@ -238,6 +241,8 @@ impl VolumeUniform {
             no_data: (v.no_data_count() > 0) as u32,
             no_data_above: v.raw_value_range().1,
             supersampling: s.supersampling.max(1),
+            sum_lo: scene.sum_range.0,
+            sum_hi: scene.sum_range.1,
             clip_normal: scene.clip.normal,
             clip_d: scene.clip.d,
             lights,
@@ -388,6 +393,8 @@ mod tests {
             "no_data" => n(u.no_data),
             "no_data_above" => f(u.no_data_above),
             "supersampling" => n(u.supersampling),
+            "sum_lo" => f(u.sum_lo),
+            "sum_hi" => f(u.sum_hi),
             "clip_normal" => v3(u.clip_normal),
             "clip_d" => f(u.clip_d),
             "lights" => lights_bytes(&u.lights, light_layout()),
@@ -532,6 +539,8 @@ mod tests {
             no_data: 123,
             no_data_above: next(),
             supersampling: 124,
+            sum_lo: next(),
+            sum_hi: next(),
             clip_normal: Vec3::new(next(), next(), next()),
             clip_d: next(),
             lights: std::array::from_fn(|i| LightUniform {
@@ -551,7 +560,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 53, "members in the WGSL struct");
+        assert_eq!(members.len(), 55, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

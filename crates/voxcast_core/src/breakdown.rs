@@ -103,6 +103,25 @@ pub struct FirstHit {
     pub color: [f32; 3],
 }
 
+/// How Sum turned its samples into a table value.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SumDetail {
+    /// The length each sample stands for, in voxels (the step along this ray's direction).
+    pub ds_voxels: f32,
+    /// `Σ v` over the samples with a value.
+    pub values: f64,
+    /// `S = Σ v · Δs`.
+    pub sum: f32,
+    /// The sum range `[a, b]` stretched over the table.
+    pub range: [f32; 2],
+    /// The table's values `[lo, hi]`.
+    pub table: [f32; 2],
+    /// Where `S` falls in the range, clamped to `[0, 1]`.
+    pub fraction: f32,
+    /// The value looked up: `lo + (hi − lo)·fraction`.
+    pub table_value: f32,
+}
+
 /// The full breakdown of one ray.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RayTrace {
@@ -120,8 +139,10 @@ pub struct RayTrace {
     pub plan: Option<StepPlan>,
     pub samples: Vec<SampleRecord>,
     pub first_hit: Option<FirstHit>,
-    /// The value Average/Maximum/Minimum projected.
+    /// The value Average/Maximum/Minimum/Sum projected.
     pub projected_value: Option<f32>,
+    /// Sum's arithmetic, for Sum.
+    pub sum: Option<SumDetail>,
     pub stop: StopReason,
     /// Composited colour (premultiplied) and opacity.
     pub color: [f32; 3],
@@ -159,6 +180,7 @@ pub trait Recorder {
     fn plan(&mut self, _plan: &StepPlan) {}
     fn first_hit(&mut self, _hit: FirstHit) {}
     fn projected(&mut self, _value: f32) {}
+    fn sum(&mut self, _detail: SumDetail) {}
 }
 
 /// The renderer's recorder: records nothing.
@@ -177,6 +199,7 @@ pub(crate) struct Breakdown {
     pub(crate) samples: Vec<SampleRecord>,
     pub(crate) first_hit: Option<FirstHit>,
     pub(crate) projected: Option<f32>,
+    pub(crate) sum: Option<SumDetail>,
 }
 
 impl Recorder for Breakdown {
@@ -192,6 +215,9 @@ impl Recorder for Breakdown {
     }
     fn projected(&mut self, value: f32) {
         self.projected = Some(value);
+    }
+    fn sum(&mut self, detail: SumDetail) {
+        self.sum = Some(detail);
     }
 }
 

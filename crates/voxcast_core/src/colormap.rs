@@ -7,7 +7,37 @@
 //! matplotlib's `ListedColormap` does: `x` in `[0, 1]` picks entry `⌊256·x⌋` (the last for
 //! `x = 1`), without blending neighbours.
 
+use crate::transfer::{ControlPoint, TransferFunction};
 use glam::Vec3;
+
+/// The name of [`inferno_transfer`]'s transfer function (the sandbox's preset menu and `--tf`).
+pub const INFERNO_PRESET: &str = "inferno";
+
+/// What the inferno preset is for, in words (its tooltip).
+pub const INFERNO_DOC: &str = "Inferno, matplotlib's perceptually uniform colour map, over the \
+    volume's whole value range, with opacity rising from 0 at the lowest value to 1 at the \
+    highest: low values let the scene behind show through. Made for Sum and ray densities \
+    (RayVis's view).";
+
+/// matplotlib's inferno as a transfer function over `[lo, hi]` (a range of width 1 when
+/// `hi ≤ lo`): entry `i` covers `[lo + i·w/256, lo + (i+1)·w/256)` exactly, as [`inferno`] maps
+/// — two control points at each bin's ends, the upper bin's first at an edge, so the colour
+/// steps where matplotlib's does — and opacity rises linearly from 0 at `lo` to 1 at `hi`.
+pub fn inferno_transfer(lo: f32, hi: f32) -> TransferFunction {
+    let hi = if hi > lo { hi } else { lo + 1.0 };
+    let n = INFERNO.len();
+    let at = |i: usize| lo + (hi - lo) * (i as f32 / n as f32);
+    let points = (0..n)
+        .flat_map(|i| {
+            let (a, b) = (i as f32 / n as f32, (i + 1) as f32 / n as f32);
+            [
+                ControlPoint::new(at(i), INFERNO[i], a),
+                ControlPoint::new(if i + 1 == n { hi } else { at(i + 1) }, INFERNO[i], b),
+            ]
+        })
+        .collect();
+    TransferFunction::new(INFERNO_PRESET, points).expect("inferno's entries lie in [0, 1]")
+}
 
 /// Looks `x` up in inferno: `x ≤ 0` (and NaN) is the first entry, `x ≥ 1` the last.
 pub fn inferno(x: f32) -> Vec3 {
@@ -295,6 +325,33 @@ mod tests {
         // Entry 128 covers [0.5, 0.50390625): matplotlib's int(x·N).
         assert_eq!(inferno(0.5), Vec3::from_array(INFERNO[128]));
         assert_eq!(inferno(0.5 - 1e-4), Vec3::from_array(INFERNO[127]));
+    }
+
+    #[test]
+    fn the_transfer_function_steps_where_matplotlib_does() {
+        for (lo, hi) in [(0.0f32, 1.0f32), (-50.0, 1950.0), (3.0, 3.0)] {
+            let tf = inferno_transfer(lo, hi);
+            let w = if hi > lo { hi - lo } else { 1.0 };
+            for k in 0..=1000 {
+                let x = k as f32 / 1000.0;
+                let v = lo + w * x;
+                let c = tf.evaluate(v);
+                // Away from a bin's edge (where f32 rounding may pick either side), the colour
+                // is the entry matplotlib picks, exactly.
+                let edge = (x * 256.0 - (x * 256.0).round()).abs() < 1e-3;
+                if !edge {
+                    assert_eq!(
+                        c.truncate(),
+                        inferno((v - lo) / w),
+                        "x = {x}, range {lo}..{hi}"
+                    );
+                }
+                assert!((c.w - x).abs() < 1e-4, "opacity at x = {x}: {}", c.w);
+            }
+            assert_eq!(tf.evaluate(lo - 1.0).w, 0.0);
+            assert_eq!(tf.evaluate(hi + w).w, 1.0);
+            assert_eq!(tf.points().len(), 512);
+        }
     }
 
     /// A typo in the table shows as a dip in lightness or a jump: inferno's lightness rises

@@ -25,6 +25,12 @@
 //!   is then `(1 − α)^(L/Δs_ref) = e^(−σL)`, `σ = −ln(1 − α)/Δs_ref`: Beer–Lambert, whatever the step.
 //! * **Average / Maximum / Minimum** (lecture "Projection schemes"): the mean, largest or
 //!   smallest interpolated value of the samples inside the volume, then the transfer function.
+//! * **Sum** (RayVis's density volume, seed 002 Listing A.3): `S = Σ v_n·Δs`, every sample's
+//!   value times the length it stands for, in voxels (so a ray crossing `n` voxels of value
+//!   `v` sums to about `n·v`, whatever the step): additive, like an X-ray that is never
+//!   normalised. `S` is clamped to a user range `[a, b]` ([`sum_to_value`]) and that range is
+//!   stretched over the transfer function's table, which spans the volume's values: `S = a`
+//!   looks up the lowest value, `S = b` the highest. With the inferno preset this is RayVis's view of ray counts.
 //! * **First** (the lecture's "distance to first voxel (of value at or above the given value)",
 //!   seed 000's First): the first sample whose interpolated value is at or above the target
 //!   ([`reaches`]). When it is the ray's first sample the ray hits where it enters the volume;
@@ -56,15 +62,18 @@ pub enum Method {
     Maximum,
     /// The transfer function of the smallest value (minimum intensity projection).
     Minimum,
+    /// The transfer function of the sum of value × length along the ray, over a user range.
+    Sum,
 }
 
 impl Method {
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
         Method::Accumulate,
         Method::First,
         Method::Average,
         Method::Maximum,
         Method::Minimum,
+        Method::Sum,
     ];
 
     /// The GPU's integer code (Rust owns it; the shader receives it as a uniform).
@@ -75,6 +84,7 @@ impl Method {
             Method::Average => 2,
             Method::Maximum => 3,
             Method::Minimum => 4,
+            Method::Sum => 5,
         }
     }
 
@@ -85,6 +95,7 @@ impl Method {
             Method::Average => "average",
             Method::Maximum => "maximum",
             Method::Minimum => "minimum",
+            Method::Sum => "sum",
         }
     }
 
@@ -112,6 +123,11 @@ impl Method {
                 "Minimum: the transfer function of the smallest value along the ray (minimum \
                  intensity projection): dark cavities show through."
             }
+            Method::Sum => {
+                "Sum: the value times the length each sample stands for (in voxels), added up \
+                 along the ray — RayVis's ray-density view — then stretched from the sum range \
+                 over the transfer function: S = Σ v_n·Δs."
+            }
         }
     }
 
@@ -122,10 +138,18 @@ impl Method {
             Method::Accumulate => Ok(()),
             Method::First => Err("First stops at the first value at or above the target and \
                                    shows its colour: no opacities are composited"),
-            Method::Average | Method::Maximum | Method::Minimum => Err(
-                "Average, Maximum and Minimum project one value per ray and look it up in the \
-                 transfer function: no opacities are composited",
+            Method::Average | Method::Maximum | Method::Minimum | Method::Sum => Err(
+                "Average, Maximum, Minimum and Sum project one value per ray and look it up in \
+                 the transfer function: no opacities are composited",
             ),
+        }
+    }
+
+    /// Whether the method uses the sum range; `Err` says why not.
+    pub const fn uses_sum_range(self) -> Result<(), &'static str> {
+        match self {
+            Method::Sum => Ok(()),
+            _ => Err("Only Sum adds values up and stretches a range over the transfer function"),
         }
     }
 
@@ -141,8 +165,8 @@ impl Method {
     pub const fn uses_shading(self) -> Result<(), &'static str> {
         match self {
             Method::Accumulate | Method::First => Ok(()),
-            Method::Average | Method::Maximum | Method::Minimum => Err(
-                "Average, Maximum and Minimum show the transfer function's colour of the \
+            Method::Average | Method::Maximum | Method::Minimum | Method::Sum => Err(
+                "Average, Maximum, Minimum and Sum show the transfer function's colour of the \
                  projected value, unshaded",
             ),
         }
@@ -251,7 +275,16 @@ pub fn crossing_fraction(prev: f32, cur: f32, target: f32) -> f32 {
     ((target - prev) / d).clamp(0.0, 1.0)
 }
 
-/// Running statistics of values along a ray, for Average, Maximum and Minimum.
+/// Sum's table position: the sum `s` clamped to `[a, b]` and stretched over the table's
+/// values `[lo, hi]`: `lo + (hi − lo)·clamp((s − a)/(b − a), 0, 1)`. `a < b` (the settings
+/// check it); NaN maps to `lo`.
+#[inline(always)]
+pub fn sum_to_value(s: f32, (a, b): (f32, f32), (lo, hi): (f32, f32)) -> f32 {
+    let x = crate::minmax::fmin(crate::minmax::fmax((s - a) / (b - a), 0.0), 1.0);
+    lo + (hi - lo) * x
+}
+
+/// Running statistics of values along a ray, for Average, Maximum, Minimum and Sum.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ValueStats {
     pub count: u32,
@@ -288,8 +321,9 @@ impl ValueStats {
         (self.count > 0).then(|| (self.sum / self.count as f64) as f32)
     }
 
-    /// The value `method` projects (`None` for Accumulate/First or before any sample).
-    pub fn projected(&self, method: Method) -> Option<f32> {
+    /// The value `method` projects (`None` for Accumulate/First or before any sample); for
+    /// Sum, `ds` is the length each sample stands for, in voxels.
+    pub fn projected(&self, method: Method, ds: f32) -> Option<f32> {
         if self.count == 0 {
             return None;
         }
@@ -297,6 +331,7 @@ impl ValueStats {
             Method::Average => self.mean(),
             Method::Maximum => Some(self.max),
             Method::Minimum => Some(self.min),
+            Method::Sum => Some((self.sum * ds as f64) as f32),
             Method::Accumulate | Method::First => None,
         }
     }
@@ -375,13 +410,33 @@ mod tests {
     #[test]
     fn stats_project() {
         let mut s = ValueStats::default();
-        assert_eq!(s.projected(Method::Average), None);
+        assert_eq!(s.projected(Method::Average, 1.0), None);
+        assert_eq!(s.projected(Method::Sum, 1.0), None);
         for v in [1.0, 5.0, 3.0] {
             s.add(v);
         }
-        assert_eq!(s.projected(Method::Average), Some(3.0));
-        assert_eq!(s.projected(Method::Maximum), Some(5.0));
-        assert_eq!(s.projected(Method::Minimum), Some(1.0));
+        assert_eq!(s.projected(Method::Average, 1.0), Some(3.0));
+        assert_eq!(s.projected(Method::Maximum, 1.0), Some(5.0));
+        assert_eq!(s.projected(Method::Minimum, 1.0), Some(1.0));
+        assert_eq!(s.projected(Method::Sum, 0.5), Some(4.5));
+        assert_eq!(s.projected(Method::Accumulate, 1.0), None);
         assert_eq!(Method::parse("MIP"), Some(Method::Maximum));
+        assert_eq!(Method::parse("Sum"), Some(Method::Sum));
+    }
+
+    #[test]
+    fn sum_stretches_its_range_over_the_table() {
+        let (range, table) = ((10.0, 30.0), (-1.0, 3.0));
+        assert_eq!(sum_to_value(10.0, range, table), -1.0);
+        assert_eq!(sum_to_value(30.0, range, table), 3.0);
+        assert_eq!(sum_to_value(20.0, range, table), 1.0);
+        assert_eq!(sum_to_value(-5.0, range, table), -1.0, "clamped below");
+        assert_eq!(sum_to_value(1e30, range, table), 3.0, "clamped above");
+        assert_eq!(sum_to_value(f32::INFINITY, range, table), 3.0);
+        assert_eq!(sum_to_value(f32::NAN, range, table), -1.0);
+        for (i, m) in Method::ALL.iter().enumerate() {
+            assert_eq!(m.code() as usize, i, "codes are the positions in ALL");
+            assert_eq!(m.uses_sum_range().is_ok(), *m == Method::Sum);
+        }
     }
 }

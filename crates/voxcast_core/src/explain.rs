@@ -96,6 +96,43 @@ pub fn formula(t: &RayTrace, k: Option<usize>) -> String {
             }
             text
         }
+        Method::Sum => {
+            let mut text = format!(
+                "Sum: S = Σv·Δs, Δs the length a sample stands for in voxels; sample {} has v = {}",
+                s.index,
+                sig(s.reconstruction.value)
+            );
+            if let Some(st) = s.stats_after {
+                text.push_str(&format!(
+                    "\nafter {} samples: Σv = {}",
+                    st.count,
+                    sig64(st.sum)
+                ));
+            }
+            if let Some(d) = t.sum {
+                let [a, b] = d.range;
+                let [lo, hi] = d.table;
+                text.push_str(&format!(
+                    "\nS = {}·{} = {}\n                     where S falls in the sum range: (S − a)/(b − a) = ({} − {})/({} − {}),                      kept within 0 and 1: {}\n                     table value = lo + (hi − lo)·fraction = {} + ({} − {})·{} = {}\n                     its colour: C = colour·opacity = {}, O = {}",
+                    sig64(d.values),
+                    sig(d.ds_voxels),
+                    sig(d.sum),
+                    sig(d.sum),
+                    sig(a),
+                    sig(b),
+                    sig(a),
+                    sig(d.fraction),
+                    sig(lo),
+                    sig(hi),
+                    sig(lo),
+                    sig(d.fraction),
+                    sig(d.table_value),
+                    sig3(t.color),
+                    sig(t.opacity)
+                ));
+            }
+            text
+        }
         Method::First => match &t.first_hit {
             Some(h) => {
                 let steps: Vec<String> = h

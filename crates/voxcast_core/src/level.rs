@@ -88,6 +88,7 @@ pub enum Control {
     OpacityCorrection,
     EarlyTermination,
     Target,
+    SumRange,
     Shading,
     Classification,
     TransferFunction,
@@ -114,6 +115,7 @@ impl Control {
             | Control::OpacityCorrection
             | Control::EarlyTermination
             | Control::Target
+            | Control::SumRange
             | Control::Order
             | Control::Jitter
             | Control::Interpolation

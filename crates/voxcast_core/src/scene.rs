@@ -29,6 +29,8 @@ pub struct Scene<'a> {
     pub dt_ref: f32,
     /// First-hit target value, data units.
     pub target: f32,
+    /// Sum's range (value × voxels), resolved ([`RenderSettings::sum_range`]).
+    pub sum_range: (f32, f32),
     pub bounds: (Vec3, Vec3),
     /// The crop box and clip plane in world units ([`crate::clip`]).
     pub clip: ResolvedClip,
@@ -38,6 +40,20 @@ pub struct Scene<'a> {
     pub block_skipping: bool,
     /// Precomputed lattice differences, when gradients are needed and they exist.
     pub differences: Option<&'a [crate::sample::Differences]>,
+}
+
+/// Sum's default range: from 0 to twice what a ray along the longest side gathers through
+/// data of the volume's mean value, `2·mean·side` (side in voxels) — so an average ray lands
+/// near the middle of the transfer function (ends swapped for a negative mean; `(0, 1)` when
+/// the mean is 0).
+pub fn default_sum_range(volume: &Volume) -> (f32, f32) {
+    let side = (volume.dims().max_element().max(2) - 1) as f32;
+    let top = 2.0 * volume.mean_value() * side;
+    if !top.is_finite() || top == 0.0 {
+        (0.0, 1.0)
+    } else {
+        (top.min(0.0), top.max(0.0))
+    }
 }
 
 impl<'a> Scene<'a> {
@@ -91,6 +107,9 @@ impl<'a> Scene<'a> {
             dt: settings.step.world(voxel),
             dt_ref: settings.reference_step.world(voxel),
             target: settings.target.unwrap_or(0.5 * (lo + hi)),
+            sum_range: settings
+                .sum_range
+                .unwrap_or_else(|| default_sum_range(volume)),
             bounds: volume.bounds(),
             clip: settings.clip.resolve(volume.bounds()),
             lut,

@@ -40,6 +40,8 @@ pub struct RenderSettings {
     pub jitter_seed: u32,
     /// [`t::TARGET`]; `None` is the middle of the volume's value range.
     pub target: Option<f32>,
+    /// [`t::SUM_RANGE`]; `None` is [`crate::scene::default_sum_range`].
+    pub sum_range: Option<(f32, f32)>,
     /// [`t::REFINE_STEPS`].
     pub refine_steps: u32,
     /// [`t::MAX_SAMPLES`].
@@ -73,6 +75,7 @@ impl Default for RenderSettings {
             jitter: t::JITTER.default != 0.0,
             jitter_seed: 0,
             target: None,
+            sum_range: None,
             refine_steps: t::REFINE_STEPS.default as u32,
             max_samples: t::MAX_SAMPLES.default as u32,
             supersampling: t::SUPERSAMPLING.default as u32,
@@ -145,6 +148,16 @@ impl RenderSettings {
         check(&t::CUTOFF, self.cutoff)?;
         if let Some(target) = self.target {
             check(&t::TARGET, target)?;
+        }
+        if let Some((a, b)) = self.sum_range {
+            check(&t::SUM_RANGE, a)?;
+            check(&t::SUM_RANGE, b)?;
+            if a >= b {
+                return Err(SettingsError::Invalid(format!(
+                    "{}: the low end ({a}) must lie below the high end ({b})",
+                    t::SUM_RANGE.key
+                )));
+            }
         }
         check(&t::REFINE_STEPS, self.refine_steps as f32)?;
         check(&t::MAX_SAMPLES, self.max_samples as f32)?;

@@ -14,7 +14,7 @@ use crate::classify::Classifier;
 use crate::clip::clip_interval;
 use crate::composite::{
     Method, Order, ValueStats, accumulate_back_to_front, accumulate_front_to_back,
-    blend_background, correct_opacity, crossing_fraction, reaches,
+    blend_background, correct_opacity, crossing_fraction, reaches, sum_to_value,
 };
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
@@ -29,7 +29,7 @@ use serde::Serialize;
 
 use crate::breakdown::Breakdown;
 pub use crate::breakdown::{
-    FirstHit, NoRecord, RayTrace, Recorder, RefineStep, SampleRecord, StopReason,
+    FirstHit, NoRecord, RayTrace, Recorder, RefineStep, SampleRecord, StopReason, SumDetail,
 };
 pub use crate::scene::Scene;
 
@@ -102,6 +102,7 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
         samples: rec.samples,
         first_hit: rec.first_hit,
         projected_value: rec.projected,
+        sum: rec.sum,
         stop: out.stop,
         color: out.color.to_array(),
         opacity: out.opacity,
@@ -260,7 +261,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut out = match set.method {
             Method::Accumulate => self.accumulate(ray, &plan, o_v, d_v, rec),
             Method::First => self.first(ray, &plan, o_v, d_v, rec),
-            Method::Average | Method::Maximum | Method::Minimum => {
+            Method::Average | Method::Maximum | Method::Minimum | Method::Sum => {
                 self.project(&plan, o_v, d_v, rec)
             }
         };
@@ -426,7 +427,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 }
             }
         }
-        let Some(value) = stats.projected(method) else {
+        let ds = self.s.dt * d_v.length();
+        let Some(value) = stats.projected(method, ds) else {
             return RayOutcome {
                 samples: 0,
                 stop: StopReason::LeftVolume,
@@ -436,7 +438,25 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         if R::ACTIVE {
             rec.projected(value);
         }
-        let rgba = self.s.lut.lookup(value);
+        let lut = &self.s.lut;
+        let rgba = if method == Method::Sum {
+            let (a, b) = self.s.sum_range;
+            let table_value = sum_to_value(value, (a, b), (lut.lo, lut.hi));
+            if R::ACTIVE {
+                rec.sum(SumDetail {
+                    ds_voxels: ds,
+                    values: stats.sum,
+                    sum: value,
+                    range: [a, b],
+                    table: [lut.lo, lut.hi],
+                    fraction: sum_to_value(value, (a, b), (0.0, 1.0)),
+                    table_value,
+                });
+            }
+            lut.lookup(table_value)
+        } else {
+            lut.lookup(value)
+        };
         RayOutcome {
             color: rgba.truncate() * rgba.w,
             opacity: rgba.w,

@@ -113,6 +113,19 @@ pub const TARGET: Tunable = Tunable {
     max: 3.4e38,
 };
 
+pub const SUM_RANGE: Tunable = Tunable {
+    key: "sum-range",
+    label: "Sum range",
+    doc: "Sum: the sums (value × voxels of path) stretched over the transfer function, from \
+          the low end (the table's lowest value) to the high end (its highest); sums outside \
+          are clamped. Narrow it to see faint rays, widen it to see the densest ones apart. \
+          Default: from 0 to twice what a ray along the longest side gathers through data of \
+          the volume's mean value, so an average ray lands near the middle.",
+    default: 0.0,
+    min: -3.4e38,
+    max: 3.4e38,
+};
+
 pub const REFINE_STEPS: Tunable = Tunable {
     key: "refine-steps",
     label: "Refinement steps (First)",
@@ -411,6 +424,7 @@ pub const ALL: &[Tunable] = &[
     CUTOFF,
     JITTER,
     TARGET,
+    SUM_RANGE,
     REFINE_STEPS,
     MAX_SAMPLES,
     SUPERSAMPLING,

@@ -226,6 +226,8 @@ pub struct Volume {
     blocks: std::sync::OnceLock<crate::skip::BlockRanges>,
     /// Lattice differences for fast exact gradients, computed on first use where they fit.
     differences: std::sync::OnceLock<Option<Vec<crate::sample::Differences>>>,
+    /// The mean raw value over the voxels with data, computed on first use.
+    raw_mean: std::sync::OnceLock<f64>,
 }
 
 impl PartialEq for Volume {
@@ -293,6 +295,7 @@ impl Volume {
             no_data,
             blocks: std::sync::OnceLock::new(),
             differences: std::sync::OnceLock::new(),
+            raw_mean: std::sync::OnceLock::new(),
         })
     }
 
@@ -329,6 +332,32 @@ impl Volume {
             self.raw.1 * self.slope + self.intercept,
         );
         (a.min(b), a.max(b))
+    }
+
+    /// The mean value in data units over the voxels that hold data (0 when none does),
+    /// computed on first use (one pass over the data) and kept.
+    pub fn mean_value(&self) -> f32 {
+        fn mean<T: Voxel>(v: &[T]) -> f64 {
+            let (sum, n) = v.iter().fold((0.0f64, 0u64), |(s, n), x| {
+                let x = x.to_f32();
+                if x.is_finite() {
+                    (s + x as f64, n + 1)
+                } else {
+                    (s, n)
+                }
+            });
+            if n == 0 { 0.0 } else { sum / n as f64 }
+        }
+        let raw = *self.raw_mean.get_or_init(|| match &self.data {
+            VoxelData::U8(v) => mean(v),
+            VoxelData::I16(v) => mean(v),
+            VoxelData::U16(v) => mean(v),
+            VoxelData::F32(v) => mean(v),
+        });
+        if self.data.is_empty() || self.no_data == self.data.len() as u64 {
+            return 0.0;
+        }
+        (raw * self.slope as f64 + self.intercept as f64) as f32
     }
 
     /// (min, max) of the stored values that are data, before the rescale ((0, 0) when none).

@@ -327,3 +327,98 @@ fn lecture_worked_example() {
     close(t.color[0], c as f32, 1e-4, "composited colour");
     close(t.opacity, o as f32, 1e-4, "composited opacity");
 }
+
+/// Sum of a constant volume is the value times the path length in voxels, whatever the step
+/// and the spacing (each sample stands for one step of path); of the ramp f = x along +x it is
+/// the integral x²/2 by the midpoint rule. The colour is the table's at the stretched value.
+#[test]
+fn sum_is_value_times_path_in_voxels() {
+    let c = 3.0f32;
+    for spacing in [Vec3::ONE, Vec3::new(2.0, 0.5, 1.0)] {
+        let v = field([21, 9, 5], spacing, |_| c);
+        // The table spans the volume's values: [c, c + 1] for a constant volume.
+        let tf = grey(c, c + 1.0, 1.0);
+        for (origin, dir) in [
+            (Vec3::new(-3.0, 2.0, 2.0), Vec3::X),
+            (Vec3::new(5.0, -3.0, 1.0), Vec3::Y),
+            (Vec3::new(-5.0, -4.0, -3.0), Vec3::new(1.0, 0.9, 0.8)),
+        ] {
+            for dt in [1.0f32, 0.5, 0.3, 0.01, 2.5] {
+                let mut s = plain(dt);
+                s.method = Method::Sum;
+                s.sum_range = Some((0.0, 100.0));
+                let t = trace(&v, &tf, &s, origin, dir);
+                let [a, b] = t.interval.unwrap();
+                let path_voxels = (dir.normalize() * (b - a) / spacing).length();
+                let d = t.sum.expect("Sum records its arithmetic");
+                let n = t.samples.len() as f32;
+                close(d.sum, c * n * d.ds_voxels, 1e-3 * d.sum, "S = Σv·Δs");
+                // The samples cover the path to within one step.
+                assert!(
+                    (d.sum - c * path_voxels).abs() <= c * d.ds_voxels * 1.0001,
+                    "spacing {spacing}, dt {dt}, dir {dir}: S = {} for {path_voxels} voxels",
+                    d.sum
+                );
+                // A constant table: the stretched value is the range's fraction, grey by it.
+                close(d.fraction, (d.sum / 100.0).min(1.0), 1e-6, "fraction");
+                close(t.color[0], d.fraction, 1e-3, "grey at the fraction");
+            }
+        }
+    }
+    // The ramp f = x along +x through [0, 32]: ∫ x dx = 512 (midpoint samples are exact for a
+    // linear function when the samples tile the path).
+    let ramp = field([33, 3, 3], Vec3::ONE, |p| p.x);
+    let mut s = plain(0.5);
+    s.method = Method::Sum;
+    let t = trace(
+        &ramp,
+        &grey(0.0, 32.0, 1.0),
+        &s,
+        Vec3::new(-1.0, 1.0, 1.0),
+        Vec3::X,
+    );
+    let d = t.sum.unwrap();
+    assert!(
+        (d.sum - 512.0).abs() <= 32.0 * 0.5,
+        "∫x dx = 512, S = {}",
+        d.sum
+    );
+    // Default range: 0 to twice the mean value (16) times the longest side (32 voxels).
+    assert_eq!(d.range, [0.0, 1024.0]);
+    let negative = field([5, 2, 2], Vec3::ONE, |p| -p.x);
+    assert_eq!(
+        voxcast_core::scene::default_sum_range(&negative),
+        (-16.0, 0.0),
+        "mean −2, side 4"
+    );
+    assert_eq!(
+        voxcast_core::scene::default_sum_range(&constant([3, 3, 3], 0.0)),
+        (0.0, 1.0)
+    );
+}
+
+/// Sum clamps outside its range and refuses an empty or reversed one.
+#[test]
+fn sum_range_clamps_and_is_checked() {
+    let v = constant([9, 9, 9], 10.0);
+    let tf = grey(10.0, 11.0, 1.0);
+    let mut s = plain(0.5);
+    s.method = Method::Sum;
+    s.sum_range = Some((1000.0, 2000.0)); // far above the ~80 the ray gathers
+    let t = trace(&v, &tf, &s, Vec3::new(-1.0, 4.0, 4.0), Vec3::X);
+    assert_eq!(t.sum.unwrap().fraction, 0.0);
+    assert_eq!(t.color, [0.0; 3]);
+    s.sum_range = Some((0.0, 1.0)); // far below
+    let t = trace(&v, &tf, &s, Vec3::new(-1.0, 4.0, 4.0), Vec3::X);
+    assert_eq!(t.sum.unwrap().fraction, 1.0);
+    close(t.color[0], 1.0, 1e-6, "white at the top");
+    for bad in [
+        (1.0, 1.0),
+        (2.0, 1.0),
+        (f32::NAN, 1.0),
+        (0.0, f32::INFINITY),
+    ] {
+        s.sum_range = Some(bad);
+        assert!(s.validate().is_err(), "{bad:?} accepted");
+    }
+}

@@ -63,8 +63,9 @@ fn every_printed_equation_adds_up() {
                     let t = trace(&volume, &tf, &settings, origin, dir);
                     let minimum = match method {
                         Method::Accumulate => 3,                                  // C, O, the pixel
+                        Method::Sum => 3, // S, the table value, the pixel
                         Method::Average | Method::Maximum | Method::Minimum => 2, // mean, pixel
-                        Method::First => 1,                                       // the pixel
+                        Method::First => 1, // the pixel
                     };
                     for k in (0..t.samples.len()).map(Some).chain([None]) {
                         let text = formula(&t, k);

@@ -22,6 +22,7 @@ fn control_name(c: Control) -> String {
         Control::OpacityCorrection => "Opacity correction",
         Control::EarlyTermination => "Early ray termination",
         Control::Target => "Target value (First)",
+        Control::SumRange => "Sum range",
         Control::Shading => "Shading",
         Control::Classification => "Classification",
         Control::TransferFunction => "the editor",

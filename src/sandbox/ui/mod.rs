@@ -327,6 +327,48 @@ fn ray_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeState, 
             s.target = Some(target);
         }
     });
+    applies(ui, s.method.uses_sum_range(), |ui| {
+        marked(ui, spot, Control::SumRange, |ui| {
+            sum_range(ui, &mut s.sum_range, &volume.volume)
+        });
+    });
+}
+
+/// Sum's range: two ends, each on a logarithmic slider up to four times the default top (the
+/// most a ray along the longest side can gather); the low end stays below the high end.
+fn sum_range(
+    ui: &mut egui::Ui,
+    range: &mut Option<(f32, f32)>,
+    volume: &voxcast_core::Volume,
+) -> egui::Response {
+    let default = voxcast_core::scene::default_sum_range(volume);
+    let (mut a, mut b) = range.unwrap_or(default);
+    let top = 4.0 * default.1.max(b);
+    let tiny = top * 1e-6;
+    ui.vertical(|ui| {
+        ui.label(t::SUM_RANGE.label).on_hover_text(t::SUM_RANGE.doc);
+        let high = ui
+            .add(
+                egui::Slider::new(&mut b, tiny..=top)
+                    .logarithmic(true)
+                    .text("high end"),
+            )
+            .on_hover_text(t::SUM_RANGE.doc);
+        let (floor, log) = (0.0f32.min(a), a >= 0.0);
+        let low = ui
+            .add(
+                egui::Slider::new(&mut a, floor..=b - tiny)
+                    .logarithmic(log)
+                    .text("low end"),
+            )
+            .on_hover_text(t::SUM_RANGE.doc);
+        if high.changed() || low.changed() {
+            a = a.min(b - tiny);
+            *range = Some((a, b));
+        }
+        high | low
+    })
+    .inner
 }
 
 /// Draws `add` enabled when `why_not` is `Ok`, else greyed out with the reason as tooltip.
@@ -357,11 +399,21 @@ fn shading_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeSta
     });
 }
 
-/// The presets: each sets the transfer function and the settings it was made for.
-fn preset_menu(ui: &mut egui::Ui, edited: &mut RenderState) {
+/// The presets: each sets the transfer function and the settings it was made for; inferno is
+/// spread over the loaded volume's values.
+fn preset_menu(ui: &mut egui::Ui, edited: &mut RenderState, volume: &voxcast_core::Volume) {
+    use voxcast_core::colormap::{INFERNO_DOC, INFERNO_PRESET, inferno_transfer};
     egui::ComboBox::from_label("Preset")
         .selected_text(edited.transfer.name.clone())
         .show_ui(ui, |ui| {
+            if ui
+                .selectable_label(false, INFERNO_PRESET)
+                .on_hover_text(INFERNO_DOC)
+                .clicked()
+            {
+                let (lo, hi) = volume.value_range();
+                edited.transfer = inferno_transfer(lo, hi);
+            }
             for pr in preset::all() {
                 if ui
                     .selectable_label(false, &pr.name)
@@ -639,7 +691,7 @@ fn settings_panel(
                             shading_section(ui, &mut edited.settings, &volume, spot)
                         });
                         section(ui, Section::TransferFunction, true, guide, |ui| {
-                            preset_menu(ui, &mut edited);
+                            preset_menu(ui, &mut edited, &volume.volume);
                             panel.editor.show(
                                 ui,
                                 &mut edited.transfer,
@@ -762,7 +814,7 @@ mod tests {
                 dataset_section(ui, &mut panel, &volume, &mut loading);
                 ray_section(ui, &mut s, &volume, None);
                 shading_section(ui, &mut s, &volume, None);
-                preset_menu(ui, &mut edited);
+                preset_menu(ui, &mut edited, &volume.volume);
                 panel
                     .editor
                     .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
