@@ -514,3 +514,72 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
         text(&o)
     );
 }
+
+/// `voxcast rays render`: the Cornell box's shadow-ray density over the box, as a PNG whose
+/// pixels show inferno where the rays are dense and the grey box elsewhere; hiding the scene
+/// leaves the density alone on black; bad values fail before any work.
+#[test]
+fn rays_render_draws_the_density_over_the_scene() {
+    let png = out_dir().join("cornell_density.png");
+    let render = |extra: &[&str]| {
+        let mut args = vec![
+            "rays",
+            "render",
+            "builtin:cornell",
+            "--trace",
+            "1",
+            "--cell",
+            "20",
+            "--size",
+            "96x96",
+            "--out",
+            png.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let o = voxcast(&args);
+        assert!(o.status.success(), "{extra:?}: {}", text(&o));
+        assert!(text(&o).contains("rendered 96×96"), "{}", text(&o));
+        image::open(&png).unwrap().to_rgb8()
+    };
+    let is_grey = |p: &&image::Rgb<u8>| p[0] == p[1] && p[1] == p[2] && p[0] > 20;
+    let is_warm = |p: &&image::Rgb<u8>| p[0] > 100 && p[0] as u32 > p[2] as u32 + 40;
+    // The fitted range: inferno's reds and yellows over most of the picture.
+    let over = render(&[]);
+    let warm = over.pixels().filter(is_warm).count();
+    assert!(warm > 96 * 96 / 4, "inferno shows: {warm} warm pixels");
+    // A range far above every sum: the density is transparent and the grey box shows.
+    let faint = render(&["--sum-range", "0,1e9"]);
+    let grey = faint.pixels().filter(is_grey).count();
+    assert!(grey > 96 * 96 / 2, "the grey box shows: {grey} grey pixels");
+    let alone = render(&["--sum-range", "0,1e9", "--scene", "hidden"]);
+    assert_eq!(alone.pixels().filter(is_grey).count(), 0, "hidden: no box");
+    // A narrower range saturates more pixels to inferno's top.
+    let bright = |img: &image::RgbImage| img.pixels().filter(|p| p[0] > 240 && p[1] > 240).count();
+    let narrow = render(&["--sum-range", "0,10"]);
+    assert!(
+        bright(&narrow) > bright(&over),
+        "{} vs {}",
+        bright(&narrow),
+        bright(&over)
+    );
+    for (args, words) in [
+        (vec!["--samples-per-cell", "0"], "--samples-per-cell 0"),
+        (vec!["--sum-range", "5,1"], "the low one first"),
+        (vec!["--camera", "eye=0,0,0"], "target"),
+        (vec!["--scene", "shiny"], "shiny"),
+    ] {
+        let mut all = vec![
+            "rays",
+            "render",
+            "builtin:cornell",
+            "--cell",
+            "20",
+            "--out",
+            png.to_str().unwrap(),
+        ];
+        all.extend(args);
+        let o = voxcast(&all);
+        assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+        assert!(text(&o).contains(words), "{words} in {}", text(&o));
+    }
+}

@@ -7,6 +7,7 @@ pub mod knobs;
 pub mod plot;
 pub mod progress;
 pub mod rays;
+pub mod rays_render;
 pub mod render;
 pub mod trace;
 

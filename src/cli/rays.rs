@@ -1,5 +1,6 @@
-//! `voxcast rays`: ray data sets as RayVis views them — what a set holds (`info`) and its
-//! density over a grid of cells, written as NRRD volumes (`density`).
+//! `voxcast rays`: ray data sets as RayVis views them — what a set holds (`info`), its
+//! density over a grid of cells, written as NRRD volumes (`density`), drawn over the scene
+//! (`render`, in `rays_render.rs`), and the set as a `.rayvis` file (`export`).
 
 use super::CliError;
 use super::progress::Progress;
@@ -28,6 +29,10 @@ pub enum RaysCommand {
     Density(DensityArgs),
     /// Write the ray data as a .rayvis file (an RDF container RayVis reads).
     Export(ExportArgs),
+    /// The density over the scene as a PNG, as the sandbox shows it: each pixel's ray sums the
+    /// rays per cell it passes (Sum), stopped where it meets the scene, coloured by inferno
+    /// and laid over the scene.
+    Render(RenderArgs),
 }
 
 #[derive(Args, Debug)]
@@ -58,10 +63,9 @@ pub struct InfoArgs {
     pub source: SourceArg,
 }
 
+/// Which rays are counted, and the grid of cells they are counted in.
 #[derive(Args, Debug)]
-pub struct DensityArgs {
-    #[command(flatten)]
-    pub source: SourceArg,
+pub struct GridArgs {
     /// Count only this trace (see `voxcast rays info`); every trace when left out.
     #[arg(long, value_name = "ID")]
     pub trace: Option<u32>,
@@ -74,6 +78,14 @@ pub struct DensityArgs {
     /// Cells per chunk edge N: only chunks a counted ray passes through are stored.
     #[arg(long, value_name = "N", default_value_t = 16)]
     pub chunk: u32,
+}
+
+#[derive(Args, Debug)]
+pub struct DensityArgs {
+    #[command(flatten)]
+    pub source: SourceArg,
+    #[command(flatten)]
+    pub grid: GridArgs,
     /// Where to write the counts (a float NRRD volume over the stored chunks' box).
     #[arg(long, value_name = "COUNTS.nrrd")]
     pub out: PathBuf,
@@ -81,6 +93,37 @@ pub struct DensityArgs {
     /// passed).
     #[arg(long, value_name = "DIRS.nrrd")]
     pub directions: Option<PathBuf>,
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub source: SourceArg,
+    #[command(flatten)]
+    pub grid: GridArgs,
+    /// Image size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "512x512", value_parser = super::args::parse_size)]
+    pub size: (u32, u32),
+    /// eye=X,Y,Z,target=X,Y,Z,up=X,Y,Z,fov=DEG[,ortho=HEIGHT] in world units. Default: the
+    /// Cornell box's own camera for builtin:cornell, else the scene seen from the front.
+    #[arg(long, value_name = "SPEC")]
+    pub camera: Option<String>,
+    /// Samples per cell along each ray (RayVis's "step size as fractions of the cell size"):
+    /// the step is 1/K of a cell.
+    #[arg(long, value_name = "K", default_value_t = 2.0)]
+    pub samples_per_cell: f32,
+    /// The Sum range (rays per cell times cells along a pixel's ray) spread over inferno.
+    /// Default: fitted to the view, 0 to the sum that 95 % of a 32 × 32 grid of the view's
+    /// rays (those that gather any) stay below.
+    #[arg(long, value_name = "LOW,HIGH", value_parser = super::args::parse_range, allow_negative_numbers = true)]
+    pub sum_range: Option<(f32, f32)>,
+    /// How the scene is drawn under the density: grey (RayVis's default), colour (each mesh's
+    /// own) or hidden (the density alone; meshes do not stop the rays).
+    #[arg(long, default_value = "grey", value_parser = ["grey", "colour", "color", "hidden"])]
+    pub scene: String,
+    /// The PNG to write.
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
 }
 
 fn non_negative(s: &str) -> Result<f32, String> {
@@ -95,6 +138,7 @@ pub fn run(a: &RaysArgs) -> Result<(), CliError> {
         RaysCommand::Info(i) => info(i),
         RaysCommand::Density(d) => density(d),
         RaysCommand::Export(e) => export(e),
+        RaysCommand::Render(r) => super::rays_render::render(r),
     }
 }
 
@@ -114,7 +158,7 @@ fn export(a: &ExportArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn source(s: &SourceArg) -> Result<RayData, CliError> {
+pub(super) fn source(s: &SourceArg) -> Result<RayData, CliError> {
     load(&s.source).map_err(|e| CliError::usage(e.to_string()))
 }
 
@@ -150,17 +194,11 @@ fn info(a: &InfoArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn density(a: &DensityArgs) -> Result<(), CliError> {
-    let params = DensityParams {
-        cell: a.cell,
-        chunk: a.chunk,
-        filter: Filter::parse(&a.filter).unwrap_or_default(),
-        tolerance: a.source.miss_tolerance,
-        ..Default::default()
-    };
-    params.check().map_err(CliError::usage)?;
-    // A folder that is not there fails now, not after the computation.
-    for path in std::iter::once(&a.out).chain(&a.directions) {
+/// A folder that is not there fails now, not after the computation.
+pub(super) fn check_folders<'p>(
+    paths: impl IntoIterator<Item = &'p PathBuf>,
+) -> Result<(), CliError> {
+    for path in paths {
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
             && !dir.is_dir()
         {
@@ -171,22 +209,30 @@ fn density(a: &DensityArgs) -> Result<(), CliError> {
             )));
         }
     }
-    let data = source(&a.source)?;
-    let set: RaySet = match a.trace {
+    Ok(())
+}
+
+/// The density of the chosen rays, laid out densely, with progress and a report on stdout.
+pub(super) fn dense_density(
+    data: &RayData,
+    name: &str,
+    params: &DensityParams,
+    g: &GridArgs,
+) -> Result<DenseDensity, CliError> {
+    let set: RaySet = match g.trace {
         Some(id) => data.trace(id).cloned().ok_or_else(|| {
             let ids: Vec<String> = data.traces.iter().map(|t| t.trace_id.to_string()).collect();
             CliError::usage(format!(
-                "--trace {id}: {} has traces {}",
-                a.source.source,
+                "--trace {id}: {name} has traces {}",
                 ids.join(", ")
             ))
         })?,
         None => data.all_rays(),
     };
-    let what = a.trace.map_or("every trace".to_string(), |id| {
-        trace_words(&a.source.source, id)
-    });
-    let Some(est) = estimate_within(&set, &params, MAX_BYTES).filter(|e| e.bytes <= MAX_BYTES)
+    let what = g
+        .trace
+        .map_or("every trace".to_string(), |id| trace_words(name, id));
+    let Some(est) = estimate_within(&set, params, MAX_BYTES).filter(|e| e.bytes <= MAX_BYTES)
     else {
         return Err(CliError::usage(format!(
             "{what} through cells of {} would take more than the {} MiB allowed: choose larger \
@@ -207,7 +253,7 @@ fn density(a: &DensityArgs) -> Result<(), CliError> {
     let progress = Progress::new("density");
     let d = compute(
         &set,
-        &params,
+        params,
         &|done, total| progress.update(done, total),
         &AtomicBool::new(false),
     )
@@ -236,12 +282,33 @@ fn density(a: &DensityArgs) -> Result<(), CliError> {
             println!("{n} rays {why}");
         }
     }
-    let Some(dense) = DenseDensity::new(&d).map_err(CliError::failed)? else {
-        return Err(CliError::failed(format!(
-            "no ray of {what} passed the filter '{}': nothing to write",
-            a.filter
-        )));
+    DenseDensity::new(&d)
+        .map_err(CliError::failed)?
+        .ok_or_else(|| {
+            CliError::failed(format!(
+                "no ray of {what} passed the filter '{}': nothing to show",
+                g.filter
+            ))
+        })
+}
+
+pub(super) fn grid_params(g: &GridArgs, tolerance: f32) -> Result<DensityParams, CliError> {
+    let params = DensityParams {
+        cell: g.cell,
+        chunk: g.chunk,
+        filter: Filter::parse(&g.filter).unwrap_or_default(),
+        tolerance,
+        ..Default::default()
     };
+    params.check().map_err(CliError::usage)?;
+    Ok(params)
+}
+
+fn density(a: &DensityArgs) -> Result<(), CliError> {
+    let params = grid_params(&a.grid, a.source.miss_tolerance)?;
+    check_folders(std::iter::once(&a.out).chain(&a.directions))?;
+    let data = source(&a.source)?;
+    let dense = dense_density(&data, &a.source.source, &params, &a.grid)?;
     if dense.inexact_counts() {
         println!("note: some cells hold more than 16 777 216 rays; their float counts are rounded");
     }

@@ -215,6 +215,7 @@ pub fn render_layer(
                 width: self.size.0,
                 height: self.size.1,
                 occluders: self.occluders,
+                surface: None,
                 progress: self.progress,
                 cancel: self.cancel,
             };
@@ -270,6 +271,10 @@ pub fn render_with_threads(
 /// passed, and the rays the sample cap cut short.
 type TileResult = (u32, u32, Vec<Vec4>, u64, u64, u64);
 
+/// Opaque geometry a ray may stop at: for a ray (volume coordinates, unit direction), the
+/// distance to the nearest surface ahead and the colour shown there.
+pub type Surface<'x> = &'x (dyn Fn(&crate::ray::Ray) -> Option<(f32, Vec3)> + Sync);
+
 /// One render's inputs, for either output.
 pub(crate) struct Job<'x, 'a> {
     pub(crate) scene: &'x Scene<'a>,
@@ -277,6 +282,8 @@ pub(crate) struct Job<'x, 'a> {
     pub(crate) width: u32,
     pub(crate) height: u32,
     pub(crate) occluders: &'x [Occluder],
+    /// Opaque geometry besides the occluders (a triangle scene), tested on every ray.
+    pub(crate) surface: Option<Surface<'x>>,
     pub(crate) progress: &'x (dyn Fn(usize, usize) + Sync),
     pub(crate) cancel: &'x AtomicBool,
 }
@@ -296,6 +303,7 @@ impl<'x, 'a> Job<'x, 'a> {
             width,
             height,
             occluders: &[],
+            surface: None,
             progress,
             cancel,
         }
@@ -373,6 +381,13 @@ impl Job<'_, '_> {
                                         ray.t_max = t;
                                         behind = Some(o.color);
                                     }
+                                }
+                                if let Some(surface) = self.surface
+                                    && let Some((t, c)) = surface(&ray)
+                                    && t < ray.t_max
+                                {
+                                    ray.t_max = t;
+                                    behind = Some(c);
                                 }
                                 let jitter = scene.jitter([px * n + sx, py * n + sy]);
                                 let out = marcher.march(&ray, jitter, &mut NoRecord);

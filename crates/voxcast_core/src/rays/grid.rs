@@ -81,6 +81,20 @@ impl DenseDensity {
         (self.first_cell.as_vec3() + 0.5) * self.cell
     }
 
+    /// The counts as a float volume every path of Voxcast renders: voxel `(i, j, k)` is cell
+    /// `first_cell + (i, j, k)` and sits at its centre, `origin() + (i, j, k)·S` in the world,
+    /// so the volume's own coordinates are the world's shifted by [`DenseDensity::origin`].
+    /// Between cell centres it is interpolated like any volume; its box reaches from the first
+    /// cell's centre to the last's (half a cell short of the chunks' faces).
+    pub fn to_volume(&self) -> Result<crate::volume::Volume, crate::error::VolumeError> {
+        crate::volume::Volume::new(
+            "ray density",
+            self.dims,
+            Vec3::splat(self.cell),
+            crate::volume::VoxelData::F32(self.counts.iter().map(|&c| c as f32).collect()),
+        )
+    }
+
     /// Whether some count is too large for a float to hold exactly.
     pub fn inexact_counts(&self) -> bool {
         self.counts.iter().any(|&c| c > 1 << 24)
@@ -209,6 +223,17 @@ mod tests {
         assert_eq!(dirs.len() - header_end, 3 * 4 * dense.counts.len());
         let head = String::from_utf8_lossy(&dirs[..header_end]);
         assert!(head.contains("sizes: 3 12 4 4") && head.contains("kinds: vector domain"));
+        // The volume in memory is the file's.
+        let direct = dense.to_volume().unwrap();
+        assert_eq!(direct.dims(), v.dims());
+        assert_eq!(direct.spacing(), v.spacing());
+        for x in 0..12 {
+            assert_eq!(direct.value_at(x, 2, 0), v.value_at(x, 2, 0));
+            assert_eq!(
+                direct.value_at(x, 2, 0),
+                Some(dense.counts[x as usize + 24] as f32)
+            );
+        }
     }
 
     #[test]

@@ -7,14 +7,16 @@
 //! [`mesh`] holds triangle scenes and their brute-force tracer, [`cornell`] the embedded Cornell
 //! box, and [`effects`] the sets Voxcast traces through a scene itself (primary, shadow,
 //! reflection and ambient-occlusion rays); [`camera`] the virtual camera's rays through a
-//! volume. [`grid`] lays a density out densely and writes it as NRRD; [`rdf`] and [`rayvis`]
-//! read and write RayVis's `.rayvis` files; [`source`] finds a data set by name.
+//! volume. [`grid`] lays a density out densely, writes it as NRRD and makes it a volume;
+//! [`layered`] renders that volume over its scene; [`rdf`] and [`rayvis`] read and write
+//! RayVis's `.rayvis` files; [`source`] finds a data set by name.
 
 pub mod camera;
 pub mod cornell;
 pub mod density;
 pub mod effects;
 pub mod grid;
+pub mod layered;
 pub mod mesh;
 pub mod rayvis;
 pub mod rdf;

@@ -1,0 +1,131 @@
+//! `voxcast rays render`: the ray density over its scene as a PNG — the density volume marched
+//! with Sum, stopped at the scene, coloured by inferno and laid over the scene's shading
+//! (`voxcast_core::rays::layered`), as the sandbox's Ray data view draws it.
+
+use super::CliError;
+use super::progress::Progress;
+use super::rays::{RenderArgs, check_folders, dense_density, grid_params, source};
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+use voxcast_core::camera::{Camera, Projection};
+use voxcast_core::colormap::inferno_transfer;
+use voxcast_core::composite::Method;
+use voxcast_core::glam::Vec3;
+use voxcast_core::numbers::sig;
+use voxcast_core::rays::cornell;
+use voxcast_core::rays::grid::DenseDensity;
+use voxcast_core::rays::layered::{SceneShading, fit_sum_range, render_over_scene};
+use voxcast_core::rays::source::RayData;
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::step::Length;
+use voxcast_core::trace::Scene;
+
+/// The most samples per cell accepted (a thousand already costs a thousand times one).
+const MAX_SAMPLES_PER_CELL: f32 = 1000.0;
+
+pub fn render(a: &RenderArgs) -> Result<(), CliError> {
+    let params = grid_params(&a.grid, a.source.miss_tolerance)?;
+    let k = a.samples_per_cell;
+    if !(k.is_finite() && k > 0.0 && k <= MAX_SAMPLES_PER_CELL) {
+        return Err(CliError::usage(format!(
+            "--samples-per-cell {k}: must lie in (0, {MAX_SAMPLES_PER_CELL}]"
+        )));
+    }
+    let shading = SceneShading::parse(&a.scene).unwrap_or_default();
+    let given_camera = a
+        .camera
+        .as_deref()
+        .map(super::args::parse_camera_spec)
+        .transpose()?;
+    check_folders([&a.out])?;
+    let data = source(&a.source)?;
+    let dense = dense_density(&data, &a.source.source, &params, &a.grid)?;
+    let camera = match given_camera {
+        Some(c) => c,
+        None => default_camera(&a.source.source, &data, &dense)?,
+    };
+    let volume = dense
+        .to_volume()
+        .map_err(|e| CliError::failed(e.to_string()))?;
+    let (lo, hi) = volume.value_range();
+    let mut settings = RenderSettings {
+        method: Method::Sum,
+        step: Length::Voxels(1.0 / k),
+        sum_range: a.sum_range,
+        early_termination: false,
+        jitter: false,
+        shading: false,
+        background: Vec3::ZERO,
+        ..RenderSettings::default()
+    };
+    let tf = inferno_transfer(lo, hi);
+    let mut scene = Scene::new(&volume, &tf, &settings, camera.forward())?;
+    if a.sum_range.is_none() {
+        let fitted = fit_sum_range(
+            &scene,
+            dense.origin(),
+            &data.scene,
+            shading,
+            &camera,
+            a.size,
+        );
+        settings.sum_range = Some(fitted.unwrap_or(scene.sum_range));
+        scene = Scene::new(&volume, &tf, &settings, camera.forward())?;
+    }
+    let range = scene.sum_range;
+    let progress = Progress::new("rendering");
+    let started = Instant::now();
+    let (image, stats) = render_over_scene(
+        &scene,
+        dense.origin(),
+        &data.scene,
+        shading,
+        &camera,
+        a.size,
+        &|done, total| progress.update(done, total),
+        &AtomicBool::new(false),
+    )
+    .map_err(|_| CliError::failed("cancelled"))?;
+    progress.finish();
+    let seconds = started.elapsed().as_secs_f64();
+    image
+        .save_png(&a.out)
+        .map_err(|e| CliError::failed(format!("cannot write {}: {e}", a.out.display())))?;
+    println!(
+        "rendered {}×{} in {:.2} s ({} M samples/s): Sum of rays per cell from {} to {} over \
+         inferno, {} samples per cell, scene {} → {}",
+        a.size.0,
+        a.size.1,
+        seconds,
+        sig((stats.samples as f64 / seconds.max(1e-9) / 1e6) as f32),
+        sig(range.0),
+        sig(range.1),
+        sig(k),
+        shading.name(),
+        a.out.display()
+    );
+    if let Some(w) = stats.cap_warning(settings.max_samples) {
+        println!("note: {w}");
+    }
+    Ok(())
+}
+
+/// The Cornell box's own camera for `builtin:cornell`; else the scene (or, without one, the
+/// density's box) seen from −z, framed.
+fn default_camera(name: &str, data: &RayData, dense: &DenseDensity) -> Result<Camera, CliError> {
+    if name.starts_with("builtin:cornell") {
+        return Ok(Camera::new(
+            cornell::CAMERA_EYE,
+            cornell::CAMERA_TARGET,
+            Vec3::Y,
+            Projection::Perspective {
+                fov_y_deg: cornell::CAMERA_FOV_Y_DEG,
+            },
+        )?);
+    }
+    let (lo, hi) = data.scene.bounds().unwrap_or_else(|| {
+        let lo = dense.first_cell.as_vec3() * dense.cell;
+        (lo, lo + dense.dims.as_vec3() * dense.cell)
+    });
+    Ok(Camera::framing(lo, hi, Vec3::NEG_Z, Vec3::Y)?)
+}
