@@ -583,3 +583,37 @@ fn rays_render_draws_the_density_over_the_scene() {
         assert!(text(&o).contains(words), "{words} in {}", text(&o));
     }
 }
+
+/// A ray density opens wherever a volume does: `info` describes it with its inferno preset and
+/// where it sits, `render` draws it with Sum; a bad spec says why.
+#[test]
+fn a_ray_density_is_a_volume_source() {
+    let spec = "density:builtin:cornell@trace=1,cell=40";
+    let o = voxcast(&["info", spec]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = text(&o);
+    assert!(
+        out.contains("preset:     inferno") && out.contains("rays through cells of 40"),
+        "{out}"
+    );
+    let png = out_dir().join("density_volume.png");
+    let o = voxcast(&[
+        "render",
+        "--volume",
+        spec,
+        "--size",
+        "64x64",
+        "--out",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("(sum,"), "{}", text(&o));
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert!(
+        img.pixels().any(|p| p[0] > 150),
+        "inferno's light end shows"
+    );
+    let o = voxcast(&["info", "density:builtin:cornell@cell=x"]);
+    assert_eq!(o.status.code(), Some(1), "a load error: {}", text(&o));
+    assert!(text(&o).contains("cell=x: not a number"), "{}", text(&o));
+}

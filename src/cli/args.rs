@@ -212,7 +212,7 @@ impl SettingsArgs {
         let mut settings = RenderSettings::default();
         let mut preset = None;
         let transfer = match &self.tf {
-            None => match preset::for_volume(volume.name()) {
+            None => match preset::for_loaded(volume) {
                 Some(p) => {
                     settings = p.settings_over(&settings)?;
                     let tf = p.transfer.clone();

@@ -104,7 +104,7 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         })
         .collect();
     println!("histogram (64 bins, log): |{bars}|");
-    if let Some(p) = preset::for_volume(v.name()) {
+    if let Some(p) = preset::for_loaded(v) {
         println!("preset:     {} — {}", p.name, p.description);
     }
     for note in &loaded.notes {

@@ -110,6 +110,8 @@ pub(crate) fn finish_loading(
         Ok(loaded) => {
             let (method, step) = (render.settings.method, render.settings.step);
             reset_to_defaults(&loaded.volume, &mut render);
+            // A ray density brings Sum (its counts mean little to the other methods).
+            let keep = keep && !voxcast_core::rays::as_volume::is_density(&loaded.volume);
             if keep {
                 render.settings.method = method;
                 render.settings.step = step;
@@ -122,7 +124,7 @@ pub(crate) fn finish_loading(
                 ));
             }
             *volume = VolumeState {
-                preset: preset::for_volume(loaded.volume.name()),
+                preset: preset::for_loaded(&loaded.volume),
                 volume: Arc::new(loaded.volume),
                 source,
             };
@@ -144,7 +146,7 @@ pub fn reset_to_defaults(volume: &Volume, render: &mut RenderState) {
 /// The transfer function (and settings, when it has a preset) `volume` starts with: its
 /// preset's, or a grey ramp over its value range.
 fn defaults_for(volume: &Volume) -> (TransferFunction, Option<RenderSettings>) {
-    if let Some(p) = preset::for_volume(volume.name())
+    if let Some(p) = preset::for_loaded(volume)
         && let Ok(settings) = p.settings_over(&RenderSettings::default())
     {
         return (p.transfer, Some(settings));

@@ -67,8 +67,20 @@ pub const DATASETS: &[(&str, &str)] = &[
 const BUNNY: &[u8] = include_bytes!("../../../assets/volumes/bunny_sdf.nrrd");
 const BRAINSMALL: &[u8] = include_bytes!("../../../assets/volumes/mri_brainsmall.nrrd");
 
-/// Opens `builtin:NAME` or a file path.
+/// Opens `builtin:NAME`, a ray density (`density:…`, [`crate::rays::as_volume`]) or a file
+/// path.
 pub fn load_source(spec: &str) -> Result<Loaded, LoadError> {
+    if let Some(parsed) = crate::rays::as_volume::parse(spec) {
+        let fail = |why: String| LoadError::new(spec, crate::error::LoadProblem::RayDensity(why));
+        let density = parsed.map_err(fail)?;
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let (volume, words) =
+            crate::rays::as_volume::load(&density, &|_, _| {}, &never).map_err(fail)?;
+        return Ok(Loaded {
+            volume,
+            notes: vec![words],
+        });
+    }
     match spec.strip_prefix("builtin:") {
         Some(name) => load_builtin(name),
         None => load(Path::new(spec)),

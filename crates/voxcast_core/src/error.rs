@@ -57,6 +57,8 @@ pub enum LoadProblem {
     Decompress(String),
     #[error("invalid volume: {0}")]
     Volume(#[from] VolumeError),
+    #[error("ray density: {0}")]
+    RayDensity(String),
 }
 
 /// An I/O error in words, without the operating system's error number ("(os error 2)").

@@ -119,6 +119,33 @@ pub fn for_volume(volume_name: &str) -> Option<Preset> {
         .find(|p| p.volumes.iter().any(|v| v == volume_name))
 }
 
+/// The preset a loaded volume starts with: a ray density's ([`density`]) for one, else the
+/// one named for it ([`for_volume`]).
+pub fn for_loaded(volume: &crate::volume::Volume) -> Option<Preset> {
+    if crate::rays::as_volume::is_density(volume) {
+        let (lo, hi) = volume.value_range();
+        return Some(density(lo, hi));
+    }
+    for_volume(volume.name())
+}
+
+/// A ray density's preset: inferno over its counts `[lo, hi]`, Sum, no shading, seen from −z
+/// (the Cornell box's camera looks along +z).
+pub fn density(lo: f32, hi: f32) -> Preset {
+    let settings = serde_json::json!({"method": "sum", "shading": false});
+    Preset {
+        name: crate::colormap::INFERNO_PRESET.into(),
+        description: crate::colormap::INFERNO_DOC.into(),
+        volumes: Vec::new(),
+        view: Some(View {
+            from: glam::Vec3::NEG_Z,
+            up: glam::Vec3::Y,
+        }),
+        transfer: crate::colormap::inferno_transfer(lo, hi),
+        settings: settings.as_object().cloned().unwrap_or_default(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,6 +187,26 @@ mod tests {
         for shared in ["ct_cranium", "mri_mni152"] {
             assert!(for_volume(shared).is_some(), "{shared}");
         }
+    }
+
+    #[test]
+    fn a_ray_density_starts_with_sum_and_inferno() {
+        let v = crate::volume::Volume::new(
+            "x",
+            glam::UVec3::new(2, 2, 2),
+            glam::Vec3::ONE,
+            crate::volume::VoxelData::F32(vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]),
+        )
+        .unwrap();
+        assert_eq!(for_loaded(&v), None);
+        let d = v.with_name(crate::rays::as_volume::NAME_PREFIX);
+        let p = for_loaded(&d).unwrap();
+        let s = p.settings_over(&RenderSettings::default()).unwrap();
+        assert_eq!(s.method, crate::composite::Method::Sum);
+        assert!(!s.shading);
+        assert_eq!(p.transfer, crate::colormap::inferno_transfer(0.0, 7.0));
+        let bunny = crate::builtin::load_builtin("bunny").unwrap().volume;
+        assert_eq!(for_loaded(&bunny), for_volume("bunny_sdf"));
     }
 
     #[test]

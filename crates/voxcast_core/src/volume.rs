@@ -303,6 +303,12 @@ impl Volume {
         &self.name
     }
 
+    /// The same volume under another name.
+    pub fn with_name(mut self, name: impl Into<String>) -> Self {
+        self.name = name.into();
+        self
+    }
+
     pub fn dims(&self) -> UVec3 {
         self.dims
     }

@@ -208,10 +208,33 @@ fn dataset_section(
                     load = Some(format!("builtin:{name}"));
                 }
             }
+            ui.separator();
+            ui.label(egui::RichText::new("Ray densities of the Cornell box").small());
+            let traces = std::iter::once((None, "every ray".to_string())).chain(
+                voxcast_core::rays::effects::Effect::ALL
+                    .iter()
+                    .map(|e| (Some(e.id()), e.words().to_string())),
+            );
+            for (id, words) in traces {
+                let tip = "How many of the box's rays pass through each cell of a 128-cell grid \
+                           (RayVis's ray-density volume), shown with Sum and inferno";
+                if ui
+                    .selectable_label(false, &words)
+                    .on_hover_text(tip)
+                    .clicked()
+                {
+                    load = Some(match id {
+                        Some(id) => format!("density:builtin:cornell@trace={id}"),
+                        None => "density:builtin:cornell".into(),
+                    });
+                }
+            }
         });
     ui.horizontal(|ui| {
         ui.text_edit_singleline(&mut panel.path).on_hover_text(
-            "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window)",
+            "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); or a \
+             ray density: density:FILE.rayvis or density:builtin:cornell, optionally followed \
+             by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
         );
         if ui.button("Load").clicked() {
             load = Some(panel.path.clone());
@@ -351,6 +374,7 @@ fn sum_range(
             .add(
                 egui::Slider::new(&mut b, tiny..=top)
                     .logarithmic(true)
+                    .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32))
                     .text("high end"),
             )
             .on_hover_text(t::SUM_RANGE.doc);
@@ -359,6 +383,7 @@ fn sum_range(
             .add(
                 egui::Slider::new(&mut a, floor..=b - tiny)
                     .logarithmic(log)
+                    .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32))
                     .text("low end"),
             )
             .on_hover_text(t::SUM_RANGE.doc);

@@ -88,7 +88,7 @@ impl DenseDensity {
     /// cell's centre to the last's (half a cell short of the chunks' faces).
     pub fn to_volume(&self) -> Result<crate::volume::Volume, crate::error::VolumeError> {
         crate::volume::Volume::new(
-            "ray density",
+            super::as_volume::NAME_PREFIX,
             self.dims,
             Vec3::splat(self.cell),
             crate::volume::VoxelData::F32(self.counts.iter().map(|&c| c as f32).collect()),

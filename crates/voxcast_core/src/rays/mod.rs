@@ -7,10 +7,12 @@
 //! [`mesh`] holds triangle scenes and their brute-force tracer, [`cornell`] the embedded Cornell
 //! box, and [`effects`] the sets Voxcast traces through a scene itself (primary, shadow,
 //! reflection and ambient-occlusion rays); [`camera`] the virtual camera's rays through a
-//! volume. [`grid`] lays a density out densely, writes it as NRRD and makes it a volume;
+//! volume. [`grid`] lays a density out densely, writes it as NRRD and makes it a volume, which
+//! [`as_volume`] offers as a source every volume path opens (`density:SOURCE@cell=S,…`);
 //! [`layered`] renders that volume over its scene; [`rdf`] and [`rayvis`] read and write
 //! RayVis's `.rayvis` files; [`source`] finds a data set by name.
 
+pub mod as_volume;
 pub mod camera;
 pub mod cornell;
 pub mod density;
