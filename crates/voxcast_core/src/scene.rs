@@ -107,9 +107,12 @@ impl<'a> Scene<'a> {
             dt: settings.step.world(voxel),
             dt_ref: settings.reference_step.world(voxel),
             target: settings.target.unwrap_or(0.5 * (lo + hi)),
-            sum_range: settings
-                .sum_range
-                .unwrap_or_else(|| default_sum_range(volume)),
+            // The default needs the volume's mean (a pass over the data): only for Sum.
+            sum_range: match settings.sum_range {
+                Some(r) => r,
+                None if settings.method == Method::Sum => default_sum_range(volume),
+                None => (0.0, 1.0),
+            },
             bounds: volume.bounds(),
             clip: settings.clip.resolve(volume.bounds()),
             lut,
