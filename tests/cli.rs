@@ -278,7 +278,7 @@ fn bad_arguments_and_files_fail_clearly() {
         (&["render", "--step", "-1"], 2, "step"),
         (&["render", "--step", "nan"], 2, "step"),
         (&["render", "--cutoff", "2"], 2, "cutoff"),
-        (&["render", "--method", "sum"], 2, "accumulate"),
+        (&["render", "--method", "median"], 2, "accumulate"),
         (&["render", "--camera", "eye=1,2"], 2, "eye"),
         (
             &["render", "--camera", "eye=0,0,0,target=0,0,0"],
