@@ -14,7 +14,7 @@ use voxcast_core::glam::Vec3;
 use voxcast_core::numbers::sig;
 use voxcast_core::rays::cornell;
 use voxcast_core::rays::grid::DenseDensity;
-use voxcast_core::rays::layered::{SceneShading, fit_sum_range, render_over_scene};
+use voxcast_core::rays::layered::{DensityView, SceneShading};
 use voxcast_core::rays::source::RayData;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
@@ -59,33 +59,29 @@ pub fn render(a: &RenderArgs) -> Result<(), CliError> {
         ..RenderSettings::default()
     };
     let tf = inferno_transfer(lo, hi);
-    let mut scene = Scene::new(&volume, &tf, &settings, camera.forward())?;
+    let first = Scene::new(&volume, &tf, &settings, camera.forward())?;
+    let view = |volume_scene| DensityView {
+        volume_scene,
+        origin: dense.origin(),
+        triangles: &data.scene,
+        shading,
+        camera: &camera,
+    };
     if a.sum_range.is_none() {
-        let fitted = fit_sum_range(
-            &scene,
-            dense.origin(),
-            &data.scene,
-            shading,
-            &camera,
-            a.size,
-        );
-        settings.sum_range = Some(fitted.unwrap_or(scene.sum_range));
-        scene = Scene::new(&volume, &tf, &settings, camera.forward())?;
+        let fitted = view(&first).fit_sum_range(a.size);
+        settings.sum_range = Some(fitted.unwrap_or(first.sum_range));
     }
+    let scene = Scene::new(&volume, &tf, &settings, camera.forward())?;
     let range = scene.sum_range;
     let progress = Progress::new("rendering");
     let started = Instant::now();
-    let (image, stats) = render_over_scene(
-        &scene,
-        dense.origin(),
-        &data.scene,
-        shading,
-        &camera,
-        a.size,
-        &|done, total| progress.update(done, total),
-        &AtomicBool::new(false),
-    )
-    .map_err(|_| CliError::failed("cancelled"))?;
+    let (image, stats) = view(&scene)
+        .render(
+            a.size,
+            &|done, total| progress.update(done, total),
+            &AtomicBool::new(false),
+        )
+        .map_err(|_| CliError::failed("cancelled"))?;
     progress.finish();
     let seconds = started.elapsed().as_secs_f64();
     image

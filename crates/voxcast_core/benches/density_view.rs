@@ -16,7 +16,7 @@ use voxcast_core::glam::Vec3;
 use voxcast_core::rays::cornell;
 use voxcast_core::rays::density::{DensityParams, compute};
 use voxcast_core::rays::grid::DenseDensity;
-use voxcast_core::rays::layered::{SceneShading, fit_sum_range, render_over_scene};
+use voxcast_core::rays::layered::{DensityView, SceneShading};
 use voxcast_core::rays::source::load;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
@@ -60,19 +60,14 @@ fn bench(c: &mut Criterion) {
     g.sample_size(10);
     g.throughput(Throughput::Elements(u64::from(SIZE.0 * SIZE.1)));
     for shading in [SceneShading::Grey, SceneShading::Hidden] {
-        let run = || {
-            render_over_scene(
-                &scene,
-                origin,
-                &data.scene,
-                shading,
-                &camera,
-                SIZE,
-                &|_, _| {},
-                &never,
-            )
-            .unwrap()
+        let view = DensityView {
+            volume_scene: &scene,
+            origin,
+            triangles: &data.scene,
+            shading,
+            camera: &camera,
         };
+        let run = || view.render(SIZE, &|_, _| {}, &never).unwrap();
         let (_, stats) = run();
         println!(
             "{} cells, {} scene: {} samples per 256² render",
@@ -82,18 +77,14 @@ fn bench(c: &mut Criterion) {
         );
         g.bench_function(format!("sum_256_{}", shading.name()), |b| b.iter(run));
     }
-    g.bench_function("fit_range_32", |b| {
-        b.iter(|| {
-            fit_sum_range(
-                &scene,
-                origin,
-                &data.scene,
-                SceneShading::Grey,
-                &camera,
-                SIZE,
-            )
-        })
-    });
+    let view = DensityView {
+        volume_scene: &scene,
+        origin,
+        triangles: &data.scene,
+        shading: SceneShading::Grey,
+        camera: &camera,
+    };
+    g.bench_function("fit_range_32", |b| b.iter(|| view.fit_sum_range(SIZE)));
     g.finish();
 }
 

@@ -73,104 +73,112 @@ pub fn shade_hit(scene: &TriangleScene, hit: &Hit, dir: Vec3, mode: SceneShading
     Some(base * (AMBIENT + (1.0 - AMBIENT) * lambert))
 }
 
-/// Renders `volume_scene` (the density volume, resolved with its settings) over `triangles`,
-/// seen by `camera` (world units) at `width × height`; `origin` is where the volume's voxel
-/// `(0, 0, 0)` lies in the world. Progress and cancel as [`crate::render::render`].
-#[allow(clippy::too_many_arguments)]
-pub fn render_over_scene(
-    volume_scene: &Scene<'_>,
-    origin: Vec3,
-    triangles: &TriangleScene,
-    shading: SceneShading,
-    camera: &Camera,
-    (width, height): (u32, u32),
-    progress: &(dyn Fn(usize, usize) + Sync),
-    cancel: &AtomicBool,
-) -> Result<(LinearImage, RenderStats), Cancelled> {
-    let shifted = Camera {
-        eye: camera.eye - origin,
-        target: camera.target - origin,
-        ..*camera
-    };
-    let surface = |ray: &crate::ray::Ray| {
-        let hit = triangles.intersect(ray.origin + origin, ray.dir, ray.t_min, ray.t_max)?;
-        Some((hit.t, shade_hit(triangles, &hit, ray.dir, shading)?))
-    };
-    struct Visit<'x, 'a> {
-        job: Job<'x, 'a>,
-    }
-    impl GridVisitor for Visit<'_, '_> {
-        type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
-        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
-            self.job.run(grid, |out, background, behind| {
-                let under = behind.unwrap_or(background);
-                Vec4::from((out.color + under * (1.0 - out.opacity), 1.0))
-            })
-        }
-    }
-    let mut job = Job::plain(volume_scene, &shifted, (width, height), progress, cancel);
-    if shading != SceneShading::Hidden {
-        job.surface = Some(&surface);
-    }
-    let (pixels, stats) = volume_scene.volume.visit(Visit { job })?;
-    let mut image = LinearImage::new(width, height);
-    for (i, p) in pixels.into_iter().enumerate() {
-        image.set(i as u32 % width, i as u32 / width, p.truncate());
-    }
-    Ok((image, stats))
+/// One view of a density over its scene: the density volume resolved with its settings, where
+/// its voxel `(0, 0, 0)` lies in the world (`origin`), the scene, how it is drawn, and the
+/// camera (world units).
+#[derive(Clone, Copy)]
+pub struct DensityView<'v, 'a> {
+    pub volume_scene: &'v Scene<'a>,
+    pub origin: Vec3,
+    pub triangles: &'v TriangleScene,
+    pub shading: SceneShading,
+    pub camera: &'v Camera,
 }
 
-/// Rays per side of the grid [`fit_sum_range`] samples.
+/// Rays per side of the grid [`DensityView::fit_sum_range`] samples.
 pub const FIT_GRID: u32 = 32;
 
-/// The share of the sampled sums [`fit_sum_range`] keeps below the range's top.
+/// The share of the sampled sums [`DensityView::fit_sum_range`] keeps below the range's top.
 pub const FIT_PERCENTILE: f32 = 0.95;
 
-/// A Sum range fitted to the view: 0 to the [`FIT_PERCENTILE`] point of the sums gathered by a
-/// [`FIT_GRID`]² grid of the camera's rays (each stopped at the scene unless it is hidden),
-/// counting only rays that gathered something — so most of the picture spans inferno and the
-/// densest twentieth saturates. `None` when no sampled ray gathered anything.
-pub fn fit_sum_range(
-    volume_scene: &Scene<'_>,
-    origin: Vec3,
-    triangles: &TriangleScene,
-    shading: SceneShading,
-    camera: &Camera,
-    (width, height): (u32, u32),
-) -> Option<(f32, f32)> {
-    let shifted = Camera {
-        eye: camera.eye - origin,
-        target: camera.target - origin,
-        ..*camera
-    };
-    let rays = shifted.rays(width, height);
-    let mut sums: Vec<f32> = Vec::new();
-    for j in 0..FIT_GRID {
-        for i in 0..FIT_GRID {
-            let x = (i as f32 + 0.5) / FIT_GRID as f32 * width as f32;
-            let y = (j as f32 + 0.5) / FIT_GRID as f32 * height as f32;
-            let mut ray = rays.ray(x, y);
-            if shading != SceneShading::Hidden
-                && let Some(hit) =
-                    triangles.intersect(ray.origin + origin, ray.dir, ray.t_min, ray.t_max)
-            {
-                ray.t_max = hit.t;
-            }
-            let t = crate::trace::trace_ray(volume_scene, &ray, [i, j]);
-            if let Some(d) = t.sum
-                && d.sum > 0.0
-                && d.sum.is_finite()
-            {
-                sums.push(d.sum);
-            }
+impl DensityView<'_, '_> {
+    /// The camera moved into the volume's coordinates.
+    fn shifted_camera(&self) -> Camera {
+        Camera {
+            eye: self.camera.eye - self.origin,
+            target: self.camera.target - self.origin,
+            ..*self.camera
         }
     }
-    if sums.is_empty() {
-        return None;
+
+    /// Where `ray` (volume coordinates) meets the scene, if it is drawn: distance and colour.
+    fn surface(&self, ray: &crate::ray::Ray) -> Option<(f32, Vec3)> {
+        if self.shading == SceneShading::Hidden {
+            return None;
+        }
+        let hit =
+            self.triangles
+                .intersect(ray.origin + self.origin, ray.dir, ray.t_min, ray.t_max)?;
+        Some((
+            hit.t,
+            shade_hit(self.triangles, &hit, ray.dir, self.shading)?,
+        ))
     }
-    let k = ((sums.len() - 1) as f32 * FIT_PERCENTILE) as usize;
-    let top = *sums.select_nth_unstable_by(k, f32::total_cmp).1;
-    (top > 0.0).then_some((0.0, top))
+
+    /// The picture at `width × height`. Progress and cancel as [`crate::render::render`].
+    pub fn render(
+        &self,
+        (width, height): (u32, u32),
+        progress: &(dyn Fn(usize, usize) + Sync),
+        cancel: &AtomicBool,
+    ) -> Result<(LinearImage, RenderStats), Cancelled> {
+        let shifted = self.shifted_camera();
+        let surface = |ray: &crate::ray::Ray| self.surface(ray);
+        struct Visit<'x, 'a> {
+            job: Job<'x, 'a>,
+        }
+        impl GridVisitor for Visit<'_, '_> {
+            type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
+            fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
+                self.job.run(grid, |out, background, behind| {
+                    let under = behind.unwrap_or(background);
+                    Vec4::from((out.color + under * (1.0 - out.opacity), 1.0))
+                })
+            }
+        }
+        let scene = self.volume_scene;
+        let mut job = Job::plain(scene, &shifted, (width, height), progress, cancel);
+        job.surface = Some(&surface);
+        let (pixels, stats) = scene.volume.visit(Visit { job })?;
+        let mut image = LinearImage::new(width, height);
+        for (i, p) in pixels.into_iter().enumerate() {
+            image.set(i as u32 % width, i as u32 / width, p.truncate());
+        }
+        Ok((image, stats))
+    }
+
+    /// A Sum range fitted to the view: 0 to the [`FIT_PERCENTILE`] point of the sums gathered
+    /// by a [`FIT_GRID`]² grid of the camera's rays (each stopped at the scene unless it is
+    /// hidden), counting only rays that gathered something — so most of the picture spans
+    /// inferno and the densest twentieth saturates. `None` when no sampled ray gathered
+    /// anything.
+    pub fn fit_sum_range(&self, (width, height): (u32, u32)) -> Option<(f32, f32)> {
+        let rays = self.shifted_camera().rays(width, height);
+        let mut sums: Vec<f32> = Vec::new();
+        for j in 0..FIT_GRID {
+            for i in 0..FIT_GRID {
+                let x = (i as f32 + 0.5) / FIT_GRID as f32 * width as f32;
+                let y = (j as f32 + 0.5) / FIT_GRID as f32 * height as f32;
+                let mut ray = rays.ray(x, y);
+                if let Some((t, _)) = self.surface(&ray) {
+                    ray.t_max = t;
+                }
+                let t = crate::trace::trace_ray(self.volume_scene, &ray, [i, j]);
+                if let Some(d) = t.sum
+                    && d.sum > 0.0
+                    && d.sum.is_finite()
+                {
+                    sums.push(d.sum);
+                }
+            }
+        }
+        if sums.is_empty() {
+            return None;
+        }
+        let k = ((sums.len() - 1) as f32 * FIT_PERCENTILE) as usize;
+        let top = *sums.select_nth_unstable_by(k, f32::total_cmp).1;
+        (top > 0.0).then_some((0.0, top))
+    }
 }
 
 #[cfg(test)]
@@ -246,17 +254,16 @@ mod tests {
     ) -> (Vec3, RenderStats) {
         let (v, tf, s, camera) = setup(origin);
         let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
-        let (image, stats) = render_over_scene(
-            &scene,
+        let view = DensityView {
+            volume_scene: &scene,
             origin,
             triangles,
             shading,
-            &camera,
-            (9, 9),
-            &|_, _| {},
-            &AtomicBool::new(false),
-        )
-        .unwrap();
+            camera: &camera,
+        };
+        let (image, stats) = view
+            .render((9, 9), &|_, _| {}, &AtomicBool::new(false))
+            .unwrap();
         (image.get(4, 4), stats)
     }
 
@@ -305,27 +312,31 @@ mod tests {
         let (v, tf, s, camera) = setup(origin);
         let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
         let centre = origin + Vec3::splat(10.0);
-        // Orthographic down −z through the constant 1: every ray gathers about 20.
         let none = TriangleScene::default();
-        let (lo, hi) =
-            fit_sum_range(&scene, origin, &none, SceneShading::Grey, &camera, (8, 8)).unwrap();
+        let wall = wall_at(centre.z, centre);
+        let fit = |triangles: &TriangleScene, shading: SceneShading, camera: &Camera| {
+            DensityView {
+                volume_scene: &scene,
+                origin,
+                triangles,
+                shading,
+                camera,
+            }
+            .fit_sum_range((8, 8))
+        };
+        // Orthographic down −z through the constant 1: every ray gathers about 20.
+        let (lo, hi) = fit(&none, SceneShading::Grey, &camera).unwrap();
         assert_eq!(lo, 0.0);
         assert!((hi - 20.0).abs() <= 1.0, "{hi}");
         // A wall halfway halves it; hidden, the wall does not count.
-        let wall = wall_at(centre.z, centre);
-        let (_, half) =
-            fit_sum_range(&scene, origin, &wall, SceneShading::Grey, &camera, (8, 8)).unwrap();
+        let (_, half) = fit(&wall, SceneShading::Grey, &camera).unwrap();
         assert!((half - 10.0).abs() <= 1.0, "{half}");
-        let (_, hidden) =
-            fit_sum_range(&scene, origin, &wall, SceneShading::Hidden, &camera, (8, 8)).unwrap();
+        let (_, hidden) = fit(&wall, SceneShading::Hidden, &camera).unwrap();
         assert_eq!(hidden, hi);
         // Looking away from the volume: nothing gathered, no range.
         let away =
             Camera::new(camera.eye, camera.eye + Vec3::Z, Vec3::Y, camera.projection).unwrap();
-        assert_eq!(
-            fit_sum_range(&scene, origin, &none, SceneShading::Grey, &away, (8, 8)),
-            None
-        );
+        assert_eq!(fit(&none, SceneShading::Grey, &away), None);
     }
 
     #[test]
