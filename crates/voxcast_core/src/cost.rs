@@ -16,7 +16,6 @@ use crate::colormap::inferno;
 use crate::image_out::LinearImage;
 use crate::render::{Cancelled, Job, RenderStats};
 use crate::trace::{Scene, StopReason};
-use crate::volume::{Grid, GridVisitor, Voxel};
 use glam::{Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
 
@@ -165,27 +164,18 @@ pub fn render_cost(
 ) -> Result<CostMap, Cancelled> {
     /// Missed rays are counted in the last channel in units of this (above any ray count).
     const MISSED: f32 = 1024.0;
-    struct Visit<'x, 'a> {
-        job: Job<'x, 'a>,
-    }
-    impl GridVisitor for Visit<'_, '_> {
-        type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
-        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
-            self.job.run(grid, |out, _, _| {
-                let early = matches!(out.stop, StopReason::Cutoff | StopReason::FirstHit);
-                let capped = out.stop == StopReason::SampleCap;
-                let missed = matches!(out.stop, StopReason::Missed | StopReason::CutAway);
-                Vec4::new(
-                    out.samples as f32,
-                    out.positions as f32,
-                    f32::from(u8::from(early)),
-                    f32::from(u8::from(capped)) + MISSED * f32::from(u8::from(missed)),
-                )
-            })
-        }
-    }
     let job = Job::plain(scene, camera, (width, height), progress, cancel);
-    let (pixels, stats) = scene.volume.visit(Visit { job })?;
+    let (pixels, stats) = job.run_on_volume(|out, _, _| {
+        let early = matches!(out.stop, StopReason::Cutoff | StopReason::FirstHit);
+        let capped = out.stop == StopReason::SampleCap;
+        let missed = matches!(out.stop, StopReason::Missed | StopReason::CutAway);
+        Vec4::new(
+            out.samples as f32,
+            out.positions as f32,
+            f32::from(u8::from(early)),
+            f32::from(u8::from(capped)) + MISSED * f32::from(u8::from(missed)),
+        )
+    })?;
     // The job averages over a pixel's rays; multiplied back, every count is a whole number
     // again (they stay far below 2^24, where f32 holds integers exactly).
     let n = scene.settings.supersampling.max(1);

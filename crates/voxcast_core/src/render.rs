@@ -198,40 +198,13 @@ pub fn render_layer(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(LayerImage, RenderStats), Cancelled> {
-    struct Visit<'x, 'a> {
-        scene: &'x Scene<'a>,
-        camera: &'x Camera,
-        size: (u32, u32),
-        occluders: &'x [Occluder],
-        progress: &'x (dyn Fn(usize, usize) + Sync),
-        cancel: &'x AtomicBool,
-    }
-    impl GridVisitor for Visit<'_, '_> {
-        type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
-        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
-            let job = Job {
-                scene: self.scene,
-                camera: self.camera,
-                width: self.size.0,
-                height: self.size.1,
-                occluders: self.occluders,
-                surface: None,
-                progress: self.progress,
-                cancel: self.cancel,
-            };
-            job.run(grid, |out, _, behind| match behind {
-                Some(c) => Vec4::from((out.color + c * (1.0 - out.opacity), 1.0)),
-                None => Vec4::from((out.color, out.opacity)),
-            })
-        }
-    }
-    let (pixels, stats) = scene.volume.visit(Visit {
-        scene,
-        camera,
-        size: (width, height),
+    let job = Job {
         occluders,
-        progress,
-        cancel,
+        ..Job::plain(scene, camera, (width, height), progress, cancel)
+    };
+    let (pixels, stats) = job.run_on_volume(|out, _, behind| match behind {
+        Some(c) => Vec4::from((out.color + c * (1.0 - out.opacity), 1.0)),
+        None => Vec4::from((out.color, out.opacity)),
     })?;
     Ok((
         LayerImage {
@@ -311,6 +284,27 @@ impl<'x, 'a> Job<'x, 'a> {
 }
 
 impl Job<'_, '_> {
+    /// [`Job::run`] on the scene's own volume, whatever its voxel type.
+    pub(crate) fn run_on_volume(
+        &self,
+        value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
+    ) -> Result<(Vec<Vec4>, RenderStats), Cancelled> {
+        struct Visit<'j, 'x, 'a, F> {
+            job: &'j Job<'x, 'a>,
+            value: F,
+        }
+        impl<F> GridVisitor for Visit<'_, '_, '_, F>
+        where
+            F: Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
+        {
+            type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
+            fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
+                self.job.run(grid, self.value)
+            }
+        }
+        self.scene.volume.visit(Visit { job: self, value })
+    }
+
     /// Every pixel's rays through `grid`, each ray's outcome turned into a value by `value`
     /// (given the background and the colour of the occluder that stopped it, if one did) and
     /// averaged over the supersamples; row by row.

@@ -14,7 +14,6 @@ use crate::camera::Camera;
 use crate::image_out::LinearImage;
 use crate::render::{Cancelled, Job, RenderStats};
 use crate::trace::Scene;
-use crate::volume::{Grid, GridVisitor, Voxel};
 use glam::{Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
 
@@ -124,22 +123,18 @@ impl DensityView<'_, '_> {
     ) -> Result<(LinearImage, RenderStats), Cancelled> {
         let shifted = self.shifted_camera();
         let surface = |ray: &crate::ray::Ray| self.surface(ray);
-        struct Visit<'x, 'a> {
-            job: Job<'x, 'a>,
-        }
-        impl GridVisitor for Visit<'_, '_> {
-            type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
-            fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
-                self.job.run(grid, |out, background, behind| {
-                    let under = behind.unwrap_or(background);
-                    Vec4::from((out.color + under * (1.0 - out.opacity), 1.0))
-                })
-            }
-        }
-        let scene = self.volume_scene;
-        let mut job = Job::plain(scene, &shifted, (width, height), progress, cancel);
+        let mut job = Job::plain(
+            self.volume_scene,
+            &shifted,
+            (width, height),
+            progress,
+            cancel,
+        );
         job.surface = Some(&surface);
-        let (pixels, stats) = scene.volume.visit(Visit { job })?;
+        let (pixels, stats) = job.run_on_volume(|out, background, behind| {
+            let under = behind.unwrap_or(background);
+            Vec4::from((out.color + under * (1.0 - out.opacity), 1.0))
+        })?;
         let mut image = LinearImage::new(width, height);
         for (i, p) in pixels.into_iter().enumerate() {
             image.set(i as u32 % width, i as u32 / width, p.truncate());
