@@ -38,6 +38,34 @@ pub struct DensitySpec {
     pub params: DensityParams,
 }
 
+impl DensitySpec {
+    /// The source text that parses back to this spec (`cell` left out when it is to be
+    /// chosen from the scene).
+    pub fn to_text(&self) -> String {
+        let p = &self.params;
+        let mut keys = Vec::new();
+        if p.cell != 0.0 {
+            keys.push(format!("cell={}", p.cell));
+        }
+        if let Some(id) = self.trace {
+            keys.push(format!("trace={id}"));
+        }
+        if p.filter != Filter::All {
+            keys.push(format!("filter={}", p.filter.name()));
+        }
+        if p.chunk != DensityParams::default().chunk {
+            keys.push(format!("chunk={}", p.chunk));
+        }
+        if p.tolerance != 0.0 {
+            keys.push(format!("tolerance={}", p.tolerance));
+        }
+        match keys.is_empty() {
+            true => format!("{PREFIX}{}", self.source),
+            false => format!("{PREFIX}{}@{}", self.source, keys.join(",")),
+        }
+    }
+}
+
 /// `Some` when `spec` is a `density:` source: the parsed spec, or why it is not one.
 pub fn parse(spec: &str) -> Option<Result<DensitySpec, String>> {
     let rest = spec.strip_prefix(PREFIX)?;
@@ -99,6 +127,20 @@ fn parse_rest(rest: &str) -> Result<DensitySpec, String> {
     Ok(out)
 }
 
+/// A computed ray density and everything it came from: the data set (its scene and every
+/// trace), the rays counted, the sparse density (counts and directions) and its volume.
+pub struct RayDensity {
+    pub data: RayData,
+    /// The rays of the chosen trace (or of all), before the filter.
+    pub set: RaySet,
+    pub density: super::density::Density,
+    /// Where the volume's voxel `(0, 0, 0)` lies in the scene.
+    pub origin: Vec3,
+    pub volume: Volume,
+    /// What was done, in words (rays, grid, where the volume sits).
+    pub words: String,
+}
+
 /// The counts of `spec`'s rays as a volume, with what was done in words (rays, grid, where
 /// the volume sits). Progress and cancel as [`compute`].
 pub fn load(
@@ -106,9 +148,34 @@ pub fn load(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(Volume, String), String> {
+    compute_spec(spec, progress, cancel).map(|d| (d.volume, d.words))
+}
+
+/// [`load`], keeping everything the density came from.
+pub fn compute_spec(
+    spec: &DensitySpec,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<RayDensity, String> {
     let data = super::source::load(&spec.source).map_err(|e| e.to_string())?;
     let set = select(&data, spec)?;
-    let mut params = spec.params;
+    let what = match spec.trace {
+        Some(id) => format!("{} (trace {id})", spec.source),
+        None => spec.source.clone(),
+    };
+    compute_set(data, set, &what, spec.params, progress, cancel)
+}
+
+/// The density of `set` (rays of `data`, described as `what`) through the grid of `params`
+/// (`cell` 0: chosen from the scene), as a volume.
+pub fn compute_set(
+    data: RayData,
+    set: RaySet,
+    what: &str,
+    mut params: DensityParams,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<RayDensity, String> {
     if params.cell == 0.0 {
         params.cell = default_cell(&data, &set);
     }
@@ -124,10 +191,6 @@ pub fn load(
     let density = compute(&set, &params, progress, cancel).map_err(|_| "cancelled".to_string())?;
     let dense = DenseDensity::new(&density)?
         .ok_or_else(|| "no ray passed the filter: the density is empty".to_string())?;
-    let what = match spec.trace {
-        Some(id) => format!("{} (trace {id})", spec.source),
-        None => spec.source.clone(),
-    };
     let volume = dense
         .to_volume()
         .map_err(|e| e.to_string())?
@@ -145,7 +208,14 @@ pub fn load(
         crate::numbers::sig(o.y),
         crate::numbers::sig(o.z)
     );
-    Ok((volume, words))
+    Ok(RayDensity {
+        data,
+        set,
+        density,
+        origin: o,
+        volume,
+        words,
+    })
 }
 
 /// Whether `volume` is a ray density (by its name).
@@ -210,6 +280,20 @@ mod tests {
         ] {
             let e = parse(bad).unwrap().unwrap_err();
             assert!(e.contains(words), "{bad}: {e}");
+        }
+    }
+
+    /// A spec written as text parses back to itself, keys left at their defaults left out.
+    #[test]
+    fn specs_round_trip_through_text() {
+        for text in [
+            "density:builtin:cornell",
+            "density:builtin:cornell@cell=12.5,trace=3,filter=miss,chunk=8,tolerance=0.25",
+            "density:/data/a@b.rayvis@filter=hit",
+        ] {
+            let spec = parse(text).unwrap().unwrap();
+            assert_eq!(spec.to_text(), text);
+            assert_eq!(parse(&spec.to_text()).unwrap().unwrap(), spec);
         }
     }
 

@@ -9,7 +9,8 @@
 //! reflection and ambient-occlusion rays); [`camera`] the virtual camera's rays through a
 //! volume. [`grid`] lays a density out densely, writes it as NRRD and makes it a volume, which
 //! [`as_volume`] offers as a source every volume path opens (`density:SOURCE@cell=S,…`);
-//! [`layered`] renders that volume over its scene; [`rdf`] and [`rayvis`] read and write
+//! [`layered`] renders that volume over its scene; [`lines`] makes the ray mesh view's lines
+//! and [`field`] the vector field view's arrows; [`rdf`] and [`rayvis`] read and write
 //! RayVis's `.rayvis` files; [`source`] finds a data set by name.
 
 pub mod as_volume;
@@ -17,8 +18,10 @@ pub mod camera;
 pub mod cornell;
 pub mod density;
 pub mod effects;
+pub mod field;
 pub mod grid;
 pub mod layered;
+pub mod lines;
 pub mod mesh;
 pub mod rayvis;
 pub mod rdf;
