@@ -28,7 +28,8 @@ use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::cost::{CostView, render_cost};
 use voxcast_core::image_out::{LinearImage, to_u8};
 use voxcast_core::marker::{LIGHT_MARKER_COLOR, light_marker_radius};
-use voxcast_core::render::{Occluder, render_layer};
+use voxcast_core::rays::layered::SceneSurface;
+use voxcast_core::render::{Occluder, Surface, render_layer_with};
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
@@ -87,6 +88,27 @@ pub struct LiveKey {
     pub full: UVec2,
     /// A cost view instead of the picture.
     pub cost_view: Option<CostView>,
+    /// A ray density's scene, which the rays stop at.
+    pub surface: Option<LiveSurface>,
+}
+
+/// A ray density's triangle scene in the live view: shared, compared by identity.
+#[derive(Clone)]
+pub struct LiveSurface {
+    pub shown: Arc<super::raydata::Shown>,
+    pub shading: voxcast_core::rays::layered::SceneShading,
+}
+
+impl std::fmt::Debug for LiveSurface {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "LiveSurface({:?})", self.shading)
+    }
+}
+
+impl PartialEq for LiveSurface {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.shown, &other.shown) && self.shading == other.shading
+    }
 }
 
 /// A finished frame: the image and what it shows.
@@ -324,6 +346,10 @@ fn drive_live_view(
     views: Query<&View, With<MainCamera>>,
     (volume, render): (Res<VolumeState>, Res<RenderState>),
     spheres: SceneSpheres,
+    (rays, choices): (
+        Option<Res<super::raydata::RayScene>>,
+        Option<Res<super::raydata::RayChoices>>,
+    ),
 ) {
     if !preview.cpu_live() {
         live.cancel();
@@ -357,6 +383,13 @@ fn drive_live_view(
         occluders: spheres.occluders(&render, &volume),
         full,
         cost_view: preview.cost_view,
+        surface: rays
+            .as_ref()
+            .and_then(|r| r.on_show(&volume))
+            .map(|s| LiveSurface {
+                shown: s.clone(),
+                shading: choices.as_ref().map(|c| c.view.shading).unwrap_or_default(),
+            }),
     };
     if let Some(job) = &live.job {
         if job.key == key || !job.refine {
@@ -454,11 +487,18 @@ fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: b
         let draw = || -> Option<(LinearImage, Option<(u32, u32)>)> {
             match job_key.cost_view {
                 None => {
-                    let (layer, _) = render_layer(
+                    let triangles = job_key.surface.as_ref().map(|s| SceneSurface {
+                        triangles: &s.shown.computed.data.scene,
+                        origin: s.shown.computed.origin,
+                        shading: s.shading,
+                    });
+                    let hit = |ray: &voxcast_core::ray::Ray| triangles.and_then(|t| t.hit(ray));
+                    let (layer, _) = render_layer_with(
                         &scene,
                         &job_key.camera,
                         (size.x, size.y),
                         &job_key.occluders,
+                        triangles.is_some().then_some(&hit as Surface),
                         &|_, _| {},
                         &flag,
                     )

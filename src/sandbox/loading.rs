@@ -4,12 +4,18 @@
 //! its preset (or a grey ramp); a failed one leaves everything as it was and says why. Files
 //! dropped on the window load the same way. A volume the player loads keeps the method and
 //! step they chose (the panel says so); a level's volume brings all its defaults.
+//!
+//! A ray density (`density:…`, or the virtual camera's rays) is computed the same way, with
+//! progress, and Cancel stops the computation itself; what it was computed from (the data
+//! set, its rays, the sparse grid) goes to [`super::raydata::RayScene`] for RayVis's views.
 
+use super::raydata::{Before, Computed, RayScene};
 use super::state::{RenderState, VolumeState};
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use bevy::window::FileDragAndDrop;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 use voxcast_core::builtin::load_source;
 use voxcast_core::io::Loaded;
@@ -32,7 +38,37 @@ struct Job {
     /// Keep the player's method and step (a load from the panel or a dropped file).
     keep_choices: bool,
     started: Instant,
-    task: Task<Result<Loaded, String>>,
+    progress: Arc<Progress>,
+    cancel: Arc<AtomicBool>,
+    task: Task<Result<Outcome, String>>,
+}
+
+/// How far a load has come, in whatever units it counts (rays for a density); `total` 0: it
+/// does not say.
+#[derive(Default)]
+pub struct Progress {
+    done: AtomicUsize,
+    total: AtomicUsize,
+}
+
+impl Progress {
+    /// Records `done` of `total`.
+    pub fn set(&self, done: usize, total: usize) {
+        self.total.store(total, Ordering::Relaxed);
+        self.done.store(done, Ordering::Relaxed);
+    }
+
+    /// The share done, when it is known.
+    pub fn fraction(&self) -> Option<f32> {
+        let total = self.total.load(Ordering::Relaxed);
+        (total > 0).then(|| self.done.load(Ordering::Relaxed) as f32 / total as f32)
+    }
+}
+
+/// What a finished load brings: the volume, and for a ray density what it was computed from.
+pub struct Outcome {
+    pub loaded: Loaded,
+    pub rays: Option<Computed>,
 }
 
 impl Loading {
@@ -49,22 +85,57 @@ impl Loading {
 
     fn begin(&mut self, source: String, keep_choices: bool) {
         let spec = source.clone();
-        let task = AsyncComputeTaskPool::get()
-            .spawn(async move { load_source(&spec).map_err(|e| e.to_string()) });
+        self.run(source, keep_choices, move |progress, cancel| {
+            match voxcast_core::rays::as_volume::parse(&spec) {
+                Some(parsed) => {
+                    let parsed = parsed.map_err(|e| format!("{spec}: {e}"))?;
+                    let d = voxcast_core::rays::as_volume::compute_spec(
+                        &parsed,
+                        &|done, total| progress.set(done, total),
+                        cancel,
+                    )
+                    .map_err(|e| format!("{spec}: {e}"))?;
+                    Ok(Computed::outcome(d, None))
+                }
+                None => load_source(&spec)
+                    .map(|loaded| Outcome { loaded, rays: None })
+                    .map_err(|e| e.to_string()),
+            }
+        });
+    }
+
+    /// Starts `work` (on the background pool) as the load of `label`: its progress shown, its
+    /// cancel flag set by Cancel. Replaces a load under way (which is told to stop).
+    pub fn run(
+        &mut self,
+        label: String,
+        keep_choices: bool,
+        work: impl FnOnce(&Progress, &AtomicBool) -> Result<Outcome, String> + Send + 'static,
+    ) {
+        self.cancel();
+        let progress = Arc::new(Progress::default());
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (p, c) = (progress.clone(), cancel.clone());
+        let task = AsyncComputeTaskPool::get().spawn(async move { work(&p, &c) });
         self.job = Some(Job {
-            source,
+            source: label,
             keep_choices,
             started: Instant::now(),
+            progress,
+            cancel,
             task,
         });
         self.error = None;
         self.note = None;
     }
 
-    /// Stops waiting for the load under way (the previous volume stays). A file already being
-    /// read is finished in the background and dropped.
+    /// Stops the load under way (the previous volume stays): a density's computation stops at
+    /// its next block of rays; a file already being read is finished in the background and
+    /// dropped.
     pub fn cancel(&mut self) {
-        self.job = None;
+        if let Some(job) = self.job.take() {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
     }
 
     /// What is loading and for how many seconds.
@@ -73,15 +144,22 @@ impl Loading {
             .as_ref()
             .map(|j| (j.source.as_str(), j.started.elapsed().as_secs_f32()))
     }
+
+    /// The share of the load under way that is done, when it says.
+    pub fn fraction(&self) -> Option<f32> {
+        self.job.as_ref().and_then(|j| j.progress.fraction())
+    }
 }
 
 pub(crate) fn plugin(app: &mut App) {
-    app.init_resource::<Loading>().add_systems(
-        Update,
-        (load_dropped_files, finish_loading)
-            .chain()
-            .in_set(super::Frame::Rules),
-    );
+    app.init_resource::<Loading>()
+        .init_resource::<RayScene>()
+        .add_systems(
+            Update,
+            (load_dropped_files, finish_loading)
+                .chain()
+                .in_set(super::Frame::Rules),
+        );
 }
 
 fn load_dropped_files(mut drops: MessageReader<FileDragAndDrop>, mut loading: ResMut<Loading>) {
@@ -96,6 +174,7 @@ pub(crate) fn finish_loading(
     mut loading: ResMut<Loading>,
     mut volume: ResMut<VolumeState>,
     mut render: ResMut<RenderState>,
+    mut rays: ResMut<RayScene>,
 ) {
     let Some(job) = loading.job.as_mut() else {
         return;
@@ -107,7 +186,15 @@ pub(crate) fn finish_loading(
     let keep = job.keep_choices;
     loading.job = None;
     match result {
-        Ok(loaded) => {
+        Ok(Outcome {
+            loaded,
+            rays: computed,
+        }) => {
+            let before = Before {
+                volume: volume.clone(),
+                render: render.clone(),
+                camera: None,
+            };
             let (method, step) = (render.settings.method, render.settings.step);
             reset_to_defaults(&loaded.volume, &mut render);
             // A ray density brings Sum (its counts mean little to the other methods).
@@ -128,6 +215,7 @@ pub(crate) fn finish_loading(
                 volume: Arc::new(loaded.volume),
                 source,
             };
+            rays.shown(computed, &volume, before);
         }
         Err(e) => loading.error = Some(e),
     }
@@ -267,6 +355,60 @@ mod tests {
         );
         let error = app.world().resource::<Loading>().error.clone().unwrap();
         assert!(error.contains("/no/such/volume.nrrd"), "{error}");
+    }
+
+    /// A ray density keeps what it came from (while it is on show) and the volume before it;
+    /// loading another volume forgets both.
+    #[test]
+    fn a_density_keeps_its_rays_until_another_volume_comes() {
+        let mut app = app();
+        app.world_mut()
+            .resource_mut::<Loading>()
+            .start("density:builtin:cornell@cell=40,trace=1".into());
+        run_until_idle(&mut app);
+        let world = app.world();
+        let volume = world.resource::<VolumeState>();
+        let rays = world.resource::<RayScene>();
+        assert!(world.resource::<Loading>().error.is_none());
+        let shown = rays.on_show(volume).expect("the density's rays are kept");
+        assert_eq!(shown.computed.set.trace_id, 1);
+        assert_eq!(shown.computed.density.params.cell, 40.0);
+        assert_eq!(shown.computed.data.scene.meshes.len(), 5);
+        let before = rays.before.as_ref().expect("the volume before it is kept");
+        assert_eq!(before.volume.source, "builtin:bucky");
+        app.world_mut()
+            .resource_mut::<Loading>()
+            .start("builtin:bunny".into());
+        run_until_idle(&mut app);
+        let rays = app.world().resource::<RayScene>();
+        assert!(rays.current.is_none() && rays.before.is_none());
+    }
+
+    /// Cancel stops a density's computation itself: its flag is set, and nothing arrives.
+    #[test]
+    fn cancel_stops_a_density() {
+        let mut app = app();
+        let flag = Arc::new(AtomicBool::new(false));
+        let seen = flag.clone();
+        let mut loading = app.world_mut().resource_mut::<Loading>();
+        loading.run("slow".into(), false, move |_, cancel| {
+            while !cancel.load(Ordering::Relaxed) {
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+            seen.store(true, Ordering::Relaxed);
+            Err("cancelled".into())
+        });
+        loading.cancel();
+        for _ in 0..2000 {
+            if flag.load(Ordering::Relaxed) {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        assert!(flag.load(Ordering::Relaxed), "the work saw the cancel");
+        app.update();
+        assert_eq!(app.world().resource::<VolumeState>().source, "builtin:bucky");
+        assert!(app.world().resource::<Loading>().error.is_none());
     }
 
     #[test]

@@ -23,6 +23,8 @@ mod overlay;
 pub mod platform;
 mod preview;
 mod progressive;
+mod raydata;
+mod rayviews;
 pub mod screenshot;
 mod script;
 mod shaders;
@@ -108,6 +110,12 @@ pub struct SandboxArgs {
     /// Window or screenshot size in pixels.
     #[arg(long, default_value = "1280x720", value_parser = parse_size)]
     pub size: (u32, u32),
+    /// With a ray density as the volume (`--volume density:…`): also draw its rays as lines
+    /// (`mesh`) or its vector field (`field`); repeat for both.
+    #[arg(long, value_parser = ["mesh", "field"])]
+    pub ray_view: Vec<String>,
+    #[arg(long, help = voxcast_core::tunables::RAY_STRIDE.doc)]
+    pub ray_stride: Option<usize>,
 }
 
 /// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): the player's
@@ -128,22 +136,46 @@ struct Start {
     volume: VolumeState,
     render: RenderState,
     camera: voxcast_core::camera::Camera,
+    rays: raydata::RayScene,
 }
 
 impl Start {
     fn from_args(args: &SandboxArgs) -> Result<Self, CliError> {
-        let loaded = args.volume.load()?;
+        // A ray density keeps what it was computed from, for RayVis's views.
+        let (loaded, computed) = match voxcast_core::rays::as_volume::parse(&args.volume.volume) {
+            Some(parsed) => {
+                let fail = |e: String| CliError::failed(format!("{}: {e}", args.volume.volume));
+                let spec = parsed.map_err(fail)?;
+                let never = std::sync::atomic::AtomicBool::new(false);
+                let d = voxcast_core::rays::as_volume::compute_spec(&spec, &|_, _| {}, &never)
+                    .map_err(fail)?;
+                let outcome = raydata::Computed::outcome(d, None);
+                (outcome.loaded, outcome.rays)
+            }
+            None => (args.volume.load()?, None),
+        };
         let resolved = args.settings.resolve(&loaded)?;
         for note in &resolved.notes {
             eprintln!("note: {note}");
         }
         let camera = args.camera.camera(&loaded, resolved.preset.as_ref())?;
+        let volume = VolumeState {
+            volume: Arc::new(loaded.volume),
+            source: args.volume.volume.clone(),
+            preset: resolved.preset,
+        };
+        let rays = raydata::RayScene {
+            current: computed.map(|computed| {
+                Arc::new(raydata::Shown {
+                    computed,
+                    volume: volume.volume.clone(),
+                })
+            }),
+            before: None,
+        };
         Ok(Self {
-            volume: VolumeState {
-                volume: Arc::new(loaded.volume),
-                source: args.volume.volume.clone(),
-                preset: resolved.preset,
-            },
+            rays,
+            volume,
             render: RenderState {
                 transfer: resolved.transfer,
                 settings: resolved.settings,
@@ -179,6 +211,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
             background.z,
         )))
         .insert_resource(start.volume)
+        .insert_resource(start.rays)
         .insert_resource(start.render)
         .insert_resource(InitialView(start.camera));
     match app.run() {
@@ -286,7 +319,12 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             (lattice::plugin, blocks::plugin),
             live::plugin,
             overlay::plugin,
-            (progressive::plugin, sharp::plugin),
+            (
+                progressive::plugin,
+                sharp::plugin,
+                raydata::plugin,
+                rayviews::plugin,
+            ),
         ))
         .insert_resource(free_play)
         .insert_resource(free_play.0)
@@ -326,6 +364,13 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
                 ),
             });
     }
+    let mut choices = raydata::RayChoices::default();
+    choices.view.mesh = args.ray_view.iter().any(|v| v == "mesh");
+    choices.view.field = args.ray_view.iter().any(|v| v == "field");
+    if let Some(stride) = args.ray_stride {
+        choices.view.stride = stride.max(1);
+    }
+    app.insert_resource(choices);
     app.insert_resource(preview::PreviewSettings {
         backend: match args.preview_backend.as_deref() {
             Some("cpu") => live::Backend::Cpu,

@@ -360,8 +360,11 @@ fn camera_for_backend(
     mut sharp: Query<&mut Camera, With<SharpCamera>>,
     progressive: Option<Res<super::progressive::Progressive>>,
     mut beneath: ResMut<SharpBeneath>,
+    ray_views: Option<Res<super::rayviews::ViewReport>>,
 ) {
     let cpu = settings.cpu_live();
+    // A ray density's line lists are drawn by the camera over the CPU image.
+    let lines = ray_views.is_some_and(|r| r.drawn);
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
     let through = render.is_some_and(|r| !r.depth_termination);
     // Below full resolution the CPU image's spheres are as coarse as the image: the camera
@@ -378,7 +381,7 @@ fn camera_for_backend(
                 RenderLayers::layer(0)
             },
             // Nothing for it to draw: no pass at all (a software rasterizer pays for each).
-            through || transparent || coarse,
+            through || transparent || coarse || lines,
         )
     } else {
         (

@@ -74,6 +74,7 @@ pub enum Section {
     VirtualCamera,
     Preview,
     LookingInside,
+    RayData,
 }
 
 /// A panel control a step is about (highlighted while the step is shown).
@@ -104,6 +105,10 @@ pub enum Control {
     Skipping,
     PreviewScale,
     PreviewOn,
+    /// The Ray data section's source, trace and Compute.
+    RaySource,
+    /// The Ray data section's views (volume, ray mesh, vector field).
+    RayViews,
 }
 
 impl Control {
@@ -127,6 +132,7 @@ impl Control {
             Control::StepTrade => Some(Section::SpeedAccuracy),
             Control::CropBox | Control::ClipPlane => Some(Section::LookingInside),
             Control::PreviewScale | Control::PreviewOn => Some(Section::Preview),
+            Control::RaySource | Control::RayViews => Some(Section::RayData),
             Control::PixelGrid | Control::Breakdown | Control::RenderImage => None,
         }
     }

@@ -193,13 +193,28 @@ impl LayerImage {
 pub fn render_layer(
     scene: &Scene<'_>,
     camera: &Camera,
+    size: (u32, u32),
+    occluders: &[Occluder],
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<(LayerImage, RenderStats), Cancelled> {
+    render_layer_with(scene, camera, size, occluders, None, progress, cancel)
+}
+
+/// [`render_layer`] with rays also stopping at `surface` (a triangle scene: a ray density's),
+/// whose colour then shows behind the volume as an occluder's does.
+pub fn render_layer_with(
+    scene: &Scene<'_>,
+    camera: &Camera,
     (width, height): (u32, u32),
     occluders: &[Occluder],
+    surface: Option<Surface<'_>>,
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(LayerImage, RenderStats), Cancelled> {
     let job = Job {
         occluders,
+        surface,
         ..Job::plain(scene, camera, (width, height), progress, cancel)
     };
     let (pixels, stats) = job.run_on_volume(|out, _, behind| match behind {

@@ -126,6 +126,71 @@ pub const SUM_RANGE: Tunable = Tunable {
     max: 3.4e38,
 };
 
+pub const RAY_CELL: Tunable = Tunable {
+    key: "cell",
+    label: "Cell size",
+    doc: "Ray density: the cell edge S in world units; cell (i, j, k) spans [iS, (i+1)S) on \
+          each axis from the world's origin. Smaller cells show finer paths but need more \
+          rays to fill and more memory. Default 0: the scene's longest side over 128 (the \
+          volume's voxel for the virtual camera's rays).",
+    default: 0.0,
+    min: 0.0,
+    max: 3.4e38,
+};
+
+pub const RAY_CHUNK: Tunable = Tunable {
+    key: "chunk",
+    label: "Chunk size (cells)",
+    doc: "Ray density: cells per chunk edge N. Only chunks a counted ray passes through are \
+          stored (RayVis's sparse grid): smaller chunks store less empty space, larger ones \
+          cost less to look up. The vector field's sample cube must divide it. Default 16.",
+    default: 16.0,
+    min: 1.0,
+    max: 64.0,
+};
+
+pub const MISS_TOLERANCE: Tunable = Tunable {
+    key: "miss-tolerance",
+    label: "Miss tolerance",
+    doc: "A ray is a hit when 0 ≤ t_hit < t_max − tolerance (t in units of its direction's \
+          length). Raise it when a renderer reports misses as hits at t_max. Default 0.",
+    default: 0.0,
+    min: 0.0,
+    max: 3.4e38,
+};
+
+pub const RAY_STRIDE: Tunable = Tunable {
+    key: "stride",
+    label: "Stride",
+    doc: "The ray mesh draws every n-th ray the filter passes: raise it to see single paths \
+          in a dense set, and to draw faster. Default 16.",
+    default: 16.0,
+    min: 1.0,
+    max: 1_000_000.0,
+};
+
+pub const RAY_CAMERA_SIDE: Tunable = Tunable {
+    key: "camera-rays",
+    label: "Rays across",
+    doc: "The virtual camera's rays across its image (down by its aspect) whose density is \
+          computed; at most 512. Raise it until every voxel is crossed by some ray. \
+          Default 32.",
+    default: 32.0,
+    min: 1.0,
+    max: 512.0,
+};
+
+pub const SAMPLE_CUBE: Tunable = Tunable {
+    key: "sample-cube",
+    label: "Sample cube (cells)",
+    doc: "The vector field draws one arrow per cube of this many cells a side, along the mean \
+          direction of the rays that crossed it, coloured by their count. It must divide the \
+          chunk size. Default 4.",
+    default: 4.0,
+    min: 1.0,
+    max: 64.0,
+};
+
 pub const REFINE_STEPS: Tunable = Tunable {
     key: "refine-steps",
     label: "Refinement steps (First)",
@@ -450,6 +515,12 @@ pub const ALL: &[Tunable] = &[
     CROP,
     CLIP_PLANE,
     CLIP_POSITION,
+    RAY_CELL,
+    RAY_CHUNK,
+    MISS_TOLERANCE,
+    RAY_STRIDE,
+    RAY_CAMERA_SIDE,
+    SAMPLE_CUBE,
 ];
 
 #[cfg(test)]

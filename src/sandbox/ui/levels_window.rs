@@ -38,6 +38,8 @@ fn control_name(c: Control) -> String {
         Control::Skipping => "Empty-space skipping",
         Control::PreviewScale => "Preview resolution",
         Control::PreviewOn => "Show the preview",
+        Control::RaySource => "Rays and Compute",
+        Control::RayViews => "the views",
     };
     match c.section() {
         Some(s) => format!("Settings › {} › {label}", super::title(s)),

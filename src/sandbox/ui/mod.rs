@@ -8,6 +8,7 @@ mod cost_view;
 mod cut;
 mod levels_window;
 mod light;
+mod ray_data;
 mod ray_overlay;
 mod rays_panel;
 mod trade;
@@ -136,6 +137,7 @@ fn title(s: Section) -> &'static str {
         Section::VirtualCamera => "Virtual camera",
         Section::Preview => "Preview (slow hardware)",
         Section::LookingInside => "Looking inside (crop and clip)",
+        Section::RayData => "Ray data (RayVis)",
     }
 }
 
@@ -620,6 +622,14 @@ fn checkbox(ui: &mut egui::Ui, value: &mut bool, tunable: &Tunable) -> bool {
 /// The settings panel's width, in points.
 const PANEL_WIDTH: f32 = 340.0;
 
+/// What the Ray data section reads and edits.
+type RayParams<'w> = (
+    ResMut<'w, super::raydata::RayChoices>,
+    Res<'w, super::raydata::RayScene>,
+    Res<'w, super::raydata::Estimator>,
+    Res<'w, super::rayviews::ViewReport>,
+);
+
 fn settings_panel(
     mut contexts: EguiContexts,
     (mut panel, mut dock): (ResMut<PanelState>, ResMut<Dock>),
@@ -634,14 +644,16 @@ fn settings_panel(
         ResMut<super::trade::StepTrade>,
         ResMut<super::cut::CutHandles>,
     ),
-    (diagnostics, mut preview, live): (
+    (diagnostics, mut preview, live, rays): (
         Res<DiagnosticsStore>,
         ResMut<PreviewSettings>,
         Option<Res<super::live::LiveView>>,
+        RayParams,
     ),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
     (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
 ) -> Result {
+    let (mut ray_choices, ray_scene, estimator, ray_report) = rays;
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
     let mut load: Option<String> = None;
@@ -740,6 +752,31 @@ fn settings_panel(
                                 virtual_camera_section(ui, &mut vc, main, &volume, spot)
                             });
                         }
+                        section(ui, Section::RayData, false, guide, |ui| {
+                            let vc = virtual_cameras.single().ok().cloned();
+                            let mut choices = ray_choices.clone();
+                            let mut back = false;
+                            ray_data::ray_data_section(
+                                ui,
+                                ray_data::RayPanel {
+                                    choices: &mut choices,
+                                    rays: &ray_scene,
+                                    estimator: &estimator,
+                                    report: &ray_report,
+                                    volume: &volume,
+                                    render: &mut edited,
+                                    loading: &mut loading,
+                                    virtual_camera: vc.as_ref(),
+                                    preview_on: &mut preview.enabled,
+                                    back: &mut back,
+                                },
+                                spot,
+                            );
+                            choices.back = back;
+                            if choices != *ray_choices {
+                                *ray_choices = choices;
+                            }
+                        });
                         section(ui, Section::Preview, false, guide, |ui| {
                             preview_section(
                                 ui,

@@ -234,7 +234,7 @@ fn select(data: &RayData, spec: &DensitySpec) -> Result<RaySet, String> {
 }
 
 /// The longest side of the scene (else of the rays' origins) over [`DEFAULT_CELLS`].
-fn default_cell(data: &RayData, set: &RaySet) -> f32 {
+pub fn default_cell(data: &RayData, set: &RaySet) -> f32 {
     let bounds = data.scene.bounds().or_else(|| {
         let mut points = set.rays.iter().map(|r| r.origin).filter(|p| p.is_finite());
         let first = points.next()?;

@@ -72,6 +72,31 @@ pub fn shade_hit(scene: &TriangleScene, hit: &Hit, dir: Vec3, mode: SceneShading
     Some(base * (AMBIENT + (1.0 - AMBIENT) * lambert))
 }
 
+/// A triangle scene as the opaque surface a density's rays stop at (the CPU's twin of the
+/// preview's depth prepass): rays in the volume's coordinates, the scene at `origin` + them.
+#[derive(Clone, Copy)]
+pub struct SceneSurface<'v> {
+    pub triangles: &'v TriangleScene,
+    pub origin: Vec3,
+    pub shading: SceneShading,
+}
+
+impl SceneSurface<'_> {
+    /// Where `ray` (volume coordinates) meets the scene, if it is drawn: distance and colour.
+    pub fn hit(&self, ray: &crate::ray::Ray) -> Option<(f32, Vec3)> {
+        if self.shading == SceneShading::Hidden {
+            return None;
+        }
+        let hit =
+            self.triangles
+                .intersect(ray.origin + self.origin, ray.dir, ray.t_min, ray.t_max)?;
+        Some((
+            hit.t,
+            shade_hit(self.triangles, &hit, ray.dir, self.shading)?,
+        ))
+    }
+}
+
 /// One view of a density over its scene: the density volume resolved with its settings, where
 /// its voxel `(0, 0, 0)` lies in the world (`origin`), the scene, how it is drawn, and the
 /// camera (world units).
@@ -102,16 +127,12 @@ impl DensityView<'_, '_> {
 
     /// Where `ray` (volume coordinates) meets the scene, if it is drawn: distance and colour.
     fn surface(&self, ray: &crate::ray::Ray) -> Option<(f32, Vec3)> {
-        if self.shading == SceneShading::Hidden {
-            return None;
+        SceneSurface {
+            triangles: self.triangles,
+            origin: self.origin,
+            shading: self.shading,
         }
-        let hit =
-            self.triangles
-                .intersect(ray.origin + self.origin, ray.dir, ray.t_min, ray.t_max)?;
-        Some((
-            hit.t,
-            shade_hit(self.triangles, &hit, ray.dir, self.shading)?,
-        ))
+        .hit(ray)
     }
 
     /// The picture at `width × height`. Progress and cancel as [`crate::render::render`].
