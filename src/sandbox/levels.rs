@@ -31,6 +31,8 @@ pub struct Lessons {
     pub message: Option<String>,
     /// What the player typed as a prediction.
     pub prediction: String,
+    /// The effect (trace id) the player named.
+    pub named_effect: Option<u32>,
     /// Whether the current step's objective is met (checked every frame; once met it stays
     /// met until the step changes, so closing a window or undoing a change never takes a
     /// finished step back).
@@ -71,6 +73,7 @@ impl Lessons {
             path,
             message,
             prediction: String::new(),
+            named_effect: None,
             met: false,
             spot: None,
             detail: None,
@@ -174,6 +177,7 @@ fn apply_commands(
             }
         }
         lessons.prediction.clear();
+        lessons.named_effect = None;
     }
 }
 
@@ -238,6 +242,13 @@ fn level_preset_after_load(
     }
 }
 
+/// The ray data the objectives read (absent in tests without the Ray data plugins).
+type RayState<'w> = (
+    Option<Res<'w, super::raydata::RayScene>>,
+    Option<Res<'w, super::raydata::RayChoices>>,
+    Option<Res<'w, super::rayviews::ViewReport>>,
+);
+
 /// Checks the current step's objective against what the player has done.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn check_objective(
@@ -252,6 +263,7 @@ pub(crate) fn check_objective(
         Option<Res<PreviewSettings>>,
         Option<Res<super::inspect::InspectSettings>>,
     ),
+    (rays, ray_choices, ray_report): RayState,
 ) {
     let step = lessons.step_in(*mode.get()).cloned();
     // A step about the step's trade measures the step, whatever knob was picked before.
@@ -303,6 +315,24 @@ pub(crate) fn check_objective(
         if let (Some(truth), Ok(typed)) = (truth, parse_typed(&lessons.prediction)) {
             sit.prediction = Some((typed, truth));
         }
+        let shown = rays.as_ref().and_then(|r| r.on_show(&volume));
+        sit.ray_density = shown.map(|s| s.computed.facts.clone());
+        if shown.is_some() {
+            let drawn = ray_report.as_ref().is_some_and(|r| r.drawn);
+            let view = ray_choices
+                .as_ref()
+                .map(|c| c.view.clone())
+                .unwrap_or_default();
+            sit.ray_views = [
+                ("volume", sit.preview_on),
+                ("mesh", view.mesh && drawn),
+                ("field", view.field && drawn),
+            ]
+            .into_iter()
+            .filter_map(|(name, on)| on.then_some(name))
+            .collect();
+        }
+        sit.named_effect = lessons.named_effect;
         step.objective.met(&sit)
     });
     let here = Some((*mode.get(), lessons.step));
@@ -399,6 +429,10 @@ pub(super) fn situation(
             .trace
             .as_ref()
             .is_some_and(|t| t.cut_words().is_some()),
+        // Filled in by the caller, which sees the ray data.
+        ray_density: None,
+        ray_views: Vec::new(),
+        named_effect: None,
     }
 }
 

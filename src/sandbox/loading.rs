@@ -95,7 +95,12 @@ impl Loading {
                         cancel,
                     )
                     .map_err(|e| format!("{spec}: {e}"))?;
-                    Ok(Computed::outcome(d, None))
+                    let facts = voxcast_core::level::RayDensityFacts {
+                        source: parsed.source.clone(),
+                        trace: parsed.trace,
+                        side: 0,
+                    };
+                    Ok(Computed::outcome(d, None, facts))
                 }
                 None => load_source(&spec)
                     .map(|loaded| Outcome { loaded, rays: None })
@@ -389,15 +394,21 @@ mod tests {
     fn cancel_stops_a_density() {
         let mut app = app();
         let flag = Arc::new(AtomicBool::new(false));
-        let seen = flag.clone();
+        let started = Arc::new(AtomicBool::new(false));
+        let (seen, running) = (flag.clone(), started.clone());
         let mut loading = app.world_mut().resource_mut::<Loading>();
         loading.run("slow".into(), false, move |_, cancel| {
+            running.store(true, Ordering::Relaxed);
             while !cancel.load(Ordering::Relaxed) {
                 std::thread::sleep(std::time::Duration::from_millis(1));
             }
             seen.store(true, Ordering::Relaxed);
             Err("cancelled".into())
         });
+        // Under way (a task not yet started is simply never run).
+        while !started.load(Ordering::Relaxed) {
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
         loading.cancel();
         for _ in 0..2000 {
             if flag.load(Ordering::Relaxed) {
@@ -407,7 +418,10 @@ mod tests {
         }
         assert!(flag.load(Ordering::Relaxed), "the work saw the cancel");
         app.update();
-        assert_eq!(app.world().resource::<VolumeState>().source, "builtin:bucky");
+        assert_eq!(
+            app.world().resource::<VolumeState>().source,
+            "builtin:bucky"
+        );
         assert!(app.world().resource::<Loading>().error.is_none());
     }
 

@@ -149,7 +149,12 @@ impl Start {
                 let never = std::sync::atomic::AtomicBool::new(false);
                 let d = voxcast_core::rays::as_volume::compute_spec(&spec, &|_, _| {}, &never)
                     .map_err(fail)?;
-                let outcome = raydata::Computed::outcome(d, None);
+                let facts = voxcast_core::level::RayDensityFacts {
+                    source: spec.source.clone(),
+                    trace: spec.trace,
+                    side: 0,
+                };
+                let outcome = raydata::Computed::outcome(d, None, facts);
                 (outcome.loaded, outcome.rays)
             }
             None => (args.volume.load()?, None),

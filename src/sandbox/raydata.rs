@@ -12,6 +12,7 @@ use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::io::Loaded;
+use voxcast_core::level::RayDensityFacts;
 use voxcast_core::rays::as_volume::{DensitySpec, RayDensity, compute_set, is_density};
 use voxcast_core::rays::density::{Density, DensityParams};
 use voxcast_core::rays::field::ArrowScale;
@@ -32,11 +33,13 @@ pub struct Computed {
     pub origin: Vec3,
     /// For the virtual camera's rays: the camera they were shot from.
     pub camera: Option<CoreCamera>,
+    /// Where the rays came from, as the levels see it.
+    pub facts: RayDensityFacts,
 }
 
 impl Computed {
     /// A finished density as a load's outcome: the volume to show and what it came from.
-    pub fn outcome(d: RayDensity, camera: Option<CoreCamera>) -> Outcome {
+    pub fn outcome(d: RayDensity, camera: Option<CoreCamera>, facts: RayDensityFacts) -> Outcome {
         let RayDensity {
             data,
             set,
@@ -56,6 +59,7 @@ impl Computed {
                 density,
                 origin,
                 camera,
+                facts,
             }),
         }
     }
@@ -301,7 +305,12 @@ impl RayChoices {
                 &|done, total| progress.set(done, total),
                 cancel,
             )?;
-            Ok(Computed::outcome(d, Some(camera)))
+            let facts = RayDensityFacts {
+                source: "camera".into(),
+                trace: None,
+                side: w,
+            };
+            Ok(Computed::outcome(d, Some(camera), facts))
         });
     }
 }

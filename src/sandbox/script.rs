@@ -120,6 +120,9 @@ struct Hands<'w, 's> {
     motion: Option<Res<'w, super::preview::Motion>>,
     volume: Res<'w, VolumeState>,
     main_view: Query<'w, 's, &'static super::state::View, With<super::state::MainCamera>>,
+    loading: ResMut<'w, Loading>,
+    rays: Res<'w, super::raydata::RayScene>,
+    ray_choices: ResMut<'w, super::raydata::RayChoices>,
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -128,7 +131,6 @@ fn drive(
     mut run: ResMut<Run>,
     mut lessons: ResMut<Lessons>,
     mode: Res<State<Mode>>,
-    loading: Res<Loading>,
     request: Res<PlayLevels>,
     mut hands: Hands,
     (mut send, mut exit): (MessageWriter<LevelCommand>, MessageWriter<AppExit>),
@@ -163,7 +165,7 @@ fn drive(
         Phase::Settle => {
             let ready = *mode.get() == Mode::Level(run.level)
                 && hands.volume.source == level.scene.volume
-                && loading.under_way().is_none();
+                && hands.loading.under_way().is_none();
             if !ready {
                 run.frames = 0;
                 return;
@@ -511,6 +513,22 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             }
         }
         Objective::SkipBlocks { on } => hands.inspect.show_blocks = *on,
+        Objective::RayDensity {
+            source,
+            trace,
+            side_at_least,
+        } => compute_density(hands, source, *trace, *side_at_least),
+        Objective::RayView { view, on } => match view.as_str() {
+            "mesh" => hands.ray_choices.view.mesh = *on,
+            "field" => hands.ray_choices.view.field = *on,
+            _ => {
+                if let Some(p) = hands.preview.as_mut() {
+                    p.enabled = *on;
+                }
+            }
+        },
+        // The player judges the pictures; here the level's answer is chosen.
+        Objective::NameEffect { trace } => lessons.named_effect = Some(*trace),
     }
 }
 
@@ -546,6 +564,35 @@ fn first_light(s: &mut voxcast_core::settings::RenderSettings) -> &mut LightSour
         s.phong.lights.push(LightSource::default());
     }
     &mut s.phong.lights[0]
+}
+
+/// Chooses the density `source` (`camera` or a ray data source), `trace` and at least `side`
+/// rays across in the Ray data section and presses Compute, unless it is on show or under way.
+fn compute_density(hands: &mut Hands, source: &str, trace: Option<u32>, side: u32) {
+    use super::raydata::SourceKind;
+    if hands.loading.under_way().is_some() {
+        return;
+    }
+    let c = &mut hands.ray_choices;
+    c.source = match source {
+        "camera" => SourceKind::Camera,
+        "builtin:cornell" => SourceKind::Cornell,
+        path => {
+            c.path = path.to_string();
+            SourceKind::File
+        }
+    };
+    c.trace = trace;
+    c.camera_side = c.camera_side.max(side);
+    let choices = c.clone();
+    let vc = hands.cameras.single().ok().copied();
+    choices.compute(
+        &mut hands.loading,
+        &hands.rays,
+        &hands.volume,
+        &hands.render,
+        vc.as_ref(),
+    );
 }
 
 fn select_centre(hands: &mut Hands) {

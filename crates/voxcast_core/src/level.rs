@@ -31,6 +31,8 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/14_acceleration.json"),
     include_str!("../../../assets/levels/08_preview_render.json"),
     include_str!("../../../assets/levels/15_slow_hardware.json"),
+    include_str!("../../../assets/levels/17_ray_density.json"),
+    include_str!("../../../assets/levels/18_which_effect.json"),
 ];
 
 /// What a level's scene holds: only what it teaches.
@@ -237,6 +239,31 @@ pub enum Objective {
     /// Measure the trade of the knob named `knob` (`crate::knob::Knob::name`) for the view on
     /// screen.
     KnobMeasured { knob: String },
+    /// Show a ray density computed from `source` (`camera`: the virtual camera's rays; else a
+    /// ray data source such as `builtin:cornell`), of trace `trace` when given, from at least
+    /// `side_at_least` rays across (the virtual camera's).
+    RayDensity {
+        source: String,
+        #[serde(default)]
+        trace: Option<u32>,
+        #[serde(default)]
+        side_at_least: u32,
+    },
+    /// Show or hide a view of the ray density: `volume`, `mesh` or `field`.
+    RayView { view: String, on: bool },
+    /// Tell which effect (its trace id, `crate::rays::effects::Effect::id`) cast the rays on
+    /// show.
+    NameEffect { trace: u32 },
+}
+
+/// What a ray density on show was computed from, as the objectives see it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RayDensityFacts {
+    /// `camera`, or the ray data source.
+    pub source: String,
+    pub trace: Option<u32>,
+    /// The virtual camera's rays across (0 for other sources).
+    pub side: u32,
 }
 
 /// One step of a level.
@@ -318,6 +345,12 @@ pub struct Situation {
     pub skip_blocks_shown: bool,
     /// The knob of a trade measured for what is on screen, if any.
     pub measured_knob: Option<&'static str>,
+    /// The ray density on show, if any.
+    pub ray_density: Option<RayDensityFacts>,
+    /// The ray density's views shown (`volume`, `mesh`, `field`).
+    pub ray_views: Vec<&'static str>,
+    /// The effect (trace id) the player named.
+    pub named_effect: Option<u32>,
 }
 
 impl Objective {
@@ -399,6 +432,17 @@ impl Objective {
             Objective::PreviewScaleAtLeast { scale } => s.preview_scale >= scale - 1e-3,
             Objective::Preview { on } => s.preview_on == *on,
             Objective::KnobMeasured { knob } => s.measured_knob == Some(knob.as_str()),
+            Objective::RayDensity {
+                source,
+                trace,
+                side_at_least,
+            } => s.ray_density.as_ref().is_some_and(|f| {
+                f.source == *source
+                    && f.side >= *side_at_least
+                    && trace.is_none_or(|t| f.trace == Some(t))
+            }),
+            Objective::RayView { view, on } => s.ray_views.contains(&view.as_str()) == *on,
+            Objective::NameEffect { trace } => s.named_effect == Some(*trace),
         }
     }
 }
@@ -821,6 +865,49 @@ mod tests {
         );
     }
 
+    #[test]
+    fn ray_data_objectives() {
+        let mut s = Situation::default();
+        let cornell = |trace| Objective::RayDensity {
+            source: "builtin:cornell".into(),
+            trace,
+            side_at_least: 0,
+        };
+        let camera = Objective::RayDensity {
+            source: "camera".into(),
+            trace: None,
+            side_at_least: 128,
+        };
+        assert!(!cornell(None).met(&s) && !camera.met(&s));
+        s.ray_density = Some(RayDensityFacts {
+            source: "builtin:cornell".into(),
+            trace: Some(2),
+            side: 0,
+        });
+        assert!(cornell(None).met(&s) && cornell(Some(2)).met(&s));
+        assert!(!cornell(Some(3)).met(&s) && !camera.met(&s));
+        s.ray_density = Some(RayDensityFacts {
+            source: "camera".into(),
+            trace: None,
+            side: 64,
+        });
+        assert!(!camera.met(&s), "too few rays across");
+        s.ray_density.as_mut().unwrap().side = 128;
+        assert!(camera.met(&s));
+        let field = |on| Objective::RayView {
+            view: "field".into(),
+            on,
+        };
+        assert!(!field(true).met(&s) && field(false).met(&s));
+        s.ray_views = vec!["volume", "field"];
+        assert!(field(true).met(&s) && !field(false).met(&s));
+        assert!(!Objective::NameEffect { trace: 2 }.met(&s));
+        s.named_effect = Some(3);
+        assert!(!Objective::NameEffect { trace: 2 }.met(&s));
+        s.named_effect = Some(2);
+        assert!(Objective::NameEffect { trace: 2 }.met(&s));
+    }
+
     /// The names objectives use are real: knobs and cost views.
     #[test]
     fn objectives_name_real_knobs_and_views() {
@@ -837,6 +924,19 @@ mod tests {
                             l.id
                         )
                     }
+                    Objective::RayView { view, .. } => {
+                        assert!(
+                            ["volume", "mesh", "field"].contains(&view.as_str()),
+                            "{view}"
+                        )
+                    }
+                    Objective::NameEffect { trace } => assert!(
+                        crate::rays::effects::Effect::ALL
+                            .iter()
+                            .any(|e| e.id() == *trace),
+                        "{}: {trace}",
+                        l.id
+                    ),
                     _ => {}
                 }
             }

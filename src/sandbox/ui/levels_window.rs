@@ -191,6 +191,9 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
             composite_table(ui, &rows);
         }
     }
+    if let Objective::NameEffect { trace } = step.objective {
+        name_effect(ui, lessons, trace, met);
+    }
     if !reading {
         ui.label(if met { "✔ done" } else { "… not yet" });
     }
@@ -205,6 +208,43 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
         }
     });
     command
+}
+
+/// The answers to "which effect cast these rays?": one button per effect, and what a wrong
+/// choice should have shown.
+fn name_effect(ui: &mut egui::Ui, lessons: &mut Lessons, trace: u32, met: bool) {
+    use voxcast_core::rays::effects::Effect;
+    ui.horizontal_wrapped(|ui| {
+        for e in Effect::ALL {
+            let chosen = lessons.named_effect == Some(e.id());
+            if ui.selectable_label(chosen, e.words()).clicked() && !met {
+                lessons.named_effect = Some(e.id());
+            }
+        }
+    });
+    let hint = match lessons
+        .named_effect
+        .and_then(|id| Effect::ALL.get(id as usize))
+    {
+        Some(e) if e.id() != trace => Some(match e {
+            Effect::Primary => {
+                "Not these: primary rays all start at the camera, outside the box's open front."
+            }
+            Effect::Shadow => {
+                "Not these: shadow rays to a distant light are all parallel — look at the arrows."
+            }
+            Effect::Reflection => {
+                "Not these: reflection rays leave every visible point, in the mirror direction."
+            }
+            Effect::AmbientOcclusion => {
+                "Not these: ambient-occlusion rays are short and stay near the surfaces."
+            }
+        }),
+        _ => None,
+    };
+    if let Some(h) = hint {
+        ui.colored_label(egui::Color32::YELLOW, h);
+    }
 }
 
 /// A typed prediction judged against `truth`: `None` while nothing is typed; else the number
