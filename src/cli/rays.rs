@@ -51,9 +51,8 @@ pub struct SourceArg {
     /// traces through it).
     #[arg(value_name = "FILE|builtin:NAME")]
     pub source: String,
-    /// A ray hits when t_hit ≥ 0 and t_hit < t_max − T: RayVis's miss-detection tolerance,
-    /// for renderers that report a miss as a hit at t_max. World units along the ray; default 0.
-    #[arg(long, value_name = "T", default_value_t = 0.0, value_parser = non_negative)]
+    #[arg(long, value_name = "T", default_value_t = 0.0, value_parser = non_negative,
+          help = voxcast_core::tunables::MISS_TOLERANCE.doc)]
     pub miss_tolerance: f32,
 }
 
@@ -75,8 +74,8 @@ pub struct GridArgs {
     /// Cell edge S in world units: cell (i, j, k) spans [iS, (i+1)S) on each axis.
     #[arg(long, value_name = "S", allow_hyphen_values = true)]
     pub cell: f32,
-    /// Cells per chunk edge N: only chunks a counted ray passes through are stored.
-    #[arg(long, value_name = "N", default_value_t = 16)]
+    #[arg(long, value_name = "N", default_value_t = voxcast_core::tunables::RAY_CHUNK.default as u32,
+          help = voxcast_core::tunables::RAY_CHUNK.doc)]
     pub chunk: u32,
 }
 

@@ -190,9 +190,14 @@ fn set_up_scene(
     stage: Res<Stage>,
     (volume, mut render): (Res<VolumeState>, ResMut<RenderState>),
     (mut loading, mut preview): (ResMut<Loading>, ResMut<PreviewSettings>),
+    ray_choices: Option<ResMut<super::raydata::RayChoices>>,
 ) {
     preview.enabled = stage.preview;
     let Mode::Level(l) = *mode.get() else { return };
+    // The Ray data section starts afresh too (no ray mesh left over from another level).
+    if let Some(mut c) = ray_choices {
+        *c = default();
+    }
     let Some(level) = lessons.levels.get(l) else {
         return;
     };

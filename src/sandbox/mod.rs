@@ -116,6 +116,8 @@ pub struct SandboxArgs {
     pub ray_view: Vec<String>,
     #[arg(long, help = voxcast_core::tunables::RAY_STRIDE.doc)]
     pub ray_stride: Option<usize>,
+    #[arg(long, help = voxcast_core::tunables::SAMPLE_CUBE.doc)]
+    pub ray_cube: Option<u32>,
 }
 
 /// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): the player's
@@ -374,6 +376,9 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
     choices.view.field = args.ray_view.iter().any(|v| v == "field");
     if let Some(stride) = args.ray_stride {
         choices.view.stride = stride.max(1);
+    }
+    if let Some(cube) = args.ray_cube {
+        choices.view.cube = cube.max(1);
     }
     app.insert_resource(choices);
     app.insert_resource(preview::PreviewSettings {

@@ -89,10 +89,14 @@ pub(super) fn reframe_on_new_volume(
         return;
     }
     let (lo, hi) = volume.volume.bounds();
+    // A ray density is seen as RayVis shows its scene: from its preset's side (the front).
+    let density_view = voxcast_core::rays::as_volume::is_density(&volume.volume)
+        .then(|| volume.preset.as_ref().and_then(|p| p.view))
+        .flatten();
     for (mut orbit, mut transform, mut view) in &mut cameras {
         let v = view.0;
-        let Ok(framed) = voxcast_core::camera::Camera::framing(lo, hi, v.eye - v.target, v.up)
-        else {
+        let (from, up) = density_view.map_or((v.eye - v.target, v.up), |d| (d.from, d.up));
+        let Ok(framed) = voxcast_core::camera::Camera::framing(lo, hi, from, up) else {
             continue;
         };
         *orbit = Orbit::looking_at(framed.eye, framed.target, framed.up);

@@ -318,7 +318,11 @@ impl RayChoices {
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<RayChoices>()
         .init_resource::<Estimator>()
-        .add_systems(Update, (estimate, go_back).in_set(super::Frame::Rules));
+        .init_resource::<RangeFit>()
+        .add_systems(
+            Update,
+            (estimate, go_back, fit_range).in_set(super::Frame::Rules),
+        );
 }
 
 /// Brings back the volume (and its settings) the densities replaced.
@@ -442,5 +446,83 @@ fn estimate(choices: Res<RayChoices>, mut est: ResMut<Estimator>) {
                 bytes: e.bytes,
             },
         ))
+    }));
+}
+
+/// The Sum range fitted to the view (`voxcast_core::rays::layered::DensityView::fit_sum_range`),
+/// on the background pool: once for every new density, and when the panel asks.
+#[derive(Resource, Default)]
+pub struct RangeFit {
+    /// The density the range was (or is being) fitted for.
+    fitted_for: Option<usize>,
+    task: Option<Task<Option<(f32, f32)>>>,
+    /// The panel asked for a fit of the view on screen.
+    pub asked: bool,
+}
+
+impl RangeFit {
+    pub fn busy(&self) -> bool {
+        self.task.is_some()
+    }
+}
+
+/// Starts a fit for a new density (or when asked) and sets the range when it arrives.
+fn fit_range(
+    rays: Res<RayScene>,
+    volume: Res<VolumeState>,
+    mut render: ResMut<RenderState>,
+    choices: Res<RayChoices>,
+    views: Query<(&super::state::View, &Camera), With<super::state::MainCamera>>,
+    mut fit: ResMut<RangeFit>,
+) {
+    let Some(shown) = rays.on_show(&volume).cloned() else {
+        *fit = RangeFit::default();
+        return;
+    };
+    let id = Arc::as_ptr(&shown) as usize;
+    if let Some(task) = fit.task.as_mut()
+        && let Some(range) = check_ready(task)
+    {
+        fit.task = None;
+        if fit.fitted_for == Some(id)
+            && let Some(r) = range
+            && render.settings.method == voxcast_core::composite::Method::Sum
+        {
+            render.settings.sum_range = Some(r);
+        }
+    }
+    // A new volume is framed this frame: fit the view it is framed in, the next.
+    if fit.task.is_some() || (fit.fitted_for == Some(id) && !fit.asked) || volume.is_changed() {
+        return;
+    }
+    let Ok((view, camera)) = views.single() else {
+        return;
+    };
+    let size = camera
+        .physical_target_size()
+        .unwrap_or(UVec2::new(640, 360));
+    fit.asked = false;
+    fit.fitted_for = Some(id);
+    let (render, shading, view) = (render.clone(), choices.view.shading, view.0);
+    fit.task = Some(AsyncComputeTaskPool::get().spawn(async move {
+        let c = &shown.computed;
+        let mut settings = render.settings.clone();
+        settings.sum_range = None;
+        let scene =
+            Scene::plain(&shown.volume, &render.transfer, &settings, view.forward()).ok()?;
+        // The view is in the volume's coordinates; the fit takes the world's.
+        let world = CoreCamera {
+            eye: view.eye + c.origin,
+            target: view.target + c.origin,
+            ..view
+        };
+        voxcast_core::rays::layered::DensityView {
+            volume_scene: &scene,
+            origin: c.origin,
+            triangles: &c.data.scene,
+            shading,
+            camera: &world,
+        }
+        .fit_sum_range((size.x.max(1), size.y.max(1)))
     }));
 }

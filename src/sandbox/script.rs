@@ -244,6 +244,8 @@ fn drive(
                         | Objective::SkipBlocks { .. }
                         | Objective::Skipping { on: true }
                         | Objective::PreviewCostView { .. }
+                        | Objective::RayDensity { .. }
+                        | Objective::RayView { .. }
                 );
                 let met_at = *run.met_at.get_or_insert(run.frames);
                 match run.step_shot {

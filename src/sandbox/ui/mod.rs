@@ -628,6 +628,7 @@ type RayParams<'w> = (
     Res<'w, super::raydata::RayScene>,
     Res<'w, super::raydata::Estimator>,
     Res<'w, super::rayviews::ViewReport>,
+    ResMut<'w, super::raydata::RangeFit>,
 );
 
 fn settings_panel(
@@ -653,7 +654,7 @@ fn settings_panel(
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
     (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
 ) -> Result {
-    let (mut ray_choices, ray_scene, estimator, ray_report) = rays;
+    let (mut ray_choices, ray_scene, estimator, ray_report, mut range_fit) = rays;
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.clone();
     let mut load: Option<String> = None;
@@ -769,6 +770,7 @@ fn settings_panel(
                                     virtual_camera: vc.as_ref(),
                                     preview_on: &mut preview.enabled,
                                     back: &mut back,
+                                    fit: &mut range_fit,
                                 },
                                 spot,
                             );

@@ -31,6 +31,7 @@ pub(crate) struct RayPanel<'a> {
     pub preview_on: &'a mut bool,
     /// Set when the volume before the densities is to come back.
     pub back: &'a mut bool,
+    pub fit: &'a mut crate::sandbox::raydata::RangeFit,
 }
 
 /// Bytes in words (KiB, MiB, GiB).
@@ -117,6 +118,23 @@ pub(crate) fn ray_data_section(ui: &mut egui::Ui, p: RayPanel, spot: Spot) {
     ui.separator();
     marked(ui, spot, Control::RayViews, |ui| {
         view_controls(ui, p.choices, p.preview_on, p.report, d.params.chunk)
+    });
+    ui.horizontal(|ui| {
+        let busy = p.fit.busy();
+        if ui
+            .add_enabled(!busy, egui::Button::new("Fit the range to this view"))
+            .on_hover_text(
+                "Set Sum's range from 0 to what the densest twentieth of this view's rays \
+                 gather (a 32 × 32 grid of them, stopped at the scene), so the picture spans \
+                 inferno; done for every new density",
+            )
+            .clicked()
+        {
+            p.fit.asked = true;
+        }
+        if busy {
+            ui.spinner();
+        }
     });
     ui.label("Sum range and step per cell: Ray casting above.");
 }
