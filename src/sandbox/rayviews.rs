@@ -354,6 +354,10 @@ fn swap_lines(
     };
     building.task = None;
     *report = geometry.report;
+    info!(
+        "ray views: {} ray lines, {} arrows",
+        report.lines, report.arrows
+    );
     for (e, _) in &existing {
         commands.entity(e).despawn();
     }
