@@ -190,13 +190,22 @@ fn set_up_scene(
     stage: Res<Stage>,
     (volume, mut render): (Res<VolumeState>, ResMut<RenderState>),
     (mut loading, mut preview): (ResMut<Loading>, ResMut<PreviewSettings>),
-    ray_choices: Option<ResMut<super::raydata::RayChoices>>,
+    (ray_choices, inspect): (
+        Option<ResMut<super::raydata::RayChoices>>,
+        Option<ResMut<super::inspect::InspectSettings>>,
+    ),
 ) {
     preview.enabled = stage.preview;
     let Mode::Level(l) = *mode.get() else { return };
     // The Ray data section starts afresh too (no ray mesh left over from another level).
     if let Some(mut c) = ray_choices {
         *c = default();
+    }
+    // So do the skip blocks a level may have turned on.
+    if let Some(mut i) = inspect
+        && i.show_blocks
+    {
+        i.show_blocks = false;
     }
     let Some(level) = lessons.levels.get(l) else {
         return;

@@ -8,6 +8,7 @@ use super::sharp::{GpuPlan, SharpCamera, SharpTarget};
 use super::state::{MainCamera, View, VolumeBox};
 use bevy::camera::RenderTarget;
 use bevy::camera::visibility::RenderLayers;
+use bevy::core_pipeline::prepass::DepthPrepass;
 use bevy::prelude::*;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::window::PrimaryWindow;
@@ -349,9 +350,13 @@ type MainOnly = (With<MainCamera>, Without<SharpCamera>);
 /// occluders' layer) are in the CPU's image, and drawn again over it, sharp, when the preview
 /// runs below full resolution. With the GPU it draws everything at full resolution; below it,
 /// the volume alone over the meshes the sharp camera draws (`sharp`). (Lines are egui's:
-/// `overlay`.)
+/// `overlay`; a ray density's line lists are meshes, drawn by this camera.) Only the GPU
+/// preview reads the depth prepass: with the CPU the camera has none (a software rasterizer
+/// would draw every line twice).
 #[allow(clippy::too_many_arguments)]
 fn camera_for_backend(
+    mut commands: Commands,
+    prepass: Query<(Entity, Has<DepthPrepass>), MainOnly>,
     settings: Res<PreviewSettings>,
     quality: Quality,
     render: Option<Res<super::state::RenderState>>,
@@ -406,6 +411,14 @@ fn camera_for_backend(
     for mut camera in &mut sharp {
         if camera.is_active != sharp_active {
             camera.is_active = sharp_active;
+        }
+    }
+    for (entity, has) in &prepass {
+        if has == cpu {
+            match cpu {
+                true => commands.entity(entity).remove::<DepthPrepass>(),
+                false => commands.entity(entity).insert(DepthPrepass),
+            };
         }
     }
     for (mut camera, mut l) in &mut cameras {
