@@ -316,6 +316,16 @@ impl ValueStats {
         self.min = self.min.min(v);
     }
 
+    /// Adds `n` samples of exactly zero (passed over by Sum's skipping): the same statistics
+    /// as adding them one by one.
+    pub fn add_zeros(&mut self, n: u32) {
+        if n > 0 {
+            self.count += n;
+            self.max = self.max.max(0.0);
+            self.min = self.min.min(0.0);
+        }
+    }
+
     /// The mean (`None` before any sample).
     pub fn mean(&self) -> Option<f32> {
         (self.count > 0).then(|| (self.sum / self.count as f64) as f32)

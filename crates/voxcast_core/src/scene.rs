@@ -38,6 +38,9 @@ pub struct Scene<'a> {
     pub empty: Option<(EmptyBlocks, VisibleCells)>,
     /// Whether Maximum, Minimum and First may skip blocks that cannot change their result.
     pub block_skipping: bool,
+    /// Whether Sum may pass over blocks of exact zeros (CPU only: the GPU marches them, to
+    /// the same sums).
+    pub sum_skipping: bool,
     /// Precomputed lattice differences, when gradients are needed and they exist.
     pub differences: Option<&'a [crate::sample::Differences]>,
 }
@@ -78,7 +81,8 @@ impl<'a> Scene<'a> {
             scene.differences = volume.lattice_differences();
         }
         scene.block_skipping = scene.skips_by_ranges();
-        if scene.block_skipping {
+        scene.sum_skipping = scene.skips_zeros();
+        if scene.block_skipping || scene.sum_skipping {
             volume.block_ranges(); // computed now, not inside the first render
         }
         Ok(scene)
@@ -100,6 +104,7 @@ impl<'a> Scene<'a> {
         Ok(Self {
             empty: None,
             block_skipping: false,
+            sum_skipping: false,
             differences: None,
             volume,
             classifier,
@@ -139,6 +144,17 @@ impl<'a> Scene<'a> {
                 self.settings.method,
                 Method::Maximum | Method::Minimum | Method::First
             )
+    }
+
+    /// Whether Sum passes over blocks of zeros (when skipping is on): exact only where a block
+    /// whose values are all 0 interpolates to exactly 0 everywhere — no voxel without data
+    /// (a NaN would make its neighbours no data, not zeros) and a rescale without intercept
+    /// (stored 0 is value 0, and a weighted sum of zeros is zero).
+    pub fn skips_zeros(&self) -> bool {
+        self.settings.skipping
+            && self.settings.method == Method::Sum
+            && self.volume.no_data_count() == 0
+            && self.volume.rescale().1 == 0.0
     }
 
     /// The jitter fraction for image position `key` (pixel, or sub-pixel with supersampling).

@@ -414,8 +414,12 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let method = self.s.settings.method;
         let mut stats = ValueStats::default();
         let extreme = matches!(method, Method::Maximum | Method::Minimum);
+        // Samples passed over as exactly zero (Sum's skipping): values of the ray all the same.
+        let mut zeros = 0u32;
         if !R::ACTIVE && extreme && self.s.block_skipping && plan.count > 0 {
             self.project_extreme(plan, o_v, d_v, &mut stats);
+        } else if !R::ACTIVE && self.s.sum_skipping && plan.count > 0 {
+            zeros = self.project_sum(plan, o_v, d_v, &mut stats);
         } else {
             for k in 0..plan.count {
                 let t = sample_t(plan, k);
@@ -427,6 +431,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 }
             }
         }
+        let taken = stats.count;
+        stats.add_zeros(zeros);
         let ds = self.s.dt * d_v.length();
         let Some(value) = stats.projected(method, ds) else {
             return RayOutcome {
@@ -460,7 +466,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         RayOutcome {
             color: rgba.truncate() * rgba.w,
             opacity: rgba.w,
-            samples: stats.count,
+            samples: taken,
             positions: plan.count,
             stop: StopReason::LeftVolume,
         }

@@ -438,3 +438,124 @@ fn accelerations_are_exact_on_real_volumes() {
         }
     }
 }
+
+/// A volume of zeros with a few non-zero voxels (u8 or float): a ray density's kind of data.
+fn sparse_volume() -> impl Strategy<Value = Volume> {
+    (
+        (1u32..40, 1u32..40, 1u32..40),
+        proptest::collection::vec((0f32..1.0, 0f32..1.0, 0f32..1.0, 1u8..=255), 0..6),
+        any::<bool>(),
+        0.3f32..3.0,
+    )
+        .prop_map(|((x, y, z), dots, float, spacing)| {
+            let n = (x * y * z) as usize;
+            let mut data = vec![0u8; n];
+            for (a, b, c, v) in dots {
+                let i = (a * x as f32) as u32 % x;
+                let j = (b * y as f32) as u32 % y;
+                let k = (c * z as f32) as u32 % z;
+                data[(i + x * (j + y * k)) as usize] = v;
+            }
+            let voxels = match float {
+                true => VoxelData::F32(data.iter().map(|&v| v as f32 * 0.37).collect()),
+                false => VoxelData::U8(data),
+            };
+            Volume::new("sparse", UVec3::new(x, y, z), Vec3::splat(spacing), voxels).unwrap()
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Sum passing over blocks of zeros changes no bit of the image, at any step, view or
+    /// interpolation; the switch a user turns does the same.
+    #[test]
+    fn sum_skipping_zero_blocks_changes_no_bit(
+        v in sparse_volume(),
+        from in proptest::array::uniform3(-1f32..1.0),
+        step in 0.1f32..2.0,
+        nearest in any::<bool>(),
+        jitter in any::<bool>(),
+    ) {
+        let tf = voxcast_core::colormap::inferno_transfer(0.0, 255.0);
+        let s = RenderSettings {
+            method: Method::Sum,
+            step: Length::Voxels(step),
+            interpolation: if nearest { Interpolation::Nearest } else { Interpolation::Trilinear },
+            jitter,
+            ..RenderSettings::default()
+        };
+        let (lo, hi) = v.bounds();
+        let dir = Vec3::from(from);
+        if dir.length() < 0.1 { return Ok(()) }
+        let Ok(camera) = Camera::framing(lo, hi, dir, Vec3::Y) else { return Ok(()) };
+        let fast = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+        prop_assert!(fast.sum_skipping);
+        let mut slow = fast.clone();
+        slow.sum_skipping = false;
+        let (a, fast_stats) = render_with_threads(&fast, &camera, 14, 10, 1).unwrap();
+        let (b, slow_stats) = render_with_threads(&slow, &camera, 14, 10, 1).unwrap();
+        prop_assert_eq!(&a.pixels, &b.pixels);
+        prop_assert!(fast_stats.samples <= slow_stats.samples);
+        let off = RenderSettings { skipping: false, ..s };
+        let unskipped = Scene::new(&v, &tf, &off, camera.forward()).unwrap();
+        prop_assert!(!unskipped.sum_skipping);
+        let (c, _) = render_with_threads(&unskipped, &camera, 14, 10, 1).unwrap();
+        prop_assert_eq!(&a.pixels, &c.pixels);
+    }
+}
+
+/// On a sparse volume Sum takes far fewer samples with skipping, and a volume with no-data
+/// voxels or an intercept is never skipped (its zeros would not interpolate to zero).
+#[test]
+fn sum_skipping_pays_and_only_where_exact() {
+    let v = field([48, 48, 48], Vec3::ONE, |p| {
+        if (p - Vec3::splat(24.0)).length() < 4.0 {
+            10.0
+        } else {
+            0.0
+        }
+    });
+    let tf = voxcast_core::colormap::inferno_transfer(0.0, 10.0);
+    let s = RenderSettings {
+        method: Method::Sum,
+        ..RenderSettings::default()
+    };
+    let camera = Camera::framing(
+        Vec3::ZERO,
+        Vec3::splat(47.0),
+        Vec3::new(0.3, 0.4, 1.0),
+        Vec3::Y,
+    )
+    .unwrap();
+    let fast = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+    let mut slow = fast.clone();
+    slow.sum_skipping = false;
+    let (a, fs) = render_with_threads(&fast, &camera, 32, 32, 1).unwrap();
+    let (b, ss) = render_with_threads(&slow, &camera, 32, 32, 1).unwrap();
+    assert_eq!(a.pixels, b.pixels);
+    assert!(
+        fs.samples * 4 < ss.samples,
+        "{} vs {}",
+        fs.samples,
+        ss.samples
+    );
+    let mut nan = vec![0.0f32; 27];
+    nan[13] = f32::NAN;
+    let with_nan = Volume::new("nan", UVec3::splat(3), Vec3::ONE, VoxelData::F32(nan)).unwrap();
+    assert!(
+        !Scene::new(&with_nan, &tf, &s, Vec3::Z)
+            .unwrap()
+            .sum_skipping
+    );
+    let shifted = Volume::with_rescale(
+        "shifted",
+        UVec3::splat(3),
+        Vec3::ONE,
+        VoxelData::U8(vec![0; 27]),
+        1.0,
+        -5.0,
+    )
+    .unwrap();
+    assert!(!Scene::new(&shifted, &tf, &s, Vec3::Z).unwrap().sum_skipping);
+}

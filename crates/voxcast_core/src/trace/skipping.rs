@@ -144,6 +144,50 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         }
     }
 
+    /// Sum with block skipping: a block whose values (apron included) are all exactly zero
+    /// adds exactly zero a sample, so its samples are passed over and only counted — the sum,
+    /// and so the image, are bit for bit the plain march's. Only called where a zero block
+    /// interpolates to exactly zero (`Scene::sum_skipping`). Returns the samples passed over.
+    pub(super) fn project_sum(
+        &self,
+        plan: &StepPlan,
+        o_v: Vec3,
+        d_v: Vec3,
+        stats: &mut ValueStats,
+    ) -> u32 {
+        let ranges = self.s.volume.block_ranges();
+        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
+        let inv_dt = 1.0 / plan.dt;
+        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
+        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
+        let mut passed = 0u32;
+        let mut k = 0u32;
+        loop {
+            let t_out = walk.exit();
+            if ranges.ranges[walk.index()] == (0.0, 0.0) {
+                let next = first_index_from(plan, t_out - margin_t, inv_dt).min(plan.count);
+                if next > k {
+                    passed += next - k;
+                    k = next;
+                }
+            } else {
+                while k < plan.count {
+                    let t = sample_t(plan, k);
+                    if t >= t_out + margin_t {
+                        break;
+                    }
+                    stats.add(self.value(o_v + d_v * t));
+                    k += 1;
+                }
+            }
+            if k >= plan.count || !t_out.is_finite() {
+                break;
+            }
+            walk.advance();
+        }
+        passed
+    }
+
     /// First with block skipping: a block whose values all lie below the target holds no hit, so
     /// its samples are passed over — except the last, which becomes the previous sample (the
     /// lower end of a later hit's bracket). The hits found, and so the image, are exactly those
