@@ -106,42 +106,18 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         d_v: Vec3,
         stats: &mut ValueStats,
     ) {
-        let ranges = self.s.volume.block_ranges();
         let maximum = self.s.settings.method == Method::Maximum;
         // Interpolating integers never leaves the corners' range, so a block that can only tie
         // the running extreme is skippable too; float rounding could exceed it by an ulp.
         let ties_skippable = T::TABLE.is_some();
-        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
-        let inv_dt = 1.0 / plan.dt;
-        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
-        let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
-        let mut k = 0u32;
-        loop {
-            let t_out = walk.exit();
-            let (lo, hi) = ranges.ranges[walk.index()];
-            let useless = stats.count > 0
+        self.project_blocks(plan, o_v, d_v, stats, |(lo, hi), stats| {
+            stats.count > 0
                 && if maximum {
                     hi < stats.max || (ties_skippable && hi == stats.max)
                 } else {
                     lo > stats.min || (ties_skippable && lo == stats.min)
-                };
-            if useless {
-                k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
-            } else {
-                while k < plan.count {
-                    let t = sample_t(plan, k);
-                    if t >= t_out + margin_t {
-                        break;
-                    }
-                    stats.add(self.value(o_v + d_v * t));
-                    k += 1;
                 }
-            }
-            if k >= plan.count || !t_out.is_finite() {
-                break;
-            }
-            walk.advance();
-        }
+        });
     }
 
     /// Sum with block skipping: a block whose values (apron included) are all exactly zero
@@ -155,6 +131,21 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         d_v: Vec3,
         stats: &mut ValueStats,
     ) -> u32 {
+        self.project_blocks(plan, o_v, d_v, stats, |range, _| range == (0.0, 0.0))
+    }
+
+    /// The projection methods' block walk: the blocks the ray crosses in order; one that
+    /// `useless(range, stats)` says cannot change the result is crossed without sampling
+    /// (samples within the margin of its faces are still taken), the others' samples are added
+    /// to `stats`. Returns the samples passed over.
+    fn project_blocks(
+        &self,
+        plan: &StepPlan,
+        o_v: Vec3,
+        d_v: Vec3,
+        stats: &mut ValueStats,
+        useless: impl Fn((f32, f32), &ValueStats) -> bool,
+    ) -> u32 {
         let ranges = self.s.volume.block_ranges();
         let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
         let inv_dt = 1.0 / plan.dt;
@@ -164,7 +155,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         let mut k = 0u32;
         loop {
             let t_out = walk.exit();
-            if ranges.ranges[walk.index()] == (0.0, 0.0) {
+            if useless(ranges.ranges[walk.index()], stats) {
                 let next = first_index_from(plan, t_out - margin_t, inv_dt).min(plan.count);
                 if next > k {
                     passed += next - k;
