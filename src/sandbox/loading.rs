@@ -86,22 +86,9 @@ impl Loading {
     fn begin(&mut self, source: String, keep_choices: bool) {
         let spec = source.clone();
         self.run(source, keep_choices, move |progress, cancel| {
-            match voxcast_core::rays::as_volume::parse(&spec) {
-                Some(parsed) => {
-                    let parsed = parsed.map_err(|e| format!("{spec}: {e}"))?;
-                    let d = voxcast_core::rays::as_volume::compute_spec(
-                        &parsed,
-                        &|done, total| progress.set(done, total),
-                        cancel,
-                    )
-                    .map_err(|e| format!("{spec}: {e}"))?;
-                    let facts = voxcast_core::level::RayDensityFacts {
-                        source: parsed.source.clone(),
-                        trace: parsed.trace,
-                        side: 0,
-                    };
-                    Ok(Computed::outcome(d, None, facts))
-                }
+            let progress = |done, total| progress.set(done, total);
+            match super::raydata::compute_source(&spec, &progress, cancel) {
+                Some(outcome) => outcome,
                 None => load_source(&spec)
                     .map(|loaded| Outcome { loaded, rays: None })
                     .map_err(|e| e.to_string()),

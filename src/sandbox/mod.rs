@@ -144,23 +144,15 @@ struct Start {
 impl Start {
     fn from_args(args: &SandboxArgs) -> Result<Self, CliError> {
         // A ray density keeps what it was computed from, for RayVis's views.
-        let (loaded, computed) = match voxcast_core::rays::as_volume::parse(&args.volume.volume) {
-            Some(parsed) => {
-                let fail = |e: String| CliError::failed(format!("{}: {e}", args.volume.volume));
-                let spec = parsed.map_err(fail)?;
-                let never = std::sync::atomic::AtomicBool::new(false);
-                let d = voxcast_core::rays::as_volume::compute_spec(&spec, &|_, _| {}, &never)
-                    .map_err(fail)?;
-                let facts = voxcast_core::level::RayDensityFacts {
-                    source: spec.source.clone(),
-                    trace: spec.trace,
-                    side: 0,
-                };
-                let outcome = raydata::Computed::outcome(d, None, facts);
-                (outcome.loaded, outcome.rays)
-            }
-            None => (args.volume.load()?, None),
-        };
+        let never = std::sync::atomic::AtomicBool::new(false);
+        let (loaded, computed) =
+            match raydata::compute_source(&args.volume.volume, &|_, _| {}, &never) {
+                Some(outcome) => {
+                    let outcome = outcome.map_err(CliError::failed)?;
+                    (outcome.loaded, outcome.rays)
+                }
+                None => (args.volume.load()?, None),
+            };
         let resolved = args.settings.resolve(&loaded)?;
         for note in &resolved.notes {
             eprintln!("note: {note}");

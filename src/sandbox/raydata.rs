@@ -65,6 +65,30 @@ impl Computed {
     }
 }
 
+/// Computes the density a `density:…` source names, keeping what it came from: `None` when
+/// `source` is not one, else the outcome or why not (the source's text first). Progress and
+/// cancel as [`voxcast_core::rays::density::compute`].
+pub fn compute_source(
+    source: &str,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Option<Result<Outcome, String>> {
+    let parsed = voxcast_core::rays::as_volume::parse(source)?;
+    Some(
+        (|| {
+            let spec = parsed?;
+            let d = voxcast_core::rays::as_volume::compute_spec(&spec, progress, cancel)?;
+            let facts = RayDensityFacts {
+                source: spec.source.clone(),
+                trace: spec.trace,
+                side: 0,
+            };
+            Ok(Computed::outcome(d, None, facts))
+        })()
+        .map_err(|e: String| format!("{source}: {e}")),
+    )
+}
+
 /// A density on show: what it came from, and its volume (the one [`VolumeState`] holds).
 pub struct Shown {
     pub computed: Computed,
