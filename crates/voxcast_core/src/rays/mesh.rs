@@ -1,8 +1,8 @@
 //! Triangle scenes for ray data sets, and the ray tracer that makes the sets: meshes of
 //! triangles, each with a flat colour, and the nearest hit along a ray by brute force
 //! (Möller & Trumbore's test against every triangle). A scene has tens of triangles (the
-//! Cornell box has 30), where a hierarchy would cost more than it saves; `benches/ray_density.rs`
-//! measures the tracer's rays per second.
+//! Cornell box has 30), where a hierarchy would cost more than it saves; this crate's
+//! `benches/ray_density.rs` measures the tracer's rays per second.
 
 use glam::Vec3;
 

@@ -33,7 +33,8 @@ struct Inputs {
 }
 
 fn inputs() -> Inputs {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The clone's root, two folders above this crate.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let data = std::env::var_os("VOXCAST_DATA")
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("../shared/data"));
