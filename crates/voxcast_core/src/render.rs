@@ -342,8 +342,6 @@ impl Job<'_, '_> {
         let total = (tiles_x * tiles_y) as usize;
         let done = AtomicUsize::new(0);
         let n = scene.settings.supersampling.max(1);
-        let inv_rays = 1.0 / (n * n) as f32;
-        let background = scene.settings.background;
         let rays = self.camera.rays(width, height);
 
         let tiles: Vec<Option<TileResult>> = (0..total as u32)
@@ -356,7 +354,6 @@ impl Job<'_, '_> {
                 let y0 = (tile / tiles_x) * TILE;
                 let x1 = (x0 + TILE).min(width);
                 let y1 = (y0 + TILE).min(height);
-                let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
                 let near: Vec<&Occluder> = self
                     .occluders
                     .iter()
@@ -371,44 +368,8 @@ impl Job<'_, '_> {
                     })
                     .map(|(o, _)| o)
                     .collect();
-                let mut samples = 0u64;
-                let mut positions = 0u64;
-                let mut capped = 0u64;
-                for py in y0..y1 {
-                    for px in x0..x1 {
-                        let mut sum = Vec4::ZERO;
-                        for sy in 0..n {
-                            for sx in 0..n {
-                                let x = px as f32 + (sx as f32 + 0.5) / n as f32;
-                                let y = py as f32 + (sy as f32 + 0.5) / n as f32;
-                                let mut ray = rays.ray(x, y);
-                                let mut behind = None;
-                                for o in &near {
-                                    if let Some(t) = o.hit(&ray)
-                                        && t < ray.t_max
-                                    {
-                                        ray.t_max = t;
-                                        behind = Some(o.color);
-                                    }
-                                }
-                                if let Some(surface) = self.surface
-                                    && let Some((t, c)) = surface(&ray)
-                                    && t < ray.t_max
-                                {
-                                    ray.t_max = t;
-                                    behind = Some(c);
-                                }
-                                let jitter = scene.jitter([px * n + sx, py * n + sy]);
-                                let out = marcher.march(&ray, jitter, &mut NoRecord);
-                                samples += out.samples as u64;
-                                positions += out.positions as u64;
-                                capped += (out.stop == StopReason::SampleCap) as u64;
-                                sum += value(&out, background, behind);
-                            }
-                        }
-                        pixels.push(sum * inv_rays);
-                    }
-                }
+                let (pixels, samples, positions, capped) =
+                    self.tile_rays(&marcher, &rays, [x0, y0, x1, y1], &near, &value);
                 let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                 (self.progress)(d, total);
                 Some((x0, y0, pixels, samples, positions, capped))
@@ -434,6 +395,64 @@ impl Job<'_, '_> {
             }
         }
         Ok((image, stats))
+    }
+}
+
+impl Job<'_, '_> {
+    /// The pixels of the tile `[x0, y0, x1, y1)` (row by row), and its samples, positions and
+    /// capped rays: each pixel's rays, stopped at the `near` occluders and the surface,
+    /// marched, turned into a value and averaged over the supersamples.
+    #[inline(always)]
+    fn tile_rays<T: Voxel>(
+        &self,
+        marcher: &Marcher<'_, '_, '_, T>,
+        rays: &crate::camera::ImageRays,
+        [x0, y0, x1, y1]: [u32; 4],
+        near: &[&Occluder],
+        value: &impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4,
+    ) -> (Vec<Vec4>, u64, u64, u64) {
+        let scene = self.scene;
+        let n = scene.settings.supersampling.max(1);
+        let inv_rays = 1.0 / (n * n) as f32;
+        let background = scene.settings.background;
+        let mut pixels = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+        let (mut samples, mut positions, mut capped) = (0u64, 0u64, 0u64);
+        for py in y0..y1 {
+            for px in x0..x1 {
+                let mut sum = Vec4::ZERO;
+                for sy in 0..n {
+                    for sx in 0..n {
+                        let x = px as f32 + (sx as f32 + 0.5) / n as f32;
+                        let y = py as f32 + (sy as f32 + 0.5) / n as f32;
+                        let mut ray = rays.ray(x, y);
+                        let mut behind = None;
+                        for o in near {
+                            if let Some(t) = o.hit(&ray)
+                                && t < ray.t_max
+                            {
+                                ray.t_max = t;
+                                behind = Some(o.color);
+                            }
+                        }
+                        if let Some(surface) = self.surface
+                            && let Some((t, c)) = surface(&ray)
+                            && t < ray.t_max
+                        {
+                            ray.t_max = t;
+                            behind = Some(c);
+                        }
+                        let jitter = scene.jitter([px * n + sx, py * n + sy]);
+                        let out = marcher.march(&ray, jitter, &mut NoRecord);
+                        samples += out.samples as u64;
+                        positions += out.positions as u64;
+                        capped += (out.stop == StopReason::SampleCap) as u64;
+                        sum += value(&out, background, behind);
+                    }
+                }
+                pixels.push(sum * inv_rays);
+            }
+        }
+        (pixels, samples, positions, capped)
     }
 }
 

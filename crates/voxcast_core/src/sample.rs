@@ -241,7 +241,7 @@ pub fn gradient<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3, interpolation: Interpo
         }
     }
     // Four-lane SIMD for the three components; the same operations in the same order as scalar.
-    blend_corner_gradients(&gc, c.t) * gradient_scale(g)
+    Vec3::from(blend_corner_gradients(&gc, c.t)) * gradient_scale(g)
 }
 
 /// Lattice differences of one point, per axis, as exact integers: `f(i+1) − f(i−1)` inside,
@@ -298,37 +298,58 @@ pub fn lattice_differences<T: Voxel>(g: &Grid<'_, T>) -> Option<Vec<Differences>
 }
 
 /// [`gradient`], reading precomputed [`lattice_differences`] (bit for bit the same result).
-#[inline]
+#[inline(always)]
 pub fn gradient_from_differences<T: Voxel>(
     g: &Grid<'_, T>,
     diffs: &[Differences],
     p_voxel: Vec3,
     interpolation: Interpolation,
 ) -> Vec3 {
-    let as_vec = |d: &Differences| Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32) * 0.5;
     if interpolation == Interpolation::Nearest {
         let [i, j, k] = nearest_index(g.dims, p_voxel);
-        return Vec3::from(as_vec(&diffs[g.index(i, j, k)])) * gradient_scale(g);
+        let d = &diffs[g.index(i, j, k)];
+        let v = Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32) * 0.5;
+        return Vec3::from(v) * gradient_scale(g);
     }
-    let c = cell(g, p_voxel);
+    gradient_in_cell(g, diffs, &cell(g, p_voxel))
+}
+
+/// [`gradient_from_differences`] (trilinear) inside a located cell: the march has already
+/// found the cell for the value, so the gradient reuses it.
+#[inline(always)]
+pub fn gradient_in_cell<T: Voxel>(g: &Grid<'_, T>, diffs: &[Differences], c: &Cell) -> Vec3 {
     let [dx, dy, dz] = g.corner_step;
     let base = c.lo[0] + g.dims[0] * (c.lo[1] + g.dims[1] * c.lo[2]);
     let d = &diffs[base..=base + dx + dy + dz];
-    let offsets = [0, dx, dy, dy + dx, dz, dz + dx, dz + dy, dz + dy + dx];
     // SAFETY: every offset is a sum of some of dx, dy, dz, so below d.len().
-    let gc = offsets.map(|o| as_vec(unsafe { d.get_unchecked(o) }));
-    blend_corner_gradients(&gc, c.t) * gradient_scale(g)
+    let v = |o: usize| {
+        let d = unsafe { d.get_unchecked(o) };
+        Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32)
+    };
+    let gc = [
+        v(0),
+        v(dx),
+        v(dy),
+        v(dy + dx),
+        v(dz),
+        v(dz + dx),
+        v(dz + dy),
+        v(dz + dy + dx),
+    ];
+    // Halving the blend instead of each corner is exact: scaling by a power of two commutes
+    // with every rounding here (no value comes near the subnormal range).
+    Vec3::from(blend_corner_gradients(&gc, c.t) * 0.5) * gradient_scale(g)
 }
 
 /// The trilinear blend of 8 corner vectors (corners `a + 2b + 4c`), x then y then z.
 #[inline(always)]
-fn blend_corner_gradients(gc: &[Vec3A; 8], t: Vec3) -> Vec3 {
+fn blend_corner_gradients(gc: &[Vec3A; 8], t: Vec3) -> Vec3A {
     let lx = |a: Vec3A, b: Vec3A| a + (b - a) * t.x;
     let (x00, x10) = (lx(gc[0], gc[1]), lx(gc[2], gc[3]));
     let (x01, x11) = (lx(gc[4], gc[5]), lx(gc[6], gc[7]));
     let y0 = x00 + (x10 - x00) * t.y;
     let y1 = x01 + (x11 - x01) * t.y;
-    Vec3::from(y0 + (y1 - y0) * t.z)
+    y0 + (y1 - y0) * t.z
 }
 
 /// Everything about one reconstruction, for the ray inspector: the 8 corners (lattice indices,

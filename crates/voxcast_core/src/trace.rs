@@ -18,8 +18,8 @@ use crate::composite::{
 };
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
-    Cell, Interpolation, gradient, gradient_from_differences, sample, sample_detail,
-    trilinear_in_cell,
+    Cell, Interpolation, gradient, gradient_from_differences, gradient_in_cell, sample,
+    sample_detail, trilinear_in_cell,
 };
 use crate::shade::{Phong, ShadeTerms, Viewing, shade};
 use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
@@ -165,13 +165,15 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         self.g.to_data(sample(&self.g, pv, self.interp))
     }
 
-    /// The gradient at `pv`; zero where it would need a lattice point that holds no data (a
-    /// non-finite difference), so such a sample is lit as one without a normal.
+    /// The gradient at `pv` (in `cell` if the march has located it); zero where it would need
+    /// a lattice point that holds no data (a non-finite difference), so such a sample is lit as
+    /// one without a normal.
     #[inline(always)]
-    fn gradient(&self, pv: Vec3) -> Vec3 {
-        let g = match self.s.differences {
-            Some(d) => gradient_from_differences(&self.g, d, pv, self.interp),
-            None => gradient(&self.g, pv, self.interp),
+    fn gradient(&self, pv: Vec3, cell: Option<&Cell>) -> Vec3 {
+        let g = match (self.s.differences, cell, self.interp) {
+            (Some(d), Some(c), Interpolation::Trilinear) => gradient_in_cell(&self.g, d, c),
+            (Some(d), _, _) => gradient_from_differences(&self.g, d, pv, self.interp),
+            (None, _, _) => gradient(&self.g, pv, self.interp),
         };
         if !Self::MAY_LACK_DATA || g.is_finite() {
             g
@@ -183,7 +185,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     /// Colour and opacity of value `v` at `pv`: the table, then the classifier. Unless `full`
     /// is asked for, a sample the table makes transparent returns at once (its colour unread).
     #[inline(always)]
-    fn classify(&self, v: f32, pv: Vec3, full: bool) -> Classified {
+    fn classify(&self, v: f32, (pv, cell): (Vec3, Option<&Cell>), full: bool) -> Classified {
         if Self::MAY_LACK_DATA && !v.is_finite() {
             // No data (a corner of the sample's cell holds none): transparent, unread.
             return Classified {
@@ -211,7 +213,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 grad: None,
             };
         }
-        let grad = self.gradient(pv);
+        let grad = self.gradient(pv, cell);
         Classified {
             rgba,
             alpha: self.s.classifier.classify(v, table_alpha, grad.length()),
@@ -224,14 +226,14 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     fn shade(
         &self,
         color: Vec3,
-        pv: Vec3,
+        (pv, cell): (Vec3, Option<&Cell>),
         grad: Option<Vec3>,
         view: &Viewing,
     ) -> (Vec3, Option<Vec3>, Option<ShadeTerms>) {
         if !self.s.settings.shading {
             return (color, grad, None);
         }
-        let grad = grad.unwrap_or_else(|| self.gradient(pv));
+        let grad = grad.unwrap_or_else(|| self.gradient(pv, cell));
         let phong: &Phong = &self.s.settings.phong;
         let (c, terms) = shade(color, grad, pv * self.g.spacing, view, phong);
         (c, Some(grad), Some(terms))
@@ -364,7 +366,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             _ => self.value(pv),
         };
         acc.taken += 1;
-        let cl = self.classify(v, pv, R::ACTIVE);
+        let cl = self.classify(v, (pv, cell), R::ACTIVE);
         if !R::ACTIVE && cl.alpha <= 0.0 {
             return false; // transparent: nothing changes
         }
@@ -378,7 +380,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut terms = None;
         let mut color = cl.rgba.truncate();
         if alpha > 0.0 {
-            (color, grad, terms) = self.shade(color, pv, grad, viewing);
+            (color, grad, terms) = self.shade(color, (pv, cell), grad, viewing);
             (acc.c, acc.o) = if set.order == Order::BackToFront {
                 accumulate_back_to_front(acc.c, acc.o, color, alpha)
             } else {
@@ -545,7 +547,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let pv = o_v + d_v * t;
         let rgba = self.s.lut.lookup(target);
         let viewing = Viewing::new(-ray.dir, &self.s.lights);
-        let (color, _, terms) = self.shade(rgba.truncate(), pv, None, &viewing);
+        let (color, _, terms) = self.shade(rgba.truncate(), (pv, None), None, &viewing);
         if R::ACTIVE {
             let value = self.value(pv);
             steps.push(RefineStep { t, value });
@@ -581,7 +583,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         v: f32,
         stats: Option<ValueStats>,
     ) -> SampleRecord {
-        let cl = self.classify(v, pv, true);
+        let cl = self.classify(v, (pv, None), true);
         let ds = segment_length(plan, k, t);
         let rgb = cl.rgba.truncate();
         self.record(
