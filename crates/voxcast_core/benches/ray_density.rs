@@ -12,7 +12,7 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use std::sync::atomic::AtomicBool;
 use voxcast_core::glam::Vec3;
-use voxcast_core::rays::density::{DensityParams, compute};
+use voxcast_core::rays::density::{Density, DensityParams, compute};
 use voxcast_core::rays::set::{RayRecord, RaySet};
 
 const RAYS: u32 = 1_000_000;
@@ -60,6 +60,17 @@ fn rays() -> RaySet {
     RaySet { trace_id: 0, rays }
 }
 
+/// Prints what one computation made, once: for cell visits per second and the memory.
+fn report(group: &str, what: &str, rays: u64, d: &Density) {
+    println!(
+        "{group}: {rays} {what}, {} cell visits, {} chunks stored ({} MiB; dense {} MiB)",
+        d.report.visits,
+        d.chunks.len(),
+        d.memory_bytes() >> 20,
+        d.dense_bytes() >> 20
+    );
+}
+
 fn density(c: &mut Criterion) {
     let set = rays();
     let params = DensityParams {
@@ -68,14 +79,7 @@ fn density(c: &mut Criterion) {
         ..Default::default()
     };
     let once = compute(&set, &params, &|_, _| {}, &AtomicBool::new(false)).unwrap();
-    println!(
-        "ray density: {} rays, {} cell visits, {} chunks stored ({} MiB; dense {} MiB)",
-        once.report.rays,
-        once.report.visits,
-        once.chunks.len(),
-        once.memory_bytes() >> 20,
-        once.dense_bytes() >> 20
-    );
+    report("ray density", "rays", once.report.rays as u64, &once);
     let mut g = c.benchmark_group("ray_density");
     g.sample_size(10);
     g.throughput(Throughput::Elements(u64::from(RAYS)));
@@ -115,14 +119,7 @@ fn cornell(c: &mut Criterion) {
         ..Default::default()
     };
     let once = compute(&all, &params, &|_, _| {}, &AtomicBool::new(false)).unwrap();
-    println!(
-        "cornell: {} rays traced and counted, {} cell visits, {} chunks stored ({} MiB; dense {} MiB)",
-        rays,
-        once.report.visits,
-        once.chunks.len(),
-        once.memory_bytes() >> 20,
-        once.dense_bytes() >> 20
-    );
+    report("cornell", "rays traced and counted", rays, &once);
     let mut g = c.benchmark_group("cornell");
     g.sample_size(10);
     g.throughput(Throughput::Elements(rays));

@@ -396,9 +396,7 @@ impl Job<'_, '_> {
         }
         Ok((image, stats))
     }
-}
 
-impl Job<'_, '_> {
     /// The pixels of the tile `[x0, y0, x1, y1)` (row by row), and its samples, positions and
     /// capped rays: each pixel's rays, stopped at the `near` occluders and the surface,
     /// marched, turned into a value and averaged over the supersamples.

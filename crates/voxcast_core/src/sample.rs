@@ -90,7 +90,7 @@ pub fn sample_trilinear<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3) -> f32 {
 #[inline(always)]
 pub fn trilinear_in_cell<T: Voxel>(g: &Grid<'_, T>, c: &Cell) -> f32 {
     let [dx, dy, dz] = g.corner_step;
-    let base = c.lo[0] + g.dims[0] * (c.lo[1] + g.dims[1] * c.lo[2]);
+    let base = g.index(c.lo[0], c.lo[1], c.lo[2]);
     // One bounds check for the whole cell: every corner offset is a sum of some of dx, dy, dz.
     let d = &g.data[base..=base + dx + dy + dz];
     // SAFETY: `o` ≤ dx + dy + dz < d.len() for every offset used below.
@@ -307,8 +307,7 @@ pub fn gradient_from_differences<T: Voxel>(
 ) -> Vec3 {
     if interpolation == Interpolation::Nearest {
         let [i, j, k] = nearest_index(g.dims, p_voxel);
-        let d = &diffs[g.index(i, j, k)];
-        let v = Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32) * 0.5;
+        let v = difference_vector(&diffs[g.index(i, j, k)]) * 0.5;
         return Vec3::from(v) * gradient_scale(g);
     }
     gradient_in_cell(g, diffs, &cell(g, p_voxel))
@@ -319,13 +318,10 @@ pub fn gradient_from_differences<T: Voxel>(
 #[inline(always)]
 pub fn gradient_in_cell<T: Voxel>(g: &Grid<'_, T>, diffs: &[Differences], c: &Cell) -> Vec3 {
     let [dx, dy, dz] = g.corner_step;
-    let base = c.lo[0] + g.dims[0] * (c.lo[1] + g.dims[1] * c.lo[2]);
+    let base = g.index(c.lo[0], c.lo[1], c.lo[2]);
     let d = &diffs[base..=base + dx + dy + dz];
     // SAFETY: every offset is a sum of some of dx, dy, dz, so below d.len().
-    let v = |o: usize| {
-        let d = unsafe { d.get_unchecked(o) };
-        Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32)
-    };
+    let v = |o: usize| difference_vector(unsafe { d.get_unchecked(o) });
     let gc = [
         v(0),
         v(dx),
@@ -339,6 +335,12 @@ pub fn gradient_in_cell<T: Voxel>(g: &Grid<'_, T>, diffs: &[Differences], c: &Ce
     // Halving the blend instead of each corner is exact: scaling by a power of two commutes
     // with every rounding here (no value comes near the subnormal range).
     Vec3::from(blend_corner_gradients(&gc, c.t) * 0.5) * gradient_scale(g)
+}
+
+/// A lattice point's [`Differences`] as a vector (not yet halved).
+#[inline(always)]
+fn difference_vector(d: &Differences) -> Vec3A {
+    Vec3A::new(d[0] as f32, d[1] as f32, d[2] as f32)
 }
 
 /// The trilinear blend of 8 corner vectors (corners `a + 2b + 4c`), x then y then z.
