@@ -148,7 +148,10 @@ pub(crate) fn plugin(app: &mut App) {
         .init_resource::<RayScene>()
         .add_systems(
             Update,
-            (load_dropped_files, finish_loading)
+            (
+                load_dropped_files,
+                finish_loading.in_set(super::SwapsVolume),
+            )
                 .chain()
                 .in_set(super::Frame::Rules),
         );

@@ -133,6 +133,13 @@ pub enum Frame {
     Show,
 }
 
+/// The systems that replace the volume (a load finishing, going back from a ray density).
+/// Whatever reacts to a new volume — the main camera's framing, and the virtual camera
+/// framed beside it — runs after them: it must see the new volume in the same frame as every
+/// other reaction, or it frames one of them for the old volume.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SwapsVolume;
+
 /// What every sandbox starts with, from the command line.
 struct Start {
     volume: VolumeState,

@@ -71,7 +71,9 @@ pub(super) fn plugin(app: &mut App) {
             orbit_camera
                 .after(super::light::drag_light)
                 .in_set(super::Frame::Input),
-            reframe_on_new_volume.in_set(super::Frame::Rules),
+            reframe_on_new_volume
+                .after(super::SwapsVolume)
+                .in_set(super::Frame::Rules),
         ),
     );
 }

@@ -345,7 +345,7 @@ pub(super) fn plugin(app: &mut App) {
         .init_resource::<RangeFit>()
         .add_systems(
             Update,
-            (estimate, go_back, fit_range).in_set(super::Frame::Rules),
+            (estimate, go_back.in_set(super::SwapsVolume), fit_range).in_set(super::Frame::Rules),
         );
 }
 

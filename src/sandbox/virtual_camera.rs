@@ -267,4 +267,80 @@ mod tests {
         let half_across = ((fov_y_deg.to_radians() * 0.5).tan() * 4.0 / 3.0).atan();
         assert!(to.dot(main.forward()).acos() < half_across);
     }
+
+    /// A volume that finishes loading is framed beside the main camera as the main camera is
+    /// framed for it, whatever order the plugins were added in: framed in a frame before the
+    /// main camera's reframing, the virtual camera sat at the edge of the view (level 1 after
+    /// a larger volume).
+    #[test]
+    fn a_loaded_volume_puts_the_virtual_camera_beside_the_reframed_main_camera() {
+        use super::super::state::{MainCamera, View};
+        use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
+        use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
+        AsyncComputeTaskPool::get_or_init(TaskPool::new);
+        type Plugin = fn(&mut App);
+        let plugins: [Plugin; 3] = [
+            super::super::loading::plugin,
+            super::super::orbit::plugin,
+            plugin,
+        ];
+        for order in [[0, 1, 2], [2, 1, 0], [1, 2, 0], [2, 0, 1]] {
+            let (volume, render) = super::super::inspect::tests::scene("bunny");
+            let (lo, hi) = volume.volume.bounds();
+            let main = CoreCamera::framing(lo, hi, Vec3::new(1.0, 0.3, 2.0), Vec3::Y).unwrap();
+            let mut app = App::new();
+            app.add_plugins((MinimalPlugins, bevy::state::app::StatesPlugin))
+                .insert_resource(volume)
+                .insert_resource(render)
+                .init_resource::<Assets<Mesh>>()
+                .init_resource::<Assets<StandardMaterial>>()
+                .init_resource::<ButtonInput<MouseButton>>()
+                .init_resource::<AccumulatedMouseMotion>()
+                .init_resource::<AccumulatedMouseScroll>()
+                .init_resource::<super::super::overlay::OverlayLines>()
+                .add_message::<bevy::window::FileDragAndDrop>()
+                .configure_sets(
+                    Update,
+                    (super::super::Frame::Input, super::super::Frame::Rules).chain(),
+                )
+                .add_plugins(super::super::mode::plugin);
+            for i in order {
+                plugins[i](&mut app);
+            }
+            app.world_mut().spawn((
+                MainCamera,
+                View(main),
+                super::super::orbit::Orbit::looking_at(main.eye, main.target, main.up),
+                Transform::default(),
+            ));
+            app.update();
+            app.update();
+            app.world_mut()
+                .resource_mut::<super::super::loading::Loading>()
+                .start("builtin:voxel".into());
+            for _ in 0..500 {
+                app.update();
+                if app.world().resource::<VolumeState>().source == "builtin:voxel" {
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(2));
+            }
+            app.update();
+            let volume = app.world().resource::<VolumeState>();
+            assert_eq!(volume.source, "builtin:voxel");
+            let mut q = app.world_mut().query_filtered::<&View, With<MainCamera>>();
+            let main = q.single(app.world()).unwrap().0;
+            let volume = app.world().resource::<VolumeState>();
+            let want = VirtualCamera::framing(volume, Some(&main)).unwrap().view;
+            let mut q = app.world_mut().query::<&VirtualCamera>();
+            let got = q.single(app.world()).unwrap().view;
+            assert!(
+                got.eye.distance(want.eye) < 1e-4 && got.target.distance(want.target) < 1e-4,
+                "plugins in order {order:?}: virtual camera at {:?}, beside the main camera \
+                 is {:?}",
+                got.eye,
+                want.eye
+            );
+        }
+    }
 }
