@@ -6,7 +6,10 @@
 //! volume's coordinates.
 //!
 //! The line lists are built on the background pool (a million rays are two million vertices)
-//! and swapped in when ready; the window keeps drawing the previous ones meanwhile.
+//! and swapped in when ready; the window keeps drawing the previous ones meanwhile. With the
+//! CPU live view (a software rasterizer draws every line on the CPU) a long list has a thinned
+//! twin, drawn instead of it while the view moves, so orbiting stays fluid; at rest the whole
+//! list is drawn once and kept (`preview`'s kept pass).
 
 use super::raydata::{RayChoices, RayScene, Shown, ViewChoices};
 use super::state::{MainCamera, View, VolumeState};
@@ -39,6 +42,23 @@ enum Lines {
     Field,
 }
 
+/// Which of a list's versions an entity draws.
+#[derive(Component, Clone, Copy, PartialEq, Eq, Debug)]
+enum Detail {
+    /// The whole list, which has no thinned twin.
+    All,
+    /// The whole list, drawn at rest (its thinned twin while the view moves).
+    AtRest,
+    /// The thinned twin, drawn while the view moves.
+    WhileMoving,
+}
+
+/// The most segments drawn while the view moves with the CPU live view: beyond it a list is
+/// thinned to every n-th ray or arrow. Lavapipe takes about 3 µs a line on 2 cores (Intel
+/// Xeon, 640×360): orbiting with 4 000 lines drew a frame in 105 ms, with 40 000 in 216 ms,
+/// with all 412 000 in 0.7–0.8 s (BENCHMARKS.md).
+const MOVING_SEGMENTS: usize = 10_000;
+
 /// What the views show, for the panel: lines and arrows drawn, rays left out.
 #[derive(Resource, Default, Clone, Debug, PartialEq)]
 pub struct ViewReport {
@@ -52,6 +72,8 @@ pub struct ViewReport {
     pub building: bool,
     /// Some line list is in the scene.
     pub drawn: bool,
+    /// While the view moves with the CPU live view, every n-th ray and arrow is drawn.
+    pub moving_every: Option<usize>,
 }
 
 /// The line lists on the way, and what they were asked for.
@@ -71,6 +93,26 @@ struct Geometry {
     report: ViewReport,
 }
 
+/// Every `n`-th item of `list` (items of `per_item` segments), `n` the smallest that leaves at
+/// most [`MOVING_SEGMENTS`] segments; `None` when the list is within that already.
+fn thinned(list: &LineList, per_item: usize) -> Option<(LineList, usize)> {
+    let vertices = 2 * per_item;
+    let items = list.0.len() / vertices;
+    if items * per_item <= MOVING_SEGMENTS {
+        return None;
+    }
+    let n = (items * per_item).div_ceil(MOVING_SEGMENTS);
+    fn pick<V: Copy>(v: &[V], vertices: usize, n: usize) -> Vec<V> {
+        v.chunks_exact(vertices)
+            .step_by(n)
+            .flatten()
+            .copied()
+            .collect()
+    }
+    let few = (pick(&list.0, vertices, n), pick(&list.1, vertices, n));
+    Some((few, n))
+}
+
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<ViewReport>()
         .init_resource::<Building>()
@@ -81,6 +123,7 @@ pub(super) fn plugin(app: &mut App) {
                 spawn_scene,
                 build_lines,
                 swap_lines,
+                choose_detail,
                 shade_scene,
             )
                 .chain()
@@ -314,6 +357,9 @@ fn geometry(shown: &Shown, view: &ViewChoices) -> Geometry {
     }
 }
 
+/// The segments of one arrow: the shaft and four barbs.
+const ARROW_SEGMENTS: usize = 5;
+
 /// Each arrow as five segments — the shaft and four barbs — coloured by its count through
 /// inferno; arrows without a mean direction (opposite rays cancelled) are left out.
 fn arrow_lines(arrows: &[Arrow]) -> LineList {
@@ -331,7 +377,7 @@ fn arrow_lines(arrows: &[Arrow]) -> LineList {
         }
         let s = voxcast_core::colormap::inferno(a.shade);
         let l = Color::srgb(s.x, s.y, s.z).to_linear();
-        colours.extend([[l.red, l.green, l.blue, 1.0]; 10]);
+        colours.extend([[l.red, l.green, l.blue, 1.0]; 2 * ARROW_SEGMENTS]);
     }
     (positions, colours)
 }
@@ -370,30 +416,103 @@ fn swap_lines(
             })
         })
         .clone();
-    for (kind, lists) in [(Lines::Rays, geometry.rays), (Lines::Field, geometry.field)] {
-        let Some((positions, colours)) = lists else {
+    let lists = [
+        (Lines::Rays, geometry.rays, 1),
+        (Lines::Field, geometry.field, ARROW_SEGMENTS),
+    ];
+    for (kind, list, per_item) in lists {
+        let Some(list) = list.filter(|l| !l.0.is_empty()) else {
             continue;
         };
-        if positions.is_empty() {
-            continue;
-        }
-        let mesh = Mesh::new(PrimitiveTopology::LineList, RenderAssetUsages::RENDER_WORLD)
-            .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-            .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, colours);
+        let twin = thinned(&list, per_item);
+        let mut spawn = |(positions, colours): LineList, detail: Detail| {
+            let mesh = Mesh::new(PrimitiveTopology::LineList, RenderAssetUsages::RENDER_WORLD)
+                .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+                .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, colours);
+            commands.spawn((
+                kind,
+                detail,
+                Mesh3d(meshes.add(mesh)),
+                MeshMaterial3d(material.clone()),
+                Transform::IDENTITY,
+                Visibility::Hidden,
+                ChildOf(root),
+            ));
+        };
         report.drawn = true;
-        commands.spawn((
-            kind,
-            Mesh3d(meshes.add(mesh)),
-            MeshMaterial3d(material.clone()),
-            Transform::IDENTITY,
-            ChildOf(root),
-        ));
+        match twin {
+            Some((few, n)) => {
+                report.moving_every = Some(report.moving_every.map_or(n, |m| m.max(n)));
+                spawn(list, Detail::AtRest);
+                spawn(few, Detail::WhileMoving);
+            }
+            None => spawn(list, Detail::All),
+        }
+    }
+}
+
+/// Shows each line list's version for the moment: the thinned twins while the view moves with
+/// the CPU live view, the whole lists otherwise.
+fn choose_detail(
+    motion: Res<super::preview::Motion>,
+    preview: Res<super::preview::PreviewSettings>,
+    mut lists: Query<(&Detail, &mut Visibility)>,
+) {
+    let thin = motion.moving && preview.cpu_live();
+    for (detail, mut visibility) in &mut lists {
+        let shown = match detail {
+            Detail::All => true,
+            Detail::AtRest => !thin,
+            Detail::WhileMoving => thin,
+        };
+        let want = if shown {
+            Visibility::Inherited
+        } else {
+            Visibility::Hidden
+        };
+        visibility.set_if_neq(want);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A list of `items` items of `per_item` segments, each vertex marked with its item.
+    fn list(items: usize, per_item: usize) -> LineList {
+        let n = items * per_item * 2;
+        let p = (0..n)
+            .map(|i| [(i / (2 * per_item)) as f32, 0.0, 0.0])
+            .collect();
+        let c = (0..n)
+            .map(|i| [(i / (2 * per_item)) as f32, 0.0, 0.0, 1.0])
+            .collect();
+        (p, c)
+    }
+
+    /// A list within the moving budget has no twin; a longer one keeps every n-th item whole,
+    /// within the budget, positions and colours together.
+    #[test]
+    fn long_lists_get_a_thinned_twin_of_whole_items() {
+        assert!(thinned(&list(MOVING_SEGMENTS, 1), 1).is_none());
+        assert!(thinned(&list(MOVING_SEGMENTS / ARROW_SEGMENTS, ARROW_SEGMENTS), 5).is_none());
+        for (items, per_item) in [(412_126, 1), (MOVING_SEGMENTS + 1, 1), (76_003, 5)] {
+            let ((p, c), n) = thinned(&list(items, per_item), per_item).unwrap();
+            assert!(n >= 2);
+            assert!(
+                p.len() / 2 <= MOVING_SEGMENTS,
+                "{items}: {} segments",
+                p.len() / 2
+            );
+            assert_eq!(p.len(), c.len());
+            assert_eq!(p.len() % (2 * per_item), 0);
+            // Item k of the twin is item k·n of the list, all its vertices.
+            for (k, item) in p.chunks(2 * per_item).enumerate() {
+                assert!(item.iter().all(|v| v[0] == (k * n) as f32));
+            }
+            assert_eq!(p.len() / (2 * per_item), items.div_ceil(n));
+        }
+    }
     use voxcast_core::rays::field::Arrow;
 
     /// An arrow is a shaft centred on its cube plus four barbs at the tip, all in one colour;

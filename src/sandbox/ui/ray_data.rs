@@ -359,6 +359,16 @@ fn view_controls(
             ui.label(egui::RichText::new(words).small());
         });
     }
+    if let Some(n) = report.moving_every.filter(|_| v.mesh || v.field) {
+        ui.label(
+            egui::RichText::new(format!("moving with the CPU live view: 1 in {n} drawn")).small(),
+        )
+        .on_hover_text(
+            "The CPU draws the live view and a software rasterizer the lines: while the \
+                 view moves only a share of them is drawn, so the window keeps answering; at \
+                 rest all of them, once",
+        );
+    }
     if report.building {
         ui.horizontal(|ui| {
             ui.spinner();
