@@ -25,21 +25,27 @@
 //! The direction sums are kept in fixed point (2⁻²⁰ per component: integer additions, in any
 //! order the same), so the counts and the mean directions are the same for any number of
 //! threads. The work: the chunks are found first by walking the rays through cells of edge
-//! `N·S` (the estimate shown before computing), then blocks of rays are walked in parallel into
-//! lists of cell visits that are added to the chunks' arrays.
+//! `N·S` (the estimate shown before computing, and how many rays cross each chunk); then the
+//! chunks are cut into slabs across x, one a thread, balanced by those crossings, and each
+//! thread walks every ray that can reach its slab and adds the visits inside it to its own
+//! cells — no visit is written down and read back, and no two threads write one cell. A ray
+//! that crosses several slabs is walked by each from its start (so every walk takes the same
+//! steps, bit for bit); a walk stops once it has passed its slab, and a ray that cannot reach a
+//! slab is not walked for it.
 
 use super::set::{Filter, RayRecord, RaySet};
 use crate::render::Cancelled;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap};
+use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Rays per block of work (the unit of progress and cancelling).
 const RAYS_PER_BLOCK: usize = 4096;
 
-/// Blocks walked at once before their visits are added (bounds the visit lists' memory).
-const BLOCKS_PER_ROUND: usize = 8;
+/// Cell visits a walk lists before adding them to the cells (see [`add_visits`]).
+const PENDING_VISITS: usize = 1024;
 
 /// Fixed-point units per unit of a direction component in the sums.
 const DIRECTION_SCALE: f32 = (1u32 << 20) as f32;
@@ -103,12 +109,36 @@ impl DensityParams {
     }
 }
 
-/// One stored chunk: per cell (x fastest) the ray count and the sum of unit directions (fixed
-/// point, [`DIRECTION_SCALE`] per unit).
+/// One stored chunk: its cells, x fastest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chunk {
-    pub counts: Vec<u32>,
-    pub directions: Vec<[i64; 3]>,
+    pub cells: Vec<CellSum>,
+}
+
+/// One cell: the ray count and the sum of unit directions (fixed point, [`DIRECTION_SCALE`] per
+/// unit), side by side so that a visit writes one cache line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CellSum {
+    pub count: u32,
+    pub direction: [i64; 3],
+}
+
+impl CellSum {
+    /// Counts one ray through the cell, with its fixed-point unit direction.
+    fn add(&mut self, unit: [i32; 3]) {
+        self.count += 1;
+        for (s, u) in self.direction.iter_mut().zip(unit) {
+            *s += i64::from(u);
+        }
+    }
+}
+
+impl Chunk {
+    fn new(per_chunk: usize) -> Self {
+        Self {
+            cells: vec![CellSum::default(); per_chunk],
+        }
+    }
 }
 
 /// What happened to the rays.
@@ -145,13 +175,37 @@ fn locate(cell: IVec3, n: i32) -> (IVec3, usize) {
     (chunk, (l.x + n * (l.y + n * l.z)) as usize)
 }
 
-/// Counts one ray through a cell: its count and its fixed-point unit direction.
-fn add_visit(count: &mut u32, sum: &mut [i64; 3], unit: [i32; 3]) {
-    *count += 1;
-    for (s, u) in sum.iter_mut().zip(unit) {
-        *s += i64::from(u);
+/// A hasher for chunk keys: three small integers need no protection against chosen keys (the
+/// default SipHash took a tenth of a density's time), only a spread of their bits.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        // A key's integers arrive as their bytes: four at a time.
+        for word in bytes.chunks(4) {
+            let mut b = [0u8; 4];
+            b[..word.len()].copy_from_slice(word);
+            self.write_u64(u64::from(u32::from_le_bytes(b)));
+        }
+    }
+
+    fn write_usize(&mut self, v: usize) {
+        self.write_u64(v as u64);
+    }
+
+    fn write_u64(&mut self, v: u64) {
+        // FxHash's round: rotate, mix in, multiply by an odd constant.
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
     }
 }
+
+/// A map from chunk keys.
+type KeyMap<V> = HashMap<IVec3Key, V, BuildHasherDefault<KeyHasher>>;
 
 /// A computed ray density.
 #[derive(Clone, Debug, PartialEq)]
@@ -174,14 +228,14 @@ impl Density {
     /// Rays through `cell`.
     pub fn count(&self, cell: IVec3) -> u32 {
         let (c, i) = self.locate(cell);
-        self.chunks.get(&c).map_or(0, |ch| ch.counts[i])
+        self.chunks.get(&c).map_or(0, |ch| ch.cells[i].count)
     }
 
     /// The mean unit direction of the rays through `cell` (zero where none passed).
     pub fn mean_direction(&self, cell: IVec3) -> Vec3 {
         let (c, i) = self.locate(cell);
         self.chunks.get(&c).map_or(Vec3::ZERO, |ch| {
-            let [x, y, z] = ch.directions[i];
+            let [x, y, z] = ch.cells[i].direction;
             Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero()
         })
     }
@@ -221,10 +275,39 @@ pub struct Walk {
 pub fn walk_cells(
     origin: Vec3,
     dir: Vec3,
-    (t0, t1): (f32, f32),
+    t: (f32, f32),
     s: f32,
     max: u32,
     mut visit: impl FnMut(IVec3),
+) -> Walk {
+    walk_cells_while(origin, dir, t, s, max, |c| {
+        visit(c);
+        true
+    })
+}
+
+/// The cell a segment starting at `t0` starts in (the first [`walk_cells`] visits).
+fn start_cell(origin: Vec3, dir: Vec3, t0: f32, s: f32) -> IVec3 {
+    let q = (origin + dir * t0) / s;
+    let mut c = IVec3::ZERO;
+    for a in 0..3 {
+        let floor = q[a].floor();
+        // On a face going down: the segment enters the cell below.
+        let on_face = floor == q[a];
+        c[a] = floor as i32 - i32::from(on_face && dir[a] < 0.0);
+    }
+    c
+}
+
+/// [`walk_cells`], stopping after a cell for which `visit` returns `false` (that cell is
+/// counted in [`Walk::visited`]; the walk is not capped).
+fn walk_cells_while(
+    origin: Vec3,
+    dir: Vec3,
+    (t0, t1): (f32, f32),
+    s: f32,
+    max: u32,
+    mut visit: impl FnMut(IVec3) -> bool,
 ) -> Walk {
     if t1.is_nan() || t0.is_nan() || t1 <= t0 {
         return Walk {
@@ -232,17 +315,11 @@ pub fn walk_cells(
             capped: false,
         };
     }
-    let p0 = origin + dir * t0;
-    let q = p0 / s;
-    let mut c = IVec3::ZERO;
+    let mut c = start_cell(origin, dir, t0, s);
     let mut step = IVec3::ZERO;
     let mut t_next = Vec3::INFINITY;
     let mut t_delta = Vec3::INFINITY;
     for a in 0..3 {
-        let floor = q[a].floor();
-        // On a face going down: the segment enters the cell below.
-        let on_face = floor == q[a];
-        c[a] = floor as i32 - i32::from(on_face && dir[a] < 0.0);
         if dir[a] > 0.0 {
             step[a] = 1;
             t_delta[a] = s / dir[a];
@@ -261,8 +338,13 @@ pub fn walk_cells(
                 capped: true,
             };
         }
-        visit(c);
         visited += 1;
+        if !visit(c) {
+            return Walk {
+                visited,
+                capped: false,
+            };
+        }
         let t = t_next.min_element();
         if t.is_nan() || t >= t1 {
             return Walk {
@@ -329,29 +411,33 @@ pub fn estimate_within(set: &RaySet, p: &DensityParams, max_bytes: usize) -> Opt
     })
 }
 
-/// The chunks the counted segments pass through, sorted: the rays walked through cells of edge
-/// `N·S` (in parallel).
-fn chunks_touched(set: &RaySet, p: &DensityParams) -> Vec<IVec3Key> {
+/// The chunks the counted segments pass through, sorted, each with the number of rays that
+/// cross it: the rays walked through cells of edge `N·S` (in parallel).
+fn chunks_touched(set: &RaySet, p: &DensityParams) -> Vec<(IVec3Key, u32)> {
     chunks_touched_within(set, p, usize::MAX).expect("no limit")
 }
 
 /// [`chunks_touched`], or `None` once one block of rays alone touches more than `limit`.
-fn chunks_touched_within(set: &RaySet, p: &DensityParams, limit: usize) -> Option<Vec<IVec3Key>> {
+fn chunks_touched_within(
+    set: &RaySet,
+    p: &DensityParams,
+    limit: usize,
+) -> Option<Vec<(IVec3Key, u32)>> {
     let edge = p.cell * p.chunk as f32;
     let max = p.max_cells_per_ray / p.chunk + 2;
     let rays: Vec<&RayRecord> = set.selected(p.filter, p.tolerance, p.stride).collect();
     let over = AtomicBool::new(false);
-    let sets: Vec<HashSet<IVec3Key>> = rays
+    let maps: Vec<KeyMap<u32>> = rays
         .par_chunks(RAYS_PER_BLOCK)
         .map(|block| {
-            let mut chunks = HashSet::new();
+            let mut chunks = KeyMap::default();
             for r in block {
                 if over.load(Ordering::Relaxed) {
                     break;
                 }
                 if let Ok(t) = walkable(r, p) {
                     walk_cells(r.origin, r.direction, t, edge, max, |c| {
-                        chunks.insert(c.to_array());
+                        *chunks.entry(c.to_array()).or_insert(0u32) += 1;
                     });
                 }
                 if chunks.len() > limit {
@@ -364,15 +450,13 @@ fn chunks_touched_within(set: &RaySet, p: &DensityParams, limit: usize) -> Optio
     if over.load(Ordering::Relaxed) {
         return None;
     }
-    let mut all: Vec<IVec3Key> = sets.into_iter().flatten().collect();
-    all.sort_unstable();
-    all.dedup();
-    Some(all)
+    let mut all: BTreeMap<IVec3Key, u32> = BTreeMap::new();
+    for (k, n) in maps.into_iter().flatten() {
+        let e = all.entry(k).or_insert(0);
+        *e = e.saturating_add(n);
+    }
+    Some(all.into_iter().collect())
 }
-
-/// One block's cell visits (global cell index, fixed-point unit direction), the visits to
-/// cells of chunks the chunk pass did not find (a rounding's graze), and its report.
-type Visits = (Vec<(u32, [i32; 3])>, Vec<(IVec3, [i32; 3])>, Report);
 
 /// Computes the density of `set` (see the module's text); `progress(done, total)` in rays, and
 /// `cancel` stops it between blocks.
@@ -385,138 +469,252 @@ pub fn compute(
     compute_in(set, p, chunks_touched(set, p), progress, cancel)
 }
 
-/// [`compute`] with the chunks found beforehand: `keys`, sorted (visits to others are added
-/// one by one at the end).
+/// A thread's share of the grid: the chunks whose x coordinate lies in a range, and the cells
+/// beneath them, `lo ≤ x < hi` in cells (the first and last slabs reach out to any x, for the
+/// visits to chunks the chunk pass did not find).
+#[derive(Clone, Debug, PartialEq)]
+struct Slab {
+    /// Its chunks: a range of the sorted keys (sorted by x first).
+    keys: std::ops::Range<usize>,
+    lo: i64,
+    hi: i64,
+}
+
+/// Cuts the sorted chunks into at most `parts` slabs across x, of about equal crossings: each
+/// cut at the end of the plane of chunks whose running sum of crossings lies nearest its share.
+fn slabs(touched: &[(IVec3Key, u32)], n: i32, parts: usize) -> Vec<Slab> {
+    // The ends of the planes: (index past the plane's last chunk, crossings up to there).
+    let mut ends: Vec<(usize, u64)> = Vec::new();
+    let mut sum = 0u64;
+    for (i, (key, crossings)) in touched.iter().enumerate() {
+        sum += u64::from(*crossings);
+        if touched.get(i + 1).is_none_or(|next| next.0[0] != key[0]) {
+            ends.push((i + 1, sum));
+        }
+    }
+    let total = sum;
+    let mut cuts: Vec<usize> = Vec::new();
+    // The last plane's end is the end of the last slab, never a cut.
+    let inner = &ends[..ends.len().saturating_sub(1)];
+    for k in 1..parts.max(1) as u64 {
+        let share = total * k / parts as u64;
+        let after = cuts.last().copied().unwrap_or(0);
+        let nearest = inner
+            .iter()
+            .filter(|(end, _)| *end > after)
+            .min_by_key(|(_, sum)| sum.abs_diff(share));
+        if let Some(&(end, _)) = nearest {
+            cuts.push(end);
+        }
+    }
+    let mut out = Vec::new();
+    let (mut start, mut lo) = (0, i64::MIN);
+    for end in cuts {
+        let hi = (i64::from(touched[end - 1].0[0]) + 1) * i64::from(n);
+        out.push(Slab {
+            keys: start..end,
+            lo,
+            hi,
+        });
+        (start, lo) = (end, hi);
+    }
+    out.push(Slab {
+        keys: start..touched.len(),
+        lo,
+        hi: i64::MAX,
+    });
+    out
+}
+
+impl Slab {
+    /// Whether the ray's walk can visit a cell of the slab: not when it starts past the slab
+    /// and moves away from it (exactly), nor when it ends short of it by more than the
+    /// rounding of a walk that long can add.
+    fn may_reach(&self, r: &RayRecord, (t0, t1): (f32, f32), s: f32) -> bool {
+        let dx = r.direction.x;
+        let start = i64::from(start_cell(r.origin, r.direction, t0, s).x);
+        if (dx >= 0.0 && start >= self.hi) || (dx <= 0.0 && start < self.lo) {
+            return false;
+        }
+        let (p0, p1) = (r.at(t0) / s, r.at(t1) / s);
+        if !(p1.is_finite()) {
+            return true;
+        }
+        // The crossings are summed step by step: a few ulps of the positions a step, far
+        // below 2⁻²⁰ of them.
+        let steps = (p1 - p0).abs().element_sum();
+        let margin = 2.0 + steps * (p0.abs().max(p1.abs()).max_element() + 1.0) / (1 << 20) as f32;
+        let end = p1.x;
+        !((dx > 0.0 && end + margin < self.lo as f32)
+            || (dx < 0.0 && end - margin >= self.hi as f32))
+    }
+}
+
+/// What one slab's walk found: its chunks, the visits to chunks the chunk pass did not find
+/// (a rounding's graze), and its part of the report.
+struct SlabCount {
+    chunks: Vec<(IVec3Key, Chunk)>,
+    stray: Vec<(IVec3, [i32; 3])>,
+    report: Report,
+}
+
+/// Walks `rays` for one slab, adding the visits inside it to its own cells; the first slab
+/// also counts the rays, malformed and out of range, for the report.
+fn count_slab(
+    rays: &[&RayRecord],
+    p: &DensityParams,
+    slab: &Slab,
+    keys: &[IVec3Key],
+    first: bool,
+    tick: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<SlabCount, Cancelled> {
+    let n = p.chunk as i32;
+    let per_chunk = (p.chunk as usize).pow(3);
+    let keys = &keys[slab.keys.clone()];
+    let index: KeyMap<usize> = keys.iter().enumerate().map(|(i, k)| (*k, i)).collect();
+    let mut chunks: Vec<Chunk> = keys.iter().map(|_| Chunk::new(per_chunk)).collect();
+    let mut stray = Vec::new();
+    let mut report = Report::default();
+    // The chunk of the last visit: its lowest cell and where its cells start.
+    let mut cached: Option<(IVec3, u32)> = None;
+    let mut pending = Vec::with_capacity(PENDING_VISITS);
+    for block in rays.chunks(RAYS_PER_BLOCK) {
+        if !tick(block.len()) {
+            return Err(Cancelled);
+        }
+        for ray in block {
+            let t = match walkable(ray, p) {
+                Ok(t) => t,
+                Err(skip) => {
+                    if first {
+                        match skip {
+                            Skip::Malformed => report.malformed += 1,
+                            Skip::OutOfRange => report.out_of_range += 1,
+                        }
+                    }
+                    continue;
+                }
+            };
+            report.rays += usize::from(first);
+            if !slab.may_reach(ray, t, p.cell) {
+                continue;
+            }
+            let u = ray.direction.normalize() * DIRECTION_SCALE;
+            let unit = [u.x as i32, u.y as i32, u.z as i32];
+            let dx = ray.direction.x;
+            let (mut visits, mut last_mine) = (0u64, false);
+            let walk = walk_cells_while(
+                ray.origin,
+                ray.direction,
+                t,
+                p.cell,
+                p.max_cells_per_ray,
+                |c| {
+                    let x = i64::from(c.x);
+                    last_mine = slab.lo <= x && x < slab.hi;
+                    if !last_mine {
+                        // Past the slab: the walk only moves further away.
+                        return !((dx > 0.0 && x >= slab.hi) || (dx < 0.0 && x < slab.lo));
+                    }
+                    visits += 1;
+                    // Within the last visit's chunk (the usual case): no division, no lookup.
+                    // (Cells lie within ±2³¹ of each other, so a wrapped difference is in
+                    // 0..n only when the true one is.)
+                    let inside = |(lo, i): (IVec3, u32)| {
+                        let l = c.wrapping_sub(lo);
+                        (l.cmpge(IVec3::ZERO) & l.cmplt(IVec3::splat(n)))
+                            .all()
+                            .then(|| (i, (l.x + n * (l.y + n * l.z)) as u32))
+                    };
+                    let at = match cached.and_then(inside) {
+                        Some(at) => at,
+                        None => {
+                            let (chunk, local) = locate(c, n);
+                            match index.get(&chunk.to_array()) {
+                                Some(&i) => {
+                                    cached = Some((chunk * n, i as u32));
+                                    (i as u32, local as u32)
+                                }
+                                None => {
+                                    stray.push((c, unit));
+                                    return true;
+                                }
+                            }
+                        }
+                    };
+                    pending.push(at);
+                    if pending.len() == PENDING_VISITS {
+                        add_visits(&mut chunks, &mut pending, unit);
+                    }
+                    true
+                },
+            );
+            add_visits(&mut chunks, &mut pending, unit);
+            report.visits += visits;
+            // The cap is counted by the slab holding the last cell the cap allowed.
+            report.capped += usize::from(walk.capped && last_mine);
+        }
+    }
+    let chunks = keys.iter().copied().zip(chunks).collect();
+    Ok(SlabCount {
+        chunks,
+        stray,
+        report,
+    })
+}
+
+/// Adds a ray's `pending` visits (chunk, cell in it) to the chunks and empties the list: a loop
+/// of independent additions, whose cache misses the processor overlaps (made inside the walk,
+/// each one waits behind the walk's own work).
+fn add_visits(chunks: &mut [Chunk], pending: &mut Vec<(u32, u32)>, unit: [i32; 3]) {
+    for &(chunk, cell) in pending.iter() {
+        chunks[chunk as usize].cells[cell as usize].add(unit);
+    }
+    pending.clear();
+}
+
+/// [`compute`] with the chunks found beforehand: `touched`, sorted, with their crossings
+/// (visits to others are added one by one at the end).
 fn compute_in(
     set: &RaySet,
     p: &DensityParams,
-    keys: Vec<IVec3Key>,
+    touched: Vec<(IVec3Key, u32)>,
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Density, Cancelled> {
-    let per_chunk = (p.chunk as usize).pow(3);
-    if keys.len() as u64 * per_chunk as u64 > u64::from(u32::MAX) {
-        // Far more than memory holds anyway: refuse rather than wrap the indices.
-        return Err(Cancelled);
-    }
-    let index: HashMap<IVec3Key, u32> = keys
-        .iter()
-        .enumerate()
-        .map(|(i, k)| (*k, i as u32))
-        .collect();
     let n = p.chunk as i32;
+    let per_chunk = (p.chunk as usize).pow(3);
     let rays: Vec<&RayRecord> = set.selected(p.filter, p.tolerance, p.stride).collect();
     let total = rays.len();
+    let slabs = slabs(&touched, n, rayon::current_num_threads());
+    let keys: Vec<IVec3Key> = touched.into_iter().map(|(k, _)| k).collect();
+    // Progress: the rays every slab has walked, over the slabs.
     let done = AtomicUsize::new(0);
-    // One record a cell (count beside the direction sum: one cache line a visit).
-    let mut cells = vec![(0u32, [0i64; 3]); keys.len() * per_chunk];
-    // The merge's parts: each thread adds the visits to its own range of cells.
-    let parts = rayon::current_num_threads().max(1);
-    let part_len = cells.len().div_ceil(parts).max(1);
-    let mut report = Report::default();
-    let mut stray_visits: Vec<(IVec3, [i32; 3])> = Vec::new();
-    let blocks: Vec<&[&RayRecord]> = rays.chunks(RAYS_PER_BLOCK).collect();
-    for round in blocks.chunks(BLOCKS_PER_ROUND) {
-        if cancel.load(Ordering::Relaxed) {
-            return Err(Cancelled);
-        }
-        let lists: Vec<Visits> = round
-            .par_iter()
-            .map(|block| {
-                let mut visits = Vec::with_capacity(block.len() * 64);
-                let mut stray = Vec::new();
-                let mut r = Report::default();
-                let mut cached: Option<(IVec3, u32)> = None;
-                for ray in block.iter() {
-                    let t = match walkable(ray, p) {
-                        Ok(t) => t,
-                        Err(Skip::Malformed) => {
-                            r.malformed += 1;
-                            continue;
-                        }
-                        Err(Skip::OutOfRange) => {
-                            r.out_of_range += 1;
-                            continue;
-                        }
-                    };
-                    let u = ray.direction.normalize() * DIRECTION_SCALE;
-                    let unit = [u.x as i32, u.y as i32, u.z as i32];
-                    let walk = walk_cells(
-                        ray.origin,
-                        ray.direction,
-                        t,
-                        p.cell,
-                        p.max_cells_per_ray,
-                        |c| {
-                            let (chunk, local) = locate(c, n);
-                            let base = match cached {
-                                Some((k, b)) if k == chunk => b,
-                                _ => match index.get(&chunk.to_array()) {
-                                    Some(&i) => {
-                                        let b = i * per_chunk as u32;
-                                        cached = Some((chunk, b));
-                                        b
-                                    }
-                                    None => {
-                                        stray.push((c, unit));
-                                        return;
-                                    }
-                                },
-                            };
-                            visits.push((base + local as u32, unit));
-                        },
-                    );
-                    r.rays += 1;
-                    r.capped += usize::from(walk.capped);
-                    r.visits += u64::from(walk.visited);
-                }
-                let now = done.fetch_add(block.len(), Ordering::Relaxed) + block.len();
-                progress(now, total);
-                (visits, stray, r)
-            })
-            .collect();
-        cells
-            .par_chunks_mut(part_len)
-            .enumerate()
-            .for_each(|(part, range)| {
-                let start = part * part_len;
-                let end = start + range.len();
-                for (visits, _, _) in &lists {
-                    for &(cell, unit) in visits {
-                        let i = cell as usize;
-                        if i >= start && i < end {
-                            let c = &mut range[i - start];
-                            add_visit(&mut c.0, &mut c.1, unit);
-                        }
-                    }
-                }
-            });
-        for (_, strays, r) in lists {
-            stray_visits.extend(strays);
-            report.add(&r);
-        }
-    }
-    let mut chunks: BTreeMap<IVec3Key, Chunk> = keys
-        .iter()
+    let tick = |rays: usize| {
+        let now = done.fetch_add(rays, Ordering::Relaxed) + rays;
+        progress(now / slabs.len(), total);
+        !cancel.load(Ordering::Relaxed)
+    };
+    let counted: Vec<Result<SlabCount, Cancelled>> = slabs
+        .par_iter()
         .enumerate()
-        .map(|(i, k)| {
-            let range = i * per_chunk..(i + 1) * per_chunk;
-            (
-                *k,
-                Chunk {
-                    counts: cells[range.clone()].iter().map(|c| c.0).collect(),
-                    directions: cells[range].iter().map(|c| c.1).collect(),
-                },
-            )
-        })
+        .map(|(i, slab)| count_slab(&rays, p, slab, &keys, i == 0, &tick))
         .collect();
+    let mut chunks = BTreeMap::new();
+    let mut report = Report::default();
+    let mut stray_visits = Vec::new();
+    for c in counted {
+        let c = c?;
+        chunks.extend(c.chunks);
+        stray_visits.extend(c.stray);
+        report.add(&c.report);
+    }
     for (c, unit) in stray_visits {
         let (chunk, i) = locate(c, n);
-        let ch = chunks.entry(chunk.to_array()).or_insert_with(|| Chunk {
-            counts: vec![0; per_chunk],
-            directions: vec![[0; 3]; per_chunk],
-        });
-        add_visit(&mut ch.counts[i], &mut ch.directions[i], unit);
+        let ch = chunks
+            .entry(chunk.to_array())
+            .or_insert_with(|| Chunk::new(per_chunk));
+        ch.cells[i].add(unit);
     }
     Ok(Density {
         params: *p,
@@ -528,6 +726,7 @@ fn compute_in(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::collections::HashSet;
 
     fn cells(origin: Vec3, dir: Vec3, t: (f32, f32), s: f32) -> Vec<IVec3> {
         let mut out = Vec::new();
@@ -670,8 +869,8 @@ mod tests {
         let summed: u64 = one
             .chunks
             .values()
-            .flat_map(|c| c.counts.iter())
-            .map(|&c| u64::from(c))
+            .flat_map(|c| c.cells.iter())
+            .map(|c| u64::from(c.count))
             .sum();
         assert_eq!(summed, crossed);
         assert_eq!(one.report.visits, crossed);
@@ -803,7 +1002,7 @@ mod tests {
         let all = compute(&set, &p, &|_, _| {}, &cancel).unwrap();
         let none = compute_in(&set, &p, Vec::new(), &|_, _| {}, &cancel).unwrap();
         assert!(all == none, "nothing found beforehand");
-        let half: Vec<IVec3Key> = chunks_touched(&set, &p).into_iter().step_by(2).collect();
+        let half: Vec<(IVec3Key, u32)> = chunks_touched(&set, &p).into_iter().step_by(2).collect();
         let some = compute_in(&set, &p, half, &|_, _| {}, &cancel).unwrap();
         assert!(all == some, "half found beforehand");
     }
@@ -813,5 +1012,114 @@ mod tests {
         let set = random_set(10_000, 3);
         let cancel = AtomicBool::new(true);
         assert!(compute(&set, &DensityParams::default(), &|_, _| {}, &cancel).is_err());
+    }
+
+    /// Long rays across every slab (both ways along x, and straight across it), rays capped
+    /// inside one, rays starting past a slab: the density and its report are the same for any
+    /// number of slabs (one thread: one slab, every ray walked once).
+    #[test]
+    fn any_number_of_slabs_gives_the_same_density() {
+        let mut set = random_set(3000, 21);
+        let mut s = 7u32;
+        let mut next = || {
+            s = s.wrapping_mul(1664525).wrapping_add(1013904223);
+            (s >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for i in 0..600 {
+            let o = Vec3::new(next(), next(), next()) * 20.0 - 10.0;
+            let d = match i % 4 {
+                0 => Vec3::new(1.0, 0.1 * next(), 0.1 * next()),
+                1 => Vec3::new(-1.0, 0.2 * next(), -0.3 * next()),
+                2 => Vec3::new(0.0, next() - 0.5, next() - 0.5),
+                _ => Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5),
+            };
+            let t_max = 5.0 + 40.0 * next();
+            set.rays.push(ray(10_000 + i, o, d, t_max, -1.0));
+        }
+        let p = DensityParams {
+            cell: 0.5,
+            chunk: 4,
+            max_cells_per_ray: 50,
+            ..Default::default()
+        };
+        let one = density(&set, &p, 1);
+        assert!(one.report.capped > 0, "some rays are capped");
+        for threads in [2, 3, 4, 7] {
+            let many = density(&set, &p, threads);
+            assert_eq!(many.report, one.report, "{threads} threads");
+            assert!(many == one, "{threads} threads: the cells differ");
+        }
+    }
+
+    /// The slabs cover every x once, in order, each a run of whole chunk planes.
+    #[test]
+    fn slabs_cut_whole_planes_in_order() {
+        let touched: Vec<(IVec3Key, u32)> = (-3..5)
+            .flat_map(|x| (0..3).map(move |y| ([x, y, 0], (x + 4) as u32)))
+            .collect();
+        for parts in 1..12 {
+            let cut = slabs(&touched, 4, parts);
+            assert!(cut.len() <= parts.min(8));
+            assert_eq!(cut[0].lo, i64::MIN);
+            assert_eq!(cut.last().unwrap().hi, i64::MAX);
+            assert_eq!(cut[0].keys.start, 0);
+            assert_eq!(cut.last().unwrap().keys.end, touched.len());
+            for w in cut.windows(2) {
+                assert_eq!(w[0].hi, w[1].lo);
+                assert_eq!(w[0].keys.end, w[1].keys.start);
+                // A plane is never split between two slabs.
+                assert_ne!(
+                    touched[w[0].keys.end - 1].0[0],
+                    touched[w[1].keys.start].0[0]
+                );
+                assert_eq!(w[0].hi, 4 * i64::from(touched[w[1].keys.start].0[0]));
+            }
+        }
+        assert_eq!(slabs(&[], 4, 2).len(), 1);
+        // Two parts of planes weighing 1, 1, 1, 1, 4: cut where the sums are nearest half
+        // (4 of 8), not past it.
+        let touched: Vec<(IVec3Key, u32)> = [1, 1, 1, 1, 4]
+            .iter()
+            .enumerate()
+            .map(|(x, &c)| ([x as i32, 0, 0], c))
+            .collect();
+        let cut = slabs(&touched, 4, 2);
+        assert_eq!(cut.iter().map(|s| s.keys.len()).collect::<Vec<_>>(), [4, 1]);
+        assert_eq!(cut[0].hi, 16);
+    }
+
+    /// A slab said to be out of a ray's reach gets no cell from its walk: rays far from the
+    /// origin (where a position's rounding is largest) and long ones, slabs all around.
+    #[test]
+    fn a_slab_out_of_reach_is_never_walked_into() {
+        let mut s = 99u32;
+        let mut next = || {
+            s = s.wrapping_mul(1664525).wrapping_add(1013904223);
+            (s >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut refused = 0;
+        for i in 0..20_000 {
+            let far = [1.0, 1e3, 1e5][i % 3];
+            let o = (Vec3::new(next(), next(), next()) - 0.5) * far;
+            let d = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * (0.1 + 4.0 * next());
+            let r = ray(i as u32, o, d, far * next(), -1.0);
+            let t = r.segment(0.0);
+            let cell = 0.3 + next();
+            let lo = ((o.x / cell) + (next() - 0.5) * 2.0 * far / cell) as i64;
+            let slab = Slab {
+                keys: 0..0,
+                lo,
+                hi: lo + 1 + (next() * 50.0) as i64,
+            };
+            if slab.may_reach(&r, t, cell) {
+                continue;
+            }
+            refused += 1;
+            walk_cells(r.origin, r.direction, t, cell, 1 << 20, |c| {
+                let x = i64::from(c.x);
+                assert!(!(slab.lo <= x && x < slab.hi), "ray {i} reaches {slab:?}");
+            });
+        }
+        assert!(refused > 5000, "only {refused} refused");
     }
 }

@@ -91,8 +91,9 @@ pub fn arrows(density: &Density, k: u32, scale: ArrowScale) -> Result<Vec<Arrow>
                         for y in cy * k..(cy + 1) * k {
                             for x in cx * k..(cx + 1) * k {
                                 let i = (x + n * (y + n * z)) as usize;
-                                count += u64::from(chunk.counts[i]);
-                                for (s, d) in sum.iter_mut().zip(chunk.directions[i]) {
+                                let cell = &chunk.cells[i];
+                                count += u64::from(cell.count);
+                                for (s, d) in sum.iter_mut().zip(cell.direction) {
                                     *s += d;
                                 }
                             }
