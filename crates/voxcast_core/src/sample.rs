@@ -31,7 +31,7 @@
 
 use crate::minmax::{fmax, fmin};
 use crate::volume::{Grid, Voxel};
-use glam::{Vec3, Vec3A};
+use glam::{Vec3, Vec3A, Vec4};
 
 /// How the volume is reconstructed between lattice points.
 #[derive(
@@ -244,14 +244,17 @@ pub fn gradient<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3, interpolation: Interpo
     Vec3::from(blend_corner_gradients(&gc, c.t)) * gradient_scale(g)
 }
 
-/// Lattice differences of one point, per axis, as exact integers: `f(i+1) − f(i−1)` inside,
-/// `2·(f(1) − f(0))` and `2·(f(n−1) − f(n−2))` at the borders, 0 on a one-point axis — so that
-/// `D·½` is [`lattice_difference`] exactly. The fourth lane pads each point to 8 bytes.
+/// One lattice point's record for fast exact gradients and values: its differences per axis,
+/// as exact integers — `f(i+1) − f(i−1)` inside, `2·(f(1) − f(0))` and `2·(f(n−1) − f(n−2))` at
+/// the borders, 0 on a one-point axis, so that `D·½` is [`lattice_difference`] exactly — and in
+/// the fourth lane its raw value. One 8-byte read of a cell corner gives both, and the value
+/// and the gradient are blended together, four lanes at once ([`value_and_gradient_in_cell`]).
 pub type Differences = [i16; 4];
 
-/// Every lattice point's [`Differences`], for integer volumes whose range keeps them within
-/// `i16` (`max − min ≤ 16383`): gradients then read 8 points instead of 32, with the very same
-/// result. `None` for float volumes and wider ranges (gradients are then computed directly).
+/// Every lattice point's [`Differences`], for integer volumes whose values fit `i16` and whose
+/// range keeps the differences within it (`max − min ≤ 16383`): gradients then read 8 points
+/// instead of 32, and the value comes with them, with the very same result. `None` for float
+/// volumes and wider ranges (gradients are then computed directly).
 pub fn lattice_differences<T: Voxel>(g: &Grid<'_, T>) -> Option<Vec<Differences>> {
     T::TABLE?;
     let (lo, hi) = g
@@ -260,7 +263,7 @@ pub fn lattice_differences<T: Voxel>(g: &Grid<'_, T>) -> Option<Vec<Differences>
         .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), v| {
             (fmin(a, v.to_f32()), fmax(b, v.to_f32()))
         });
-    if hi - lo > 16383.0 {
+    if hi - lo > 16383.0 || lo < f32::from(i16::MIN) || hi > f32::from(i16::MAX) {
         return None;
     }
     use rayon::prelude::*;
@@ -292,6 +295,8 @@ pub fn lattice_differences<T: Voxel>(g: &Grid<'_, T>) -> Option<Vec<Differences>
                 d[0] = ((here[x1].to_f32() - here[x0].to_f32()) * fx) as i16;
                 d[1] = ((yp[i].to_f32() - ym[i].to_f32()) * fy) as i16;
                 d[2] = ((zp[i].to_f32() - zm[i].to_f32()) * fz) as i16;
+                // Exact: the value lies in i16's range (checked above).
+                d[3] = here[i].to_f32() as i16;
             }
         });
     Some(out)
@@ -335,6 +340,33 @@ pub fn gradient_in_cell<T: Voxel>(g: &Grid<'_, T>, diffs: &[Differences], c: &Ce
     // Halving the blend instead of each corner is exact: scaling by a power of two commutes
     // with every rounding here (no value comes near the subnormal range).
     Vec3::from(blend_corner_gradients(&gc, c.t) * 0.5) * gradient_scale(g)
+}
+
+/// The raw value and the gradient inside a located cell from the [`Differences`] records:
+/// bit for bit [`trilinear_in_cell`] and [`gradient_in_cell`] (the same lerps, x then y then
+/// z, in four lanes at once: three differences and the value).
+#[inline(always)]
+pub fn value_and_gradient_in_cell<T: Voxel>(
+    g: &Grid<'_, T>,
+    diffs: &[Differences],
+    c: &Cell,
+) -> (f32, Vec3) {
+    let [dx, dy, dz] = g.corner_step;
+    let base = g.index(c.lo[0], c.lo[1], c.lo[2]);
+    let d = &diffs[base..=base + dx + dy + dz];
+    // SAFETY: every offset is a sum of some of dx, dy, dz, so below d.len().
+    let v = |o: usize| {
+        let p = unsafe { d.get_unchecked(o) };
+        Vec4::new(p[0] as f32, p[1] as f32, p[2] as f32, p[3] as f32)
+    };
+    let lx = |a: Vec4, b: Vec4| a + (b - a) * c.t.x;
+    let (x00, x10) = (lx(v(0), v(dx)), lx(v(dy), v(dy + dx)));
+    let (x01, x11) = (lx(v(dz), v(dz + dx)), lx(v(dz + dy), v(dz + dy + dx)));
+    let y0 = x00 + (x10 - x00) * c.t.y;
+    let y1 = x01 + (x11 - x01) * c.t.y;
+    let b = y0 + (y1 - y0) * c.t.z;
+    let grad = (b * 0.5).truncate() * gradient_scale(g);
+    (b.w, grad)
 }
 
 /// A lattice point's [`Differences`] as a vector (not yet halved).

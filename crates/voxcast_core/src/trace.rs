@@ -19,7 +19,7 @@ use crate::composite::{
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
     Cell, Interpolation, gradient, gradient_from_differences, gradient_in_cell, sample,
-    sample_detail, trilinear_in_cell,
+    sample_detail, trilinear_in_cell, value_and_gradient_in_cell,
 };
 use crate::shade::{Phong, ShadeTerms, Viewing, shade};
 use crate::step::{StepPlan, plan_steps, sample_t, segment_length};
@@ -182,10 +182,17 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
     }
 
-    /// Colour and opacity of value `v` at `pv`: the table, then the classifier. Unless `full`
-    /// is asked for, a sample the table makes transparent returns at once (its colour unread).
+    /// Colour and opacity of value `v` at `pv`: the table, then the classifier (with the
+    /// gradient `known` if it has been read already). Unless `full` is asked for, a sample the
+    /// table makes transparent returns at once (its colour unread).
     #[inline(always)]
-    fn classify(&self, v: f32, (pv, cell): (Vec3, Option<&Cell>), full: bool) -> Classified {
+    fn classify(
+        &self,
+        v: f32,
+        (pv, cell): (Vec3, Option<&Cell>),
+        known: Option<Vec3>,
+        full: bool,
+    ) -> Classified {
         if Self::MAY_LACK_DATA && !v.is_finite() {
             // No data (a corner of the sample's cell holds none): transparent, unread.
             return Classified {
@@ -213,7 +220,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 grad: None,
             };
         }
-        let grad = self.gradient(pv, cell);
+        let grad = known.unwrap_or_else(|| self.gradient(pv, cell));
         Classified {
             rgba,
             alpha: self.s.classifier.classify(v, table_alpha, grad.length()),
@@ -361,12 +368,20 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         rec: &mut R,
     ) -> bool {
         let set = &self.s.settings;
-        let v = match (cell, self.interp) {
-            (Some(c), Interpolation::Trilinear) => self.g.to_data(trilinear_in_cell(&self.g, c)),
-            _ => self.value(pv),
+        // In a located cell the value and its gradient come from one read of the corners'
+        // records where those exist (the same numbers as reading them apart).
+        let (v, known) = match (cell, self.interp, self.s.differences) {
+            (Some(c), Interpolation::Trilinear, Some(d)) => {
+                let (raw, grad) = value_and_gradient_in_cell(&self.g, d, c);
+                (self.g.to_data(raw), Some(grad))
+            }
+            (Some(c), Interpolation::Trilinear, None) => {
+                (self.g.to_data(trilinear_in_cell(&self.g, c)), None)
+            }
+            _ => (self.value(pv), None),
         };
         acc.taken += 1;
-        let cl = self.classify(v, (pv, cell), R::ACTIVE);
+        let cl = self.classify(v, (pv, cell), known, R::ACTIVE);
         if !R::ACTIVE && cl.alpha <= 0.0 {
             return false; // transparent: nothing changes
         }
@@ -376,7 +391,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         } else {
             cl.alpha
         };
-        let mut grad = cl.grad;
+        let mut grad = cl.grad.or(known);
         let mut terms = None;
         let mut color = cl.rgba.truncate();
         if alpha > 0.0 {
@@ -583,7 +598,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         v: f32,
         stats: Option<ValueStats>,
     ) -> SampleRecord {
-        let cl = self.classify(v, (pv, None), true);
+        let cl = self.classify(v, (pv, None), None, true);
         let ds = segment_length(plan, k, t);
         let rgb = cl.rgba.truncate();
         self.record(
