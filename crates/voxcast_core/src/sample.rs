@@ -64,9 +64,10 @@ pub fn cell<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3) -> Cell {
     for a in 0..3 {
         // `fmax` first maps NaN to 0 (its comparison is false), so x ∈ [0, n − 1] always.
         let x = fmin(fmax(p_voxel[a], 0.0), g.last[a]);
-        // SAFETY: x is finite and in [0, n − 1] ⊂ [0, 2²⁴] (`MAX_AXIS`), so it fits an i32; and
-        // as x ≥ 0, truncation is the floor.
-        let i = (unsafe { x.to_int_unchecked::<i32>() } as usize).min(g.max_lo[a]);
+        // The corner is at most `max_lo` (clamped as a float: the same floor, and cheaper than
+        // a clamp of the index). SAFETY: the clamped x is finite and in [0, n − 2] ⊂ [0, 2²⁴]
+        // (`MAX_AXIS`), so it fits an i32; and as it is ≥ 0, truncation is the floor.
+        let i = unsafe { fmin(x, g.max_lo[a]).to_int_unchecked::<i32>() } as usize;
         lo[a] = i;
         hi[a] = i + (g.corner_step[a] != 0) as usize;
         t[a] = x - i as f32;

@@ -130,6 +130,18 @@ struct Accumulation {
     taken: u32,
 }
 
+/// A sample evaluated ([`Marcher::evaluate`]): all it contributes that does not depend on the
+/// samples before it.
+struct Evaluated {
+    /// Its value, data units.
+    v: f32,
+    cl: Classified,
+    /// Its gradient, if read.
+    grad: Option<Vec3>,
+    /// Where its opacity is above zero: its colour shaded, and the gradient.
+    shaded: Option<(Vec3, Option<Vec3>)>,
+}
+
 /// Per-sample classification result.
 struct Classified {
     rgba: Vec4,
@@ -350,9 +362,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
     }
 
-    /// Takes sample `k` (at `t`, voxel position `pv`, in `cell` if already located, seen as `viewing`
-    /// describes) into the
-    /// accumulation; returns true when early termination stops the ray.
+    /// Takes sample `k` (at `t`, voxel position `pv`, in `cell` if already located, seen as
+    /// `viewing` describes) into the accumulation; returns true when early termination stops
+    /// the ray.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn accumulate_sample<R: Recorder>(
@@ -367,7 +379,22 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         acc: &mut Accumulation,
         rec: &mut R,
     ) -> bool {
-        let set = &self.s.settings;
+        let (e, terms) = self.evaluate(pv, cell, viewing, R::ACTIVE);
+        self.composite_sample(plan, (k, t, pv), &e, terms, stop_at, acc, rec)
+    }
+
+    /// What sample at `pv` (in `cell` if already located) contributes, whatever came before
+    /// it: its value, classification, and its colour shaded where the table shows it (with
+    /// the shading's terms, for a record). Unless `full` is asked for, a sample the table makes
+    /// transparent is left unclassified.
+    #[inline(always)]
+    fn evaluate(
+        &self,
+        pv: Vec3,
+        cell: Option<&Cell>,
+        viewing: &Viewing,
+        full: bool,
+    ) -> (Evaluated, Option<ShadeTerms>) {
         // In a located cell the value and its gradient come from one read of the corners'
         // records where those exist (the same numbers as reading them apart).
         let (v, known) = match (cell, self.interp, self.s.differences) {
@@ -380,36 +407,67 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             }
             _ => (self.value(pv), None),
         };
+        let cl = self.classify(v, (pv, cell), known, full);
+        let grad = cl.grad.or(known);
+        let (mut shaded, mut terms) = (None, None);
+        if cl.alpha > 0.0 {
+            let (color, g, t) = self.shade(cl.rgba.truncate(), (pv, cell), grad, viewing);
+            (shaded, terms) = (Some((color, g)), t);
+        }
+        let e = Evaluated {
+            v,
+            cl,
+            grad,
+            shaded,
+        };
+        (e, terms)
+    }
+
+    /// Composites evaluated sample `k` (at `t`, voxel position `pv`): its opacity corrected
+    /// for its segment, then the running colour and opacity; returns true when early
+    /// termination stops the ray.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn composite_sample<R: Recorder>(
+        &self,
+        plan: &StepPlan,
+        (k, t, pv): (u32, f32, Vec3),
+        e: &Evaluated,
+        terms: Option<ShadeTerms>,
+        stop_at: f32,
+        acc: &mut Accumulation,
+        rec: &mut R,
+    ) -> bool {
+        let set = &self.s.settings;
         acc.taken += 1;
-        let cl = self.classify(v, (pv, cell), known, R::ACTIVE);
-        if !R::ACTIVE && cl.alpha <= 0.0 {
+        if !R::ACTIVE && e.cl.alpha <= 0.0 {
             return false; // transparent: nothing changes
         }
         let ds = segment_length(plan, k, t);
         let alpha = if set.opacity_correction {
-            correct_opacity(cl.alpha, ds, self.s.dt_ref)
+            correct_opacity(e.cl.alpha, ds, self.s.dt_ref)
         } else {
-            cl.alpha
+            e.cl.alpha
         };
-        let mut grad = cl.grad.or(known);
-        let mut terms = None;
-        let mut color = cl.rgba.truncate();
-        if alpha > 0.0 {
-            (color, grad, terms) = self.shade(color, (pv, cell), grad, viewing);
-            (acc.c, acc.o) = if set.order == Order::BackToFront {
-                accumulate_back_to_front(acc.c, acc.o, color, alpha)
-            } else {
-                accumulate_front_to_back(acc.c, acc.o, color, alpha)
-            };
-        }
+        let (color, grad, terms) = match e.shaded {
+            Some((color, grad)) if alpha > 0.0 => {
+                (acc.c, acc.o) = if set.order == Order::BackToFront {
+                    accumulate_back_to_front(acc.c, acc.o, color, alpha)
+                } else {
+                    accumulate_front_to_back(acc.c, acc.o, color, alpha)
+                };
+                (color, grad, terms)
+            }
+            _ => (e.cl.rgba.truncate(), e.grad, None),
+        };
         if R::ACTIVE {
             rec.sample(self.record(
                 k,
                 t,
                 ds,
                 pv,
-                v,
-                &cl,
+                e.v,
+                &e.cl,
                 alpha,
                 grad,
                 terms,

@@ -150,8 +150,9 @@ pub struct Grid<'a, T: Voxel> {
     pub intercept: f32,
     /// Largest lattice coordinate per axis, `n − 1`, as a float (for clamping).
     pub(crate) last: Vec3,
-    /// Largest lower cell corner per axis, `max(n − 2, 0)`.
-    pub(crate) max_lo: [usize; 3],
+    /// Largest lower cell corner per axis, `max(n − 2, 0)`, as a float (exact: an axis has at
+    /// most [`MAX_AXIS`] points).
+    pub(crate) max_lo: Vec3,
     /// Index distance from a cell's lower to its upper corner per axis: `1, nx, nx·ny`, or 0 on
     /// an axis with one point (both corners are that point).
     pub(crate) corner_step: [usize; 3],
@@ -175,7 +176,7 @@ impl<'a, T: Voxel> Grid<'a, T> {
                 (dims[1] - 1) as f32,
                 (dims[2] - 1) as f32,
             ),
-            max_lo: dims.map(|n| n.saturating_sub(2)),
+            max_lo: Vec3::from_array(dims.map(|n| n.saturating_sub(2) as f32)),
             corner_step: [0, 1, 2].map(|a| if dims[a] > 1 { strides[a] } else { 0 }),
         }
     }
