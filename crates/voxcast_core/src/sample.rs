@@ -46,20 +46,27 @@ pub enum Interpolation {
     Trilinear,
 }
 
-/// The cell around a point: lower and upper lattice index per axis and the fractions.
+/// The cell around a point: lower lattice index per axis and the fractions.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cell {
     pub lo: [usize; 3],
-    pub hi: [usize; 3],
     /// Position inside the cell per axis, in `[0, 1]`.
     pub t: Vec3,
+}
+
+impl Cell {
+    /// The upper lattice index per axis: one above `lo`, or `lo` itself on an axis with one
+    /// point (both corners are that point).
+    #[inline(always)]
+    pub fn hi<T: Voxel>(&self, g: &Grid<'_, T>) -> [usize; 3] {
+        [0, 1, 2].map(|a| self.lo[a] + (g.corner_step[a] != 0) as usize)
+    }
 }
 
 /// Locates `p_voxel` in the lattice (clamped to it).
 #[inline(always)]
 pub fn cell<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3) -> Cell {
     let mut lo = [0usize; 3];
-    let mut hi = [0usize; 3];
     let mut t = Vec3::ZERO;
     for a in 0..3 {
         // `fmax` first maps NaN to 0 (its comparison is false), so x ∈ [0, n − 1] always.
@@ -69,10 +76,9 @@ pub fn cell<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3) -> Cell {
         // (`MAX_AXIS`), so it fits an i32; and as it is ≥ 0, truncation is the floor.
         let i = unsafe { fmin(x, g.max_lo[a]).to_int_unchecked::<i32>() } as usize;
         lo[a] = i;
-        hi[a] = i + (g.corner_step[a] != 0) as usize;
         t[a] = x - i as f32;
     }
-    Cell { lo, hi, t }
+    Cell { lo, t }
 }
 
 /// `a + (b − a)·t`, the one interpolation formula used everywhere (and in the WGSL twin).
@@ -228,11 +234,12 @@ pub fn gradient<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3, interpolation: Interpo
             *out = Vec3A::new(dx, dy, dz) * 0.5;
         }
     } else {
+        let hi = c.hi(g);
         for (b, out) in gc.iter_mut().enumerate() {
             let idx = [
-                if b & 1 == 0 { c.lo[0] } else { c.hi[0] },
-                if b & 2 == 0 { c.lo[1] } else { c.hi[1] },
-                if b & 4 == 0 { c.lo[2] } else { c.hi[2] },
+                if b & 1 == 0 { c.lo[0] } else { hi[0] },
+                if b & 2 == 0 { c.lo[1] } else { hi[1] },
+                if b & 4 == 0 { c.lo[2] } else { hi[2] },
             ];
             *out = Vec3A::new(
                 lattice_difference(g, idx, 0),
@@ -433,12 +440,13 @@ pub fn sample_detail<T: Voxel>(
     let mut values = [0.0; 8];
     let mut weights = [0.0; 8];
     let near = nearest_index(g.dims, p_voxel);
+    let hi = c.hi(g);
     for b in 0..8 {
         let idx = match interpolation {
             Interpolation::Trilinear => [
-                if b & 1 == 0 { c.lo[0] } else { c.hi[0] },
-                if b & 2 == 0 { c.lo[1] } else { c.hi[1] },
-                if b & 4 == 0 { c.lo[2] } else { c.hi[2] },
+                if b & 1 == 0 { c.lo[0] } else { hi[0] },
+                if b & 2 == 0 { c.lo[1] } else { hi[1] },
+                if b & 4 == 0 { c.lo[2] } else { hi[2] },
             ],
             Interpolation::Nearest => near,
         };

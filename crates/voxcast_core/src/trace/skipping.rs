@@ -43,11 +43,17 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         // margin inside the skipped region, or is simply taken.
         let inv_dt = 1.0 / plan.dt;
         let mut k = 0u32;
+        // The exit of the last empty block crossed, if the samples have not been moved past it:
+        // a run of empty blocks moves them once, at its end (monotone in t, so the same index).
+        let mut passed: Option<f32> = None;
         'blocks: loop {
             let (is_empty, t_out) = blocks.current(&walk);
             if is_empty {
-                k = k.max(first_index_from(plan, t_out - margin_t, inv_dt));
+                passed = Some(t_out);
             } else {
+                if let Some(t) = passed.take() {
+                    k = k.max(first_index_from(plan, t - margin_t, inv_dt));
+                }
                 while k < plan.count {
                     let t = sample_t(plan, k);
                     if t >= t_out + margin_t {
@@ -87,6 +93,11 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
                     }
                     k += 1;
                 }
+            }
+            // Past the ray's last sample: the run moves them now, and the walk ends.
+            if let Some(t) = passed.filter(|t| *t - margin_t >= plan.t_exit) {
+                k = k.max(first_index_from(plan, t - margin_t, inv_dt));
+                passed = None;
             }
             if k >= plan.count || !t_out.is_finite() {
                 break;
