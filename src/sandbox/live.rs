@@ -152,6 +152,8 @@ pub struct LiveView {
     /// The image painted (a Bevy image, rewritten in place: the frame that receives a new
     /// picture draws it), and the generation it holds.
     image: Option<(u64, Handle<Image>)>,
+    /// What the previous frame showed: the same again means the view rests.
+    last_key: Option<LiveKey>,
 }
 
 impl LiveView {
@@ -391,9 +393,12 @@ fn drive_live_view(
                 shading: choices.as_ref().map(|c| c.view.shading).unwrap_or_default(),
             }),
     };
+    // The same view as in the previous frame: it rests.
+    let resting = live.last_key.as_ref() == Some(&key);
+    live.last_key = Some(key.clone());
     if let Some(job) = &live.job {
-        if job.key == key || !job.refine {
-            return; // still current, or a quick frame that will be done at once
+        if keeps_job(job, &key, resting) {
+            return;
         }
         live.cancel();
     }
@@ -401,15 +406,24 @@ fn drive_live_view(
     if shown.is_some_and(|f| f.full()) {
         return; // the exact render is on screen
     }
-    // A frame of this very view on screen: the view rests, refine it. Otherwise it moves (or
-    // was just changed): a quick frame.
+    // A frame of this very view on screen, or the view resting since the last frame: refine.
+    // Otherwise it moves (or was just changed): a quick frame.
     let size = match shown {
         _ if !preview.adaptive => full,
         Some(f) => refined_size(f.size, full, live.rate),
+        None if resting => refined_size(quick_size(full, live.rate), full, live.rate),
         None => quick_size(full, live.rate),
     };
-    let refine = shown.is_some() || size == full;
+    let refine = shown.is_some() || resting || size == full;
     live.job = Some(start(key, size, volume.volume.clone(), refine));
+}
+
+/// Whether the render in flight goes on: when it is of the current view, or a quick frame
+/// while the view moves (done at once, and the next one follows the camera). A refinement of
+/// another view is out of date, and so is a quick frame of a view the camera has left once
+/// it rests: the resting view's own render starts now, not after it.
+fn keeps_job(job: &LiveJob, key: &LiveKey, resting: bool) -> bool {
+    job.key == *key || (!job.refine && !resting)
 }
 
 /// The next size at rest after a frame of `size`: the full resolution at once when it takes at
@@ -681,6 +695,47 @@ mod tests {
         until_exact(&mut app);
         let live = app.world().resource::<LiveView>();
         assert_eq!(live.shown.as_ref().unwrap().key.camera, moved);
+    }
+
+    /// Once the view rests, a quick frame of the view it left is dropped (its render would
+    /// only delay the resting one); while it moves, quick frames finish; a refinement lasts
+    /// only as long as its view.
+    #[test]
+    fn a_resting_view_does_not_wait_for_a_quick_frame_of_another() {
+        let mut app = app();
+        until_exact(&mut app);
+        let old = app
+            .world()
+            .resource::<LiveView>()
+            .shown
+            .as_ref()
+            .unwrap()
+            .key
+            .clone();
+        let mut new = old.clone();
+        new.camera = CoreCamera::new(
+            old.camera.eye + Vec3::X,
+            old.camera.target,
+            old.camera.up,
+            old.camera.projection,
+        )
+        .unwrap();
+        let volume = app.world().resource::<VolumeState>().volume.clone();
+        let job = |key: &LiveKey, refine| start(key.clone(), UVec2::ONE, volume.clone(), refine);
+        let quick = job(&old, false);
+        assert!(keeps_job(&quick, &old, true), "its own view");
+        assert!(
+            keeps_job(&quick, &new, false),
+            "the view moves on: it finishes"
+        );
+        assert!(
+            !keeps_job(&quick, &new, true),
+            "the view rests elsewhere: dropped"
+        );
+        let refining = job(&old, true);
+        assert!(keeps_job(&refining, &old, true));
+        assert!(!keeps_job(&refining, &new, false));
+        assert!(!keeps_job(&refining, &new, true));
     }
 
     #[test]
