@@ -15,7 +15,7 @@ THREADS=${THREADS:-2}
 cargo build --release --quiet
 run() { # volume preset steps
     local v=$1 file=$2 steps=$3
-    ./target/release/voxcast bench --volume "$DATA/$file" --camera "$PEER/cams/$v.json" \
+    ${CARGO_TARGET_DIR:-./target}/release/voxcast bench --volume "$DATA/$file" --camera "$PEER/cams/$v.json" \
         --peer "$PEER" --threads "$THREADS" --repeat 3 --steps "$steps" \
         --report BENCHMARKS.md --section "$v" --plot "docs/bench/${v}_speed_accuracy.png"
 }
