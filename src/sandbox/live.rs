@@ -12,8 +12,9 @@
 //!
 //! The scene's opaque spheres (sample spheres, the light's marker) stop the rays as the GPU
 //! preview's depth prepass does, and their flat colour shows through the volume in front of
-//! them (`voxcast_core::render::render_layer`); gizmo lines and transparent meshes are drawn by
-//! the main camera over the image, at the window's full resolution.
+//! them (`voxcast_core::render::render_layer`) — in an image at the window's resolution. In a
+//! coarser one they would be blobs of its coarse pixels: there the rays pass them, and the main
+//! camera draws them sharp over the image, as it draws gizmo lines and transparent meshes.
 
 use super::inspect::SampleSphere;
 use super::light::LightMarker;
@@ -207,6 +208,12 @@ impl LiveView {
             self.image = Some((self.generation, handle));
         }
         self.image.as_ref().map(|(_, h)| h.clone())
+    }
+
+    /// Whether the image on screen is below the resting resolution (a quick frame, or a
+    /// refinement on its way): its spheres are not in it, the main camera draws them sharp.
+    pub fn coarse(&self) -> bool {
+        self.shown.as_ref().is_some_and(|f| !f.full())
     }
 
     /// Whether the window shows the exact render of the view the last frame was made for:
@@ -415,7 +422,10 @@ fn drive_live_view(
         None => quick_size(full, live.rate),
     };
     let refine = shown.is_some() || resting || size == full;
-    live.job = Some(start(key, size, volume.volume.clone(), refine));
+    // Spheres are painted into an image only at the window's resolution; below it the main
+    // camera draws them sharp over the image (`LiveView::coarse`).
+    let spheres = size == full && preview.scale >= 1.0;
+    live.job = Some(start(key, size, volume.volume.clone(), refine, spheres));
 }
 
 /// Whether the render in flight goes on: when it is of the current view, or a quick frame
@@ -485,7 +495,15 @@ fn resting_pool() -> &'static rayon::ThreadPool {
     })
 }
 
-fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: bool) -> LiveJob {
+/// Starts a render of `key`'s view at `size` (a refinement at rest, or a quick frame), with the
+/// scene's spheres in the image or (`spheres` false) left to the main camera.
+fn start(
+    key: LiveKey,
+    size: UVec2,
+    volume: Arc<voxcast_core::Volume>,
+    refine: bool,
+    spheres: bool,
+) -> LiveJob {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     let job_key = key.clone();
@@ -511,7 +529,7 @@ fn start(key: LiveKey, size: UVec2, volume: Arc<voxcast_core::Volume>, refine: b
                         &scene,
                         &job_key.camera,
                         (size.x, size.y),
-                        &job_key.occluders,
+                        if spheres { &job_key.occluders } else { &[] },
                         triangles.is_some().then_some(&hit as Surface),
                         &|_, _| {},
                         &flag,
@@ -721,7 +739,8 @@ mod tests {
         )
         .unwrap();
         let volume = app.world().resource::<VolumeState>().volume.clone();
-        let job = |key: &LiveKey, refine| start(key.clone(), UVec2::ONE, volume.clone(), refine);
+        let job =
+            |key: &LiveKey, refine| start(key.clone(), UVec2::ONE, volume.clone(), refine, true);
         let quick = job(&old, false);
         assert!(keeps_job(&quick, &old, true), "its own view");
         assert!(

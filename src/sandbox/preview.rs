@@ -432,16 +432,16 @@ fn camera_for_backend(
     progressive: Option<Res<super::progressive::Progressive>>,
     mut beneath: ResMut<SharpBeneath>,
     ray_views: Option<Res<super::rayviews::ViewReport>>,
-    (mut kept, changes): (ResMut<KeptPass>, PassChanges),
+    (mut kept, changes, live): (ResMut<KeptPass>, PassChanges, Option<Res<LiveView>>),
 ) {
     let cpu = settings.cpu_live();
     // A ray density's line lists are drawn by the camera over the CPU image.
     let lines = ray_views.is_some_and(|r| r.drawn);
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
     let through = render.is_some_and(|r| !r.depth_termination);
-    // Below full resolution the CPU image's spheres are as coarse as the image: the camera
-    // draws them again over it at the window's resolution (over the volume in front of them).
-    let coarse = settings.scale < 1.0;
+    // Below the window's resolution the CPU image has no spheres (they would be as coarse as
+    // the image): the camera draws them over it, sharp (over the volume in front of them).
+    let coarse = settings.scale < 1.0 || live.is_some_and(|l| l.coarse());
     let transparent = inspect.is_some_and(|i| i.shown && i.show_opacity);
     let plan = GpuPlan::for_scale(quality.scale());
     if !(cpu && lines) || through || transparent || coarse {
