@@ -210,8 +210,8 @@ fn spawn_scene(
         commands.spawn((
             SceneMesh(i),
             super::sharp::Solid,
-            // With the spheres: in the CPU live view's image rather than over it.
-            RenderLayers::layer(super::live::OCCLUDER_LAYER),
+            // The GPU's cameras draw it; the CPU live view has it in its image.
+            RenderLayers::layer(super::sharp::SCENE_LAYER),
             Mesh3d(meshes.add(mesh)),
             MeshMaterial3d(material.clone()),
             Transform::IDENTITY,

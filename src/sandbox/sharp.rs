@@ -31,6 +31,10 @@ use bevy::window::PrimaryWindow;
 pub const DEPTH_LAYER: usize = 2;
 /// The layer of the volume's box: every preview camera sees it, the sharp camera never.
 pub const VOLUME_LAYER: usize = 3;
+/// The layer of a ray density's scene meshes: the GPU's cameras see them; the CPU live view
+/// has them in its image (its rays stop at the same triangles), so its camera never draws
+/// them over it (they would hide the density in front of them).
+pub const SCENE_LAYER: usize = 4;
 
 /// An opaque mesh that stops the preview's rays: it gets a depth-only twin.
 #[derive(Component, Clone, Copy, Default)]
@@ -109,12 +113,12 @@ impl GpuPlan {
 
 /// The layers a preview camera at full resolution sees: the meshes and the volume.
 pub fn everything() -> RenderLayers {
-    RenderLayers::from_layers(&[0, super::live::OCCLUDER_LAYER, VOLUME_LAYER])
+    RenderLayers::from_layers(&[0, super::live::OCCLUDER_LAYER, VOLUME_LAYER, SCENE_LAYER])
 }
 
 /// The layers the sharp camera sees: the meshes.
 fn meshes() -> RenderLayers {
-    RenderLayers::from_layers(&[0, super::live::OCCLUDER_LAYER])
+    RenderLayers::from_layers(&[0, super::live::OCCLUDER_LAYER, SCENE_LAYER])
 }
 
 pub(super) fn plugin(app: &mut App) {
