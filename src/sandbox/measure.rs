@@ -20,10 +20,12 @@ pub struct MeasureRequest {
     pub label: String,
 }
 
-/// When the measured frames ended, and the live view's images a second and size until then.
+/// When the measured frames ended, the live view's images a second and size until then, and
+/// the CPU's pictures of a ray density's lines a second and their thinning.
 struct Stopped {
     at: f64,
     live: Option<(f64, UVec2)>,
+    lines: Option<(f64, usize)>,
 }
 
 /// Frames drawn before measuring (pipelines compiled, textures uploaded, quality settled).
@@ -42,15 +44,19 @@ struct Measured {
     samples: Vec<f32>,
     /// The live view's generation and the time when measuring began.
     live_start: Option<(u64, f64)>,
+    /// The same for the CPU's pictures of the lines.
+    lines_start: Option<(u64, f64)>,
     stopped: Option<Stopped>,
 }
 
-/// The preview's settings, the CPU live view and the GPU's progressive pass, where there are.
+/// The preview's settings, the CPU live view (and its lines) and the GPU's progressive pass,
+/// where there are.
 type LiveParams<'w> = (
     Option<Res<'w, super::live::LiveView>>,
     Option<Res<'w, super::preview::PreviewSettings>>,
     Option<Res<'w, super::progressive::Progressive>>,
     Option<Res<'w, super::preview::Motion>>,
+    Option<Res<'w, super::cpu_lines::CpuLines>>,
 );
 
 fn measure_frames(
@@ -60,7 +66,7 @@ fn measure_frames(
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut exit: MessageWriter<AppExit>,
     animation: Option<ResMut<super::inspect::RayAnimation>>,
-    (live, preview, progressive, motion): LiveParams,
+    (live, preview, progressive, motion, lines): LiveParams,
 ) {
     m.seen += 1;
     let gpu = preview.as_ref().is_some_and(|p| p.gpu_live());
@@ -95,6 +101,10 @@ fn measure_frames(
     if m.live_start.is_none() {
         m.live_start = live.as_ref().map(|l| (l.generation, now));
     }
+    let lines = lines.filter(|l| l.on_screen().is_some());
+    if m.lines_start.is_none() {
+        m.lines_start = lines.as_ref().map(|l| (l.pictures(), now));
+    }
     // Real time: virtual time clamps a frame at 250 ms.
     if !measured {
         m.samples.push(time.delta_secs() * 1000.0);
@@ -104,6 +114,10 @@ fn measure_frames(
                 live: live.as_ref().zip(m.live_start).map(|(l, (g0, t0))| {
                     let size = l.shown.as_ref().map_or(UVec2::ZERO, |f| f.size);
                     ((l.generation - g0) as f64 / (now - t0).max(1e-6), size)
+                }),
+                lines: lines.as_ref().zip(m.lines_start).map(|(l, (g0, t0))| {
+                    let every = l.on_screen().map_or(1, |(_, every)| every);
+                    ((l.pictures() - g0) as f64 / (now - t0).max(1e-6), every)
                 }),
             });
         }
@@ -157,9 +171,16 @@ fn measure_frames(
         }
         None => String::new(),
     };
+    let lines_text = match m.stopped.as_ref().and_then(|s| s.lines) {
+        Some((rate, every)) => format!(
+            "; lines drawn by the CPU: {rate:.1} pictures/s, 1 in {every} of the rays and \
+             arrows"
+        ),
+        None => String::new(),
+    };
     println!(
         "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} \
-             frames{live_text}",
+             frames{live_text}{lines_text}",
         request.label,
         1000.0 / median,
         sorted.len()

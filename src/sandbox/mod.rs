@@ -8,6 +8,7 @@ mod blocks;
 mod breakdown;
 mod compare;
 mod compare_cli;
+mod cpu_lines;
 mod cut;
 mod inspect;
 mod lattice;
@@ -330,6 +331,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
                 sharp::plugin,
                 raydata::plugin,
                 rayviews::plugin,
+                cpu_lines::plugin,
             ),
         ))
         .insert_resource(free_play)

@@ -146,7 +146,7 @@ impl Quality<'_> {
     }
 
     /// The fraction of the window's pixels the main camera renders: the GPU preview's
-    /// resolution, or 1 when the CPU draws the volume (the camera draws only lines then).
+    /// resolution, or 1 when the CPU draws the volume (the camera draws only spheres then).
     pub fn scale(&self) -> f32 {
         let moving = self.motion.as_ref().is_some_and(|m| m.moving);
         let full = self.full.as_ref().is_some_and(|f| f.0);
@@ -233,7 +233,6 @@ pub(super) fn plugin(app: &mut App) {
         .init_resource::<Motion>()
         .init_resource::<FullQuality>()
         .init_resource::<SharpBeneath>()
-        .init_resource::<KeptPass>()
         .add_systems(Startup, spawn_display_camera)
         .add_systems(
             Update,
@@ -346,79 +345,14 @@ pub struct SharpBeneath {
 /// The main camera, not the sharp camera beneath it.
 type MainOnly = (With<MainCamera>, Without<SharpCamera>);
 
-/// With the CPU live view, a pass of the main camera that only draws a ray density's lines
-/// and scene meshes over the CPU image is kept while nothing it shows changes: its image is
-/// painted again and the camera stays off, so a resting window with 400 000 ray lines costs
-/// what an empty one does on a software rasterizer.
-#[derive(Resource, Default, Debug)]
-pub struct KeptPass {
-    /// Frames drawn since the last change.
-    drawn_since_change: u32,
-    /// The camera is off this frame and its last image is still what it would draw.
-    pub kept: bool,
-}
-
-/// Frames drawn after a change before the pass is kept: one, as a frame's meshes, transforms
-/// and visibility are all extracted and drawn in that frame's render (a change that shows only
-/// in the next frame, such as a transform propagated late, is a change of that frame).
-const DRAW_AFTER_CHANGE: u32 = 1;
-
-impl KeptPass {
-    /// Whether the pass may be skipped this frame, given whether anything changed; counts the
-    /// frames drawn.
-    fn keeps(&mut self, changed: bool) -> bool {
-        if changed {
-            self.drawn_since_change = 0;
-        }
-        self.kept = self.drawn_since_change >= DRAW_AFTER_CHANGE;
-        if !self.kept {
-            self.drawn_since_change += 1;
-        }
-        self.kept
-    }
-
-    /// Nothing is kept: the next pass is drawn (the pass draws more than lines, or none).
-    fn forget(&mut self) {
-        self.drawn_since_change = 0;
-        self.kept = false;
-    }
-}
-
-/// A mesh moved, was shown or hidden, or given another mesh.
-type MeshChanged = Or<(
-    Changed<GlobalTransform>,
-    Changed<Visibility>,
-    Changed<Mesh3d>,
-)>;
-
-/// What the main camera's pass over the CPU image shows: the view, the target's size, and
-/// the meshes (moved, shown or hidden, replaced or recoloured).
-#[derive(bevy::ecs::system::SystemParam)]
-struct PassChanges<'w, 's> {
-    views: Query<'w, 's, (), (With<MainCamera>, Changed<View>)>,
-    target: Option<Res<'w, PreviewTarget>>,
-    meshes: Query<'w, 's, (), (With<Mesh3d>, MeshChanged)>,
-    assets: MessageReader<'w, 's, AssetEvent<Mesh>>,
-}
-
-impl PassChanges<'_, '_> {
-    fn any(mut self) -> bool {
-        let assets = self.assets.read().count() > 0;
-        assets
-            || !self.views.is_empty()
-            || self.target.is_some_and(|t| t.is_changed())
-            || !self.meshes.is_empty()
-    }
-}
-
 /// With the CPU drawing the volume, the main camera draws only what lies over it — the
 /// transparent sample spheres — on a transparent background; the opaque spheres (on the
-/// occluders' layer) are in the CPU's image, and drawn again over it, sharp, when the preview
-/// runs below full resolution. With the GPU it draws everything at full resolution; below it,
-/// the volume alone over the meshes the sharp camera draws (`sharp`). (Lines are egui's:
-/// `overlay`; a ray density's line lists are meshes, drawn by this camera.) Only the GPU
-/// preview reads the depth prepass: with the CPU the camera has none (a software rasterizer
-/// would draw every line twice).
+/// occluders' layer) are in the CPU's image when it has the window's resolution, else drawn
+/// over it, sharp. With the GPU it draws everything at full resolution; below it, the volume
+/// alone over the meshes the sharp camera draws (`sharp`). (Lines are egui's: `overlay`; a ray
+/// density's line lists are meshes this camera draws with the GPU, and the CPU draws them
+/// with the CPU live view: `cpu_lines`.) Only the GPU preview reads the depth prepass: with
+/// the CPU the camera has none (a software rasterizer would draw every sphere twice).
 #[allow(clippy::too_many_arguments)]
 fn camera_for_backend(
     mut commands: Commands,
@@ -431,12 +365,9 @@ fn camera_for_backend(
     mut sharp: Query<&mut Camera, With<SharpCamera>>,
     progressive: Option<Res<super::progressive::Progressive>>,
     mut beneath: ResMut<SharpBeneath>,
-    ray_views: Option<Res<super::rayviews::ViewReport>>,
-    (mut kept, changes, live): (ResMut<KeptPass>, PassChanges, Option<Res<LiveView>>),
+    live: Option<Res<LiveView>>,
 ) {
     let cpu = settings.cpu_live();
-    // A ray density's line lists are drawn by the camera over the CPU image.
-    let lines = ray_views.is_some_and(|r| r.drawn);
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
     let through = render.is_some_and(|r| !r.depth_termination);
     // Below the window's resolution the CPU image has no spheres (they would be as coarse as
@@ -444,9 +375,6 @@ fn camera_for_backend(
     let coarse = settings.scale < 1.0 || live.is_some_and(|l| l.coarse());
     let transparent = inspect.is_some_and(|i| i.shown && i.show_opacity);
     let plan = GpuPlan::for_scale(quality.scale());
-    if !(cpu && lines) || through || transparent || coarse {
-        kept.forget();
-    }
     let (clear, layers, active) = if cpu {
         (
             ClearColorConfig::Custom(Color::NONE),
@@ -456,8 +384,7 @@ fn camera_for_backend(
                 RenderLayers::layer(0)
             },
             // Nothing for it to draw: no pass at all (a software rasterizer pays for each).
-            // Lines alone are kept from an earlier pass while nothing they show changed.
-            through || transparent || coarse || (lines && !kept.keeps(changes.any())),
+            through || transparent || coarse,
         )
     } else {
         (
@@ -510,9 +437,9 @@ fn camera_for_backend(
     }
 }
 
-/// Paints the preview into the viewport, beneath every panel: the CPU live view's image when
-/// the CPU draws the volume, then the main camera's image (with the CPU, only its lines; at
-/// rest with a slow GPU, the progressive pass's images). Beneath a GPU preview drawn below full
+/// Paints the preview into the viewport, beneath every panel: the CPU live view's image and
+/// its lines when the CPU draws the volume, then the main camera's image (with the CPU, only
+/// spheres; at rest with a slow GPU, the progressive pass's images). Beneath a GPU preview drawn below full
 /// resolution, the sharp camera's meshes, again beneath each new strip (a strip is
 /// transparent where no volume is in front of them).
 #[allow(clippy::too_many_arguments)]
@@ -527,10 +454,10 @@ pub(super) fn paint_preview(
     sharp_target: Option<Res<SharpTarget>>,
     progressive: Option<Res<super::progressive::Progressive>>,
     mut images: ResMut<Assets<Image>>,
-    kept: Option<Res<KeptPass>>,
+    mut cpu_lines: Option<ResMut<super::cpu_lines::CpuLines>>,
 ) -> Result {
     let Some(target) = target else { return Ok(()) };
-    let camera_drew = cameras.iter().any(|c| c.is_active) || kept.as_ref().is_some_and(|k| k.kept);
+    let camera_drew = cameras.iter().any(|c| c.is_active);
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));
     let sharp_id = sharp_target
         .filter(|_| beneath.shown)
@@ -543,6 +470,11 @@ pub(super) fn paint_preview(
     if cpu && let Some(live_image) = live.as_mut().and_then(|l| l.image(&mut images)) {
         let live_id = contexts.add_image(EguiTextureHandle::Weak(live_image.id()));
         painter.image(live_id, rect, uv, egui::Color32::WHITE);
+    }
+    // A ray density's lines, drawn by the CPU at the viewport's resolution.
+    if cpu && let Some(lines) = cpu_lines.as_mut().and_then(|l| l.image(&mut images)) {
+        let lines_id = contexts.add_image(EguiTextureHandle::Weak(lines.id()));
+        painter.image(lines_id, rect, uv, egui::Color32::WHITE);
     }
     let beneath = |screen: egui::Rect, uv: egui::Rect| {
         if let Some(sharp_id) = sharp_id {
@@ -566,21 +498,6 @@ pub(super) fn paint_preview(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A change is drawn, then the pass is kept until the next change; forgetting draws again.
-    #[test]
-    fn the_lines_pass_is_drawn_once_a_change_then_kept() {
-        let mut kept = KeptPass::default();
-        assert!(!kept.keeps(true), "a change is drawn");
-        assert!(kept.keeps(false) && kept.kept, "then kept");
-        assert!(kept.keeps(false));
-        assert!(!kept.keeps(true) && !kept.kept, "the next change is drawn");
-        assert!(kept.keeps(false));
-        kept.forget();
-        assert!(!kept.kept);
-        assert!(!kept.keeps(false), "after forgetting, drawn again");
-        assert!(kept.keeps(false));
-    }
 
     /// A fast GPU keeps the resting resolution while moving; a slow one drops as far as its
     /// measured speed needs, on the ladder, never below the moving resolution.

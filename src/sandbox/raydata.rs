@@ -147,6 +147,8 @@ pub enum SourceKind {
     /// The embedded Cornell box and the rays Voxcast traces through it.
     #[default]
     Cornell,
+    /// The same at 400 × 400 primary rays: about a million rays.
+    CornellMillion,
     /// A `.rayvis` file.
     File,
     /// The virtual camera's rays through the volume.
@@ -154,11 +156,17 @@ pub enum SourceKind {
 }
 
 impl SourceKind {
-    pub const ALL: [SourceKind; 3] = [Self::Cornell, Self::Camera, Self::File];
+    pub const ALL: [SourceKind; 4] = [
+        Self::Cornell,
+        Self::CornellMillion,
+        Self::Camera,
+        Self::File,
+    ];
 
     pub const fn words(self) -> &'static str {
         match self {
             Self::Cornell => "Cornell box (embedded)",
+            Self::CornellMillion => "Cornell box, a million rays",
             Self::File => ".rayvis file",
             Self::Camera => "the virtual camera's rays",
         }
@@ -169,6 +177,11 @@ impl SourceKind {
             Self::Cornell => {
                 "The Cornell box with the primary, shadow, reflection and ambient-occlusion \
                  rays Voxcast traces through it (seeded: the same every time)"
+            }
+            Self::CornellMillion => {
+                "The Cornell box traced with 400 × 400 primary rays instead of 256 × 256: \
+                 about a million rays in all, the scale RayVis's study drew (the density \
+                 takes about a second)"
             }
             Self::File => "A ray data set saved by RayVis (or by voxcast rays export)",
             Self::Camera => {
@@ -251,6 +264,7 @@ impl RayChoices {
     pub fn spec(&self) -> Option<DensitySpec> {
         let source = match self.source {
             SourceKind::Cornell => "builtin:cornell".to_string(),
+            SourceKind::CornellMillion => "builtin:cornell-1m".to_string(),
             SourceKind::File => self.path.trim().to_string(),
             SourceKind::Camera => return None,
         };

@@ -7,10 +7,10 @@
 //!
 //! The line lists are built on the background pool (a million rays are two million vertices)
 //! and swapped in when ready; the window keeps drawing the previous ones meanwhile. With the
-//! CPU live view (a software rasterizer draws every line on the CPU) a long list has a thinned
-//! twin, drawn instead of it while the view moves, so orbiting stays fluid; at rest the whole
-//! list is drawn once and kept (`preview`'s kept pass).
+//! CPU live view the lists are not meshes the window draws (a software rasterizer takes
+//! microseconds a line): the CPU draws them over its image (`cpu_lines`).
 
+use super::cpu_lines::{CpuLines, CpuList};
 use super::raydata::{RayChoices, RayScene, Shown, ViewChoices};
 use super::state::{MainCamera, View, VolumeState};
 use bevy::asset::RenderAssetUsages;
@@ -42,23 +42,6 @@ enum Lines {
     Field,
 }
 
-/// Which of a list's versions an entity draws.
-#[derive(Component, Clone, Copy, PartialEq, Eq, Debug)]
-enum Detail {
-    /// The whole list, which has no thinned twin.
-    All,
-    /// The whole list, drawn at rest (its thinned twin while the view moves).
-    AtRest,
-    /// The thinned twin, drawn while the view moves.
-    WhileMoving,
-}
-
-/// The most segments drawn while the view moves with the CPU live view: beyond it a list is
-/// thinned to every n-th ray or arrow. Lavapipe takes about 3 µs a line on 2 cores (Intel
-/// Xeon, 640×360): orbiting with 4 000 lines drew a frame in 105 ms, with 40 000 in 216 ms,
-/// with all 412 000 in 0.7–0.8 s (BENCHMARKS.md).
-const MOVING_SEGMENTS: usize = 10_000;
-
 /// What the views show, for the panel: lines and arrows drawn, rays left out.
 #[derive(Resource, Default, Clone, Debug, PartialEq)]
 pub struct ViewReport {
@@ -70,9 +53,10 @@ pub struct ViewReport {
     pub field_error: Option<String>,
     /// The line lists are being built.
     pub building: bool,
-    /// Some line list is in the scene.
+    /// Some line list is in the scene (as meshes the GPU's cameras draw).
     pub drawn: bool,
-    /// While the view moves with the CPU live view, every n-th ray and arrow is drawn.
+    /// While the view moves with the CPU live view, every n-th ray and arrow is drawn
+    /// (`cpu_lines`).
     pub moving_every: Option<usize>,
 }
 
@@ -86,31 +70,12 @@ struct Building {
 /// A line list: positions and linear colours, two vertices a segment.
 type LineList = (Vec<[f32; 3]>, Vec<[f32; 4]>);
 
-/// Built line lists.
+/// Built line lists: for the GPU's meshes (linear colours) and for the CPU (display colours).
 struct Geometry {
     rays: Option<LineList>,
     field: Option<LineList>,
+    cpu: Vec<Arc<CpuList>>,
     report: ViewReport,
-}
-
-/// Every `n`-th item of `list` (items of `per_item` segments), `n` the smallest that leaves at
-/// most [`MOVING_SEGMENTS`] segments; `None` when the list is within that already.
-fn thinned(list: &LineList, per_item: usize) -> Option<(LineList, usize)> {
-    let vertices = 2 * per_item;
-    let items = list.0.len() / vertices;
-    if items * per_item <= MOVING_SEGMENTS {
-        return None;
-    }
-    let n = (items * per_item).div_ceil(MOVING_SEGMENTS);
-    fn pick<V: Copy>(v: &[V], vertices: usize, n: usize) -> Vec<V> {
-        v.chunks_exact(vertices)
-            .step_by(n)
-            .flatten()
-            .copied()
-            .collect()
-    }
-    let few = (pick(&list.0, vertices, n), pick(&list.1, vertices, n));
-    Some((few, n))
 }
 
 pub(super) fn plugin(app: &mut App) {
@@ -123,7 +88,7 @@ pub(super) fn plugin(app: &mut App) {
                 spawn_scene,
                 build_lines,
                 swap_lines,
-                choose_detail,
+                show_lines,
                 shade_scene,
             )
                 .chain()
@@ -322,17 +287,13 @@ fn geometry(shown: &Shown, view: &ViewChoices) -> Geometry {
         );
         report.lines = lines.lines.len();
         report.left_out = lines.malformed + lines.outside;
-        let colour = |rgb: [f32; 3]| {
-            let l = Color::srgb(rgb[0], rgb[1], rgb[2]).to_linear();
-            [l.red, l.green, l.blue, 1.0]
-        };
-        let (hit, miss) = (colour(view.hit_colour), colour(view.miss_colour));
+        let (hit, miss) = (view.hit_colour, view.miss_colour);
         let mut positions = Vec::with_capacity(lines.lines.len() * 2);
         let mut colours = Vec::with_capacity(lines.lines.len() * 2);
         for l in &lines.lines {
             positions.extend([l.from.to_array(), l.to.to_array()]);
-            let c = if l.hit { hit } else { miss };
-            colours.extend([c, c]);
+            let [r, g, b] = if l.hit { hit } else { miss };
+            colours.extend([[r, g, b, 1.0]; 2]);
         }
         (positions, colours)
     });
@@ -350,9 +311,34 @@ fn geometry(shown: &Shown, view: &ViewChoices) -> Geometry {
     } else {
         None
     };
+    let cpu = [(&rays, 1), (&field, ARROW_SEGMENTS)]
+        .into_iter()
+        .filter_map(|(list, per_item)| {
+            let (positions, colours) = list.as_ref().filter(|l| !l.0.is_empty())?;
+            Some(Arc::new(CpuList {
+                positions: positions.clone(),
+                colours: colours.clone(),
+                per_item,
+            }))
+        })
+        .collect();
+    // The meshes take linear colours.
+    let linear = |list: Option<LineList>| {
+        list.map(|(p, c)| {
+            let c = c
+                .into_iter()
+                .map(|[r, g, b, a]| {
+                    let l = Color::srgba(r, g, b, a).to_linear();
+                    [l.red, l.green, l.blue, l.alpha]
+                })
+                .collect();
+            (p, c)
+        })
+    };
     Geometry {
-        rays,
-        field,
+        rays: linear(rays),
+        field: linear(field),
+        cpu,
         report,
     }
 }
@@ -361,7 +347,8 @@ fn geometry(shown: &Shown, view: &ViewChoices) -> Geometry {
 const ARROW_SEGMENTS: usize = 5;
 
 /// Each arrow as five segments — the shaft and four barbs — coloured by its count through
-/// inferno; arrows without a mean direction (opposite rays cancelled) are left out.
+/// inferno (display colours); arrows without a mean direction (opposite rays cancelled) are
+/// left out.
 fn arrow_lines(arrows: &[Arrow]) -> LineList {
     let mut positions = Vec::with_capacity(arrows.len() * 10);
     let mut colours = Vec::with_capacity(arrows.len() * 10);
@@ -376,8 +363,7 @@ fn arrow_lines(arrows: &[Arrow]) -> LineList {
             positions.extend([tip, back + side * w].map(|p| p.to_array()));
         }
         let s = voxcast_core::colormap::inferno(a.shade);
-        let l = Color::srgb(s.x, s.y, s.z).to_linear();
-        colours.extend([[l.red, l.green, l.blue, 1.0]; 2 * ARROW_SEGMENTS]);
+        colours.extend([[s.x, s.y, s.z, 1.0]; 2 * ARROW_SEGMENTS]);
     }
     (positions, colours)
 }
@@ -386,8 +372,8 @@ fn arrow_lines(arrows: &[Arrow]) -> LineList {
 fn swap_lines(
     mut commands: Commands,
     mut building: ResMut<Building>,
-    mut report: ResMut<ViewReport>,
-    roots: Query<Entity, With<RayRoot>>,
+    (mut report, mut cpu): (ResMut<ViewReport>, ResMut<CpuLines>),
+    roots: Query<(Entity, &RayRoot)>,
     existing: Query<(Entity, &Lines)>,
     (mut meshes, mut materials): (ResMut<Assets<Mesh>>, ResMut<Assets<StandardMaterial>>),
     mut material: Local<Option<Handle<StandardMaterial>>>,
@@ -407,7 +393,11 @@ fn swap_lines(
     for (e, _) in &existing {
         commands.entity(e).despawn();
     }
-    let Ok(root) = roots.single() else { return };
+    let Ok((root, shown)) = roots.single() else {
+        cpu.set(Vec::new(), Vec3::ZERO);
+        return;
+    };
+    cpu.set(geometry.cpu, -shown.0.computed.origin);
     let material = material
         .get_or_insert_with(|| {
             materials.add(StandardMaterial {
@@ -416,60 +406,37 @@ fn swap_lines(
             })
         })
         .clone();
-    let lists = [
-        (Lines::Rays, geometry.rays, 1),
-        (Lines::Field, geometry.field, ARROW_SEGMENTS),
-    ];
-    for (kind, list, per_item) in lists {
-        let Some(list) = list.filter(|l| !l.0.is_empty()) else {
+    for (kind, list) in [(Lines::Rays, geometry.rays), (Lines::Field, geometry.field)] {
+        let Some((positions, colours)) = list.filter(|l| !l.0.is_empty()) else {
             continue;
         };
-        let twin = thinned(&list, per_item);
-        let mut spawn = |(positions, colours): LineList, detail: Detail| {
-            let mesh = Mesh::new(PrimitiveTopology::LineList, RenderAssetUsages::RENDER_WORLD)
-                .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
-                .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, colours);
-            commands.spawn((
-                kind,
-                detail,
-                Mesh3d(meshes.add(mesh)),
-                MeshMaterial3d(material.clone()),
-                Transform::IDENTITY,
-                Visibility::Hidden,
-                ChildOf(root),
-            ));
-        };
+        let mesh = Mesh::new(PrimitiveTopology::LineList, RenderAssetUsages::RENDER_WORLD)
+            .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+            .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, colours);
+        commands.spawn((
+            kind,
+            Mesh3d(meshes.add(mesh)),
+            MeshMaterial3d(material.clone()),
+            Transform::IDENTITY,
+            Visibility::Hidden,
+            ChildOf(root),
+        ));
         report.drawn = true;
-        match twin {
-            Some((few, n)) => {
-                report.moving_every = Some(report.moving_every.map_or(n, |m| m.max(n)));
-                spawn(list, Detail::AtRest);
-                spawn(few, Detail::WhileMoving);
-            }
-            None => spawn(list, Detail::All),
-        }
     }
 }
 
-/// Shows each line list's version for the moment: the thinned twins while the view moves with
-/// the CPU live view, the whole lists otherwise.
-fn choose_detail(
-    motion: Res<super::preview::Motion>,
+/// The line lists' meshes are drawn by the GPU's cameras; with the CPU live view the CPU draws
+/// the lists (`cpu_lines`) and the meshes are hidden.
+fn show_lines(
     preview: Res<super::preview::PreviewSettings>,
-    mut lists: Query<(&Detail, &mut Visibility)>,
+    mut lists: Query<&mut Visibility, With<Lines>>,
 ) {
-    let thin = motion.moving && preview.cpu_live();
-    for (detail, mut visibility) in &mut lists {
-        let shown = match detail {
-            Detail::All => true,
-            Detail::AtRest => !thin,
-            Detail::WhileMoving => thin,
-        };
-        let want = if shown {
-            Visibility::Inherited
-        } else {
-            Visibility::Hidden
-        };
+    let want = if preview.cpu_live() {
+        Visibility::Hidden
+    } else {
+        Visibility::Inherited
+    };
+    for mut visibility in &mut lists {
         visibility.set_if_neq(want);
     }
 }
@@ -478,41 +445,6 @@ fn choose_detail(
 mod tests {
     use super::*;
 
-    /// A list of `items` items of `per_item` segments, each vertex marked with its item.
-    fn list(items: usize, per_item: usize) -> LineList {
-        let n = items * per_item * 2;
-        let p = (0..n)
-            .map(|i| [(i / (2 * per_item)) as f32, 0.0, 0.0])
-            .collect();
-        let c = (0..n)
-            .map(|i| [(i / (2 * per_item)) as f32, 0.0, 0.0, 1.0])
-            .collect();
-        (p, c)
-    }
-
-    /// A list within the moving budget has no twin; a longer one keeps every n-th item whole,
-    /// within the budget, positions and colours together.
-    #[test]
-    fn long_lists_get_a_thinned_twin_of_whole_items() {
-        assert!(thinned(&list(MOVING_SEGMENTS, 1), 1).is_none());
-        assert!(thinned(&list(MOVING_SEGMENTS / ARROW_SEGMENTS, ARROW_SEGMENTS), 5).is_none());
-        for (items, per_item) in [(412_126, 1), (MOVING_SEGMENTS + 1, 1), (76_003, 5)] {
-            let ((p, c), n) = thinned(&list(items, per_item), per_item).unwrap();
-            assert!(n >= 2);
-            assert!(
-                p.len() / 2 <= MOVING_SEGMENTS,
-                "{items}: {} segments",
-                p.len() / 2
-            );
-            assert_eq!(p.len(), c.len());
-            assert_eq!(p.len() % (2 * per_item), 0);
-            // Item k of the twin is item k·n of the list, all its vertices.
-            for (k, item) in p.chunks(2 * per_item).enumerate() {
-                assert!(item.iter().all(|v| v[0] == (k * n) as f32));
-            }
-            assert_eq!(p.len() / (2 * per_item), items.div_ceil(n));
-        }
-    }
     use voxcast_core::rays::field::Arrow;
 
     /// An arrow is a shaft centred on its cube plus four barbs at the tip, all in one colour;

@@ -579,6 +579,7 @@ fn compute_density(hands: &mut Hands, source: &str, trace: Option<u32>, side: u3
     c.source = match source {
         "camera" => SourceKind::Camera,
         "builtin:cornell" => SourceKind::Cornell,
+        "builtin:cornell-1m" => SourceKind::CornellMillion,
         path => {
             c.path = path.to_string();
             SourceKind::File

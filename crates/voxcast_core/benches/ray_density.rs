@@ -91,8 +91,8 @@ fn density(c: &mut Criterion) {
 
 fn cornell(c: &mut Criterion) {
     use voxcast_core::rays::cornell;
-    use voxcast_core::rays::effects::{TraceParams, camera, trace_effects};
-    use voxcast_core::rays::source::{CORNELL, RayData};
+    use voxcast_core::rays::effects::{camera, trace_effects};
+    use voxcast_core::rays::source::{CORNELL_1M, RayData};
     let scene = cornell::scene();
     let cam = camera(
         cornell::CAMERA_EYE,
@@ -100,11 +100,7 @@ fn cornell(c: &mut Criterion) {
         cornell::CAMERA_FOV_Y_DEG,
     )
     .unwrap();
-    let p = TraceParams {
-        width: 400,
-        height: 400,
-        ..CORNELL
-    };
+    let p = CORNELL_1M;
     let traces = trace_effects(&scene, &cam, &p);
     let data = RayData {
         description: String::new(),
@@ -129,6 +125,50 @@ fn cornell(c: &mut Criterion) {
     g.bench_function("density of every trace, 128 cells across the box", |b| {
         b.iter(|| compute(&all, &params, &|_, _| {}, &AtomicBool::new(false)).unwrap())
     });
+    // The ray mesh of every ray, drawn on the CPU as the CPU live view draws it, from the
+    // box's camera, at the viewports of a 640×360 and a 1280×720 window.
+    use voxcast_core::rays::lines::{LineParams, padded, ray_lines};
+    use voxcast_core::rays::raster::{LineImage, Lines, draw_lines};
+    use voxcast_core::rays::set::Filter;
+    let lines = ray_lines(
+        &all,
+        &LineParams {
+            filter: Filter::All,
+            tolerance: 0.0,
+            stride: 1,
+            clip: padded(scene.bounds().unwrap(), 0.5),
+        },
+    );
+    let positions: Vec<[f32; 3]> = lines
+        .lines
+        .iter()
+        .flat_map(|l| [l.from.to_array(), l.to.to_array()])
+        .collect();
+    let colours = vec![[1.0, 0.6, 0.2, 1.0]; positions.len()];
+    let view = voxcast_core::camera::Camera::new(
+        cornell::CAMERA_EYE,
+        cornell::CAMERA_TARGET,
+        voxcast_core::glam::Vec3::Y,
+        voxcast_core::camera::Projection::Perspective {
+            fov_y_deg: cornell::CAMERA_FOV_Y_DEG,
+        },
+    )
+    .unwrap();
+    let list = Lines {
+        positions: &positions,
+        colours: &colours,
+        offset: voxcast_core::glam::Vec3::ZERO,
+        every: 1,
+    };
+    g.throughput(Throughput::Elements(lines.lines.len() as u64));
+    for (w, h) in [(300, 200), (880, 620)] {
+        g.bench_function(format!("ray mesh, every ray, drawn at {w}x{h}"), |b| {
+            b.iter(|| {
+                let mut image = LineImage::new(w, h);
+                draw_lines(&mut image, &view, &list)
+            })
+        });
+    }
     g.finish();
 }
 

@@ -171,7 +171,7 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices) {
                 c.camera_side = side as u32;
             }
         }
-        SourceKind::Cornell => {
+        SourceKind::Cornell | SourceKind::CornellMillion => {
             let words = |id: Option<u32>| match id {
                 None => "every trace".to_string(),
                 Some(id) => Effect::ALL
@@ -364,9 +364,9 @@ fn view_controls(
             egui::RichText::new(format!("moving with the CPU live view: 1 in {n} drawn")).small(),
         )
         .on_hover_text(
-            "The CPU draws the live view and a software rasterizer the lines: while the \
-                 view moves only a share of them is drawn, so the window keeps answering; at \
-                 rest all of them, once",
+            "The CPU draws the live view and the lines over it: while the view moves only a \
+             share of the rays and arrows is drawn, sized to take about a hundredth of a \
+             second, so the window keeps answering; at rest all of them",
         );
     }
     if report.building {

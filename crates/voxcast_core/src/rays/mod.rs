@@ -10,7 +10,8 @@
 //! volume. [`grid`] lays a density out densely, writes it as NRRD and makes it a volume, which
 //! [`as_volume`] offers as a source every volume path opens (`density:SOURCE@cell=S,…`);
 //! [`layered`] renders that volume over its scene; [`lines`] makes the ray mesh view's lines
-//! and [`field`] the vector field view's arrows; [`rdf`] and [`rayvis`] read and write
+//! and [`field`] the vector field view's arrows, which [`raster`] draws on the CPU over a
+//! camera's view; [`rdf`] and [`rayvis`] read and write
 //! RayVis's `.rayvis` files; [`source`] finds a data set by name.
 
 pub mod as_volume;
@@ -23,6 +24,7 @@ pub mod grid;
 pub mod layered;
 pub mod lines;
 pub mod mesh;
+pub mod raster;
 pub mod rayvis;
 pub mod rdf;
 pub mod set;

@@ -1,6 +1,7 @@
 //! Where a ray data set comes from: a scene and its traces, by name — a `.rayvis` file
 //! (`rayvis`), or `builtin:cornell`, the Cornell box with the four effect sets Voxcast traces
-//! through it at [`CORNELL`]'s settings.
+//! through it at [`CORNELL`]'s settings (`builtin:cornell-1m`: at [`CORNELL_1M`]'s, a million
+//! rays, the scale RayVis's study drew).
 
 use super::cornell;
 use super::effects::{Effect, TraceParams, camera, trace_effects};
@@ -46,12 +47,27 @@ pub const CORNELL: TraceParams = TraceParams {
     seed: 1,
 };
 
+/// How `builtin:cornell-1m` is traced: as [`CORNELL`] with 400 × 400 primary rays, about a
+/// million rays in all.
+pub const CORNELL_1M: TraceParams = TraceParams {
+    width: 400,
+    height: 400,
+    ..CORNELL
+};
+
 /// The embedded ray data sets, `builtin:NAME`, and what each is.
-pub const BUILTIN: &[(&str, &str)] = &[(
-    "cornell",
-    "the Cornell box (five walls, two blocks) with primary, shadow, reflection and \
-     ambient-occlusion rays traced by Voxcast",
-)];
+pub const BUILTIN: &[(&str, &str)] = &[
+    (
+        "cornell",
+        "the Cornell box (five walls, two blocks) with primary, shadow, reflection and \
+         ambient-occlusion rays traced by Voxcast",
+    ),
+    (
+        "cornell-1m",
+        "the same at 400 × 400 primary rays: about a million rays, the scale RayVis's study \
+         drew (tracing takes a quarter of a second, the density a second)",
+    ),
+];
 
 /// Why a ray data source cannot be had.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -71,26 +87,8 @@ pub fn load(name: &str) -> Result<RayData, SourceError> {
             .map_err(|e| SourceError::File(name.into(), e.to_string()));
     };
     match builtin {
-        "cornell" => {
-            let scene = cornell::scene();
-            let cam = camera(
-                cornell::CAMERA_EYE,
-                cornell::CAMERA_TARGET,
-                cornell::CAMERA_FOV_Y_DEG,
-            )
-            .expect("the Cornell box's camera is valid");
-            let p = CORNELL;
-            let traces = trace_effects(&scene, &cam, &p);
-            Ok(RayData {
-                description: format!(
-                    "the Cornell box, {}×{} primary rays from its published camera, a directional \
-                     light through the open front, {} ambient-occlusion rays of {} mm per hit, seed {}",
-                    p.width, p.height, p.ao_rays, p.ao_radius, p.seed
-                ),
-                scene,
-                traces,
-            })
-        }
+        "cornell" => Ok(cornell_with(&CORNELL)),
+        "cornell-1m" => Ok(cornell_with(&CORNELL_1M)),
         other => Err(SourceError::UnknownBuiltin(
             other.into(),
             BUILTIN
@@ -102,6 +100,27 @@ pub fn load(name: &str) -> Result<RayData, SourceError> {
     }
 }
 
+/// The Cornell box with its four effect sets traced at `p`.
+fn cornell_with(p: &TraceParams) -> RayData {
+    let scene = cornell::scene();
+    let cam = camera(
+        cornell::CAMERA_EYE,
+        cornell::CAMERA_TARGET,
+        cornell::CAMERA_FOV_Y_DEG,
+    )
+    .expect("the Cornell box's camera is valid");
+    let traces = trace_effects(&scene, &cam, p);
+    RayData {
+        description: format!(
+            "the Cornell box, {}×{} primary rays from its published camera, a directional \
+             light through the open front, {} ambient-occlusion rays of {} mm per hit, seed {}",
+            p.width, p.height, p.ao_rays, p.ao_radius, p.seed
+        ),
+        scene,
+        traces,
+    }
+}
+
 /// The effect a trace of `builtin:cornell` holds.
 pub fn effect_of(trace_id: u32) -> Option<Effect> {
     Effect::ALL.into_iter().find(|e| e.id() == trace_id)
@@ -110,6 +129,16 @@ pub fn effect_of(trace_id: u32) -> Option<Effect> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The million-ray box traces the same effects at 400 × 400 primary rays.
+    #[test]
+    fn the_million_ray_box_is_the_box_at_a_finer_camera() {
+        let d = load("builtin:cornell-1m").unwrap();
+        assert_eq!(d.trace(0).unwrap().rays.len(), 400 * 400);
+        let all = d.all_rays().rays.len();
+        assert!((900_000..1_200_000).contains(&all), "{all} rays");
+        assert!(d.description.contains("400×400"));
+    }
 
     #[test]
     fn the_cornell_box_loads_with_its_four_traces_and_names_fail_clearly() {
@@ -124,7 +153,7 @@ mod tests {
         );
         assert_eq!(effect_of(3), Some(Effect::AmbientOcclusion));
         let e = load("builtin:nosuch").unwrap_err().to_string();
-        assert!(e.contains("builtin:cornell"), "{e}");
+        assert!(e.contains("builtin:cornell, builtin:cornell-1m"), "{e}");
         let e = load("/nonexistent/scene.rayvis").unwrap_err().to_string();
         assert!(e.contains("scene.rayvis: no such file"), "{e}");
     }

@@ -1,0 +1,306 @@
+//! The ray mesh and the vector field drawn by the CPU for the CPU live view
+//! (`voxcast_core::rays::raster`), at the viewport's full resolution, over the live view's
+//! image. A software rasterizer (lavapipe) takes about 3 µs a line and a camera pass of its
+//! own; the core draws a million rays in about a tenth of a second on 2 cores. While the view
+//! moves every n-th ray or arrow is drawn, n chosen from the measured speed so a picture takes
+//! about [`MOVING_BUDGET_S`]; at rest the whole lists. A drawing of an old view is dropped once
+//! the view rests elsewhere.
+
+use super::preview::{Motion, PreviewSettings, Viewport};
+use super::state::{MainCamera, View};
+use bevy::prelude::*;
+use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+use voxcast_core::camera::Camera as CoreCamera;
+use voxcast_core::rays::raster::{LineImage, Lines, draw_lines};
+
+/// How long a picture of the lines may take while the view moves, seconds.
+pub const MOVING_BUDGET_S: f64 = 1.0 / 100.0;
+
+/// Segments a second assumed before the first picture is measured.
+const FIRST_RATE: f64 = 2.0e6;
+
+/// A line list the CPU draws: positions and display colours (sRGB values, as the live view's
+/// image holds them), two vertices a segment, and how many segments make one item (a ray: 1,
+/// an arrow: 5), so thinning keeps whole arrows.
+#[derive(Debug)]
+pub struct CpuList {
+    pub positions: Vec<[f32; 3]>,
+    pub colours: Vec<[f32; 4]>,
+    pub per_item: usize,
+}
+
+impl CpuList {
+    fn segments(&self) -> usize {
+        self.positions.len() / 2
+    }
+}
+
+/// What a picture shows: when any of it changes, the picture is out of date.
+#[derive(Clone, Debug)]
+struct LinesKey {
+    camera: CoreCamera,
+    size: UVec2,
+    lists: Vec<Arc<CpuList>>,
+    offset: Vec3,
+    /// Every `every`-th item is drawn.
+    every: usize,
+}
+
+impl PartialEq for LinesKey {
+    fn eq(&self, other: &Self) -> bool {
+        self.camera == other.camera
+            && self.size == other.size
+            && self.offset == other.offset
+            && self.every == other.every
+            && self.lists.len() == other.lists.len()
+            && self
+                .lists
+                .iter()
+                .zip(&other.lists)
+                .all(|(a, b)| Arc::ptr_eq(a, b))
+    }
+}
+
+/// A finished picture.
+struct LinesFrame {
+    key: LinesKey,
+    /// Premultiplied RGBA bytes, row by row.
+    rgba: Vec<u8>,
+}
+
+struct LinesJob {
+    task: Task<Option<(LinesFrame, f64)>>,
+    cancel: Arc<AtomicBool>,
+    key: LinesKey,
+}
+
+/// The lists, the picture on screen and the one on its way.
+#[derive(Resource, Default)]
+pub struct CpuLines {
+    lists: Vec<Arc<CpuList>>,
+    /// Where the lists' world sits in the volume's (minus the density's origin).
+    offset: Vec3,
+    job: Option<LinesJob>,
+    shown: Option<LinesFrame>,
+    generation: u64,
+    image: Option<(u64, Handle<Image>)>,
+    /// Segments a second of the last pictures (smoothed).
+    rate: Option<f64>,
+}
+
+impl CpuLines {
+    /// The lists to draw from now on (none: nothing is drawn).
+    pub fn set(&mut self, lists: Vec<Arc<CpuList>>, offset: Vec3) {
+        self.lists = lists;
+        self.offset = offset;
+    }
+
+    /// Pictures finished so far (for measurements).
+    pub fn pictures(&self) -> u64 {
+        self.generation
+    }
+
+    /// The picture on screen: how many lists it draws, and every how many items.
+    pub fn on_screen(&self) -> Option<(usize, usize)> {
+        self.shown
+            .as_ref()
+            .map(|f| (f.key.lists.len(), f.key.every))
+    }
+
+    fn clear(&mut self) {
+        if let Some(job) = self.job.take() {
+            job.cancel.store(true, Ordering::Relaxed);
+        }
+        self.shown = None;
+    }
+
+    /// The picture to paint this frame, written into its image now if it is new.
+    pub fn image(&mut self, images: &mut Assets<Image>) -> Option<Handle<Image>> {
+        let frame = self.shown.as_ref()?;
+        if self.image.as_ref().map(|(g, _)| *g) != Some(self.generation) {
+            let picture = Image::new(
+                bevy::render::render_resource::Extent3d {
+                    width: frame.key.size.x,
+                    height: frame.key.size.y,
+                    depth_or_array_layers: 1,
+                },
+                bevy::render::render_resource::TextureDimension::D2,
+                frame.rgba.clone(),
+                bevy::render::render_resource::TextureFormat::Rgba8UnormSrgb,
+                bevy::asset::RenderAssetUsages::RENDER_WORLD
+                    | bevy::asset::RenderAssetUsages::MAIN_WORLD,
+            );
+            let handle = match self.image.take() {
+                Some((_, h)) if images.get(&h).is_some() => {
+                    if let Some(mut old) = images.get_mut(&h) {
+                        *old = picture;
+                    }
+                    h
+                }
+                _ => images.add(picture),
+            };
+            self.image = Some((self.generation, handle));
+        }
+        self.image.as_ref().map(|(_, h)| h.clone())
+    }
+}
+
+pub(super) fn plugin(app: &mut App) {
+    app.init_resource::<CpuLines>().add_systems(
+        PostUpdate,
+        drive_cpu_lines
+            .after(bevy::camera::CameraUpdateSystems)
+            .after(bevy::transform::TransformSystems::Propagate),
+    );
+}
+
+/// The thinning for a moving view: the smallest n for which every n-th item of the lists
+/// takes at most [`MOVING_BUDGET_S`] at `rate` segments a second.
+pub fn moving_every(segments: usize, rate: Option<f64>) -> usize {
+    let budget = rate.unwrap_or(FIRST_RATE) * MOVING_BUDGET_S;
+    ((segments as f64 / budget.max(1.0)).ceil() as usize).max(1)
+}
+
+/// Starts, keeps or cancels the picture of the lines, and takes in a finished one.
+fn drive_cpu_lines(
+    mut lines: ResMut<CpuLines>,
+    preview: Res<PreviewSettings>,
+    motion: Res<Motion>,
+    (window, viewport): (
+        Query<&Window, With<bevy::window::PrimaryWindow>>,
+        Option<Res<Viewport>>,
+    ),
+    views: Query<&View, With<MainCamera>>,
+    mut report: ResMut<super::rayviews::ViewReport>,
+) {
+    if !preview.cpu_live() || lines.lists.is_empty() {
+        lines.clear();
+        return;
+    }
+    if let Some(job) = &mut lines.job
+        && let Some(result) = check_ready(&mut job.task)
+    {
+        lines.job = None;
+        if let Some((frame, rate)) = result {
+            lines.rate = Some(lines.rate.map_or(rate, |r| 0.5 * r + 0.5 * rate));
+            lines.shown = Some(frame);
+            lines.generation += 1;
+        }
+    }
+    let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
+        return;
+    };
+    let (_, size) = Viewport::of(viewport.as_deref(), window);
+    let segments: usize = lines.lists.iter().map(|l| l.segments()).sum();
+    let thinned = moving_every(segments, lines.rate);
+    let every = (thinned > 1).then_some(thinned);
+    if report.moving_every != every {
+        report.moving_every = every;
+    }
+    let key = LinesKey {
+        camera: view.0,
+        size,
+        lists: lines.lists.clone(),
+        offset: lines.offset,
+        every: if motion.moving { thinned } else { 1 },
+    };
+    if lines.shown.as_ref().is_some_and(|f| f.key == key) {
+        return;
+    }
+    if let Some(job) = &lines.job {
+        // A picture of a moving view finishes (the next follows the camera); one of a view
+        // the camera has left while it rests is dropped.
+        if job.key == key || motion.moving {
+            return;
+        }
+        job.cancel.store(true, Ordering::Relaxed);
+        lines.job = None;
+    }
+    lines.job = Some(start(key));
+}
+
+fn start(key: LinesKey) -> LinesJob {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let job_key = key.clone();
+    let task = AsyncComputeTaskPool::get().spawn(async move {
+        let started = Instant::now();
+        let mut image = LineImage::new(job_key.size.x, job_key.size.y);
+        // Segments looked at (drawn or not: projecting them is the work).
+        let segments: usize = job_key
+            .lists
+            .iter()
+            .map(|l| l.segments().div_ceil(job_key.every))
+            .sum();
+        for list in &job_key.lists {
+            if flag.load(Ordering::Relaxed) {
+                return None;
+            }
+            // Every n-th item: whole arrows, as their segments are consecutive.
+            let items = Lines {
+                positions: &list.positions,
+                colours: &list.colours,
+                offset: job_key.offset,
+                every: 1,
+            };
+            if job_key.every == 1 || list.per_item == 1 {
+                draw_lines(
+                    &mut image,
+                    &job_key.camera,
+                    &Lines {
+                        every: job_key.every,
+                        ..items
+                    },
+                );
+            } else {
+                let vertices = 2 * list.per_item;
+                let (p, c): (Vec<[f32; 3]>, Vec<[f32; 4]>) = list
+                    .positions
+                    .chunks_exact(vertices)
+                    .zip(list.colours.chunks_exact(vertices))
+                    .step_by(job_key.every)
+                    .flat_map(|(p, c)| p.iter().copied().zip(c.iter().copied()))
+                    .unzip();
+                draw_lines(
+                    &mut image,
+                    &job_key.camera,
+                    &Lines {
+                        positions: &p,
+                        colours: &c,
+                        ..items
+                    },
+                );
+            }
+        }
+        let rgba = image
+            .pixels
+            .iter()
+            .flat_map(|p| {
+                p.to_array()
+                    .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+            })
+            .collect();
+        let seconds = started.elapsed().as_secs_f64();
+        let rate = segments.max(1) as f64 / seconds.max(1e-6);
+        Some((LinesFrame { key: job_key, rgba }, rate))
+    });
+    LinesJob { task, cancel, key }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_moving_picture_fits_the_budget() {
+        // 2 M segments a second: 20 000 in a hundredth of a second.
+        assert_eq!(moving_every(10_000, Some(2.0e6)), 1);
+        assert_eq!(moving_every(1_000_000, Some(2.0e6)), 50);
+        assert_eq!(moving_every(1_000_000, None), 50);
+        assert_eq!(moving_every(0, Some(1.0)), 1);
+        assert_eq!(moving_every(10, Some(0.0)), 10);
+    }
+}
