@@ -293,6 +293,96 @@ fn start(key: LinesKey) -> LinesJob {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sandbox::live::Backend;
+    use bevy::window::{PrimaryWindow, WindowResolution};
+
+    /// A windowless app with the CPU live view, a 64×48 window, and `lists` to draw seen from
+    /// `camera`.
+    fn app(camera: CoreCamera, lists: Vec<Arc<CpuList>>, offset: Vec3) -> App {
+        let mut app = App::new();
+        app.add_plugins(MinimalPlugins)
+            .insert_resource(PreviewSettings {
+                backend: Backend::Cpu,
+                backend_chosen: true,
+                ..default()
+            })
+            .init_resource::<Motion>()
+            .init_resource::<super::super::rayviews::ViewReport>()
+            .add_plugins(plugin);
+        app.world_mut()
+            .resource_mut::<CpuLines>()
+            .set(lists, offset);
+        app.world_mut().spawn((MainCamera, View(camera)));
+        app.world_mut().spawn((
+            Window {
+                resolution: WindowResolution::new(64, 48).with_scale_factor_override(1.0),
+                ..default()
+            },
+            PrimaryWindow,
+        ));
+        app
+    }
+
+    /// At rest the picture on screen is the core's drawing of every line of the view, at the
+    /// window's resolution, as bytes.
+    #[test]
+    fn at_rest_every_line_is_drawn_as_the_core_draws_it() {
+        let camera = CoreCamera::new(
+            Vec3::new(0.0, 0.0, 5.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            voxcast_core::camera::Projection::Perspective { fov_y_deg: 40.0 },
+        )
+        .unwrap();
+        let positions: Vec<[f32; 3]> = (0..50)
+            .flat_map(|i| {
+                let a = i as f32 * 0.3;
+                [[a.cos(), a.sin(), 0.0], [-a.sin(), a.cos(), 1.0]]
+            })
+            .collect();
+        let colours = vec![[0.2, 0.6, 1.0, 1.0]; positions.len()];
+        let offset = Vec3::new(0.1, -0.2, 0.0);
+        let list = Arc::new(CpuList {
+            positions: positions.clone(),
+            colours: colours.clone(),
+            per_item: 1,
+        });
+        let mut app = app(camera, vec![list], offset);
+        for _ in 0..2000 {
+            app.update();
+            if app.world().resource::<CpuLines>().on_screen().is_some() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        let lines = app.world().resource::<CpuLines>();
+        let frame = lines.shown.as_ref().expect("a picture of the lines");
+        assert_eq!((frame.key.size, frame.key.every), (UVec2::new(64, 48), 1));
+        let mut image = LineImage::new(64, 48);
+        let drawn = draw_lines(
+            &mut image,
+            &camera,
+            &Lines {
+                positions: &positions,
+                colours: &colours,
+                offset,
+                every: 1,
+            },
+        );
+        assert!(drawn > 40, "{drawn} lines in view");
+        let expect: Vec<u8> = image
+            .pixels
+            .iter()
+            .flat_map(|p| {
+                p.to_array()
+                    .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+            })
+            .collect();
+        assert!(
+            frame.rgba == expect,
+            "the picture differs from the core's drawing"
+        );
+    }
 
     #[test]
     fn a_moving_picture_fits_the_budget() {
