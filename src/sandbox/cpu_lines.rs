@@ -64,10 +64,13 @@ impl PartialEq for LinesKey {
     }
 }
 
-/// A finished picture.
+/// A finished picture: the part of the viewport that holds lines (a software rasterizer pays
+/// for every pixel it uploads and paints).
 struct LinesFrame {
     key: LinesKey,
-    /// Premultiplied RGBA bytes, row by row.
+    /// That part, `[x0, y0, x1, y1)` in the viewport's pixels (empty: no line in view).
+    rect: [u32; 4],
+    /// Its premultiplied RGBA bytes, row by row.
     rgba: Vec<u8>,
 }
 
@@ -117,18 +120,31 @@ impl CpuLines {
         self.shown = None;
     }
 
-    /// The picture to paint this frame, written into its image now if it is new.
-    pub fn image(&mut self, images: &mut Assets<Image>) -> Option<Handle<Image>> {
-        let frame = self.shown.as_ref()?;
+    /// The picture to paint this frame, written into its image now if it is new, and where it
+    /// goes: its rectangle as fractions of the viewport (`None` when no line is in view).
+    pub fn image(&mut self, images: &mut Assets<Image>) -> Option<(Handle<Image>, [f32; 4])> {
+        let frame = self.shown.as_mut()?;
+        let [x0, y0, x1, y1] = frame.rect;
+        if x1 <= x0 || y1 <= y0 {
+            return None;
+        }
+        let size = frame.key.size.as_vec2();
+        let place = [
+            x0 as f32 / size.x,
+            y0 as f32 / size.y,
+            x1 as f32 / size.x,
+            y1 as f32 / size.y,
+        ];
         if self.image.as_ref().map(|(g, _)| *g) != Some(self.generation) {
             let picture = Image::new(
                 bevy::render::render_resource::Extent3d {
-                    width: frame.key.size.x,
-                    height: frame.key.size.y,
+                    width: x1 - x0,
+                    height: y1 - y0,
                     depth_or_array_layers: 1,
                 },
                 bevy::render::render_resource::TextureDimension::D2,
-                frame.rgba.clone(),
+                // Painted once: its bytes move into the image.
+                std::mem::take(&mut frame.rgba),
                 bevy::render::render_resource::TextureFormat::Rgba8UnormSrgb,
                 bevy::asset::RenderAssetUsages::RENDER_WORLD
                     | bevy::asset::RenderAssetUsages::MAIN_WORLD,
@@ -144,7 +160,7 @@ impl CpuLines {
             };
             self.image = Some((self.generation, handle));
         }
-        self.image.as_ref().map(|(_, h)| h.clone())
+        self.image.as_ref().map(|(_, h)| (h.clone(), place))
     }
 }
 
@@ -275,9 +291,14 @@ fn start(key: LinesKey) -> LinesJob {
                 );
             }
         }
+        let rect = image.drawn_rect().unwrap_or([0; 4]);
+        let [x0, y0, x1, y1] = rect.map(|v| v as usize);
         let rgba = image
             .pixels
-            .iter()
+            .chunks_exact(image.width as usize)
+            .take(y1)
+            .skip(y0)
+            .flat_map(|row| &row[x0..x1])
             .flat_map(|p| {
                 p.to_array()
                     .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
@@ -285,7 +306,12 @@ fn start(key: LinesKey) -> LinesJob {
             .collect();
         let seconds = started.elapsed().as_secs_f64();
         let rate = segments.max(1) as f64 / seconds.max(1e-6);
-        Some((LinesFrame { key: job_key, rgba }, rate))
+        let frame = LinesFrame {
+            key: job_key,
+            rect,
+            rgba,
+        };
+        Some((frame, rate))
     });
     LinesJob { task, cancel, key }
 }
@@ -370,14 +396,23 @@ mod tests {
             },
         );
         assert!(drawn > 40, "{drawn} lines in view");
-        let expect: Vec<u8> = image
-            .pixels
-            .iter()
-            .flat_map(|p| {
-                p.to_array()
-                    .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
-            })
-            .collect();
+        // The picture is the drawn rectangle's part of the drawing, and nothing lies outside it.
+        let [x0, y0, x1, y1] = frame.rect;
+        assert_eq!(Some(frame.rect), image.drawn_rect());
+        let mut expect = Vec::new();
+        for y in 0..48 {
+            for x in 0..64 {
+                let p = image.get(x, y);
+                if (x0..x1).contains(&x) && (y0..y1).contains(&y) {
+                    expect.extend(
+                        p.to_array()
+                            .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8),
+                    );
+                } else {
+                    assert_eq!(p.w, 0.0, "a line outside the rectangle at ({x}, {y})");
+                }
+            }
+        }
         assert!(
             frame.rgba == expect,
             "the picture differs from the core's drawing"

@@ -472,9 +472,14 @@ pub(super) fn paint_preview(
         painter.image(live_id, rect, uv, egui::Color32::WHITE);
     }
     // A ray density's lines, drawn by the CPU at the viewport's resolution.
-    if cpu && let Some(lines) = cpu_lines.as_mut().and_then(|l| l.image(&mut images)) {
+    if cpu
+        && let Some((lines, [x0, y0, x1, y1])) =
+            cpu_lines.as_mut().and_then(|l| l.image(&mut images))
+    {
         let lines_id = contexts.add_image(EguiTextureHandle::Weak(lines.id()));
-        painter.image(lines_id, rect, uv, egui::Color32::WHITE);
+        let at = |fx: f32, fy: f32| rect.min + rect.size() * egui::vec2(fx, fy);
+        let place = egui::Rect::from_min_max(at(x0, y0), at(x1, y1));
+        painter.image(lines_id, place, uv, egui::Color32::WHITE);
     }
     let beneath = |screen: egui::Rect, uv: egui::Rect| {
         if let Some(sharp_id) = sharp_id {

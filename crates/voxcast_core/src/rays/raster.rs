@@ -22,7 +22,13 @@ pub struct LineImage {
     pub width: u32,
     pub height: u32,
     pub pixels: Vec<Vec4>,
+    /// The smallest rectangle `[x0, y0, x1, y1)` holding every pixel drawn so far (empty:
+    /// `x1 ≤ x0`), so that a caller can show that part alone.
+    pub drawn: [u32; 4],
 }
+
+/// No pixel: the rectangle every drawn pixel widens.
+const NOTHING: [u32; 4] = [u32::MAX, u32::MAX, 0, 0];
 
 impl LineImage {
     /// A clear image.
@@ -31,6 +37,7 @@ impl LineImage {
             width,
             height,
             pixels: vec![Vec4::ZERO; width as usize * height as usize],
+            drawn: NOTHING,
         }
     }
 
@@ -38,6 +45,22 @@ impl LineImage {
     pub fn get(&self, x: u32, y: u32) -> Vec4 {
         self.pixels[(y * self.width + x) as usize]
     }
+
+    /// [`LineImage::drawn`], `None` when nothing is drawn.
+    pub fn drawn_rect(&self) -> Option<[u32; 4]> {
+        let [x0, y0, x1, y1] = self.drawn;
+        (x1 > x0 && y1 > y0).then_some(self.drawn)
+    }
+}
+
+/// The union of two rectangles `[x0, y0, x1, y1)`.
+fn union(a: [u32; 4], b: [u32; 4]) -> [u32; 4] {
+    [
+        a[0].min(b[0]),
+        a[1].min(b[1]),
+        a[2].max(b[2]),
+        a[3].max(b[3]),
+    ]
 }
 
 /// A line list: two vertices a segment, world positions and colours (RGBA, straight alpha, in
@@ -95,22 +118,27 @@ pub fn draw_lines(image: &mut LineImage, camera: &Camera, lines: &Lines) -> usiz
         }
     }
     let width = w as usize;
-    image
+    let drawn = image
         .pixels
         .par_chunks_mut(width * BAND_ROWS as usize)
         .zip(in_band)
         .enumerate()
-        .for_each(|(band, (pixels, segments))| {
+        .map(|(band, (pixels, segments))| {
             let y0 = band as u32 * BAND_ROWS;
             let rows = (pixels.len() / width) as u32;
             let rect = [0.0, y0 as f32, w as f32, (y0 + rows) as f32];
+            let mut drawn = NOTHING;
             for i in segments {
                 let (a, b, ca, cb) = projected[i as usize];
                 if let Some(part) = clip_2d(a, b, rect) {
-                    step(pixels, width, y0, rows, (a, b), part, (ca, cb));
+                    let r = step(pixels, width, y0, rows, (a, b), part, (ca, cb));
+                    drawn = union(drawn, r);
                 }
             }
-        });
+            drawn
+        })
+        .reduce(|| NOTHING, union);
+    image.drawn = union(image.drawn, drawn);
     projected.len()
 }
 
@@ -206,7 +234,7 @@ fn clip_2d(a: Vec2, b: Vec2, [x0, y0, x1, y1]: [f32; 4]) -> Option<(f32, f32)> {
 
 /// Steps the screen segment `a → b` over `[s0, s1]` one pixel at a time along its longer
 /// axis, blending each pixel of the band (rows `y0 .. y0 + rows`) with the colour between
-/// `ca` and `cb`.
+/// `ca` and `cb`; returns the rectangle of the pixels it drew.
 fn step(
     pixels: &mut [Vec4],
     width: usize,
@@ -215,7 +243,7 @@ fn step(
     (a, b): (Vec2, Vec2),
     (s0, s1): (f32, f32),
     (ca, cb): (Vec4, Vec4),
-) {
+) -> [u32; 4] {
     let d = b - a;
     let length = d.abs().max_element() * (s1 - s0);
     // One step a pixel along the longer axis (at least the segment's start pixel).
@@ -228,13 +256,16 @@ fn step(
     let solid = Vec4::from((ca.truncate(), 1.0));
     // Steps shorter than a pixel may land twice in one: it is blended once.
     let mut last = usize::MAX;
+    let mut drawn = NOTHING;
     for _ in 0..=n {
         // The clipped ends may round onto the next pixel outside. Inside, the coordinates are
         // not negative, so truncation is their floor (a library call on baseline x86-64).
         if p.x >= 0.0 && p.x < x_hi && p.y >= y_lo && p.y < y_hi {
-            let i = (p.y as u32 - y0) as usize * width + p.x as usize;
+            let (x, y) = (p.x as u32, p.y as u32);
+            let i = (y - y0) as usize * width + x as usize;
             if i != last {
                 last = i;
+                drawn = union(drawn, [x, y, x + 1, y + 1]);
                 let dst = &mut pixels[i];
                 if plain {
                     *dst = solid;
@@ -248,6 +279,7 @@ fn step(
         p += dp;
         s += ds;
     }
+    drawn
 }
 
 #[cfg(test)]
@@ -300,6 +332,8 @@ mod tests {
         assert!(px.iter().all(|p| p.1 == px[0].1), "one row: {px:?}");
         assert_eq!(xs, (20..=44).collect::<Vec<_>>());
         assert_eq!(image.get(30, px[0].1), Vec4::new(1.0, 0.0, 0.0, 1.0));
+        assert_eq!(image.drawn_rect(), Some([20, px[0].1, 45, px[0].1 + 1]));
+        assert_eq!(LineImage::new(4, 4).drawn_rect(), None);
     }
 
     /// A steep segment lights one pixel per row; colours are interpolated along the line.
