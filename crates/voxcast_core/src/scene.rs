@@ -43,6 +43,10 @@ pub struct Scene<'a> {
     pub sum_skipping: bool,
     /// Precomputed lattice differences, when gradients are needed and they exist.
     pub differences: Option<&'a [crate::sample::Differences]>,
+    /// Whether Accumulate may locate and evaluate eight samples at once where the CPU has the
+    /// instructions for it (AVX2) — the same pixels, bit for bit (`crate::trace`'s lanes); on
+    /// by default, off to compare.
+    pub simd: bool,
 }
 
 /// Sum's default range: from 0 to twice what a ray along the longest side gathers through
@@ -106,6 +110,7 @@ impl<'a> Scene<'a> {
             block_skipping: false,
             sum_skipping: false,
             differences: None,
+            simd: true,
             volume,
             classifier,
             lights: settings.phong.resolve(view_forward),

@@ -384,6 +384,11 @@ impl Viewing {
             half,
         }
     }
+
+    /// Light `i`'s Blinn half vector, if it is directional and not straight behind the viewer.
+    pub fn half(&self, i: usize) -> Option<Vec3> {
+        self.half.get(i).copied().flatten()
+    }
 }
 
 /// Shades colour `c` at `p_world` with gradient `grad`, for the ray `v` describes. Returns the

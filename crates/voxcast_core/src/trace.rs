@@ -9,6 +9,10 @@
 //! `voxcast trace`, while the image renderer ([`crate::render`]) runs the very same code with
 //! [`NoRecord`], whose recording calls compile away. The picture and the breakdown therefore
 //! cannot disagree.
+//!
+//! The plain marches here are the twin of `shaders/trace.wgsl`; `trace/skipping.rs` passes over
+//! empty space with the same samples; `trace/lanes.rs` runs Accumulate's hot path eight
+//! positions and eight samples at a time on CPUs with AVX2, to the same bits ([`uses_lanes`]).
 
 use crate::classify::Classifier;
 use crate::clip::clip_interval;
@@ -33,6 +37,8 @@ pub use crate::breakdown::{
 };
 pub use crate::scene::Scene;
 
+#[cfg(target_arch = "x86_64")]
+mod lanes;
 mod skipping;
 
 /// The result of one ray.
@@ -111,6 +117,26 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
     }
 }
 
+/// Whether Accumulate renders of `scene` take the eight-lane path (`lanes.rs`): the scene
+/// allows it ([`Scene::simd`], Accumulate with skipping, trilinear, shading from precomputed
+/// records, directional lights, a whole-number shininess) and this CPU has AVX2.
+pub fn uses_lanes(scene: &Scene<'_>) -> bool {
+    struct Probe<'s, 'a>(&'s Scene<'a>);
+    impl GridVisitor for Probe<'_, '_> {
+        type Output = bool;
+        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> bool {
+            #[cfg(target_arch = "x86_64")]
+            return lanes::Lanes::new(self.0, &grid).is_some();
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                let _ = grid;
+                false
+            }
+        }
+    }
+    scene.settings.method == Method::Accumulate && scene.volume.visit(Probe(scene))
+}
+
 /// The march for one voxel type: borrowed scene plus the typed grid.
 pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     s: &'s Scene<'a>,
@@ -121,6 +147,9 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     classify_gradient: bool,
     /// Opacity independent of the table's opacity at the value (Levoy's isovalue contours).
     iso_contours: bool,
+    /// Accumulate's eight-lane path, where it applies (see `lanes.rs`).
+    #[cfg(target_arch = "x86_64")]
+    lanes: Option<lanes::Lanes<'s>>,
 }
 
 /// Accumulate's running state along a ray.
@@ -160,6 +189,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             interp: s.settings.interpolation,
             classify_gradient: s.classifier != Classifier::Table,
             iso_contours: matches!(s.classifier, Classifier::IsoContours { .. }),
+            #[cfg(target_arch = "x86_64")]
+            lanes: lanes::Lanes::new(s, &g),
             s,
             g,
         }
@@ -325,6 +356,20 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut stopped_at = None;
         match skip {
             Some((blocks, cells)) if plan.count > 0 => {
+                #[cfg(target_arch = "x86_64")]
+                if let Some(lanes) = self.lanes.as_ref().filter(|_| !R::ACTIVE)
+                    && let Some(stop) = self.accumulate_lanes(
+                        lanes,
+                        cells,
+                        plan,
+                        (o_v, d_v),
+                        &viewing,
+                        stop_at,
+                        &mut acc,
+                    )
+                {
+                    return self.accumulated(acc, stop);
+                }
                 stopped_at = self.accumulate_skipping(
                     (blocks, cells),
                     plan,
@@ -349,11 +394,17 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                 }
             }
         }
+        self.accumulated(acc, stopped_at)
+    }
+
+    /// Accumulate's outcome: what was gathered, and where the ray stopped if it did (the
+    /// positions are then counted up to that sample; `march` sets them otherwise).
+    fn accumulated(&self, acc: Accumulation, stopped_at: Option<u32>) -> RayOutcome {
         RayOutcome {
             color: acc.c,
             opacity: acc.o,
             samples: acc.taken,
-            positions: stopped_at.map_or(plan.count, |k| k + 1),
+            positions: stopped_at.map_or(0, |k| k + 1),
             stop: if stopped_at.is_some() {
                 StopReason::Cutoff
             } else {

@@ -80,8 +80,8 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
                             }
                         }
                         CellState::EmptyBrick => {
-                            // Skip the rest of the brick (see `VisibleCells::brick_exit`).
-                            if let Some(t_brick) = cells.brick_exit(here.lo, pv, o_v, inv_d) {
+                            // Leap over the empty bricks around (see `VisibleCells::leap_exit`).
+                            if let Some(t_brick) = cells.leap_exit(here.lo, pv, o_v, inv_d) {
                                 let next = first_index_from(plan, t_brick.min(t_out), inv_dt);
                                 if next > k + 1 {
                                     k = next;

@@ -1,0 +1,653 @@
+//! Accumulate's hot path eight sample positions at a time, on x86-64 CPUs with AVX2: the same
+//! pixels as the one-at-a-time march of `skipping.rs`, bit for bit.
+//!
+//! A ray still walks the 8³ blocks one by one ([`crate::skip::BlockWalk`]) and passes over the
+//! empty ones. Inside a block that can be seen, its sample positions are located eight at a
+//! time — `t`, the voxel position, the cell and the cell's visibility bit
+//! ([`crate::skip::VisibleCells`]), each lane computing exactly what `sample_t`,
+//! `crate::sample::cell` and `VisibleCells::lookup` compute for one position. The positions in
+//! visible cells queue up; once eight are waiting they are *evaluated* together: the eight
+//! corners' records ([`crate::sample::Differences`]) gathered, the value and gradient blended,
+//! the table looked up, the colour shaded — the very operations of `Marcher::evaluate`, in the
+//! same order, with no fused multiply-add, so every lane's numbers are the scalar ones. Then the
+//! samples are *composited* one by one, in order along the ray, by the scalar code itself
+//! (opacity correction, front-to-back blend, early termination). A ray that stops early has
+//! evaluated up to seven samples beyond its last; they are dropped, as are positions located
+//! past it.
+//!
+//! Used where it applies exactly: Accumulate front to back with skipping, trilinear, table
+//! classification, the precomputed records (an integer volume, shading on), directional lights
+//! and a whole-number shininess (the scalar code then raises by repeated squaring, which lanes
+//! repeat step for step). Anything else, or a CPU without AVX2, takes the scalar march.
+//! `tests/properties.rs` renders random scenes both ways and compares every bit.
+
+use super::{Accumulation, Marcher};
+use crate::composite::{accumulate_front_to_back, correct_opacity};
+use crate::scene::Scene;
+use crate::shade::{Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel, Viewing};
+use crate::skip::VisibleCells;
+use crate::step::{StepPlan, first_index_from, segment_length};
+use crate::volume::{Grid, Voxel};
+use glam::Vec3;
+use std::arch::x86_64::*;
+
+/// Lanes per batch (AVX2: eight `f32`).
+const LANES: usize = 8;
+
+/// What every ray of a render shares on the fast path, where it applies.
+#[derive(Clone, Debug)]
+pub(super) struct Lanes<'s> {
+    records: &'s [crate::sample::Differences],
+    words: &'s [u64],
+    entries: &'s [glam::Vec4],
+    /// Record offsets of a cell's 8 corners (`a + 2b + 4c`).
+    corners: [i32; 8],
+    /// Lattice points per row and per slice.
+    nx: i32,
+    nxy: i32,
+    /// Bricks of visibility words per row and per slice.
+    bricks_x: i32,
+    bricks_xy: i32,
+    last: Vec3,
+    max_lo: Vec3,
+    gradient_scale: Vec3,
+    slope: f32,
+    intercept: f32,
+    lut_lo: f32,
+    lut_scale: f32,
+    lut_last: f32,
+    lut_max_index: i32,
+    ka: f32,
+    kd: f32,
+    ks: f32,
+    exponent: u32,
+    threshold: f32,
+    two_sided: bool,
+    levoy: bool,
+    blinn: bool,
+    lights: [(Vec3, Vec3); MAX_LIGHTS],
+    light_count: usize,
+    correction: bool,
+    dt_ref: f32,
+}
+
+impl<'s> Lanes<'s> {
+    /// The fast path's constants, if it applies to `s` and this CPU has AVX2.
+    pub(super) fn new<T: Voxel>(s: &'s Scene<'_>, g: &Grid<'_, T>) -> Option<Self> {
+        let set = &s.settings;
+        let p = &set.phong;
+        let applies = s.simd
+            && std::arch::is_x86_feature_detected!("avx2")
+            && set.interpolation == crate::sample::Interpolation::Trilinear
+            && s.classifier == crate::classify::Classifier::Table
+            && set.shading
+            // `shade::power` squares repeatedly for these only (else it calls `powf`).
+            && p.shininess.fract() == 0.0
+            && (0.0..=1024.0).contains(&p.shininess);
+        if !applies {
+            return None;
+        }
+        let records = s.differences?;
+        if g.dims[0] < 2 {
+            return None; // a cell's two x corners are then one record, not two side by side
+        }
+        let (_, cells) = s.empty.as_ref()?;
+        // Indices stay in i32 (gathers take 32-bit offsets, records are read as two halves).
+        if records.len() >= (i32::MAX / 4) as usize
+            || cells.words().len() >= (i32::MAX / 4) as usize
+        {
+            return None;
+        }
+        let mut lights = [(Vec3::ZERO, Vec3::ZERO); MAX_LIGHTS];
+        let resolved = s.lights.as_slice();
+        for (slot, l) in lights.iter_mut().zip(resolved) {
+            let ResolvedLight::Toward(dir) = l.at else {
+                return None; // a point light: its direction changes along the ray
+            };
+            *slot = (dir, l.color);
+        }
+        let [dx, dy, dz] = g.corner_step.map(|c| c as i32);
+        let [bx, by, _] = cells.bricks().map(|b| b as i32);
+        Some(Self {
+            records,
+            words: cells.words(),
+            entries: &s.lut.entries,
+            corners: [0, dx, dy, dy + dx, dz, dz + dx, dz + dy, dz + dy + dx],
+            nx: g.dims[0] as i32,
+            nxy: (g.dims[0] * g.dims[1]) as i32,
+            bricks_x: bx,
+            bricks_xy: bx * by,
+            last: g.last,
+            max_lo: g.max_lo,
+            gradient_scale: g.slope / g.spacing,
+            slope: g.slope,
+            intercept: g.intercept,
+            lut_lo: s.lut.lo,
+            lut_scale: s.lut.scale,
+            lut_last: (s.lut.entries.len() - 1) as f32,
+            lut_max_index: (s.lut.entries.len() - 2) as i32,
+            ka: p.ka,
+            kd: p.kd,
+            ks: p.ks,
+            exponent: p.shininess as u32,
+            threshold: p.gradient_threshold,
+            two_sided: p.two_sided,
+            levoy: p.highlight == Highlight::Levoy,
+            blinn: p.model == SpecularModel::BlinnPhong,
+            lights,
+            light_count: resolved.len(),
+            correction: set.opacity_correction,
+            dt_ref: s.dt_ref,
+        })
+    }
+}
+
+/// The samples waiting to be evaluated: their index and `t` along the ray, their cell's
+/// lower corner as a record index, and the position inside the cell.
+#[derive(Default)]
+struct Pending {
+    n: usize,
+    k: [u32; LANES],
+    t: [f32; LANES],
+    base: [i32; LANES],
+    fx: [f32; LANES],
+    fy: [f32; LANES],
+    fz: [f32; LANES],
+}
+
+/// What a batch contributes: the table's opacity and the shaded colour per lane.
+struct Evaluated {
+    alpha: [f32; LANES],
+    rgb: [[f32; LANES]; 3],
+}
+
+/// One ray's view of the lights: the direction to the viewer and, per light, its direction,
+/// colour and Blinn half vector.
+struct RayLights {
+    view: Vec3,
+    lights: [(Vec3, Vec3, Vec3); MAX_LIGHTS],
+}
+
+impl<T: Voxel> Marcher<'_, '_, '_, T> {
+    /// [`Marcher::accumulate_skipping`] on the fast path; `None` where this ray cannot take it
+    /// (a light straight behind the viewer has no half vector: the scalar code then derives
+    /// one per sample). Otherwise the index of the sample that stopped the ray, if one did.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn accumulate_lanes(
+        &self,
+        lanes: &Lanes<'_>,
+        cells: &VisibleCells,
+        plan: &StepPlan,
+        (o_v, d_v): (Vec3, Vec3),
+        viewing: &Viewing,
+        stop_at: f32,
+        acc: &mut Accumulation,
+    ) -> Option<Option<u32>> {
+        let mut rl = RayLights {
+            view: viewing.view,
+            lights: [(Vec3::ZERO, Vec3::ZERO, Vec3::ZERO); MAX_LIGHTS],
+        };
+        for i in 0..lanes.light_count {
+            let (dir, color) = lanes.lights[i];
+            let half = if lanes.blinn {
+                viewing.half(i)?
+            } else {
+                Vec3::ZERO
+            };
+            rl.lights[i] = (dir, color, half);
+        }
+        // SAFETY: `Lanes` exists only where the CPU has AVX2 (checked in `Lanes::new`).
+        Some(unsafe { lanes.march(cells, plan, (o_v, d_v), &rl, stop_at, acc) })
+    }
+}
+
+impl Lanes<'_> {
+    /// The positions of the ray located eight at a time, the visible samples evaluated eight
+    /// at a time; where the last position located lies in an empty brick, the ray leaps over
+    /// the empty bricks around it ([`VisibleCells::leap_exit`]).
+    #[allow(clippy::too_many_arguments)]
+    #[target_feature(enable = "avx2")]
+    unsafe fn march(
+        &self,
+        cells: &VisibleCells,
+        plan: &StepPlan,
+        (o_v, d_v): (Vec3, Vec3),
+        rl: &RayLights,
+        stop_at: f32,
+        acc: &mut Accumulation,
+    ) -> Option<u32> {
+        let inv_dt = 1.0 / plan.dt;
+        let inv_d = 1.0 / d_v;
+        let mut pending = Pending::default();
+        // Only the part of the ray in the box of the visible bricks can hold a visible cell.
+        let (t0, t1) = cells.visible_interval(o_v, inv_d)?;
+        let mut k = first_index_from(plan, t0, inv_dt);
+        let end = first_index_from(plan, t1, inv_dt);
+        while k < end {
+            // SAFETY: AVX2 (this function's own feature).
+            let (taken, visible, located) = unsafe { self.locate(plan, k, end, (o_v, d_v)) };
+            let mut bits = visible;
+            while bits != 0 {
+                let lane = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let n = pending.n;
+                pending.k[n] = k + lane as u32;
+                pending.t[n] = located.t[lane];
+                pending.base[n] = located.base[lane];
+                pending.fx[n] = located.fx[lane];
+                pending.fy[n] = located.fy[lane];
+                pending.fz[n] = located.fz[lane];
+                pending.n += 1;
+                self.prefetch(located.base[lane]);
+                if pending.n == LANES {
+                    // SAFETY: AVX2; every pending base is a cell of the lattice.
+                    let e = unsafe { self.evaluate(&pending, rl) };
+                    if let Some(stop) = self.composite(plan, &pending, &e, stop_at, acc) {
+                        return Some(stop);
+                    }
+                    pending.n = 0;
+                }
+            }
+            k += taken;
+            if taken as usize == LANES && k < end {
+                let lo = located.last_lo.map(|i| i as usize);
+                if self.words[cells.brick_index(lo.map(|i| i >> 2))] == 0 {
+                    let pv = o_v + d_v * located.t[LANES - 1];
+                    if let Some(t) = cells.leap_exit(lo, pv, o_v, inv_d) {
+                        k = k.max(first_index_from(plan, t, inv_dt));
+                    }
+                }
+            }
+        }
+        if pending.n > 0 {
+            // Unused lanes read the first record (their results are ignored).
+            for lane in pending.n..LANES {
+                pending.base[lane] = 0;
+            }
+            // SAFETY: as above.
+            let e = unsafe { self.evaluate(&pending, rl) };
+            return self.composite(plan, &pending, &e, stop_at, acc);
+        }
+        None
+    }
+
+    /// Asks for the cache lines of a queued sample's corners (its cell's lower row and the rows
+    /// above it and behind it) while the batch fills up: they are read once it is full.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn prefetch(&self, base: i32) {
+        let p = self.records.as_ptr();
+        for o in [
+            self.corners[0],
+            self.corners[2],
+            self.corners[4],
+            self.corners[6],
+        ] {
+            // Only a hint: an address past the records is never dereferenced by it.
+            let at = p.wrapping_add((base + o) as usize) as *const i8;
+            _mm_prefetch::<_MM_HINT_T0>(at);
+        }
+    }
+
+    /// Composites the pending samples in order, exactly as `Marcher::composite_sample` does;
+    /// the index of the sample that stopped the ray, if one did.
+    #[inline(always)]
+    fn composite(
+        &self,
+        plan: &StepPlan,
+        p: &Pending,
+        e: &Evaluated,
+        stop_at: f32,
+        acc: &mut Accumulation,
+    ) -> Option<u32> {
+        for lane in 0..p.n {
+            acc.taken += 1;
+            let a = e.alpha[lane];
+            if a <= 0.0 {
+                continue;
+            }
+            let (k, t) = (p.k[lane], p.t[lane]);
+            let alpha = if self.correction {
+                correct_opacity(a, segment_length(plan, k, t), self.dt_ref)
+            } else {
+                a
+            };
+            if alpha > 0.0 {
+                let color = Vec3::new(e.rgb[0][lane], e.rgb[1][lane], e.rgb[2][lane]);
+                (acc.c, acc.o) = accumulate_front_to_back(acc.c, acc.o, color, alpha);
+            }
+            if acc.o >= stop_at {
+                return Some(k);
+            }
+        }
+        None
+    }
+}
+
+/// Eight positions located: `t`, the cell's record index and the fractions inside it, and
+/// the last one's cell.
+struct Located {
+    last_lo: [i32; 3],
+    t: [f32; LANES],
+    base: [i32; LANES],
+    fx: [f32; LANES],
+    fy: [f32; LANES],
+    fz: [f32; LANES],
+}
+
+impl Lanes<'_> {
+    /// Locates positions `k .. k + 8`: how many of them lie before `end`, and as bits which of
+    /// those lie in a visible cell.
+    #[target_feature(enable = "avx2")]
+    unsafe fn locate(
+        &self,
+        plan: &StepPlan,
+        k: u32,
+        end: u32,
+        (o_v, d_v): (Vec3, Vec3),
+    ) -> (u32, u32, Located) {
+        let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        let ks = _mm256_add_epi32(_mm256_set1_epi32(k as i32), lane);
+        // sample_t: min(t_enter + (jitter + k)·dt, t_exit).
+        let kf = _mm256_cvtepi32_ps(ks);
+        let t = _mm256_min_ps(
+            _mm256_add_ps(
+                _mm256_set1_ps(plan.t_enter),
+                _mm256_mul_ps(
+                    _mm256_add_ps(_mm256_set1_ps(plan.jitter), kf),
+                    _mm256_set1_ps(plan.dt),
+                ),
+            ),
+            _mm256_set1_ps(plan.t_exit),
+        );
+        let taken = (end - k).min(LANES as u32);
+        // cell(): x = min(max(p, 0), last); i = ⌊min(x, max_lo)⌋; f = x − i.
+        let axis = |o: f32, d: f32, last: f32, max_lo: f32| {
+            let p = _mm256_add_ps(_mm256_set1_ps(o), _mm256_mul_ps(_mm256_set1_ps(d), t));
+            let x = _mm256_min_ps(_mm256_max_ps(p, _mm256_setzero_ps()), _mm256_set1_ps(last));
+            let i = _mm256_cvttps_epi32(_mm256_min_ps(x, _mm256_set1_ps(max_lo)));
+            (i, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)))
+        };
+        let (ix, fx) = axis(o_v.x, d_v.x, self.last.x, self.max_lo.x);
+        let (iy, fy) = axis(o_v.y, d_v.y, self.last.y, self.max_lo.y);
+        let (iz, fz) = axis(o_v.z, d_v.z, self.last.z, self.max_lo.z);
+        // VisibleCells::lookup: the brick's word, the cell's bit in it (read as 32-bit halves).
+        let word = _mm256_add_epi32(
+            _mm256_srli_epi32::<2>(ix),
+            _mm256_add_epi32(
+                _mm256_mullo_epi32(_mm256_srli_epi32::<2>(iy), _mm256_set1_epi32(self.bricks_x)),
+                _mm256_mullo_epi32(
+                    _mm256_srli_epi32::<2>(iz),
+                    _mm256_set1_epi32(self.bricks_xy),
+                ),
+            ),
+        );
+        let three = _mm256_set1_epi32(3);
+        let bit = _mm256_or_si256(
+            _mm256_and_si256(ix, three),
+            _mm256_or_si256(
+                _mm256_slli_epi32::<2>(_mm256_and_si256(iy, three)),
+                _mm256_slli_epi32::<4>(_mm256_and_si256(iz, three)),
+            ),
+        );
+        let half = _mm256_add_epi32(_mm256_slli_epi32::<1>(word), _mm256_srli_epi32::<5>(bit));
+        // SAFETY: every lane's cell is in the lattice (clamped above), so its word exists.
+        let halves =
+            unsafe { _mm256_i32gather_epi32::<4>(self.words.as_ptr() as *const i32, half) };
+        let set = _mm256_and_si256(
+            _mm256_srlv_epi32(halves, _mm256_and_si256(bit, _mm256_set1_epi32(31))),
+            _mm256_set1_epi32(1),
+        );
+        let visible = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(
+            set,
+            _mm256_set1_epi32(1),
+        ))) as u32
+            & ((1u32 << taken) - 1);
+        let base = _mm256_add_epi32(
+            ix,
+            _mm256_add_epi32(
+                _mm256_mullo_epi32(iy, _mm256_set1_epi32(self.nx)),
+                _mm256_mullo_epi32(iz, _mm256_set1_epi32(self.nxy)),
+            ),
+        );
+        let mut out = Located {
+            last_lo: [
+                _mm256_extract_epi32::<7>(ix),
+                _mm256_extract_epi32::<7>(iy),
+                _mm256_extract_epi32::<7>(iz),
+            ],
+            t: [0.0; LANES],
+            base: [0; LANES],
+            fx: [0.0; LANES],
+            fy: [0.0; LANES],
+            fz: [0.0; LANES],
+        };
+        // SAFETY: each array holds eight lanes.
+        unsafe {
+            _mm256_storeu_ps(out.t.as_mut_ptr(), t);
+            _mm256_storeu_si256(out.base.as_mut_ptr() as *mut __m256i, base);
+            _mm256_storeu_ps(out.fx.as_mut_ptr(), fx);
+            _mm256_storeu_ps(out.fy.as_mut_ptr(), fy);
+            _mm256_storeu_ps(out.fz.as_mut_ptr(), fz);
+        }
+        (taken, visible, out)
+    }
+
+    /// Evaluates the pending samples: `value_and_gradient_in_cell`, `Grid::to_data`,
+    /// `Lut::lookup_if_visible` and `shade` for eight lanes, operation for operation.
+    #[target_feature(enable = "avx2")]
+    unsafe fn evaluate(&self, p: &Pending, rl: &RayLights) -> Evaluated {
+        // SAFETY: every pending base is a cell of the lattice.
+        let b = unsafe { self.blend_records(p) };
+        let half = _mm256_set1_ps(0.5);
+        let gs = self.gradient_scale;
+        let grad = [
+            _mm256_mul_ps(_mm256_mul_ps(b[0], half), _mm256_set1_ps(gs.x)),
+            _mm256_mul_ps(_mm256_mul_ps(b[1], half), _mm256_set1_ps(gs.y)),
+            _mm256_mul_ps(_mm256_mul_ps(b[2], half), _mm256_set1_ps(gs.z)),
+        ];
+        let v = _mm256_add_ps(
+            _mm256_mul_ps(b[3], _mm256_set1_ps(self.slope)),
+            _mm256_set1_ps(self.intercept),
+        );
+        // The table: position, the two entries, opaque where either has opacity.
+        let x = _mm256_min_ps(
+            _mm256_max_ps(
+                _mm256_mul_ps(
+                    _mm256_sub_ps(v, _mm256_set1_ps(self.lut_lo)),
+                    _mm256_set1_ps(self.lut_scale),
+                ),
+                _mm256_setzero_ps(),
+            ),
+            _mm256_set1_ps(self.lut_last),
+        );
+        let i = _mm256_min_epi32(
+            _mm256_cvttps_epi32(x),
+            _mm256_set1_epi32(self.lut_max_index),
+        );
+        let f = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
+        let i4 = _mm256_slli_epi32::<2>(i);
+        let entries = self.entries.as_ptr() as *const f32;
+        let entry = |o: i32| {
+            // SAFETY: i ≤ len − 2, so entries i and i + 1 (four floats each) exist.
+            unsafe { _mm256_i32gather_ps::<4>(entries, _mm256_add_epi32(i4, _mm256_set1_epi32(o))) }
+        };
+        let (a, bb) = ([0, 1, 2, 3].map(entry), [4, 5, 6, 7].map(entry));
+        let zero = _mm256_setzero_ps();
+        let opaque = _mm256_or_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(a[3], zero),
+            _mm256_cmp_ps::<_CMP_GT_OQ>(bb[3], zero),
+        );
+        let lerp = |a: [__m256; 4], b: [__m256; 4], f: __m256| -> [__m256; 4] {
+            [0, 1, 2, 3].map(|c| _mm256_add_ps(a[c], _mm256_mul_ps(_mm256_sub_ps(b[c], a[c]), f)))
+        };
+        let rgba = lerp(a, bb, f);
+        let alpha = _mm256_and_ps(opaque, rgba[3]);
+        let color = [rgba[0], rgba[1], rgba[2]];
+        let shaded = self.shade(color, grad, rl);
+        let mut out = Evaluated {
+            alpha: [0.0; LANES],
+            rgb: [[0.0; LANES]; 3],
+        };
+        // SAFETY: eight lanes each.
+        unsafe {
+            _mm256_storeu_ps(out.alpha.as_mut_ptr(), alpha);
+            for (ch, s) in shaded.iter().enumerate() {
+                _mm256_storeu_ps(out.rgb[ch].as_mut_ptr(), *s);
+            }
+        }
+        out
+    }
+
+    /// `value_and_gradient_in_cell` for the pending lanes: each lane's cell read as four pairs
+    /// of records side by side along x (16 bytes each), blended x, y, z in its own lanes, then
+    /// the eight results turned into one vector per channel (differences x, y, z, raw value).
+    ///
+    /// # Safety
+    /// AVX2; every pending base is the lower corner of a cell whose upper x corner is the next
+    /// record (`Lanes::new` takes volumes with more than one point along x only).
+    #[target_feature(enable = "avx2")]
+    unsafe fn blend_records(&self, p: &Pending) -> [__m256; 4] {
+        let [_, _, dy, _, dz, _, dzy, _] = self.corners;
+        let records = self.records.as_ptr();
+        let mut rows = [_mm_setzero_ps(); LANES];
+        for (lane, row) in rows.iter_mut().enumerate() {
+            let at = records.wrapping_add(p.base[lane] as usize);
+            // SAFETY: the cell's corners (and so both records of each pair) are in the lattice.
+            let pair = |o: i32| unsafe {
+                let raw = _mm_loadu_si128(at.add(o as usize) as *const __m128i);
+                _mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(raw))
+            };
+            let (p00, p10, p01, p11) = (pair(0), pair(dy), pair(dz), pair(dzy));
+            let (tx, ty, tz) = (
+                _mm256_set1_ps(p.fx[lane]),
+                _mm256_set1_ps(p.fy[lane]),
+                _mm256_set1_ps(p.fz[lane]),
+            );
+            let lerp = |a: __m256, b: __m256, t: __m256| {
+                _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t))
+            };
+            // [x00 | x10] and [x01 | x11]: each pair's low corner against its high one.
+            let x0 = lerp(
+                _mm256_permute2f128_ps::<0x20>(p00, p10),
+                _mm256_permute2f128_ps::<0x31>(p00, p10),
+                tx,
+            );
+            let x1 = lerp(
+                _mm256_permute2f128_ps::<0x20>(p01, p11),
+                _mm256_permute2f128_ps::<0x31>(p01, p11),
+                tx,
+            );
+            // [y0 | y1] = [x00 | x01] against [x10 | x11].
+            let y = lerp(
+                _mm256_permute2f128_ps::<0x20>(x0, x1),
+                _mm256_permute2f128_ps::<0x31>(x0, x1),
+                ty,
+            );
+            let (y0, y1) = (_mm256_castps256_ps128(y), _mm256_extractf128_ps::<1>(y));
+            *row = _mm_add_ps(
+                y0,
+                _mm_mul_ps(_mm_sub_ps(y1, y0), _mm256_castps256_ps128(tz)),
+            );
+        }
+        // Rows (one lane's four channels) to columns (one channel's eight lanes).
+        let pair = |a: usize| _mm256_set_m128(rows[a + 4], rows[a]);
+        let (r0, r1, r2, r3) = (pair(0), pair(1), pair(2), pair(3));
+        let t0 = _mm256_unpacklo_ps(r0, r1);
+        let t1 = _mm256_unpackhi_ps(r0, r1);
+        let t2 = _mm256_unpacklo_ps(r2, r3);
+        let t3 = _mm256_unpackhi_ps(r2, r3);
+        [
+            _mm256_shuffle_ps::<0x44>(t0, t2),
+            _mm256_shuffle_ps::<0xEE>(t0, t2),
+            _mm256_shuffle_ps::<0x44>(t1, t3),
+            _mm256_shuffle_ps::<0xEE>(t1, t3),
+        ]
+    }
+
+    /// `crate::shade::shade` for eight lanes with directional lights, operation for operation.
+    #[target_feature(enable = "avx2")]
+    fn shade(&self, c: [__m256; 3], grad: [__m256; 3], rl: &RayLights) -> [__m256; 3] {
+        let splat = _mm256_set1_ps;
+        let dot = |a: &[__m256; 3], b: Vec3| {
+            _mm256_add_ps(
+                _mm256_add_ps(
+                    _mm256_mul_ps(a[0], splat(b.x)),
+                    _mm256_mul_ps(a[1], splat(b.y)),
+                ),
+                _mm256_mul_ps(a[2], splat(b.z)),
+            )
+        };
+        let len = _mm256_sqrt_ps(_mm256_add_ps(
+            _mm256_add_ps(
+                _mm256_mul_ps(grad[0], grad[0]),
+                _mm256_mul_ps(grad[1], grad[1]),
+            ),
+            _mm256_mul_ps(grad[2], grad[2]),
+        ));
+        // lit: len > threshold and finite (ordered comparisons: NaN is neither).
+        let lit = _mm256_and_ps(
+            _mm256_cmp_ps::<_CMP_GT_OQ>(len, splat(self.threshold)),
+            _mm256_cmp_ps::<_CMP_LT_OQ>(len, splat(f32::INFINITY)),
+        );
+        let inv = _mm256_div_ps(splat(-1.0), len);
+        let mut n = grad.map(|g| _mm256_mul_ps(g, inv));
+        if self.two_sided {
+            let back = _mm256_cmp_ps::<_CMP_LT_OQ>(dot(&n, rl.view), _mm256_setzero_ps());
+            let sign = _mm256_and_ps(back, splat(-0.0));
+            n = n.map(|x| _mm256_xor_ps(x, sign));
+        }
+        let tint = if self.levoy { c } else { [splat(1.0); 3] };
+        let zero = _mm256_setzero_ps();
+        let (mut diffuse, mut specular) = ([zero; 3], [zero; 3]);
+        for &(l, color, half) in &rl.lights[..self.light_count] {
+            let n_dot_l = dot(&n, l);
+            let lambert = _mm256_max_ps(n_dot_l, zero);
+            let base = if self.blinn {
+                dot(&n, half)
+            } else {
+                // (n·(2·n_dot_l) − l)·view
+                let two = _mm256_mul_ps(splat(2.0), n_dot_l);
+                let r = [
+                    _mm256_sub_ps(_mm256_mul_ps(n[0], two), splat(l.x)),
+                    _mm256_sub_ps(_mm256_mul_ps(n[1], two), splat(l.y)),
+                    _mm256_sub_ps(_mm256_mul_ps(n[2], two), splat(l.z)),
+                ];
+                dot(&r, rl.view)
+            };
+            let spec = _mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_GT_OQ>(n_dot_l, zero),
+                power(_mm256_max_ps(base, zero), self.exponent),
+            );
+            let kd_lambert = _mm256_mul_ps(splat(self.kd), lambert);
+            let ks_spec = _mm256_mul_ps(splat(self.ks), spec);
+            let light = color.to_array();
+            for ch in 0..3 {
+                let d = _mm256_mul_ps(c[ch], _mm256_mul_ps(splat(light[ch]), kd_lambert));
+                let s = _mm256_mul_ps(_mm256_mul_ps(tint[ch], splat(light[ch])), ks_spec);
+                diffuse[ch] = _mm256_add_ps(diffuse[ch], d);
+                specular[ch] = _mm256_add_ps(specular[ch], s);
+            }
+        }
+        [0, 1, 2].map(|ch| {
+            let ambient = _mm256_mul_ps(c[ch], splat(self.ka));
+            let sum = _mm256_add_ps(_mm256_add_ps(ambient, diffuse[ch]), specular[ch]);
+            let out = _mm256_min_ps(_mm256_max_ps(sum, zero), splat(1.0));
+            _mm256_blendv_ps(c[ch], out, lit)
+        })
+    }
+}
+
+/// `crate::shade::power` for a whole exponent, lane by lane: the same squarings and products.
+#[target_feature(enable = "avx2")]
+fn power(x: __m256, n: u32) -> __m256 {
+    let (mut base, mut e, mut acc) = (x, n, _mm256_set1_ps(1.0));
+    while e > 0 {
+        if e & 1 == 1 {
+            acc = _mm256_mul_ps(acc, base);
+        }
+        base = _mm256_mul_ps(base, base);
+        e >>= 1;
+    }
+    acc
+}
