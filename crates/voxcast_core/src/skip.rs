@@ -383,39 +383,52 @@ impl VisibleCells {
         }
     }
 
-    /// For a sample at voxel position `pv` in the cell `lo` of an empty brick: the `t` where the
-    /// ray (origin `o_v`, inverse direction `inv_d`, voxel space, world-unit `t`) leaves the
-    /// cube of bricks around it that holds no visible cell — every brick within its distance
-    /// ([`VisibleCells::distance`]) less one, so at least its own brick — shrunk by
-    /// [`BRICK_MARGIN`]; `None` if `pv` lies within that margin of the cube's faces. Every
-    /// sample before that `t` lies inside the cube by more than any rounding of its position,
-    /// so its cell is invisible. The cube's faces on the volume's border are infinitely far
-    /// (positions outside are clamped in).
+    /// For a sample in the cell `lo` of an empty brick: the `t` where the ray (origin `o_v`,
+    /// inverse direction `inv_d`, voxel space, world-unit `t`) leaves the cube of bricks around
+    /// it that holds no visible cell — every brick within its distance
+    /// ([`VisibleCells::distances`]) less one, so at least its own brick — shrunk by
+    /// [`BRICK_MARGIN`]. The sample lies in that cube, so every later sample before that `t`
+    /// lies inside it by more than any rounding of its position: its cell is invisible. (A
+    /// sample within the margin of the face it moves towards gets a `t` before its own: no
+    /// leap.) The cube's faces on the volume's border are infinitely far (positions outside
+    /// are clamped in), and so is the `t` of a ray that leaves only through those.
     #[inline]
-    pub fn leap_exit(&self, lo: [usize; 3], pv: Vec3, o_v: Vec3, inv_d: Vec3) -> Option<f32> {
-        let b = [0, 1, 2].map(|a| lo[a] >> 2);
-        let reach = usize::from(self.distance[self.brick_index(b)]).max(1) - 1;
+    pub fn leap_exit(&self, lo: [usize; 3], o_v: Vec3, inv_d: Vec3) -> f32 {
+        self.leap_exit_at(lo, self.brick_distance(lo), o_v, inv_d)
+    }
+
+    /// The distance ([`VisibleCells::distances`]) of the brick holding cell `lo`: 0 where it
+    /// holds a visible cell.
+    #[inline(always)]
+    pub fn brick_distance(&self, lo: [usize; 3]) -> u8 {
+        self.distance[self.brick_index(lo.map(|l| l >> 2))]
+    }
+
+    /// [`VisibleCells::leap_exit`] with the brick's distance already read.
+    #[inline(always)]
+    pub fn leap_exit_at(&self, lo: [usize; 3], distance: u8, o_v: Vec3, inv_d: Vec3) -> f32 {
+        let b = lo.map(|l| (l >> 2) as u32);
+        let reach = u32::from(distance).max(1) - 1;
         let mut t_exit = f32::INFINITY;
         for a in 0..3 {
-            let low = if b[a] <= reach {
-                f32::NEG_INFINITY
-            } else {
+            // Only the face the ray moves towards; none along an axis it does not move on.
+            let face = if inv_d[a] > 0.0 && inv_d[a] < f32::INFINITY {
+                let above = b[a] + reach + 1;
+                if above >= self.bricks[a] as u32 {
+                    continue;
+                }
+                (above * 4) as f32 - BRICK_MARGIN
+            } else if inv_d[a] < 0.0 && inv_d[a] > f32::NEG_INFINITY {
+                if b[a] <= reach {
+                    continue;
+                }
                 ((b[a] - reach) * 4) as f32 + BRICK_MARGIN
-            };
-            let high = if b[a] + reach + 1 >= self.bricks[a] {
-                f32::INFINITY
             } else {
-                ((b[a] + reach + 1) * 4) as f32 - BRICK_MARGIN
+                continue;
             };
-            if !(pv[a] > low && pv[a] < high) {
-                return None;
-            }
-            let face = if inv_d[a] > 0.0 { high } else { low };
-            if face.is_finite() && inv_d[a] != 0.0 {
-                t_exit = t_exit.min((face - o_v[a]) * inv_d[a]);
-            }
+            t_exit = fmin(t_exit, (face - o_v[a]) * inv_d[a]);
         }
-        Some(t_exit)
+        t_exit
     }
 
     /// Where along a ray (voxel space: origin `o_v`, inverse direction `inv_d`, world-unit `t`)
@@ -737,15 +750,10 @@ mod tests {
         let o = Vec3::new(-3.0, 0.5, 0.5);
         // From x = 1, leave brick 0 just before x = 4 (its neighbour holds a visible cell).
         assert_eq!(vis.distances(), &[1, 0]);
-        let t = vis
-            .leap_exit([1, 0, 0], Vec3::new(1.0, 0.5, 0.5), o, inv)
-            .unwrap();
+        let t = vis.leap_exit([1, 0, 0], o, inv);
         assert!((t - (7.0 - BRICK_MARGIN)).abs() < 1e-5, "{t}");
-        // Too close to the face to skip.
-        assert!(
-            vis.leap_exit([3, 0, 0], Vec3::new(3.9999, 0.5, 0.5), o, inv)
-                .is_none()
-        );
+        // A sample at x = 3.9999 (t = 6.9999) is too close to the face: no leap.
+        assert!(vis.leap_exit([3, 0, 0], o, inv) < 6.9999);
     }
 
     #[test]
@@ -801,23 +809,19 @@ mod tests {
         let vis = VisibleCells::new(&v, &tf.bake(0.0, 200.0));
         assert_eq!(vis.distances(), &[9, 8, 7, 6, 5, 4, 3, 2, 1, 0]);
         // From x = 1 (brick 0, distance 9) the ray may pass bricks 0..=8: up to x = 36.
-        let t = vis
-            .leap_exit(
-                [1, 0, 0],
-                Vec3::new(1.0, 0.5, 0.5),
-                Vec3::ZERO,
-                Vec3::ONE / Vec3::X,
-            )
-            .unwrap();
+        let t = vis.leap_exit([1, 0, 0], Vec3::ZERO, Vec3::ONE / Vec3::X);
         assert!((t - (36.0 - BRICK_MARGIN)).abs() < 1e-4, "{t}");
         // Going the other way it leaves through the volume's border: no face.
-        let t = vis.leap_exit(
-            [1, 0, 0],
-            Vec3::new(1.0, 0.5, 0.5),
-            Vec3::new(1.0, 0.5, 0.5),
-            Vec3::ONE / Vec3::NEG_X,
+        let o = Vec3::new(1.0, 0.5, 0.5);
+        assert_eq!(
+            vis.leap_exit([1, 0, 0], o, Vec3::ONE / Vec3::NEG_X),
+            f32::INFINITY
         );
-        assert_eq!(t, Some(f32::INFINITY));
+        // Nor along an axis it does not move on.
+        assert_eq!(
+            vis.leap_exit([1, 0, 0], o, Vec3::ONE / Vec3::Y),
+            f32::INFINITY
+        );
     }
 
     #[test]

@@ -26,7 +26,7 @@ use crate::composite::{accumulate_front_to_back, correct_opacity};
 use crate::scene::Scene;
 use crate::shade::{Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel, Viewing};
 use crate::skip::VisibleCells;
-use crate::step::{StepPlan, first_index_from, segment_length};
+use crate::step::{StepPlan, first_index_from, sample_t, segment_length};
 use crate::volume::{Grid, Voxel};
 use glam::Vec3;
 use std::arch::x86_64::*;
@@ -224,6 +224,17 @@ impl Lanes<'_> {
         let mut k = first_index_from(plan, t0, inv_dt);
         let end = first_index_from(plan, t1, inv_dt);
         while k < end {
+            // In an empty brick the ray leaps before it locates anything.
+            let lo = self.cell_lo(o_v + d_v * sample_t(plan, k));
+            let distance = cells.brick_distance(lo);
+            if distance > 0 {
+                let t = cells.leap_exit_at(lo, distance, o_v, inv_d);
+                let next = first_index_from(plan, t, inv_dt);
+                if next > k {
+                    k = next;
+                    continue;
+                }
+            }
             // SAFETY: AVX2 (this function's own feature).
             let (taken, visible, located) = unsafe { self.locate(plan, k, end, (o_v, d_v)) };
             let mut bits = visible;
@@ -249,15 +260,6 @@ impl Lanes<'_> {
                 }
             }
             k += taken;
-            if taken as usize == LANES && k < end {
-                let lo = located.last_lo.map(|i| i as usize);
-                if self.words[cells.brick_index(lo.map(|i| i >> 2))] == 0 {
-                    let pv = o_v + d_v * located.t[LANES - 1];
-                    if let Some(t) = cells.leap_exit(lo, pv, o_v, inv_d) {
-                        k = k.max(first_index_from(plan, t, inv_dt));
-                    }
-                }
-            }
         }
         if pending.n > 0 {
             // Unused lanes read the first record (their results are ignored).
@@ -287,6 +289,14 @@ impl Lanes<'_> {
             let at = p.wrapping_add((base + o) as usize) as *const i8;
             _mm_prefetch::<_MM_HINT_T0>(at);
         }
+    }
+
+    /// The lower corner of the cell holding voxel-space `pv`, as `crate::sample::cell` finds it.
+    #[inline(always)]
+    fn cell_lo(&self, pv: Vec3) -> [usize; 3] {
+        let x = pv.max(Vec3::ZERO).min(self.last).min(self.max_lo);
+        // SAFETY: clamped, so finite and in [0, n − 2] (an axis has at most 2²⁴ points).
+        [x.x, x.y, x.z].map(|c| unsafe { c.to_int_unchecked::<i32>() } as usize)
     }
 
     /// Composites the pending samples in order, exactly as `Marcher::composite_sample` does;
@@ -324,10 +334,8 @@ impl Lanes<'_> {
     }
 }
 
-/// Eight positions located: `t`, the cell's record index and the fractions inside it, and
-/// the last one's cell.
+/// Eight positions located: `t`, the cell's record index and the fractions inside it.
 struct Located {
-    last_lo: [i32; 3],
     t: [f32; LANES],
     base: [i32; LANES],
     fx: [f32; LANES],
@@ -411,11 +419,6 @@ impl Lanes<'_> {
             ),
         );
         let mut out = Located {
-            last_lo: [
-                _mm256_extract_epi32::<7>(ix),
-                _mm256_extract_epi32::<7>(iy),
-                _mm256_extract_epi32::<7>(iz),
-            ],
             t: [0.0; LANES],
             base: [0; LANES],
             fx: [0.0; LANES],

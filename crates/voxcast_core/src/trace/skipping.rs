@@ -81,12 +81,11 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
                         }
                         CellState::EmptyBrick => {
                             // Leap over the empty bricks around (see `VisibleCells::leap_exit`).
-                            if let Some(t_brick) = cells.leap_exit(here.lo, pv, o_v, inv_d) {
-                                let next = first_index_from(plan, t_brick.min(t_out), inv_dt);
-                                if next > k + 1 {
-                                    k = next;
-                                    continue;
-                                }
+                            let t_leap = cells.leap_exit(here.lo, o_v, inv_d);
+                            let next = first_index_from(plan, t_leap.min(t_out), inv_dt);
+                            if next > k + 1 {
+                                k = next;
+                                continue;
                             }
                         }
                         CellState::Invisible => {}
