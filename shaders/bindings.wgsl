@@ -14,3 +14,10 @@
 /// Each block's value range (lo, hi) with a one-point apron, in data units
 /// (crates/voxcast_core/src/skip.rs, `BlockRanges`).
 @group(#{MATERIAL_BIND_GROUP}) @binding(4) var range_texture: texture_3d<f32>;
+/// The cells that can be visible, a 4×4×4 brick a texel: its 64 bits in two halves (r, g) and
+/// its distance in bricks to the nearest brick with a visible cell (b)
+/// (crates/voxcast_core/src/skip.rs, `VisibleCells`).
+@group(#{MATERIAL_BIND_GROUP}) @binding(5) var cells_texture: texture_3d<u32>;
+/// Every lattice point's record: its differences along x, y, z and its raw value, exact
+/// integers (crates/voxcast_core/src/sample.rs, `Differences`).
+@group(#{MATERIAL_BIND_GROUP}) @binding(6) var records_texture: texture_3d<i32>;

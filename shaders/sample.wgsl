@@ -1,10 +1,10 @@
 // Twin: crates/voxcast_core/src/sample.rs (`cell`, `lerp`, `sample_trilinear`, `nearest_index`,
-// `sample_nearest`, `lattice_difference`, `gradient`). Texels are read one by one with
+// `sample_nearest`, `lattice_difference`, `gradient`, `value_and_gradient_in_cell`). Texels are read one by one with
 // textureLoad and blended with the core's weights in the core's order (x, then y, then z), so the
 // preview does not depend on a device's filtering precision.
 #define_import_path voxcast::sample
 
-#import voxcast::bindings::{params, volume_texture}
+#import voxcast::bindings::{params, volume_texture, records_texture}
 
 struct Cell {
     lo: vec3<u32>,
@@ -149,4 +149,26 @@ fn gradient_blended(p_voxel: vec3<f32>) -> vec3<f32> {
     let y0 = x00 + (x10 - x00) * t.y;
     let y1 = x01 + (x11 - x01) * t.y;
     return (y0 + (y1 - y0) * t.z) * scale;
+}
+
+/// One lattice point's record as floats: differences x, y, z (not yet halved) and the raw value.
+fn load_record(i: vec3<u32>) -> vec4<f32> {
+    return vec4<f32>(textureLoad(records_texture, vec3<i32>(i), 0));
+}
+
+/// The raw value (w) and the gradient (xyz, data units per world unit) inside a located cell,
+/// from the 8 corners' records: the same lerps as the value, x then y then z, four lanes at
+/// once; the blend halved and scaled at the end, as the core does.
+fn value_and_gradient_in_cell(c: Cell) -> vec4<f32> {
+    let x00 = mix4(load_record(c.lo), load_record(vec3(c.hi.x, c.lo.y, c.lo.z)), c.t.x);
+    let x10 = mix4(load_record(vec3(c.lo.x, c.hi.y, c.lo.z)), load_record(vec3(c.hi.x, c.hi.y, c.lo.z)), c.t.x);
+    let x01 = mix4(load_record(vec3(c.lo.x, c.lo.y, c.hi.z)), load_record(vec3(c.hi.x, c.lo.y, c.hi.z)), c.t.x);
+    let x11 = mix4(load_record(vec3(c.lo.x, c.hi.y, c.hi.z)), load_record(c.hi), c.t.x);
+    let b = mix4(mix4(x00, x10, c.t.y), mix4(x01, x11, c.t.y), c.t.z);
+    return vec4((b.xyz * 0.5) * (params.slope / params.spacing), b.w);
+}
+
+/// a + (b − a)·t for four lanes (`lerp` lane by lane).
+fn mix4(a: vec4<f32>, b: vec4<f32>, t: f32) -> vec4<f32> {
+    return a + (b - a) * t;
 }

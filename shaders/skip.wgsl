@@ -1,10 +1,13 @@
-// Twin: crates/voxcast_core/src/skip.rs (`EmptyBlocks`, `BlockRanges`, `BlockWalk::exit`):
-// blocks of cells the transfer function makes transparent (value ranges with a one-point
-// apron) are crossed without sampling — exact, since a skipped sample would have had opacity 0.
-// First, Maximum and Minimum pass blocks by their value ranges (see trace.wgsl).
+// Twin: crates/voxcast_core/src/skip.rs (`EmptyBlocks`, `BlockRanges`, `BlockWalk::exit`;
+// `VisibleCells`: `visible`, `brick_distance`, `leap_exit_at`): blocks of cells the transfer
+// function makes transparent (value ranges with a one-point apron) are crossed without
+// sampling; once the cells' visibility is uploaded, a ray leaps out of the cube of empty
+// bricks its brick's distance guarantees, and a sample in a cell the table makes transparent
+// is not interpolated — exact, since such a sample would have had opacity 0. First, Maximum
+// and Minimum pass blocks by their value ranges (see trace.wgsl).
 #define_import_path voxcast::skip
 
-#import voxcast::bindings::{params, empty_texture, range_texture}
+#import voxcast::bindings::{params, empty_texture, range_texture, cells_texture}
 
 /// The block holding the cell with lower corner `cell_lo`.
 fn block_of(cell_lo: vec3<u32>) -> vec3<u32> {
@@ -35,6 +38,47 @@ fn block_exit(b: vec3<u32>, o_v: vec3<f32>, d_v: vec3<f32>) -> f32 {
             t_exit = min(t_exit, (f32((b[a] + 1u) * #{BLOCK}u) - o_v[a]) / d);
         } else if d < 0.0 && b[a] > 0u {
             t_exit = min(t_exit, (f32(b[a] * #{BLOCK}u) - o_v[a]) / d);
+        }
+    }
+    return t_exit;
+}
+
+/// The texel of the brick holding the cell with lower corner `lo`: its visibility word's two
+/// halves and its distance.
+fn brick_at(lo: vec3<u32>) -> vec4<u32> {
+    return textureLoad(cells_texture, vec3<i32>(lo >> vec3(2u)), 0);
+}
+
+/// The distance of the brick holding cell `lo` (0 where it holds a visible cell).
+fn brick_distance(brick: vec4<u32>) -> u32 {
+    return brick.b;
+}
+
+/// Whether the cell with lower corner `lo` can be visible: its bit in its brick's word.
+fn visible(lo: vec3<u32>, brick: vec4<u32>) -> bool {
+    let bit = (lo.x & 3u) | ((lo.y & 3u) << 2u) | ((lo.z & 3u) << 4u);
+    let half = select(brick.r, brick.g, bit >= 32u);
+    return ((half >> (bit & 31u)) & 1u) != 0u;
+}
+
+/// For a sample in cell `lo` of a brick at `distance` > 0: the t where the ray (voxel-space
+/// origin o_v, direction d_v, world-unit t) leaves the cube of bricks within `distance − 1` of
+/// it, shrunk by the margin, through the faces it moves towards; faces on the volume's border
+/// are infinitely far. (The core multiplies by the inverse direction; the margin covers the
+/// rounding either way.)
+fn leap_exit_at(lo: vec3<u32>, distance: u32, o_v: vec3<f32>, d_v: vec3<f32>) -> f32 {
+    let b = lo >> vec3(2u);
+    let reach = max(distance, 1u) - 1u;
+    var t_exit = 3.4e38;
+    for (var a = 0; a < 3; a++) {
+        let d = d_v[a];
+        if d > 0.0 {
+            let above = b[a] + reach + 1u;
+            if above < params.bricks[a] {
+                t_exit = min(t_exit, (f32(above * 4u) - params.brick_margin - o_v[a]) / d);
+            }
+        } else if d < 0.0 && b[a] > reach {
+            t_exit = min(t_exit, (f32((b[a] - reach) * 4u) + params.brick_margin - o_v[a]) / d);
         }
     }
     return t_exit;

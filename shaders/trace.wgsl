@@ -1,14 +1,16 @@
 // Twin: crates/voxcast_core/src/trace.rs (`Marcher::march` and the methods), with the same
-// skipping (empty 8³ blocks for Accumulate; blocks that cannot hold the First hit or beat the
-// running Maximum/Minimum, by their value ranges — `skip.wgsl`; neither changes a pixel) and
-// without recording. The CPU's finer per-cell visibility inside a block is not mirrored.
+// skipping (for Accumulate, leaps over empty 4³ bricks by their distance and invisible cells
+// left out once the cells are uploaded — trace/skipping.rs and trace/lanes.rs — and empty 8³
+// blocks before; blocks that cannot hold the First hit or beat the running Maximum/Minimum, by
+// their value ranges — `skip.wgsl`; none changes a pixel) and without recording. One position
+// at a time: the CPU's eight lanes are its own way to the same samples.
 #define_import_path voxcast::trace
 
 #import voxcast::bindings::params
 #import voxcast::clip::clip_interval
 #import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction, first_index_from}
-#import voxcast::sample::{sample, to_data, gradient, cell, no_data_at}
-#import voxcast::skip::{block_of, block_exit, block_range, exit_if_empty}
+#import voxcast::sample::{sample, to_data, gradient, cell, no_data_at, value_and_gradient_in_cell}
+#import voxcast::skip::{block_of, block_exit, block_range, exit_if_empty, brick_at, brick_distance, visible, leap_exit_at}
 #import voxcast::transfer::lut_lookup
 #import voxcast::classify::classify
 #import voxcast::shade::shade
@@ -28,12 +30,29 @@ fn classified(v: f32, pv: vec3<f32>) -> vec4<f32> {
     return vec4(rgba.rgb, classify(v, rgba.a, length(gradient(pv))));
 }
 
+/// `classified`, with the gradient at the sample already read.
+fn classified_with(v: f32, grad: vec3<f32>) -> vec4<f32> {
+    let rgba = lut_lookup(v);
+    if params.classification == #{CLASSIFY_TABLE}u {
+        return rgba;
+    }
+    return vec4(rgba.rgb, classify(v, rgba.a, length(grad)));
+}
+
 /// Shades colour c at pv if shading is on.
 fn shaded(c: vec3<f32>, pv: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
     if (params.flags & #{FLAG_SHADING}u) == 0u {
         return c;
     }
     return shade(c, gradient(pv), pv * params.spacing, view);
+}
+
+/// `shaded`, with the gradient at the sample already read.
+fn shaded_with(c: vec3<f32>, grad: vec3<f32>, pv: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
+    if (params.flags & #{FLAG_SHADING}u) == 0u {
+        return c;
+    }
+    return shade(c, grad, pv * params.spacing, view);
 }
 
 /// One ray through the volume: premultiplied colour (rgb) and opacity (a), before the
@@ -68,6 +87,10 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
     }
     var acc = vec4(0.0);
     let skip = params.skip_empty != 0u && !back_to_front;
+    let leaping = (params.flags & #{FLAG_SKIP_CELLS}u) != 0u;
+    // As in the core, for trilinear reconstruction only.
+    let recorded = (params.flags & #{FLAG_RECORDS}u) != 0u
+        && (params.flags & #{FLAG_TRILINEAR}u) != 0u;
     let margin_t = params.skip_margin / length(d_v);
     var checked = vec3(0xffffffffu);
     var i = 0u;
@@ -78,27 +101,58 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
         }
         let t = sample_t(plan, k);
         let pv = o_v + d_v * t;
-        if skip {
-            // The CPU's first skipping scheme: on entering a block, leave it at once if empty.
-            let b = block_of(cell(pv).lo);
-            if any(b != checked) {
-                checked = b;
-                let t_out = exit_if_empty(b, o_v, d_v);
-                if t_out >= 0.0 {
-                    let next = ceil((t_out - margin_t - plan.t_enter) / plan.dt - plan.jitter);
-                    if next > f32(k) {
-                        i = select(u32(next), plan.count, next >= f32(plan.count));
-                        continue;
+        if skip && leaping {
+            // The core's leaps (skip.rs, `VisibleCells`): out of the cube of empty bricks
+            // around an empty one; in the others, only the cells the table can show.
+            let lo = cell(pv).lo;
+            let brick = brick_at(lo);
+            let distance = brick_distance(brick);
+            if distance > 0u {
+                i = max(i + 1u, first_index_from(plan, leap_exit_at(lo, distance, o_v, d_v)));
+                continue;
+            }
+            i += 1u;
+            if !visible(lo, brick) {
+                continue;
+            }
+        } else {
+            if skip {
+                // Before the cells are uploaded: leave an empty 8³ block at once.
+                let b = block_of(cell(pv).lo);
+                if any(b != checked) {
+                    checked = b;
+                    let t_out = exit_if_empty(b, o_v, d_v);
+                    if t_out >= 0.0 {
+                        let next = ceil((t_out - margin_t - plan.t_enter) / plan.dt - plan.jitter);
+                        if next > f32(k) {
+                            i = select(u32(next), plan.count, next >= f32(plan.count));
+                            continue;
+                        }
                     }
                 }
             }
+            i += 1u;
         }
-        i += 1u;
         if no_data_at(pv) {
             continue; // no data: transparent
         }
-        let v = value_at(pv);
-        let cl = classified(v, pv);
+        // With the lattice records uploaded (integer volumes), the value and the gradient come
+        // from one read of the cell's 8 corners, as in the core.
+        var v: f32;
+        var grad = vec3(0.0);
+        if recorded {
+            let vg = value_and_gradient_in_cell(cell(pv));
+            v = to_data(vg.w);
+            grad = vg.xyz;
+        } else {
+            v = value_at(pv);
+        }
+        var cl: vec4<f32>;
+        if recorded {
+            cl = classified_with(v, grad);
+        } else {
+            cl = classified(v, pv);
+        }
         if cl.a <= 0.0 {
             continue;
         }
@@ -107,7 +161,12 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
             alpha = correct_opacity(cl.a, segment_length(plan, k, t), params.dt_ref);
         }
         if alpha > 0.0 {
-            let color = shaded(cl.rgb, pv, view);
+            var color: vec3<f32>;
+            if recorded {
+                color = shaded_with(cl.rgb, grad, pv, view);
+            } else {
+                color = shaded(cl.rgb, pv, view);
+            }
             if back_to_front {
                 acc = accumulate_back_to_front(acc, color, alpha);
             } else {

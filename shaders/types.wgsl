@@ -95,6 +95,10 @@ struct VolumeUniform {
     /// The clip plane keeps the points p with clip_normal·p ≤ clip_d; a zero normal keeps all.
     clip_normal: vec3<f32>,
     clip_d: f32,
+    /// Bricks of 4×4×4 cells per axis of the cells texture (see skip.wgsl).
+    bricks: vec3<u32>,
+    /// How far inside the cube of empty bricks (voxels) a leap stops.
+    brick_margin: f32,
     /// The lights (shade.wgsl sums over the first light_count).
     lights: array<LightUniform, #{MAX_LIGHTS}>,
 }

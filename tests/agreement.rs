@@ -39,7 +39,52 @@ fn main() {
             "preview_matches_the_cpu_render",
             preview_matches_the_cpu_render,
         ),
+        (
+            "the_preview_leaps_reads_records_and_times_its_frames",
+            the_preview_leaps_reads_records_and_times_its_frames,
+        ),
     ])
+}
+
+/// The preview takes the core's accelerations for Accumulate — the cells' visibility with the
+/// bricks' distances (leaps), the lattice records (values and gradients from 8 texels) — before
+/// it is captured, and `--time-frames` times its full-size frames: what BENCHMARKS.md sets
+/// beside VTK's GPU mapper.
+fn the_preview_leaps_reads_records_and_times_its_frames() -> Outcome {
+    let dir = out_dir();
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("timed.png");
+    let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        .args([
+            "--volume",
+            "builtin:bunny",
+            "--size",
+            "96x64",
+            "--time-frames",
+            "3",
+        ])
+        .arg("--screenshot")
+        .arg(&path)
+        .output()
+        .expect("the binary runs");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    if !output.status.success()
+        && let Some(skip) = skipped_for_want_of_a_gpu(&stderr)
+    {
+        return skip;
+    }
+    assert!(output.status.success(), "{stderr}");
+    assert!(stderr.contains("cells' visibility uploaded"), "{stderr}");
+    assert!(stderr.contains("lattice records uploaded"), "{stderr}");
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("preview frame: median"))
+        .unwrap_or_else(|| panic!("no frame time in {stdout}"));
+    println!("{line}");
+    assert!(line.contains("over 3 frames at 96×64"), "{line}");
+    assert!(path.exists(), "the capture follows the timing");
+    Ok(Completion::Completed)
 }
 
 /// "Render image" without a window (`voxcast --compare`): the same capture, CPU render and

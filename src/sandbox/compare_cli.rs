@@ -21,7 +21,11 @@ fn run_comparison(
     mut comparison: ResMut<Comparison>,
     request: Res<CompareRequest>,
     mut exit: MessageWriter<AppExit>,
+    cells: Res<super::state::CellsUpload>,
 ) {
+    if cells.pending() {
+        return; // the preview as it will be: with the cells' visibility uploaded
+    }
     *frames += 1;
     if *frames == WARM_UP_FRAMES {
         comparison.start();

@@ -14,7 +14,7 @@ use bevy::render::render_resource::{
 };
 use bevy::shader::ShaderRef;
 use voxcast_core::Volume;
-use voxcast_core::skip::{BlockRanges, EmptyBlocks};
+use voxcast_core::skip::{BlockRanges, EmptyBlocks, VisibleCells};
 use voxcast_core::transfer::Lut;
 use voxcast_core::volume::{Grid, GridVisitor, ScalarType, Voxel};
 
@@ -34,6 +34,10 @@ pub struct VolumeMaterial {
     pub empty: Handle<Image>,
     #[texture(4, dimension = "3d", sample_type = "float", filterable = false)]
     pub ranges: Handle<Image>,
+    #[texture(5, dimension = "3d", sample_type = "u_int")]
+    pub cells: Handle<Image>,
+    #[texture(6, dimension = "3d", sample_type = "s_int")]
+    pub records: Handle<Image>,
 }
 
 impl Material for VolumeMaterial {
@@ -135,6 +139,68 @@ pub fn empty_blocks_image(blocks: Option<&EmptyBlocks>) -> Image {
         TextureDimension::D3,
         data,
         TextureFormat::R8Unorm,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+}
+
+/// The cells that can be visible (`VisibleCells`), a brick of 4×4×4 cells a texel: its 64-bit
+/// word as two halves (low bits in red, high in green) and the brick's distance to the nearest
+/// brick with a visible cell (blue; what a ray leaps by) of an Rgba32Uint 3-D texture; one
+/// clear texel when the preview does not skip cells.
+pub fn visible_cells_image(cells: Option<&VisibleCells>) -> Image {
+    let (dims, data) = match cells {
+        Some(c) => (
+            c.bricks(),
+            c.words()
+                .iter()
+                .zip(c.distances())
+                .flat_map(|(&w, &d)| [w as u32, (w >> 32) as u32, u32::from(d), 0])
+                .flat_map(u32::to_le_bytes)
+                .collect(),
+        ),
+        None => ([1, 1, 1], vec![0u8; 16]),
+    };
+    Image::new(
+        Extent3d {
+            width: dims[0] as u32,
+            height: dims[1] as u32,
+            depth_or_array_layers: dims[2] as u32,
+        },
+        TextureDimension::D3,
+        data,
+        TextureFormat::Rgba32Uint,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+}
+
+/// The most bytes the lattice records may take on the GPU (8 a lattice point): 256 MiB, a
+/// 320³ volume; a larger one computes its gradients from the volume texture.
+pub const MAX_RECORD_BYTES: usize = 256 << 20;
+
+/// Every lattice point's record (`voxcast_core::sample::Differences`: the differences along x,
+/// y and z and the raw value, exact integers) as an Rgba16Sint 3-D texture the size of the
+/// volume, so a shaded sample reads its value and gradient from its cell's 8 texels, as the
+/// core does; one clear texel when there are none.
+pub fn records_image(records: Option<(&[voxcast_core::sample::Differences], UVec3)>) -> Image {
+    let (dims, data) = match records {
+        Some((r, dims)) => (
+            dims,
+            r.iter()
+                .flat_map(|d| d.map(i16::to_le_bytes))
+                .flatten()
+                .collect(),
+        ),
+        None => (UVec3::ONE, vec![0u8; 8]),
+    };
+    Image::new(
+        Extent3d {
+            width: dims.x,
+            height: dims.y,
+            depth_or_array_layers: dims.z,
+        },
+        TextureDimension::D3,
+        data,
+        TextureFormat::Rgba16Sint,
         RenderAssetUsages::RENDER_WORLD,
     )
 }

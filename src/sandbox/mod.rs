@@ -69,6 +69,11 @@ pub struct SandboxArgs {
     /// named like `accumulate_step0.5_shaded.png` (the GPU/CPU agreement test uses this).
     #[arg(long, requires = "screenshot")]
     pub sweep: bool,
+    /// With --screenshot FILE: first time this many frames of the preview drawn at full
+    /// quality and the full size (no window, so a frame is the volume's), print their median
+    /// and then capture — a frame to set beside another renderer's offscreen frame.
+    #[arg(long, requires = "screenshot", conflicts_with = "sweep")]
+    pub time_frames: Option<u32>,
     /// Capture the preview of this view and render the same view on the CPU (what the "Render
     /// image" button does), save the render here, the capture and the difference heat-map
     /// beside it (NAME_preview.png, NAME_diff.png), print the differences and exit.
@@ -85,6 +90,11 @@ pub struct SandboxArgs {
     /// With --measure-frames: turn adaptive quality off.
     #[arg(long, requires = "measure_frames")]
     pub no_adaptive: bool,
+    /// With --measure-frames: draw the GPU preview's resting view whole every frame, never in
+    /// strips — the window waits for each full-quality frame, so its frame time is what one
+    /// costs (to compare with another renderer's frame).
+    #[arg(long, requires = "measure_frames")]
+    pub whole_frames: bool,
     /// Let preview rays pass through scene geometry (the light's marker) instead of stopping
     /// at it (the depth prepass is ignored).
     #[arg(long)]
@@ -271,6 +281,7 @@ fn build_headless(app: &mut App, args: &SandboxArgs) -> Result<(), CliError> {
         app.insert_resource(screenshot::Request {
             path: path.clone(),
             sweep: args.sweep,
+            time_frames: args.time_frames.unwrap_or(0),
         });
         if args.sweep {
             // The sweep is compared with the CPU render, which has no meshes: the preview is
@@ -370,7 +381,10 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
                     },
                     if args.no_adaptive { "off" } else { "on" }
                 ),
-            });
+            })
+            .insert_resource(progressive::Progressive::whole_frames_only(
+                args.whole_frames,
+            ));
     }
     let mut choices = raydata::RayChoices::default();
     choices.view.mesh = args.ray_view.iter().any(|v| v == "mesh");

@@ -92,6 +92,8 @@ pub struct Progressive {
     pass_full: bool,
     /// The finished pass was drawn at full quality.
     finished_full: bool,
+    /// Never draw in strips (`voxcast --measure-frames --whole-frames`).
+    whole_frames: bool,
 }
 
 /// Rows `[y0, y1)` of strip `k` of `n` in an image `height` rows high.
@@ -111,6 +113,14 @@ pub fn strips_for(predicted_s: f64, share: f64, height: u32) -> u32 {
 }
 
 impl Progressive {
+    /// A progressive pass that draws whole frames only if `whole` (a measurement's choice).
+    pub fn whole_frames_only(whole: bool) -> Self {
+        Self {
+            whole_frames: whole,
+            ..Self::default()
+        }
+    }
+
     /// Whether the resting view is being drawn in strips (the window shows [`Self::layers`]).
     pub fn active(&self) -> bool {
         self.active
@@ -201,7 +211,7 @@ pub(super) fn give_camera_its_work(
     let share = p.cost.share();
     // Full quality (a comparison capturing) is drawn in strips too: the window keeps
     // answering, and the capture waits for a finished full-quality pass.
-    let strips = gpu && !motion.moving && predicted.is_some_and(|s| s > share);
+    let strips = gpu && !motion.moving && !p.whole_frames && predicted.is_some_and(|s| s > share);
     let (image, rows) = if strips {
         let size = target.size;
         if p.images.as_ref().is_none_or(|(_, s)| *s != size) {

@@ -20,6 +20,8 @@ use voxcast_core::settings::RenderSettings;
 pub struct Request {
     pub path: PathBuf,
     pub sweep: bool,
+    /// Frames to time before the capture (0: none).
+    pub time_frames: u32,
 }
 
 /// Frames drawn before the first capture (textures uploaded, pipelines ready).
@@ -65,14 +67,26 @@ fn spawn_image_camera(
     });
 }
 
+/// The frames timed so far (`--time-frames`), seconds each.
+#[derive(Default)]
+struct Timed(Vec<f64>);
+
+#[allow(clippy::too_many_arguments)]
 fn take_screenshot(
     mut commands: Commands,
     mut frames: Local<u32>,
+    mut timed: Local<Timed>,
+    time: Res<Time<Real>>,
+    size: Res<ImageSize>,
     mut plan: Local<Option<Vec<(PathBuf, RenderSettings)>>>,
     mut render: ResMut<RenderState>,
     target: Res<Target>,
     request: Res<Request>,
+    cells: Res<super::state::CellsUpload>,
 ) {
+    if cells.pending() {
+        return; // the preview as it will be: with the cells' visibility uploaded
+    }
     let shots = plan.get_or_insert_with(|| {
         if request.sweep {
             voxcast_core::settings::agreement_cases(&render.settings)
@@ -83,6 +97,23 @@ fn take_screenshot(
             vec![(request.path.clone(), render.settings.clone())]
         }
     });
+    if *frames >= WARM_UP_FRAMES && timed.0.len() < request.time_frames as usize {
+        // Full quality, at rest: every frame draws the whole preview.
+        timed.0.push(time.delta_secs_f64());
+        if timed.0.len() == request.time_frames as usize {
+            let mut t = timed.0.clone();
+            t.sort_by(f64::total_cmp);
+            println!(
+                "preview frame: median {:.1} ms, fastest {:.1} ms over {} frames at {}×{}",
+                t[t.len() / 2] * 1000.0,
+                t[0] * 1000.0,
+                t.len(),
+                size.0,
+                size.1
+            );
+        }
+        return;
+    }
     *frames += 1;
     // Shot i: its settings applied at frame start_i, captured SETTLE_FRAMES later.
     let Some(i) = frames

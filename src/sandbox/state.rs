@@ -2,15 +2,18 @@
 //! the volume entity, and the one system that syncs them to the material when they change.
 
 use super::material::{
-    VolumeMaterial, block_ranges_image, empty_blocks_image, lut_image, volume_image,
+    MAX_RECORD_BYTES, VolumeMaterial, block_ranges_image, empty_blocks_image, lut_image,
+    records_image, visible_cells_image, volume_image,
 };
 use super::preview::Quality;
-use super::uniform::VolumeUniform;
+use super::uniform::{FLAG_RECORDS, FLAG_SKIP_CELLS, VolumeUniform};
 use bevy::prelude::*;
+use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use voxcast_core::Volume;
 use voxcast_core::preset::Preset;
 use voxcast_core::settings::RenderSettings;
+use voxcast_core::skip::VisibleCells;
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
 
@@ -52,12 +55,15 @@ pub struct View(pub voxcast_core::camera::Camera);
 pub struct SyncSystems;
 
 pub(super) fn plugin(app: &mut App) {
-    app.add_systems(Update, spawn_volume).add_systems(
-        PostUpdate,
-        sync_volume_material
-            .in_set(SyncSystems)
-            .after(bevy::camera::CameraUpdateSystems),
-    );
+    app.init_resource::<CellsUpload>()
+        .add_systems(Update, spawn_volume)
+        .add_systems(
+            PostUpdate,
+            (sync_volume_material, upload_visible_cells, upload_records)
+                .chain()
+                .in_set(SyncSystems)
+                .after(bevy::camera::CameraUpdateSystems),
+        );
 }
 
 /// (Re)spawns the box when a volume is loaded: a cuboid spanning the volume's bounds.
@@ -86,6 +92,8 @@ fn spawn_volume(
         lut: images.add(lut_image(&lut)),
         empty: images.add(empty_blocks_image(None)),
         ranges: images.add(block_ranges_image(v.block_ranges())),
+        cells: images.add(visible_cells_image(None)),
+        records: images.add(records_image(None)),
     };
     commands.spawn((
         VolumeBox,
@@ -170,5 +178,154 @@ fn sync_volume_material(
         let empty = skippable.then(|| voxcast_core::skip::EmptyBlocks::new(blocks, &scene.lut));
         material.empty = assets.images.add(empty_blocks_image(empty.as_ref()));
         uploaded.empty = wanted;
+    }
+}
+
+/// What the cells' visibility is made for: the volume (by identity) and the transfer function.
+type CellsKey = (usize, TransferFunction);
+
+/// The cells' visibility (`VisibleCells`) for the GPU preview: computed on the background pool
+/// when the volume or the transfer function changes (tens of milliseconds on a CT: not inside a
+/// frame), uploaded when ready. Until then the preview skips blocks only — the same image.
+#[derive(Resource, Default)]
+pub(super) struct CellsUpload {
+    /// What the material's cells texture was made for.
+    done: Option<CellsKey>,
+    task: Option<(CellsKey, Task<VisibleCells>)>,
+    /// For the current volume and settings: whether Accumulate skips, and the baked table.
+    current: Option<(bool, voxcast_core::transfer::Lut)>,
+    /// The volume (by identity) the records texture was made for, and whether it holds them.
+    records_done: Option<(usize, bool)>,
+    records_task: Option<(usize, Task<Option<Image>>)>,
+}
+
+impl CellsUpload {
+    /// Whether cells or records are being computed for the preview (a capture that tests the
+    /// preview waits for them).
+    pub(super) fn pending(&self) -> bool {
+        self.task.is_some() || self.records_task.is_some()
+    }
+}
+
+/// Starts, takes in and uploads the volume's lattice records (`Volume::lattice_differences`:
+/// for integer volumes, within [`MAX_RECORD_BYTES`]) on the background pool when the volume
+/// changes, and keeps the material's flag for them set exactly while the current volume's are
+/// uploaded. Until then (or without them) the preview computes gradients from the volume
+/// texture — the same image.
+fn upload_records(
+    state: Res<VolumeState>,
+    boxes: Query<&MeshMaterial3d<VolumeMaterial>, With<VolumeBox>>,
+    mut assets: GpuAssets,
+    mut upload: ResMut<CellsUpload>,
+) {
+    let Ok(handle) = boxes.single() else { return };
+    let key = Arc::as_ptr(&state.volume) as usize;
+    if state.is_changed() {
+        upload.records_done = None;
+    }
+    if upload.records_done.is_none_or(|(k, _)| k != key) {
+        let finished = match upload.records_task.as_mut() {
+            Some((k, task)) if *k == key => check_ready(task),
+            _ => {
+                let volume = state.volume.clone();
+                let task = AsyncComputeTaskPool::get().spawn(async move {
+                    let count = volume.voxel_count();
+                    if count.saturating_mul(8) > MAX_RECORD_BYTES {
+                        return None;
+                    }
+                    let records = volume.lattice_differences()?;
+                    Some(records_image(Some((records, volume.dims()))))
+                });
+                upload.records_task = Some((key, task));
+                None
+            }
+        };
+        if let Some(image) = finished {
+            upload.records_task = None;
+            let held = image.is_some();
+            if let Some(image) = image {
+                let image = assets.images.add(image);
+                if let Some(mut material) = assets.materials.get_mut(&handle.0) {
+                    material.records = image;
+                }
+                info!("preview: the lattice records uploaded (values and gradients from 8 texels)");
+            }
+            upload.records_done = Some((key, held));
+        }
+    }
+    let wanted = upload.records_done == Some((key, true));
+    let has = assets
+        .materials
+        .get(&handle.0)
+        .is_some_and(|m| m.uniform.flags & FLAG_RECORDS != 0);
+    if wanted != has
+        && let Some(mut material) = assets.materials.get_mut(&handle.0)
+    {
+        material.uniform.flags ^= FLAG_RECORDS;
+    }
+}
+
+/// Starts, takes in and uploads the cells' visibility, and keeps the material's flag for it
+/// (its uniform is rewritten whenever the settings change) true exactly while the uploaded
+/// cells are the current table's and Accumulate skips.
+fn upload_visible_cells(
+    state: Res<VolumeState>,
+    render: Res<RenderState>,
+    boxes: Query<&MeshMaterial3d<VolumeMaterial>, With<VolumeBox>>,
+    mut assets: GpuAssets,
+    mut upload: ResMut<CellsUpload>,
+) {
+    let Ok(handle) = boxes.single() else { return };
+    if state.is_changed() {
+        // A new volume has a new material (and may sit where a freed one did).
+        upload.done = None;
+    }
+    if state.is_changed() || render.is_changed() || upload.current.is_none() {
+        // Whether Accumulate skips does not depend on the view direction.
+        let scene = Scene::plain(
+            &state.volume,
+            &render.transfer,
+            &render.settings,
+            Vec3::NEG_Z,
+        );
+        upload.current = scene.ok().map(|s| (s.skips_empty(), s.lut));
+    }
+    let Some((skips, lut)) = upload.current.clone() else {
+        return;
+    };
+    let key: CellsKey = (Arc::as_ptr(&state.volume) as usize, render.transfer.clone());
+    if skips && upload.done.as_ref() != Some(&key) {
+        let finished = match upload.task.as_mut() {
+            Some((k, task)) if *k == key => check_ready(task),
+            _ => {
+                let volume = state.volume.clone();
+                let task = AsyncComputeTaskPool::get()
+                    .spawn(async move { VisibleCells::new(&volume, &lut) });
+                upload.task = Some((key.clone(), task));
+                None
+            }
+        };
+        if let Some(cells) = finished {
+            upload.task = None;
+            info!(
+                "preview: the cells' visibility uploaded ({} of the cells can be seen)",
+                voxcast_core::numbers::percent(cells.visible_fraction())
+            );
+            let image = assets.images.add(visible_cells_image(Some(&cells)));
+            if let Some(mut material) = assets.materials.get_mut(&handle.0) {
+                material.cells = image;
+            }
+            upload.done = Some(key.clone());
+        }
+    }
+    let wanted = skips && upload.done.as_ref() == Some(&key);
+    let has = assets
+        .materials
+        .get(&handle.0)
+        .is_some_and(|m| m.uniform.flags & FLAG_SKIP_CELLS != 0);
+    if wanted != has
+        && let Some(mut material) = assets.materials.get_mut(&handle.0)
+    {
+        material.uniform.flags ^= FLAG_SKIP_CELLS;
     }
 }

@@ -24,6 +24,12 @@ pub const FLAG_TWO_SIDED: u32 = 32;
 pub const FLAG_BLINN_PHONG: u32 = 64;
 pub const FLAG_BACK_TO_FRONT: u32 = 128;
 pub const FLAG_LEVOY_HIGHLIGHT: u32 = 256;
+/// The cells' visibility is uploaded for the current table: Accumulate's skipping leaves out
+/// the samples in cells it makes transparent (set by `state`, not by the settings).
+pub const FLAG_SKIP_CELLS: u32 = 512;
+/// The lattice records are uploaded: Accumulate reads a sample's value and gradient from them
+/// (set by `state`, not by the settings).
+pub const FLAG_RECORDS: u32 = 1024;
 
 /// Light kinds of [`LightUniform::kind`].
 pub const LIGHT_POINT: u32 = 0;
@@ -51,6 +57,8 @@ pub fn shader_defs() -> Vec<ShaderDefVal> {
         ShaderDefVal::UInt("FLAG_BLINN_PHONG".into(), FLAG_BLINN_PHONG),
         ShaderDefVal::UInt("FLAG_BACK_TO_FRONT".into(), FLAG_BACK_TO_FRONT),
         ShaderDefVal::UInt("FLAG_LEVOY_HIGHLIGHT".into(), FLAG_LEVOY_HIGHLIGHT),
+        ShaderDefVal::UInt("FLAG_SKIP_CELLS".into(), FLAG_SKIP_CELLS),
+        ShaderDefVal::UInt("FLAG_RECORDS".into(), FLAG_RECORDS),
         ShaderDefVal::UInt("MAX_LIGHTS".into(), MAX_LIGHTS as u32),
         ShaderDefVal::UInt("LIGHT_POINT".into(), LIGHT_POINT),
         ShaderDefVal::UInt("LIGHT_TOWARD".into(), LIGHT_TOWARD),
@@ -132,6 +140,10 @@ pub struct VolumeUniform {
     /// The clip plane keeps `clip_normal·p ≤ clip_d`; a zero normal keeps all.
     pub clip_normal: Vec3,
     pub clip_d: f32,
+    /// Bricks of 4×4×4 cells per axis of the cells texture (`VisibleCells::bricks`).
+    pub bricks: UVec3,
+    /// How far inside the cube of empty bricks (voxels) a leap stops (`BRICK_MARGIN`).
+    pub brick_margin: f32,
     /// The lights; the first `light_count` shine.
     pub lights: [LightUniform; MAX_LIGHTS],
 }
@@ -245,6 +257,11 @@ impl VolumeUniform {
             sum_hi: scene.sum_range.1,
             clip_normal: scene.clip.normal,
             clip_d: scene.clip.d,
+            bricks: UVec3::from_array(
+                voxcast_core::skip::brick_count(v.dims().to_array().map(|n| n as usize))
+                    .map(|b| b as u32),
+            ),
+            brick_margin: voxcast_core::skip::BRICK_MARGIN,
             lights,
         };
         match &scene.classifier {
@@ -397,6 +414,8 @@ mod tests {
             "sum_hi" => f(u.sum_hi),
             "clip_normal" => v3(u.clip_normal),
             "clip_d" => f(u.clip_d),
+            "bricks" => u3(u.bricks),
+            "brick_margin" => f(u.brick_margin),
             "lights" => lights_bytes(&u.lights, light_layout()),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
@@ -543,6 +562,8 @@ mod tests {
             sum_hi: next(),
             clip_normal: Vec3::new(next(), next(), next()),
             clip_d: next(),
+            bricks: UVec3::new(125, 126, 127),
+            brick_margin: next(),
             lights: std::array::from_fn(|i| LightUniform {
                 at: Vec3::new(next(), next(), next()),
                 kind: 130 + i as u32,
@@ -560,7 +581,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 55, "members in the WGSL struct");
+        assert_eq!(members.len(), 57, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

@@ -309,7 +309,7 @@ impl VisibleCells {
             fn visit<T: Voxel>(self, g: Grid<'_, T>) -> VisibleCells {
                 let lut = self.0;
                 let cells = g.dims.map(|n| (n - 1).max(1));
-                let bricks = cells.map(|c| c.div_ceil(4));
+                let bricks = brick_count(g.dims);
                 let nx = g.dims[0];
                 let [_, sy, sz] = g.corner_step;
                 let test = RangeTest::new::<T>(&g, lut);
@@ -567,6 +567,12 @@ fn visible_box(bricks: [usize; 3], words: &[u64]) -> Option<(Vec3, Vec3)> {
     };
     let (x, y, z) = (side(0), side(1), side(2));
     Some((Vec3::new(x.0, y.0, z.0), Vec3::new(x.1, y.1, z.1)))
+}
+
+/// Bricks of 4×4×4 cells per axis for a lattice of `dims` points (cells: `n − 1`, or 1 on a
+/// one-point axis).
+pub fn brick_count(dims: [usize; 3]) -> [usize; 3] {
+    dims.map(|n| (n - 1).max(1).div_ceil(4))
 }
 
 /// A cell's state in [`VisibleCells`].
