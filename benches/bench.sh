@@ -7,19 +7,38 @@
 # PEER_DIR (default ../shared/tools/peer) must hold the peer harness with its venv (run its
 # setup_env.sh once); DATA_DIR (default ../shared/data) the volumes. Two threads for both
 # programs, as on the CI machine.
+#
+# A fifth scene is an MRI nobody tuned for: ch2, the Colin27 T1 of a whole head (181×217×181,
+# Debian's mricron-data, BSD-3), with the peer's mri_brain transfer function and an oblique
+# camera chosen once (benches/cams/mri_ch2.json). It is fetched with `apt-get download` into
+# ${XDG_CACHE_HOME:-~/.cache}/voxcast the first time (never committed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PEER=$(realpath "${1:-../shared/tools/peer}")
 DATA=$(realpath "${2:-../shared/data}")
 THREADS=${THREADS:-2}
 cargo build --release --quiet
-run() { # volume preset steps
-    local v=$1 file=$2 steps=$3
-    ${CARGO_TARGET_DIR:-./target}/release/voxcast bench --volume "$DATA/$file" --camera "$PEER/cams/$v.json" \
+run() { # scene file steps [camera [extra arguments]]
+    local v=$1 file=$2 steps=$3 camera=${4:-$PEER/cams/$1.json}
+    shift 4 2>/dev/null || shift $#
+    ${CARGO_TARGET_DIR:-./target}/release/voxcast bench --volume "$file" --camera "$camera" \
         --peer "$PEER" --threads "$THREADS" --repeat 3 --steps "$steps" \
-        --report BENCHMARKS.md --section "$v" --plot "docs/bench/${v}_speed_accuracy.png"
+        --report BENCHMARKS.md --section "$v" --plot "docs/bench/${v}_speed_accuracy.png" "$@"
 }
-run ct_cranium ct_cranium.nrrd 4,2,1,0.5,0.25,0.125
-run mri_mni152 mri_mni152.nii.gz 2,1,0.5,0.25
-run mri_brainsmall mri_brainsmall.nrrd 2,1,0.5,0.25
-run bunny_sdf bunny_sdf.nrrd 2,1,0.5,0.25
+# ch2.nii.gz from Debian's mricron-data, once.
+ch2() {
+    local cache=${XDG_CACHE_HOME:-$HOME/.cache}/voxcast
+    if [ ! -f "$cache/ch2.nii.gz" ]; then
+        mkdir -p "$cache/deb"
+        (cd "$cache/deb" && apt-get download mricron-data >/dev/null)
+        dpkg -x "$cache"/deb/mricron-data_*.deb "$cache/deb/x"
+        cp "$cache/deb/x/usr/share/mricron/templates/ch2.nii.gz" "$cache/"
+        rm -rf "$cache/deb"
+    fi
+    echo "$cache/ch2.nii.gz"
+}
+run ct_cranium "$DATA/ct_cranium.nrrd" 4,2,1,0.5,0.25,0.125
+run mri_mni152 "$DATA/mri_mni152.nii.gz" 2,1,0.5,0.25
+run mri_brainsmall "$DATA/mri_brainsmall.nrrd" 2,1,0.5,0.25
+run bunny_sdf "$DATA/bunny_sdf.nrrd" 2,1,0.5,0.25
+run mri_ch2 "$(ch2)" 2,1,0.5,0.25 benches/cams/mri_ch2.json --tf mri_brain

@@ -217,6 +217,12 @@ fn bench_writes_its_table_and_plot() {
             .count(),
         4
     );
+    // The machine is named, and each row gives the cost of an interpolated sample.
+    assert!(md.contains("Measured on "), "{md}");
+    assert!(md.contains("| ns | cycles |"), "{md}");
+    for row in md.lines().filter(|l| l.starts_with("| on")) {
+        assert_eq!(row.matches('|').count(), 11, "{row}");
+    }
     assert!(image::open(&plot).is_ok());
 }
 

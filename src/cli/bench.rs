@@ -16,6 +16,7 @@ use clap::Args;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use voxcast_core::error::io_words;
+use voxcast_core::glam::Vec3;
 use voxcast_core::image_out::{LinearImage, save_rgb8_atomic};
 use voxcast_core::step::Length;
 use voxcast_core::trace::Scene;
@@ -424,6 +425,20 @@ fn report(
     use std::fmt::Write;
     let s = &resolved.settings;
     let mut r = String::new();
+    let ghz = super::knobs::cpu_ghz();
+    let lanes = voxcast_core::trace::Scene::new(volume, &resolved.transfer, s, Vec3::NEG_Z)
+        .is_ok_and(|scene| voxcast_core::trace::uses_lanes(&scene));
+    let _ = writeln!(
+        r,
+        "Measured on {} ({} threads{}), Accumulate's eight-lane path (AVX2) {}. *ns* and \
+         *cycles* are per interpolated sample, all of the render's time counted (threads × \
+         seconds ÷ interpolated samples; cycles at the nominal clock: this machine exposes no \
+         cycle counters).\n",
+        super::knobs::cpu_model(),
+        threads,
+        ghz.map_or(String::new(), |g| format!(", {g:.2} GHz nominal")),
+        if lanes { "on" } else { "not used" },
+    );
     let _ = writeln!(
         r,
         "Scene: `{}` ({}×{}×{} {}), transfer function `{}`, method {}, {}×{} pixels, shading {}, \
@@ -447,22 +462,25 @@ fn report(
     );
     let _ = writeln!(
         r,
-        "| correction | step (voxels) | time (s) | samples | M samples/s | interpolated | RMSE (/255) | max error (/255) |"
+        "| correction | step (voxels) | time (s) | samples | M samples/s | interpolated | ns | cycles | RMSE (/255) | max error (/255) |"
     );
     let _ = writeln!(
         r,
-        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+        "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
     );
     for row in rows {
+        let ns = row.timed.median() * threads as f64 * 1e9 / row.timed.stats.samples.max(1) as f64;
         let _ = writeln!(
             r,
-            "| {} | {} | {:.3} | {} | {:.1} | {} | {:.3} | {:.0} |",
+            "| {} | {} | {:.3} | {} | {:.1} | {} | {:.0} | {} | {:.3} | {:.0} |",
             tag(row.correction),
             row.step,
             row.timed.median(),
             row.timed.stats.positions,
             row.timed.samples_per_second() / 1e6,
             row.timed.stats.samples,
+            ns,
+            ghz.map_or("–".into(), |g| format!("{:.0}", ns * g)),
             row.rmse * 255.0,
             row.max_err * 255.0
         );

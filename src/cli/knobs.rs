@@ -82,6 +82,21 @@ pub fn cpu_model() -> String {
         .unwrap_or_else(|| "an unnamed CPU".into())
 }
 
+/// The clock /proc/cpuinfo reports for the first core, GHz (a virtual machine shows its
+/// nominal clock; no boost), if it reports one.
+pub fn cpu_ghz() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
+    let mhz: f64 = info
+        .lines()
+        .find(|l| l.starts_with("cpu MHz"))?
+        .split(':')
+        .nth(1)?
+        .trim()
+        .parse()
+        .ok()?;
+    (mhz > 0.0).then_some(mhz / 1000.0)
+}
+
 /// The camera in words for the tables' heading.
 pub fn camera_words(c: &Camera) -> String {
     format!(

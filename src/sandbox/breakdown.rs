@@ -31,7 +31,9 @@ pub fn pixel_trace(
     p: UVec2,
 ) -> Option<RayTrace> {
     let (w, h) = (vc.width.max(1), vc.height.max(1));
-    let scene = Scene::new(
+    // A recorded ray visits every sample: the scene needs none of the skipping structures
+    // (the cells' visibility of a CT is tens of milliseconds, and this runs in a frame).
+    let scene = Scene::plain(
         &volume.volume,
         &render.transfer,
         &render.settings,

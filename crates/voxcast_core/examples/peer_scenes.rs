@@ -1,5 +1,6 @@
 //! Renders the four peer scenes (issue 13's: the shared volumes, the peer's cameras, each
-//! volume's own preset, 512², step ½ voxel) and prints, per scene, the median time, the sample
+//! volume's own preset, 512², step ½ voxel) — and ch2, the MRI `benches/bench.sh` fetches into
+//! `~/.cache/voxcast`, where it is — and prints, per scene, the median time, the sample
 //! counts and a hash of the image's bytes — core only, so it builds in a minute, runs under
 //! `valgrind --tool=callgrind` or `perf`, and tells at once whether a change to the march moved
 //! a single bit of any picture.
@@ -23,11 +24,12 @@ use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
 use voxcast_core::trace::Scene;
 
-const SCENES: [(&str, &str); 4] = [
+const SCENES: [(&str, &str); 5] = [
     ("ct_cranium", "ct_cranium.nrrd"),
     ("mri_mni152", "mri_mni152.nii.gz"),
     ("mri_brainsmall", "mri_brainsmall.nrrd"),
     ("bunny_sdf", "bunny_sdf.nrrd"),
+    ("mri_ch2", "ch2.nii.gz"),
 ];
 
 struct Options {
@@ -96,7 +98,18 @@ fn main() {
         if o.only.as_deref().is_some_and(|n| n != name) {
             continue;
         }
-        let (path, cam) = (data.join(file), cams.join(format!("{name}.json")));
+        let (path, cam) = if name == "mri_ch2" {
+            let cache = std::env::var_os("XDG_CACHE_HOME")
+                .map(PathBuf::from)
+                .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+                .unwrap_or_default();
+            (
+                cache.join("voxcast").join(file),
+                root.join("benches/cams/mri_ch2.json"),
+            )
+        } else {
+            (data.join(file), cams.join(format!("{name}.json")))
+        };
         let (Ok(text), true) = (std::fs::read_to_string(&cam), path.exists()) else {
             eprintln!(
                 "note: {} or {} missing: left out",
@@ -107,7 +120,10 @@ fn main() {
         };
         let volume = load(&path).expect("a readable volume").volume;
         let camera = Camera::from_json(&text).expect("a peer camera");
-        let p = preset::for_volume(volume.name()).expect("a preset for the volume");
+        // ch2 has no preset of its own: the peer's MRI transfer function, as bench.sh gives it.
+        let p = preset::for_volume(volume.name())
+            .or_else(|| preset::for_volume("mri_mni152"))
+            .expect("a preset for the volume");
         let mut settings = p
             .settings_over(&RenderSettings::default())
             .expect("settings");
