@@ -181,6 +181,12 @@ fn sync_volume_material(
     }
 }
 
+/// Whether the GPU draws the preview (or may: a capture without the sandbox's settings), so
+/// its textures are worth computing on a machine whose two cores the CPU live view needs.
+fn gpu_backend(preview: Option<&super::preview::PreviewSettings>) -> bool {
+    preview.is_none_or(|p| p.backend == super::live::Backend::Gpu)
+}
+
 /// What the cells' visibility is made for: the volume (by identity) and the transfer function.
 type CellsKey = (usize, TransferFunction);
 
@@ -215,6 +221,7 @@ impl CellsUpload {
 fn upload_records(
     state: Res<VolumeState>,
     boxes: Query<&MeshMaterial3d<VolumeMaterial>, With<VolumeBox>>,
+    preview: Option<Res<super::preview::PreviewSettings>>,
     mut assets: GpuAssets,
     mut upload: ResMut<CellsUpload>,
 ) {
@@ -222,6 +229,9 @@ fn upload_records(
     let key = Arc::as_ptr(&state.volume) as usize;
     if state.is_changed() {
         upload.records_done = None;
+    }
+    if !gpu_backend(preview.as_deref()) {
+        return; // the CPU live view draws: no work for the GPU's textures until it is chosen
     }
     if upload.records_done.is_none_or(|(k, _)| k != key) {
         let finished = match upload.records_task.as_mut() {
@@ -272,6 +282,7 @@ fn upload_visible_cells(
     state: Res<VolumeState>,
     render: Res<RenderState>,
     boxes: Query<&MeshMaterial3d<VolumeMaterial>, With<VolumeBox>>,
+    preview: Option<Res<super::preview::PreviewSettings>>,
     mut assets: GpuAssets,
     mut upload: ResMut<CellsUpload>,
 ) {
@@ -289,6 +300,9 @@ fn upload_visible_cells(
             Vec3::NEG_Z,
         );
         upload.current = scene.ok().map(|s| (s.skips_empty(), s.lut));
+    }
+    if !gpu_backend(preview.as_deref()) {
+        return; // the CPU live view draws (and computes its own cells)
     }
     let Some((skips, lut)) = upload.current.clone() else {
         return;
