@@ -27,7 +27,7 @@ fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/agreement")
 }
 
-use support::{Completion, Outcome, skipped_for_want_of_a_gpu};
+use support::{Completion, Outcome, run_or_skip, skipped_for_want_of_a_gpu};
 
 fn main() {
     support::run(&[
@@ -54,27 +54,15 @@ fn the_preview_leaps_reads_records_and_times_its_frames() -> Outcome {
     let dir = out_dir();
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("timed.png");
-    let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
-        .args([
-            "--volume",
-            "builtin:bunny",
-            "--size",
-            "96x64",
-            "--time-frames",
-            "3",
-        ])
-        .arg("--screenshot")
-        .arg(&path)
-        .output()
-        .expect("the binary runs");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if !output.status.success()
-        && let Some(skip) = skipped_for_want_of_a_gpu(&stderr)
-    {
-        return skip;
-    }
-    assert!(output.status.success(), "{stderr}");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_voxcast"));
+    command
+        .args(["--volume", "builtin:bunny", "--size", "96x64"])
+        .args(["--time-frames", "3", "--screenshot"])
+        .arg(&path);
+    let (stdout, stderr) = match run_or_skip(&mut command) {
+        Ok(out) => out,
+        Err(skip) => return skip,
+    };
     assert!(stderr.contains("cells' visibility uploaded"), "{stderr}");
     assert!(stderr.contains("lattice records uploaded"), "{stderr}");
     let line = stdout
@@ -117,20 +105,14 @@ fn render_image_compares_the_preview_with_the_render() -> Outcome {
             }
             None => {}
         }
-        let output = command
+        command
             .args(["--volume", &format!("builtin:{volume}"), "--method", method])
             .args(["--size", "160x90", "--compare"])
-            .arg(&path)
-            .output()
-            .expect("the binary runs");
-        let stdout = String::from_utf8_lossy(&output.stdout);
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        if !output.status.success()
-            && let Some(skip) = skipped_for_want_of_a_gpu(&stderr)
-        {
-            return skip;
-        }
-        assert!(output.status.success(), "{volume}: {stderr}");
+            .arg(&path);
+        let (stdout, _) = match run_or_skip(&mut command) {
+            Ok(out) => out,
+            Err(skip) => return skip,
+        };
         println!("{volume} {method}: {}", stdout.lines().next().unwrap_or(""));
         let max: f32 = stdout
             .split("max ")

@@ -9,7 +9,7 @@ mod support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use support::{Completion, Outcome, gpu_required, skipped_for_want_of_a_gpu};
+use support::{Completion, Outcome, gpu_required, run_or_skip};
 use voxcast_core::level::Level;
 
 fn main() {
@@ -51,23 +51,16 @@ fn play(backend: &str) -> Outcome {
     };
     let dir = out_dir().join(backend);
     let _ = std::fs::remove_dir_all(&dir);
-    let output = command
+    command
         .arg("--play-levels")
         .arg(&dir)
         .args(["--preview-backend", backend])
         // Small and at half resolution: every frame is drawn by lavapipe on the CPU.
         .args(["--size", "1024x576", "--preview-scale", "0.5"])
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("the binary runs");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    if !output.status.success()
-        && let Some(skip) = skipped_for_want_of_a_gpu(&stderr)
-    {
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir());
+    if let Err(skip) = run_or_skip(&mut command) {
         return skip;
     }
-    assert!(output.status.success(), "{stdout}\n{stderr}");
     let report = std::fs::read_to_string(dir.join("report.txt")).unwrap();
     assert!(!report.contains("FAILED"), "{report}");
     let levels = Level::all();

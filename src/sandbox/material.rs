@@ -75,6 +75,21 @@ impl Material for VolumeMaterial {
     }
 }
 
+/// A 3-D texture of `size` texels holding `data` in `format`, for the render world only.
+fn texture_3d(size: [u32; 3], data: Vec<u8>, format: TextureFormat) -> Image {
+    Image::new(
+        Extent3d {
+            width: size[0],
+            height: size[1],
+            depth_or_array_layers: size[2],
+        },
+        TextureDimension::D3,
+        data,
+        format,
+        RenderAssetUsages::RENDER_WORLD,
+    )
+}
+
 /// What a voxel with no data is stored as in the volume texture (see [`volume_image`]).
 pub const NO_DATA_TEXEL: f32 = f32::MAX;
 
@@ -104,18 +119,7 @@ pub fn volume_image(volume: &Volume) -> Image {
         }
     }
     let (format, data) = volume.visit(Texels);
-    let d = volume.dims();
-    Image::new(
-        Extent3d {
-            width: d.x,
-            height: d.y,
-            depth_or_array_layers: d.z,
-        },
-        TextureDimension::D3,
-        data,
-        format,
-        RenderAssetUsages::RENDER_WORLD,
-    )
+    texture_3d(volume.dims().to_array(), data, format)
 }
 
 /// Which blocks are empty (1) as an R8Unorm 3-D texture; one texel when there is no skipping.
@@ -130,17 +134,7 @@ pub fn empty_blocks_image(blocks: Option<&EmptyBlocks>) -> Image {
         ),
         None => ([1, 1, 1], vec![0u8]),
     };
-    Image::new(
-        Extent3d {
-            width: dims[0] as u32,
-            height: dims[1] as u32,
-            depth_or_array_layers: dims[2] as u32,
-        },
-        TextureDimension::D3,
-        data,
-        TextureFormat::R8Unorm,
-        RenderAssetUsages::RENDER_WORLD,
-    )
+    texture_3d(dims.map(|d| d as u32), data, TextureFormat::R8Unorm)
 }
 
 /// The cells that can be visible (`VisibleCells`), a brick of 4×4×4 cells a texel: its 64-bit
@@ -160,17 +154,7 @@ pub fn visible_cells_image(cells: Option<&VisibleCells>) -> Image {
         ),
         None => ([1, 1, 1], vec![0u8; 16]),
     };
-    Image::new(
-        Extent3d {
-            width: dims[0] as u32,
-            height: dims[1] as u32,
-            depth_or_array_layers: dims[2] as u32,
-        },
-        TextureDimension::D3,
-        data,
-        TextureFormat::Rgba32Uint,
-        RenderAssetUsages::RENDER_WORLD,
-    )
+    texture_3d(dims.map(|d| d as u32), data, TextureFormat::Rgba32Uint)
 }
 
 /// The most bytes the lattice records may take on the GPU (8 a lattice point): 256 MiB, a
@@ -192,17 +176,7 @@ pub fn records_image(records: Option<(&[voxcast_core::sample::Differences], UVec
         ),
         None => (UVec3::ONE, vec![0u8; 8]),
     };
-    Image::new(
-        Extent3d {
-            width: dims.x,
-            height: dims.y,
-            depth_or_array_layers: dims.z,
-        },
-        TextureDimension::D3,
-        data,
-        TextureFormat::Rgba16Sint,
-        RenderAssetUsages::RENDER_WORLD,
-    )
+    texture_3d(dims.to_array(), data, TextureFormat::Rgba16Sint)
 }
 
 /// Each block's value range `(lo, hi)` (data units, apron included) as an Rg32Float 3-D
@@ -214,17 +188,7 @@ pub fn block_ranges_image(ranges: &BlockRanges) -> Image {
         .flat_map(|&(lo, hi)| [lo, hi])
         .flat_map(f32::to_le_bytes)
         .collect();
-    Image::new(
-        Extent3d {
-            width: ranges.blocks.x,
-            height: ranges.blocks.y,
-            depth_or_array_layers: ranges.blocks.z,
-        },
-        TextureDimension::D3,
-        data,
-        TextureFormat::Rg32Float,
-        RenderAssetUsages::RENDER_WORLD,
-    )
+    texture_3d(ranges.blocks.to_array(), data, TextureFormat::Rg32Float)
 }
 
 /// The baked transfer function as one row of Rgba32Float texels.

@@ -264,14 +264,20 @@ fn upload_records(
         }
     }
     let wanted = upload.records_done == Some((key, true));
+    keep_flag(&mut assets, &handle.0, FLAG_RECORDS, wanted);
+}
+
+/// Sets or clears `flag` in the material's uniform to `wanted`, touching the material (a new
+/// bind group) only when it changes.
+fn keep_flag(assets: &mut GpuAssets<'_>, handle: &Handle<VolumeMaterial>, flag: u32, wanted: bool) {
     let has = assets
         .materials
-        .get(&handle.0)
-        .is_some_and(|m| m.uniform.flags & FLAG_RECORDS != 0);
+        .get(handle)
+        .is_some_and(|m| m.uniform.flags & flag != 0);
     if wanted != has
-        && let Some(mut material) = assets.materials.get_mut(&handle.0)
+        && let Some(mut material) = assets.materials.get_mut(handle)
     {
-        material.uniform.flags ^= FLAG_RECORDS;
+        material.uniform.flags ^= flag;
     }
 }
 
@@ -333,13 +339,5 @@ fn upload_visible_cells(
         }
     }
     let wanted = skips && upload.done.as_ref() == Some(&key);
-    let has = assets
-        .materials
-        .get(&handle.0)
-        .is_some_and(|m| m.uniform.flags & FLAG_SKIP_CELLS != 0);
-    if wanted != has
-        && let Some(mut material) = assets.materials.get_mut(&handle.0)
-    {
-        material.uniform.flags ^= FLAG_SKIP_CELLS;
-    }
+    keep_flag(&mut assets, &handle.0, FLAG_SKIP_CELLS, wanted);
 }

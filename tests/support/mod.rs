@@ -22,3 +22,19 @@ pub fn skipped_for_want_of_a_gpu(stderr: &str) -> Option<Outcome> {
         ))
     })
 }
+
+/// Runs the sandbox `command`: its standard output and error once it succeeded; `Err` with the
+/// *ignored* outcome where it failed for want of a Vulkan device that may be missing here. Any
+/// other failure fails the test, with both outputs.
+pub fn run_or_skip(command: &mut std::process::Command) -> Result<(String, String), Outcome> {
+    let output = command.output().expect("the binary runs");
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    if !output.status.success()
+        && let Some(skip) = skipped_for_want_of_a_gpu(&stderr)
+    {
+        return Err(skip);
+    }
+    assert!(output.status.success(), "{stdout}\n{stderr}");
+    Ok((stdout, stderr))
+}
