@@ -158,7 +158,7 @@ fn preview_matches_the_cpu_render() -> Outcome {
             }
             panic!("the preview of {name} failed:\n{err}");
         }
-        let volume = load_builtin(name).unwrap().volume;
+        let volume = voxcast_core::Prepared::from(load_builtin(name).unwrap().volume);
         let p = preset::for_volume(volume.name()).unwrap();
         let base = p.settings_over(&RenderSettings::default()).unwrap();
         let view = p.view.unwrap();

@@ -89,7 +89,7 @@ fn screenshot(
 
 fn the_lights_marker_stops_the_preview_rays() -> Outcome {
     std::fs::create_dir_all(out_dir()).unwrap();
-    let volume = load_builtin("shells").unwrap().volume;
+    let volume = voxcast_core::Prepared::from(load_builtin("shells").unwrap().volume);
     let (lo, hi) = volume.bounds();
     let transfer = TransferFunction::ramp(0.0, 255.0, 0.06).unwrap();
     let tf = out_dir().join("tf.json");

@@ -19,7 +19,7 @@ use voxcast_core::shade::{Highlight, Light, LightSource, SpecularModel};
 use voxcast_core::step::Length;
 use voxcast_core::transfer::TransferFunction;
 use voxcast_core::tunables as t;
-use voxcast_core::{builtin, peer};
+use voxcast_core::{Prepared, builtin, peer};
 
 /// Where the volume comes from.
 #[derive(Args, Debug, Clone)]
@@ -45,9 +45,24 @@ pub struct VolumeArgs {
     pub header_bytes: u64,
 }
 
+/// A volume read for a command: ready to render (its caches kept across the command's
+/// renders), with what the reader noted.
+pub struct Opened {
+    pub volume: Prepared,
+    pub notes: Vec<String>,
+}
+
 impl VolumeArgs {
     /// Loads the volume, applying the raw-file options.
-    pub fn load(&self) -> Result<Loaded, CliError> {
+    pub fn load(&self) -> Result<Opened, CliError> {
+        let Loaded { volume, notes } = self.read()?;
+        Ok(Opened {
+            volume: volume.into(),
+            notes,
+        })
+    }
+
+    fn read(&self) -> Result<Loaded, CliError> {
         let raw_options = self.dims.is_some()
             || self.scalar_type.is_some()
             || self.endian.is_some()
@@ -206,7 +221,7 @@ pub struct Resolved {
 impl SettingsArgs {
     /// Picks the transfer function (flag, else the volume's preset, else a grey ramp) and applies
     /// preset, settings file and flags in that order.
-    pub fn resolve(&self, loaded: &Loaded) -> Result<Resolved, CliError> {
+    pub fn resolve(&self, loaded: &Opened) -> Result<Resolved, CliError> {
         let volume = &loaded.volume;
         let mut notes = loaded.notes.clone();
         let mut settings = RenderSettings::default();
@@ -564,7 +579,7 @@ pub struct CameraArgs {
 
 impl CameraArgs {
     /// The camera for `volume`: the flag, or a framing view from the preset's direction.
-    pub fn camera(&self, loaded: &Loaded, preset: Option<&Preset>) -> Result<Camera, CliError> {
+    pub fn camera(&self, loaded: &Opened, preset: Option<&Preset>) -> Result<Camera, CliError> {
         let (lo, hi) = loaded.volume.bounds();
         match &self.camera {
             None => {

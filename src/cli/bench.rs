@@ -286,7 +286,7 @@ fn save_image(a: &BenchArgs, name: &str, img: &LinearImage) -> Result<(), CliErr
 fn compare_with_peer(
     a: &BenchArgs,
     dir: &Path,
-    volume: &voxcast_core::Volume,
+    volume: &voxcast_core::Prepared,
     resolved: &super::args::Resolved,
     camera: &voxcast_core::camera::Camera,
     voxel: f32,
@@ -415,7 +415,7 @@ fn compare_with_peer(
 
 fn report(
     a: &BenchArgs,
-    volume: &voxcast_core::Volume,
+    volume: &voxcast_core::Prepared,
     resolved: &super::args::Resolved,
     rows: &[Row],
     peer: Option<&Result<PeerResult, String>>,

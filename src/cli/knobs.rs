@@ -108,7 +108,7 @@ pub fn camera_words(c: &Camera) -> String {
 /// `--knobs`: every knob's table, printed or written into the report's section.
 pub fn report(
     a: &super::bench::BenchArgs,
-    loaded: &voxcast_core::io::Loaded,
+    loaded: &super::args::Opened,
     resolved: &super::args::Resolved,
     camera: &voxcast_core::camera::Camera,
 ) -> Result<(), CliError> {

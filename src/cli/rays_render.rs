@@ -44,9 +44,11 @@ pub fn render(a: &RenderArgs) -> Result<(), CliError> {
         Some(c) => c,
         None => default_camera(&a.source.source, &data, &dense)?,
     };
-    let volume = dense
-        .to_volume()
-        .map_err(|e| CliError::failed(e.to_string()))?;
+    let volume = voxcast_core::Prepared::from(
+        dense
+            .to_volume()
+            .map_err(|e| CliError::failed(e.to_string()))?,
+    );
     let (lo, hi) = volume.value_range();
     let mut settings = RenderSettings {
         method: Method::Sum,

@@ -275,7 +275,7 @@ mod tests {
                 depth_termination: true,
             },
             VolumeState {
-                volume: Arc::new(volume),
+                volume: Arc::new(volume.into()),
                 source: "builtin:head".into(),
                 preset: None,
             },

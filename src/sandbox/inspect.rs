@@ -534,7 +534,7 @@ pub(crate) mod tests {
             depth_termination: true,
         };
         let volume = VolumeState {
-            volume: Arc::new(volume),
+            volume: Arc::new(volume.into()),
             source: format!("builtin:{name}"),
             preset: Some(p),
         };

@@ -286,7 +286,7 @@ mod tests {
         settings.phong.lights = vec![voxcast_core::shade::LightSource::new(start)];
         let mut app = App::new();
         app.insert_resource(VolumeState {
-            volume: Arc::new(volume),
+            volume: Arc::new(volume.into()),
             source: "builtin:bunny".into(),
             preset: None,
         })

@@ -500,7 +500,7 @@ fn resting_pool() -> &'static rayon::ThreadPool {
 fn start(
     key: LiveKey,
     size: UVec2,
-    volume: Arc<voxcast_core::Volume>,
+    volume: Arc<voxcast_core::Prepared>,
     refine: bool,
     spheres: bool,
 ) -> LiveJob {

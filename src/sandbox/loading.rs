@@ -207,7 +207,7 @@ pub(crate) fn finish_loading(
             }
             *volume = VolumeState {
                 preset: preset::for_loaded(&loaded.volume),
-                volume: Arc::new(loaded.volume),
+                volume: Arc::new(loaded.volume.into()),
                 source,
             };
             rays.shown(computed, &volume, before);
@@ -252,7 +252,7 @@ mod tests {
         let loaded = voxcast_core::builtin::load_builtin("bucky").unwrap();
         let (transfer, settings) = defaults_for(&loaded.volume);
         app.insert_resource(VolumeState {
-            volume: Arc::new(loaded.volume),
+            volume: Arc::new(loaded.volume.into()),
             source: "builtin:bucky".into(),
             preset: None,
         })

@@ -167,7 +167,12 @@ impl Start {
             match raydata::compute_source(&args.volume.volume, &|_, _| {}, &never) {
                 Some(outcome) => {
                     let outcome = outcome.map_err(CliError::failed)?;
-                    (outcome.loaded, outcome.rays)
+                    let loaded = outcome.loaded;
+                    let opened = crate::cli::args::Opened {
+                        volume: loaded.volume.into(),
+                        notes: loaded.notes,
+                    };
+                    (opened, outcome.rays)
                 }
                 None => (args.volume.load()?, None),
             };

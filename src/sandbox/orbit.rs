@@ -180,7 +180,12 @@ mod tests {
 
     fn state(name: &str) -> VolumeState {
         VolumeState {
-            volume: Arc::new(voxcast_core::builtin::load_builtin(name).unwrap().volume),
+            volume: Arc::new(
+                voxcast_core::builtin::load_builtin(name)
+                    .unwrap()
+                    .volume
+                    .into(),
+            ),
             source: format!("builtin:{name}"),
             preset: None,
         }

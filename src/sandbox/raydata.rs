@@ -92,7 +92,7 @@ pub fn compute_source(
 /// A density on show: what it came from, and its volume (the one [`VolumeState`] holds).
 pub struct Shown {
     pub computed: Computed,
-    pub volume: Arc<voxcast_core::Volume>,
+    pub volume: Arc<voxcast_core::Prepared>,
 }
 
 /// What was on show before the first density, to go back to (and, for the virtual camera's

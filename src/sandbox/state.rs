@@ -10,7 +10,7 @@ use super::uniform::{FLAG_RECORDS, FLAG_SKIP_CELLS, VolumeUniform};
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
-use voxcast_core::Volume;
+use voxcast_core::Prepared;
 use voxcast_core::preset::Preset;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::skip::VisibleCells;
@@ -20,7 +20,7 @@ use voxcast_core::transfer::TransferFunction;
 /// The volume being looked at: replaced whole when another is loaded.
 #[derive(Resource, Clone)]
 pub struct VolumeState {
-    pub volume: Arc<Volume>,
+    pub volume: Arc<Prepared>,
     /// Where it came from (`builtin:NAME` or a path), for the UI.
     pub source: String,
     pub preset: Option<Preset>,
@@ -213,7 +213,7 @@ impl CellsUpload {
     }
 }
 
-/// Starts, takes in and uploads the volume's lattice records (`Volume::lattice_differences`:
+/// Starts, takes in and uploads the volume's lattice records (`Prepared::lattice_differences`:
 /// for integer volumes, within [`MAX_RECORD_BYTES`]) on the background pool when the volume
 /// changes, and keeps the material's flag for them set exactly while the current volume's are
 /// uploaded. Until then (or without them) the preview computes gradients from the volume

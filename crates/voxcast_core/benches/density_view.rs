@@ -34,7 +34,7 @@ fn bench(c: &mut Criterion) {
     let never = AtomicBool::new(false);
     let density = compute(shadow, &p, &|_, _| {}, &never).unwrap();
     let dense = DenseDensity::new(&density).unwrap().unwrap();
-    let volume = dense.to_volume().unwrap();
+    let volume = voxcast_core::Prepared::from(dense.to_volume().unwrap());
     let (lo, hi) = volume.value_range();
     let tf = inferno_transfer(lo, hi);
     let camera = Camera::new(

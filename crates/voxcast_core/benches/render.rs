@@ -30,7 +30,7 @@ use voxcast_core::transfer::TransferFunction;
 
 struct Inputs {
     name: &'static str,
-    volume: voxcast_core::Volume,
+    volume: voxcast_core::Prepared,
     camera: Camera,
     composite: (TransferFunction, RenderSettings),
     projection: TransferFunction,
@@ -79,7 +79,7 @@ fn inputs() -> Inputs {
     };
     Inputs {
         name,
-        volume,
+        volume: volume.into(),
         camera,
         composite: (p.transfer, settings),
         projection,
@@ -151,7 +151,7 @@ fn peer_scenes(c: &mut Criterion) {
             );
             continue;
         }
-        let volume = load(&path).unwrap().volume;
+        let volume = voxcast_core::Prepared::from(load(&path).unwrap().volume);
         let camera = Camera::from_json(&std::fs::read_to_string(cam).unwrap()).unwrap();
         let p = preset::for_volume(volume.name()).unwrap();
         let mut settings = p.settings_over(&RenderSettings::default()).unwrap();

@@ -118,7 +118,7 @@ fn main() {
             );
             continue;
         };
-        let volume = load(&path).expect("a readable volume").volume;
+        let volume = voxcast_core::Prepared::from(load(&path).expect("a readable volume").volume);
         let camera = Camera::from_json(&text).expect("a peer camera");
         // ch2 has no preset of its own: the peer's MRI transfer function, as bench.sh gives it.
         let p = preset::for_volume(volume.name())

@@ -210,11 +210,11 @@ mod tests {
     use crate::settings::RenderSettings;
     use crate::step::Length;
 
-    fn head() -> crate::Volume {
-        crate::builtin::load_builtin("head").unwrap().volume
+    fn head() -> crate::Prepared {
+        crate::builtin::load_builtin("head").unwrap().volume.into()
     }
 
-    fn cost(v: &crate::Volume, s: &RenderSettings) -> CostMap {
+    fn cost(v: &crate::Prepared, s: &RenderSettings) -> CostMap {
         let tf = crate::preset::for_volume("head").unwrap().transfer;
         let (lo, hi) = v.bounds();
         let camera = Camera::framing(lo, hi, Vec3::new(0.3, 0.2, 1.0), Vec3::Y).unwrap();

@@ -5,7 +5,7 @@
 //!
 //! | stage | file | what it does |
 //! | --- | --- | --- |
-//! | data | [`volume`], [`io`], [`builtin`] | the voxel grid, its readers and the embedded datasets |
+//! | data | [`volume`], [`io`], [`builtin`], [`prepared`] | the voxel grid, its readers and the embedded datasets; the structures its renders reuse |
 //! | ray | [`camera`], [`ray`], [`clip`] | one ray per pixel centre; the ray–box slab test; the crop box and clip plane |
 //! | step | [`step`] | where samples sit along the ray, jitter, the sample cap |
 //! | sample | [`sample`] | nearest / trilinear reconstruction, the 8 corners, gradients |
@@ -54,6 +54,7 @@ pub mod marker;
 mod minmax;
 pub mod numbers;
 pub mod peer;
+pub mod prepared;
 pub mod preset;
 pub mod ray;
 pub mod rays;
@@ -76,4 +77,5 @@ pub mod worked;
 
 pub use error::{LoadError, SettingsError, VolumeError};
 pub use glam;
+pub use prepared::Prepared;
 pub use volume::{Volume, VoxelData};

@@ -7,9 +7,10 @@ use crate::clip::ResolvedClip;
 use crate::composite::{Method, Order};
 use crate::error::SettingsError;
 use crate::hash::jitter_fraction;
+use crate::prepared::Prepared;
 use crate::settings::RenderSettings;
 use crate::shade::ResolvedLights;
-use crate::skip::{EmptyBlocks, VisibleCells};
+use crate::skip::{BlockRanges, EmptyBlocks, VisibleCells};
 use crate::transfer::{Lut, TransferFunction};
 use crate::volume::Volume;
 use glam::Vec3;
@@ -43,6 +44,8 @@ pub struct Scene<'a> {
     pub sum_skipping: bool,
     /// Precomputed lattice differences, when gradients are needed and they exist.
     pub differences: Option<&'a [crate::sample::Differences]>,
+    /// The blocks' value ranges, where block or zero skipping uses them.
+    pub blocks: Option<&'a BlockRanges>,
     /// Whether Accumulate may locate and evaluate eight samples at once where the CPU has the
     /// instructions for it (AVX2) — the same pixels, bit for bit (`crate::trace`'s lanes); on
     /// by default, off to compare.
@@ -65,14 +68,14 @@ pub fn default_sum_range(volume: &Volume) -> (f32, f32) {
 
 impl<'a> Scene<'a> {
     /// Validates the settings and resolves them for `volume`, with the headlight (if any) along
-    /// `view_forward`.
+    /// `view_forward`; the acceleration structures come from (and are kept in) `volume`.
     pub fn new(
-        volume: &'a Volume,
+        volume: &'a Prepared,
         tf: &TransferFunction,
         settings: &RenderSettings,
         view_forward: Vec3,
     ) -> Result<Self, SettingsError> {
-        let mut scene = Self::plain(volume, tf, settings, view_forward)?;
+        let mut scene = Self::plain(volume.volume(), tf, settings, view_forward)?;
         let lut = &scene.lut;
         scene.empty = scene.skips_empty().then(|| {
             (
@@ -87,7 +90,7 @@ impl<'a> Scene<'a> {
         scene.block_skipping = scene.skips_by_ranges();
         scene.sum_skipping = scene.skips_zeros();
         if scene.block_skipping || scene.sum_skipping {
-            volume.block_ranges(); // computed now, not inside the first render
+            scene.blocks = Some(volume.block_ranges());
         }
         Ok(scene)
     }
@@ -110,6 +113,7 @@ impl<'a> Scene<'a> {
             block_skipping: false,
             sum_skipping: false,
             differences: None,
+            blocks: None,
             simd: true,
             volume,
             classifier,

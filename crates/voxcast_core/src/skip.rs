@@ -51,6 +51,11 @@ fn block_count(n: usize) -> usize {
     (n - 1).div_ceil(BLOCK).max(1)
 }
 
+/// Blocks per axis for a lattice of `dims` points, as [`BlockRanges::grid`] gives them.
+pub fn block_grid(dims: glam::UVec3) -> [usize; 3] {
+    dims.to_array().map(|n| block_count(n as usize))
+}
+
 impl BlockRanges {
     /// Blocks per axis, as indices.
     pub fn grid(&self) -> [usize; 3] {

@@ -542,10 +542,11 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let extreme = matches!(method, Method::Maximum | Method::Minimum);
         // Samples passed over as exactly zero (Sum's skipping): values of the ray all the same.
         let mut zeros = 0u32;
-        if !R::ACTIVE && extreme && self.s.block_skipping && plan.count > 0 {
-            self.project_extreme(plan, o_v, d_v, &mut stats);
-        } else if !R::ACTIVE && self.s.sum_skipping && plan.count > 0 {
-            zeros = self.project_sum(plan, o_v, d_v, &mut stats);
+        let ranges = self.s.blocks.filter(|_| !R::ACTIVE && plan.count > 0);
+        if let Some(ranges) = ranges.filter(|_| extreme && self.s.block_skipping) {
+            self.project_extreme(ranges, plan, o_v, d_v, &mut stats);
+        } else if let Some(ranges) = ranges.filter(|_| self.s.sum_skipping) {
+            zeros = self.project_sum(ranges, plan, o_v, d_v, &mut stats);
         } else {
             for k in 0..plan.count {
                 let t = sample_t(plan, k);
@@ -606,8 +607,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         d_v: Vec3,
         rec: &mut R,
     ) -> RayOutcome {
-        if !R::ACTIVE && self.s.block_skipping && plan.count > 0 {
-            return self.first_skipping(ray, plan, o_v, d_v);
+        let skipping = !R::ACTIVE && self.s.block_skipping && plan.count > 0;
+        if let Some(ranges) = self.s.blocks.filter(|_| skipping) {
+            return self.first_skipping(ranges, ray, plan, o_v, d_v);
         }
         let target = self.s.target;
         let mut prev = None;

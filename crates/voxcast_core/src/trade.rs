@@ -8,11 +8,11 @@
 use crate::camera::Camera;
 use crate::error::SettingsError;
 use crate::knob::{Knob, Try};
+use crate::prepared::Prepared;
 use crate::render::{Cancelled, render};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
 use crate::transfer::TransferFunction;
-use crate::volume::Volume;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
@@ -62,7 +62,7 @@ pub enum TradeError {
 /// duplicates dropped).
 #[allow(clippy::too_many_arguments)]
 pub fn step_trade(
-    volume: &Volume,
+    volume: &Prepared,
     transfer: &TransferFunction,
     settings: &RenderSettings,
     camera: &Camera,
@@ -82,7 +82,7 @@ pub fn step_trade(
 
 /// What a trade renders: a volume and transfer function seen by a camera at a size.
 pub struct View<'a> {
-    pub volume: &'a Volume,
+    pub volume: &'a Prepared,
     pub transfer: &'a TransferFunction,
     pub camera: &'a Camera,
     pub size: (u32, u32),
@@ -162,7 +162,7 @@ mod tests {
     }
 
     fn trade_with(steps: &[f32], interpolation: Interpolation) -> Trade {
-        let v = bucky();
+        let v = crate::Prepared::from(bucky());
         let p = crate::preset::for_volume("bucky").unwrap();
         let mut s = p.settings_over(&RenderSettings::default()).unwrap();
         s.interpolation = interpolation;
@@ -205,7 +205,7 @@ mod tests {
         let t = trade(&[REFERENCE]);
         assert_eq!(t.rows[0].max_error, 0.0);
         assert_eq!(t.rows[0].samples, t.reference_samples);
-        let v = bucky();
+        let v = crate::Prepared::from(bucky());
         let tf = TransferFunction::ramp(0.0, 255.0, 0.5).unwrap();
         let (lo, hi) = v.bounds();
         let cam = Camera::framing(lo, hi, glam::Vec3::Z, glam::Vec3::Y).unwrap();
@@ -247,7 +247,7 @@ mod tests {
     /// tries; the cheaper setting errs more.
     #[test]
     fn every_knob_is_measured_against_its_own_exact_setting() {
-        let v = bucky();
+        let v = crate::Prepared::from(bucky());
         let p = crate::preset::for_volume("bucky").unwrap();
         let s = p.settings_over(&RenderSettings::default()).unwrap();
         let (lo, hi) = v.bounds();

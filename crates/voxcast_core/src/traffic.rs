@@ -73,8 +73,11 @@ pub fn block_traffic(scene: &Scene<'_>, rays: &[(Ray, [u32; 2])]) -> BlockTraffi
         }
     }
     let positions = scene.volume.visit(Visit { scene, rays });
-    let ranges = scene.volume.block_ranges();
-    let grid = ranges.grid();
+    // Only the block lattice is needed; a scene without skipping has no ranges computed.
+    let grid = match scene.blocks {
+        Some(ranges) => ranges.grid(),
+        None => crate::skip::block_grid(scene.volume.dims()),
+    };
     let blocks = UVec3::new(grid[0] as u32, grid[1] as u32, grid[2] as u32);
     let empty = scene.empty.as_ref().map(|(e, _)| e.flags());
     let mut crossed = vec![0u32; grid[0] * grid[1] * grid[2]];
@@ -173,7 +176,7 @@ mod tests {
     use crate::volume::{Volume, VoxelData};
 
     /// A 33³ volume (4³ blocks) of air with a dense cube in the voxels 16 … 24 of every axis.
-    fn cube() -> Volume {
+    fn cube() -> crate::Prepared {
         let n = 33usize;
         let data: Vec<u8> = (0..n * n * n)
             .map(|i| {
@@ -189,9 +192,10 @@ mod tests {
             VoxelData::U8(data),
         )
         .unwrap()
+        .into()
     }
 
-    fn traffic(v: &Volume, s: &RenderSettings, rays: &[(Ray, [u32; 2])]) -> BlockTraffic {
+    fn traffic(v: &crate::Prepared, s: &RenderSettings, rays: &[(Ray, [u32; 2])]) -> BlockTraffic {
         let tf = TransferFunction::ramp(100.0, 200.0, 1.0).unwrap();
         let scene = Scene::new(v, &tf, s, Vec3::Z).unwrap();
         block_traffic(&scene, rays)

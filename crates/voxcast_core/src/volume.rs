@@ -209,9 +209,9 @@ pub trait GridVisitor {
 }
 
 /// A scalar volume on a regular lattice. Construct with [`Volume::new`], which validates.
-/// Two volumes are equal when their name, lattice, data and rescaling are (the caches computed
-/// from them are not compared: a volume that has been rendered equals its fresh copy).
-#[derive(Clone, Debug)]
+/// It holds only data and what follows from it at once; the structures renders reuse live in
+/// [`crate::prepared::Prepared`].
+#[derive(Clone, Debug, PartialEq)]
 pub struct Volume {
     name: String,
     dims: UVec3,
@@ -223,31 +223,9 @@ pub struct Volume {
     raw: (f32, f32),
     /// Voxels that hold no data (non-finite floats: masked cells).
     no_data: u64,
-    /// Per-block value ranges for empty-space skipping, computed on first use.
-    blocks: std::sync::OnceLock<crate::skip::BlockRanges>,
-    /// Lattice differences for fast exact gradients, computed on first use where they fit.
-    differences: std::sync::OnceLock<Option<Vec<crate::sample::Differences>>>,
-    /// The mean raw value over the voxels with data, computed on first use.
-    raw_mean: std::sync::OnceLock<f64>,
+    /// The mean raw value over the voxels with data (0 when none does).
+    raw_mean: f64,
 }
-
-impl PartialEq for Volume {
-    fn eq(&self, other: &Self) -> bool {
-        // `raw` and `no_data` follow from the data; compared anyway, they cost nothing.
-        self.name == other.name
-            && self.dims == other.dims
-            && self.spacing == other.spacing
-            && self.slope == other.slope
-            && self.intercept == other.intercept
-            && self.raw == other.raw
-            && self.no_data == other.no_data
-            && self.data == other.data
-    }
-}
-
-/// The most memory precomputed gradients may take (8 bytes a voxel): beyond it, gradients are
-/// computed from the values each time (same result, slower).
-pub const MAX_DIFFERENCE_BYTES: usize = 1 << 30;
 
 impl Volume {
     /// Validates and builds a volume: every axis at least one voxel, the data length equal to the
@@ -284,7 +262,11 @@ impl Volume {
         if !(slope.is_finite() && intercept.is_finite() && slope != 0.0) {
             return Err(VolumeError::BadRescale { slope, intercept });
         }
-        let (raw, no_data) = raw_range(&data);
+        let RawStats {
+            range: raw,
+            no_data,
+            mean: raw_mean,
+        } = raw_stats(&data);
         Ok(Self {
             name: name.into(),
             dims,
@@ -294,9 +276,7 @@ impl Volume {
             intercept,
             raw,
             no_data,
-            blocks: std::sync::OnceLock::new(),
-            differences: std::sync::OnceLock::new(),
-            raw_mean: std::sync::OnceLock::new(),
+            raw_mean,
         })
     }
 
@@ -341,30 +321,12 @@ impl Volume {
         (a.min(b), a.max(b))
     }
 
-    /// The mean value in data units over the voxels that hold data (0 when none does),
-    /// computed on first use (one pass over the data) and kept.
+    /// The mean value in data units over the voxels that hold data (0 when none does).
     pub fn mean_value(&self) -> f32 {
-        fn mean<T: Voxel>(v: &[T]) -> f64 {
-            let (sum, n) = v.iter().fold((0.0f64, 0u64), |(s, n), x| {
-                let x = x.to_f32();
-                if x.is_finite() {
-                    (s + x as f64, n + 1)
-                } else {
-                    (s, n)
-                }
-            });
-            if n == 0 { 0.0 } else { sum / n as f64 }
-        }
-        let raw = *self.raw_mean.get_or_init(|| match &self.data {
-            VoxelData::U8(v) => mean(v),
-            VoxelData::I16(v) => mean(v),
-            VoxelData::U16(v) => mean(v),
-            VoxelData::F32(v) => mean(v),
-        });
         if self.data.is_empty() || self.no_data == self.data.len() as u64 {
             return 0.0;
         }
-        (raw * self.slope as f64 + self.intercept as f64) as f32
+        (self.raw_mean * self.slope as f64 + self.intercept as f64) as f32
     }
 
     /// (min, max) of the stored values that are data, before the rescale ((0, 0) when none).
@@ -410,33 +372,6 @@ impl Volume {
         let index =
             i as usize + self.dims.x as usize * (j as usize + self.dims.y as usize * k as usize);
         Some(self.data.raw_f32(index) * self.slope + self.intercept)
-    }
-
-    /// The value range of each block of cells (empty-space skipping, [`crate::skip`]): computed
-    /// once per volume, on first use.
-    pub fn block_ranges(&self) -> &crate::skip::BlockRanges {
-        self.blocks
-            .get_or_init(|| crate::skip::BlockRanges::of(self))
-    }
-
-    /// Every lattice point's exact integer differences (see
-    /// [`crate::sample::lattice_differences`]), computed once on first use; `None` for float
-    /// data, ranges too wide for them, and volumes above [`MAX_DIFFERENCE_BYTES`].
-    pub fn lattice_differences(&self) -> Option<&[crate::sample::Differences]> {
-        self.differences
-            .get_or_init(|| {
-                struct Build;
-                impl GridVisitor for Build {
-                    type Output = Option<Vec<crate::sample::Differences>>;
-                    fn visit<T: Voxel>(self, g: Grid<'_, T>) -> Self::Output {
-                        crate::sample::lattice_differences(&g)
-                    }
-                }
-                (self.voxel_count() * 8 <= MAX_DIFFERENCE_BYTES)
-                    .then(|| self.visit(Build))
-                    .flatten()
-            })
-            .as_deref()
     }
 
     /// Hands the typed view of this volume to `visitor`.
@@ -486,34 +421,58 @@ pub fn checked_voxel_count(nx: u64, ny: u64, nz: u64) -> Result<u64, VolumeError
     Ok(count)
 }
 
-/// Raw (min, max) of the values that are data (finite), and how many are not (NaN or ±∞ in a
-/// float volume: masked cells, "no data"). With no finite value at all the range is (0, 0).
-fn raw_range(data: &VoxelData) -> ((f32, f32), u64) {
-    fn int_range<T: Voxel + Ord>(v: &[T]) -> (f32, f32) {
+/// What a volume's stored values say at once, from passes over them at construction.
+struct RawStats {
+    /// (min, max) of the values that are data ((0, 0) when none is).
+    range: (f32, f32),
+    /// How many are not data (NaN or ±∞ in a float volume: masked cells).
+    no_data: u64,
+    /// The mean of the values that are data (0 when none is).
+    mean: f64,
+}
+
+/// Range, count without data and mean of the stored values: integers summed exactly (each pass
+/// vectorises), floats in one ordered pass.
+fn raw_stats(data: &VoxelData) -> RawStats {
+    fn ints<T: Voxel + Ord + Into<i64>>(v: &[T]) -> RawStats {
         let lo = v.iter().copied().min().map_or(0.0, Voxel::to_f32);
         let hi = v.iter().copied().max().map_or(0.0, Voxel::to_f32);
-        (lo, hi)
+        // |value| < 2¹⁶ and at most 2⁴⁰ voxels: the sum fits an i64 exactly.
+        let sum: i64 = v.iter().map(|&x| x.into()).sum();
+        let mean = if v.is_empty() {
+            0.0
+        } else {
+            sum as f64 / v.len() as f64
+        };
+        RawStats {
+            range: (lo, hi),
+            no_data: 0,
+            mean,
+        }
     }
     match data {
-        VoxelData::U8(v) => (int_range(v), 0),
-        VoxelData::I16(v) => (int_range(v), 0),
-        VoxelData::U16(v) => (int_range(v), 0),
+        VoxelData::U8(v) => ints(v),
+        VoxelData::I16(v) => ints(v),
+        VoxelData::U16(v) => ints(v),
         VoxelData::F32(v) => {
             let mut lo = f32::INFINITY;
             let mut hi = f32::NEG_INFINITY;
             let mut no_data = 0u64;
+            let mut sum = 0.0f64;
             for &value in v {
                 if value.is_finite() {
                     lo = lo.min(value);
                     hi = hi.max(value);
+                    sum += value as f64;
                 } else {
                     no_data += 1;
                 }
             }
-            if lo > hi {
-                ((0.0, 0.0), no_data)
-            } else {
-                ((lo, hi), no_data)
+            let n = v.len() as u64 - no_data;
+            RawStats {
+                range: if lo > hi { (0.0, 0.0) } else { (lo, hi) },
+                no_data,
+                mean: if n == 0 { 0.0 } else { sum / n as f64 },
             }
         }
     }
@@ -527,14 +486,14 @@ mod tests {
         Volume::new("t", dims, Vec3::ONE, data)
     }
 
-    /// The caches a render fills are not part of what a volume is.
+    /// A volume is its data: equal when name, lattice, values and rescale are.
     #[test]
-    fn a_rendered_volume_equals_its_fresh_copy() {
+    fn volumes_compare_as_data() {
         let fresh = crate::builtin::load_builtin("shells").unwrap().volume;
-        let used = fresh.clone();
-        used.block_ranges();
-        used.lattice_differences();
-        assert_eq!(used, fresh);
+        let prepared = crate::prepared::Prepared::from(fresh.clone());
+        prepared.block_ranges();
+        prepared.lattice_differences();
+        assert_eq!(prepared.into_volume(), fresh);
         let other = Volume::new("t", UVec3::ONE, Vec3::ONE, VoxelData::U8(vec![1])).unwrap();
         let renamed = Volume::new("u", UVec3::ONE, Vec3::ONE, VoxelData::U8(vec![1])).unwrap();
         let spaced =
@@ -543,6 +502,31 @@ mod tests {
         for different in [&renamed, &spaced, &valued] {
             assert_ne!(&other, different);
         }
+    }
+
+    /// The mean counts only voxels with data and is in data units; computed at construction.
+    #[test]
+    fn the_mean_is_over_the_data_in_data_units() {
+        let ints = vol(UVec3::new(4, 1, 1), VoxelData::I16(vec![-3, 0, 5, 30000])).unwrap();
+        assert_eq!(ints.mean_value(), (-3.0 + 0.0 + 5.0 + 30000.0) / 4.0);
+        let floats = vol(
+            UVec3::new(4, 1, 1),
+            VoxelData::F32(vec![1.0, f32::NAN, 2.0, f32::INFINITY]),
+        )
+        .unwrap();
+        assert_eq!(floats.mean_value(), 1.5);
+        let masked = vol(UVec3::new(2, 1, 1), VoxelData::F32(vec![f32::NAN; 2])).unwrap();
+        assert_eq!(masked.mean_value(), 0.0);
+        let rescaled = Volume::with_rescale(
+            "r",
+            UVec3::new(2, 1, 1),
+            Vec3::ONE,
+            VoxelData::U8(vec![10, 20]),
+            -2.0,
+            100.0,
+        )
+        .unwrap();
+        assert_eq!(rescaled.mean_value(), 15.0 * -2.0 + 100.0);
     }
 
     #[test]

@@ -21,7 +21,7 @@ fn plane(normal: Vec3, position: f32) -> Clip {
 }
 
 /// Value x on a 9×3×3 lattice: along x the box spans [0, 8].
-fn ramp() -> voxcast_core::Volume {
+fn ramp() -> voxcast_core::Prepared {
     field([9, 3, 3], Vec3::ONE, |p| p.x)
 }
 

@@ -230,7 +230,7 @@ fn first_hits_at_the_entry_when_the_ray_starts_at_or_above_the_target() {
 #[test]
 fn the_head_phantoms_isovalue_picks_skin_or_skull() {
     use voxcast_core::builtin::{HEAD_BONE, HEAD_SCALP, HEAD_SKIN, HEAD_SKULL, head};
-    let v = head();
+    let v = voxcast_core::Prepared::from(head());
     let tf = white(1.0);
     let half = 31.5f32;
     let c = Vec3::splat(half);
@@ -268,7 +268,7 @@ fn lecture_worked_example() {
     // f5 (0,0,1), f6 (1,0,1), f7 (1,1,1), f8 (0,1,1).
     let f = [5.0f64, 5.1, 5.2, 4.6, 4.9, 5.1, 5.3, 4.7];
     // The embedded `builtin:voxel` holds exactly these corners (the tutorial's volume).
-    let v = voxcast_core::builtin::worked_voxel();
+    let v = voxcast_core::Prepared::from(voxcast_core::builtin::worked_voxel());
     // The slides' formula, in f64.
     let formula = |p: f64, q: f64, r: f64| {
         f[0] * (1.0 - p) * (1.0 - q) * (1.0 - r)

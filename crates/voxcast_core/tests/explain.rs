@@ -12,7 +12,7 @@ use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
 
-fn blobs() -> voxcast_core::Volume {
+fn blobs() -> voxcast_core::Prepared {
     field([9, 8, 7], Vec3::new(1.0, 1.2, 0.9), |p| {
         let d = (p - Vec3::new(4.0, 3.5, 3.0)).length();
         200.0 * (-d * d / 8.0).exp() + 5.0 * p.x

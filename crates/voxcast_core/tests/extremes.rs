@@ -120,13 +120,15 @@ fn camera_inside_the_volume() {
 
 #[test]
 fn one_voxel_volume() {
-    let v = Volume::new(
-        "one",
-        UVec3::ONE,
-        Vec3::splat(2.0),
-        VoxelData::U8(vec![200]),
-    )
-    .unwrap();
+    let v = voxcast_core::Prepared::from(
+        Volume::new(
+            "one",
+            UVec3::ONE,
+            Vec3::splat(2.0),
+            VoxelData::U8(vec![200]),
+        )
+        .unwrap(),
+    );
     assert_eq!(v.bounds(), (Vec3::splat(-1.0), Vec3::splat(1.0)));
     let tf = white(0.5);
     let mut s = plain(0.25);
@@ -177,13 +179,15 @@ fn long_thin_volumes() {
 fn spacing_ratio_of_a_thousand() {
     // 1000 world units between x points, 1 between the others; steps are in voxels of the
     // smallest spacing, so a ray along x needs 4000 samples per lattice cell: the cap stops it.
-    let v = Volume::new(
-        "aniso",
-        UVec3::new(4, 4, 4),
-        Vec3::new(1000.0, 1.0, 1.0),
-        VoxelData::U8((0..64).collect()),
-    )
-    .unwrap();
+    let v = voxcast_core::Prepared::from(
+        Volume::new(
+            "aniso",
+            UVec3::new(4, 4, 4),
+            Vec3::new(1000.0, 1.0, 1.0),
+            VoxelData::U8((0..64).collect()),
+        )
+        .unwrap(),
+    );
     let tf = grey(0.0, 63.0, 0.01);
     let mut s = plain(0.5);
     s.max_samples = 1000;
@@ -324,7 +328,7 @@ fn extreme_values_of_every_type() {
         VoxelData::F32(vec![1.0, 1.0 + 1e-6]),
     ];
     for data in cases {
-        let v = Volume::new("x", dims, Vec3::ONE, data).unwrap();
+        let v = voxcast_core::Prepared::from(Volume::new("x", dims, Vec3::ONE, data).unwrap());
         let (lo, hi) = v.value_range();
         let tf = grey(lo, hi, 0.5);
         for method in voxcast_core::composite::Method::ALL {
@@ -368,7 +372,9 @@ fn a_volume_of_no_data_renders_the_background() {
     let data = (0..27)
         .map(|i| [f32::NAN, f32::INFINITY, f32::NEG_INFINITY][i % 3])
         .collect();
-    let v = Volume::new("none", UVec3::splat(3), Vec3::ONE, VoxelData::F32(data)).unwrap();
+    let v = voxcast_core::Prepared::from(
+        Volume::new("none", UVec3::splat(3), Vec3::ONE, VoxelData::F32(data)).unwrap(),
+    );
     assert_eq!(v.no_data_count(), 27);
     let tf = white(1.0);
     for method in Method::ALL {
@@ -395,7 +401,9 @@ fn a_volume_of_no_data_renders_the_background() {
 fn one_finite_voxel_among_no_data() {
     let mut data = vec![f32::NAN; 27];
     data[13] = 5.0; // the centre (1, 1, 1)
-    let v = Volume::new("one", UVec3::splat(3), Vec3::ONE, VoxelData::F32(data)).unwrap();
+    let v = voxcast_core::Prepared::from(
+        Volume::new("one", UVec3::splat(3), Vec3::ONE, VoxelData::F32(data)).unwrap(),
+    );
     assert_eq!((v.no_data_count(), v.value_range()), (26, (5.0, 5.0)));
     let tf = white(0.5);
     let mut s = plain(0.25);

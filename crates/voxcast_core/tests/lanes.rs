@@ -39,7 +39,7 @@ fn both(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, Rend
 
 /// Blobs of high values on a low, noisy background, as one of the integer types, maybe
 /// rescaled: empty space around structure, as in a scan.
-fn volume() -> impl Strategy<Value = Volume> {
+fn volume() -> impl Strategy<Value = voxcast_core::Prepared> {
     (
         (2u32..40, 1u32..40, 1u32..40),
         proptest::collection::vec((0f32..1.0, 0f32..1.0, 0f32..1.0, 1f32..12.0), 0..4),
@@ -87,6 +87,7 @@ fn volume() -> impl Strategy<Value = Volume> {
                     intercept,
                 )
                 .unwrap()
+                .into()
             },
         )
 }
@@ -248,7 +249,7 @@ fn the_presets_take_the_lanes_where_the_cpu_has_avx2() {
         eprintln!("note: this CPU has no AVX2: the lanes are not exercised here");
     }
     for name in ["bunny", "brainsmall", "head"] {
-        let v = load_builtin(name).unwrap().volume;
+        let v = voxcast_core::Prepared::from(load_builtin(name).unwrap().volume);
         let p = preset::for_volume(v.name()).unwrap();
         let s = p.settings_over(&RenderSettings::default()).unwrap();
         let view = p.view.unwrap();
@@ -279,20 +280,24 @@ fn the_presets_take_the_lanes_where_the_cpu_has_avx2() {
 /// and an opaque table, and a headlight-opposite light (no half vector: the scalar march).
 #[test]
 fn extremes_agree() {
-    let slab = Volume::new(
-        "slab",
-        UVec3::new(40, 30, 1),
-        Vec3::ONE,
-        VoxelData::U8((0..1200).map(|i| (i * 7 % 256) as u8).collect()),
-    )
-    .unwrap();
-    let pair = Volume::new(
-        "pair",
-        UVec3::new(2, 1, 1),
-        Vec3::ONE,
-        VoxelData::U8(vec![10, 250]),
-    )
-    .unwrap();
+    let slab = voxcast_core::Prepared::from(
+        Volume::new(
+            "slab",
+            UVec3::new(40, 30, 1),
+            Vec3::ONE,
+            VoxelData::U8((0..1200).map(|i| (i * 7 % 256) as u8).collect()),
+        )
+        .unwrap(),
+    );
+    let pair = voxcast_core::Prepared::from(
+        Volume::new(
+            "pair",
+            UVec3::new(2, 1, 1),
+            Vec3::ONE,
+            VoxelData::U8(vec![10, 250]),
+        )
+        .unwrap(),
+    );
     let ramp = TransferFunction::ramp(0.0, 255.0, 1.0).unwrap();
     let clear = TransferFunction::constant([1.0; 3], 0.0).unwrap();
     let opaque = TransferFunction::constant([0.8, 0.5, 0.2], 1.0).unwrap();

@@ -18,7 +18,7 @@ use voxcast_core::trace::Scene;
 #[test]
 fn the_layer_over_the_background_is_the_render() {
     for name in ["bunny", "shells", "head"] {
-        let volume = load_builtin(name).unwrap().volume;
+        let volume = voxcast_core::Prepared::from(load_builtin(name).unwrap().volume);
         let p = preset::for_volume(volume.name()).unwrap();
         for (method, supersampling) in [
             (Method::Accumulate, 1),

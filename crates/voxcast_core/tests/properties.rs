@@ -20,9 +20,9 @@ use voxcast_core::shade::{Highlight, Light, LightSource};
 use voxcast_core::step::Length;
 use voxcast_core::trace::{Scene, trace_ray};
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
-use voxcast_core::{Volume, VoxelData};
+use voxcast_core::{Prepared, Volume, VoxelData};
 
-fn volume() -> impl Strategy<Value = Volume> {
+fn volume() -> impl Strategy<Value = Prepared> {
     (
         1u32..7,
         1u32..7,
@@ -40,6 +40,7 @@ fn volume() -> impl Strategy<Value = Volume> {
                     VoxelData::U8(data),
                 )
                 .unwrap()
+                .into()
             })
         })
 }
@@ -262,7 +263,7 @@ proptest! {
 }
 
 /// A smooth field (two Gaussian blobs) for convergence measurements.
-fn blobs() -> Volume {
+fn blobs() -> Prepared {
     field([24, 24, 24], Vec3::ONE, |p| {
         let a = (-(p - Vec3::new(9.0, 11.0, 12.0)).length_squared() / 30.0).exp();
         let b = (-(p - Vec3::new(15.0, 13.0, 10.0)).length_squared() / 20.0).exp();
@@ -395,7 +396,7 @@ fn accelerations_are_exact_on_real_volumes() {
     use voxcast_core::builtin::load_builtin;
     use voxcast_core::preset;
     for name in ["bunny", "brainsmall", "bucky"] {
-        let v = load_builtin(name).unwrap().volume;
+        let v = Prepared::from(load_builtin(name).unwrap().volume);
         let p = preset::for_volume(v.name()).unwrap();
         let s = p.settings_over(&RenderSettings::default()).unwrap();
         let view = p.view.unwrap();
@@ -440,7 +441,7 @@ fn accelerations_are_exact_on_real_volumes() {
 }
 
 /// A volume of zeros with a few non-zero voxels (u8 or float): a ray density's kind of data.
-fn sparse_volume() -> impl Strategy<Value = Volume> {
+fn sparse_volume() -> impl Strategy<Value = Prepared> {
     (
         (1u32..40, 1u32..40, 1u32..40),
         proptest::collection::vec((0f32..1.0, 0f32..1.0, 0f32..1.0, 1u8..=255), 0..6),
@@ -460,7 +461,9 @@ fn sparse_volume() -> impl Strategy<Value = Volume> {
                 true => VoxelData::F32(data.iter().map(|&v| v as f32 * 0.37).collect()),
                 false => VoxelData::U8(data),
             };
-            Volume::new("sparse", UVec3::new(x, y, z), Vec3::splat(spacing), voxels).unwrap()
+            Volume::new("sparse", UVec3::new(x, y, z), Vec3::splat(spacing), voxels)
+                .unwrap()
+                .into()
         })
 }
 
@@ -542,20 +545,24 @@ fn sum_skipping_pays_and_only_where_exact() {
     );
     let mut nan = vec![0.0f32; 27];
     nan[13] = f32::NAN;
-    let with_nan = Volume::new("nan", UVec3::splat(3), Vec3::ONE, VoxelData::F32(nan)).unwrap();
+    let with_nan = voxcast_core::Prepared::from(
+        Volume::new("nan", UVec3::splat(3), Vec3::ONE, VoxelData::F32(nan)).unwrap(),
+    );
     assert!(
         !Scene::new(&with_nan, &tf, &s, Vec3::Z)
             .unwrap()
             .sum_skipping
     );
-    let shifted = Volume::with_rescale(
-        "shifted",
-        UVec3::splat(3),
-        Vec3::ONE,
-        VoxelData::U8(vec![0; 27]),
-        1.0,
-        -5.0,
-    )
-    .unwrap();
+    let shifted = voxcast_core::Prepared::from(
+        Volume::with_rescale(
+            "shifted",
+            UVec3::splat(3),
+            Vec3::ONE,
+            VoxelData::U8(vec![0; 27]),
+            1.0,
+            -5.0,
+        )
+        .unwrap(),
+    );
     assert!(!Scene::new(&shifted, &tf, &s, Vec3::Z).unwrap().sum_skipping);
 }

@@ -477,7 +477,9 @@ mod tests {
         // Texts the panels build: formulas and stop reasons of the breakdown (every method,
         // both orders), why a control is greyed out, a prediction's hint.
         let mut built: Vec<String> = Vec::new();
-        let volume = voxcast_core::builtin::load_builtin("voxel").unwrap().volume;
+        let volume = voxcast_core::Prepared::from(
+            voxcast_core::builtin::load_builtin("voxel").unwrap().volume,
+        );
         let tf = voxcast_core::transfer::TransferFunction::ramp(0.0, 10.0, 0.5).unwrap();
         for method in voxcast_core::composite::Method::ALL {
             for order in [

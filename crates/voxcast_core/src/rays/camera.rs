@@ -95,7 +95,7 @@ mod tests {
     fn setup(
         name: &str,
     ) -> (
-        crate::Volume,
+        crate::Prepared,
         crate::transfer::TransferFunction,
         RenderSettings,
         Camera,
@@ -106,7 +106,7 @@ mod tests {
         let (lo, hi) = v.bounds();
         let view = p.view.unwrap();
         let cam = Camera::framing(lo, hi, view.from, view.up).unwrap();
-        (v, p.transfer, s, cam)
+        (v.into(), p.transfer, s, cam)
     }
 
     /// The hits are the rays the march stopped early, at the sample that stopped them (the

@@ -210,7 +210,7 @@ mod tests {
 
     /// A constant density of 1 over 21³ cells of edge 1, whose voxel (0, 0, 0) sits at
     /// `origin`; a grey ramp, opaque, so a pixel's grey is Sum's fraction of its range.
-    fn setup(origin: Vec3) -> (Volume, TransferFunction, RenderSettings, Camera) {
+    fn setup(origin: Vec3) -> (crate::Prepared, TransferFunction, RenderSettings, Camera) {
         let v = Volume::new(
             "ones",
             UVec3::splat(21),
@@ -244,7 +244,7 @@ mod tests {
             Projection::Orthographic { height: 10.0 },
         )
         .unwrap();
-        (v, tf, s, camera)
+        (v.into(), tf, s, camera)
     }
 
     fn wall_at(z: f32, centre: Vec3) -> TriangleScene {

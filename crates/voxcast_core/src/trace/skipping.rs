@@ -11,7 +11,7 @@ use crate::composite::{Method, ValueStats, reaches};
 use crate::ray::Ray;
 use crate::sample::cell;
 use crate::shade::Viewing;
-use crate::skip::{BlockWalk, Cell as CellState, EmptyBlocks, VisibleCells};
+use crate::skip::{BlockRanges, BlockWalk, Cell as CellState, EmptyBlocks, VisibleCells};
 use crate::step::{StepPlan, first_index_from, sample_t};
 use crate::volume::Voxel;
 use glam::Vec3;
@@ -111,6 +111,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// as it was (see `crate::skip`; ranges include a one-point apron for rounding).
     pub(super) fn project_extreme(
         &self,
+        ranges: &BlockRanges,
         plan: &StepPlan,
         o_v: Vec3,
         d_v: Vec3,
@@ -120,7 +121,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         // Interpolating integers never leaves the corners' range, so a block that can only tie
         // the running extreme is skippable too; float rounding could exceed it by an ulp.
         let ties_skippable = T::TABLE.is_some();
-        self.project_blocks(plan, o_v, d_v, stats, |(lo, hi), stats| {
+        self.project_blocks(ranges, plan, o_v, d_v, stats, |(lo, hi), stats| {
             stats.count > 0
                 && if maximum {
                     hi < stats.max || (ties_skippable && hi == stats.max)
@@ -136,12 +137,15 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// interpolates to exactly zero (`Scene::sum_skipping`). Returns the samples passed over.
     pub(super) fn project_sum(
         &self,
+        ranges: &BlockRanges,
         plan: &StepPlan,
         o_v: Vec3,
         d_v: Vec3,
         stats: &mut ValueStats,
     ) -> u32 {
-        self.project_blocks(plan, o_v, d_v, stats, |range, _| range == (0.0, 0.0))
+        self.project_blocks(ranges, plan, o_v, d_v, stats, |range, _| {
+            range == (0.0, 0.0)
+        })
     }
 
     /// The projection methods' block walk: the blocks the ray crosses in order; one that
@@ -150,13 +154,13 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// to `stats`. Returns the samples passed over.
     fn project_blocks(
         &self,
+        ranges: &BlockRanges,
         plan: &StepPlan,
         o_v: Vec3,
         d_v: Vec3,
         stats: &mut ValueStats,
         useless: impl Fn((f32, f32), &ValueStats) -> bool,
     ) -> u32 {
-        let ranges = self.s.volume.block_ranges();
         let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
         let inv_dt = 1.0 / plan.dt;
         let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
@@ -195,13 +199,13 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// of the plain march.
     pub(super) fn first_skipping(
         &self,
+        ranges: &BlockRanges,
         ray: &Ray,
         plan: &StepPlan,
         o_v: Vec3,
         d_v: Vec3,
     ) -> RayOutcome {
         let target = self.s.target;
-        let ranges = self.s.volume.block_ranges();
         let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
         let inv_dt = 1.0 / plan.dt;
         let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;

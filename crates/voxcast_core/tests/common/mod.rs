@@ -7,7 +7,7 @@ use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
 use voxcast_core::trace::{RayTrace, Scene, trace_ray};
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
-use voxcast_core::{Volume, VoxelData};
+use voxcast_core::{Prepared, Volume, VoxelData};
 
 /// The six axis directions.
 pub const AXES: [Vec3; 6] = [
@@ -19,8 +19,9 @@ pub const AXES: [Vec3; 6] = [
     Vec3::NEG_Z,
 ];
 
-/// A float volume of `dims` with unit spacing whose value at lattice point `(i, j, k)` is `f`.
-pub fn field(dims: [u32; 3], spacing: Vec3, f: impl Fn(Vec3) -> f32) -> Volume {
+/// A float volume of `dims` with unit spacing whose value at lattice point `(i, j, k)` is `f`,
+/// ready to render.
+pub fn field(dims: [u32; 3], spacing: Vec3, f: impl Fn(Vec3) -> f32) -> Prepared {
     let mut data = Vec::with_capacity((dims[0] * dims[1] * dims[2]) as usize);
     for k in 0..dims[2] {
         for j in 0..dims[1] {
@@ -29,11 +30,13 @@ pub fn field(dims: [u32; 3], spacing: Vec3, f: impl Fn(Vec3) -> f32) -> Volume {
             }
         }
     }
-    Volume::new("field", UVec3::from(dims), spacing, VoxelData::F32(data)).unwrap()
+    Volume::new("field", UVec3::from(dims), spacing, VoxelData::F32(data))
+        .unwrap()
+        .into()
 }
 
 /// A constant volume.
-pub fn constant(dims: [u32; 3], value: f32) -> Volume {
+pub fn constant(dims: [u32; 3], value: f32) -> Prepared {
     field(dims, Vec3::ONE, |_| value)
 }
 
@@ -67,7 +70,7 @@ pub fn plain(step_voxels: f32) -> RenderSettings {
 
 /// Traces one ray from `origin` along `dir` (world units).
 pub fn trace(
-    volume: &Volume,
+    volume: &Prepared,
     tf: &TransferFunction,
     settings: &RenderSettings,
     origin: Vec3,

@@ -1,0 +1,145 @@
+//! A volume with the structures its renders reuse: the value range of every block (empty-space
+//! skipping) and every lattice point's integer differences (exact gradients without 56 reads),
+//! each computed on first use and kept for the next render of the same volume.
+//!
+//! [`Volume`] itself holds only what a file says (lattice, values, rescale) and so compares,
+//! clones and serialises as data; whoever renders one volume many times (the sandbox, the bench,
+//! a test that sweeps settings) keeps one `Prepared` and builds each [`crate::scene::Scene`]
+//! from it.
+
+use crate::sample::Differences;
+use crate::skip::BlockRanges;
+use crate::volume::{Grid, GridVisitor, Volume, Voxel};
+use std::sync::OnceLock;
+
+/// The most memory precomputed gradients may take (8 bytes a voxel): beyond it, gradients are
+/// computed from the values each time (same result, slower).
+pub const MAX_DIFFERENCE_BYTES: usize = 1 << 30;
+
+/// A volume and its render caches. Dereferences to the [`Volume`].
+#[derive(Debug)]
+pub struct Prepared {
+    volume: Volume,
+    /// Per-block value ranges for empty-space skipping, computed on first use.
+    blocks: OnceLock<BlockRanges>,
+    /// Lattice differences for fast exact gradients, computed on first use where they fit.
+    differences: OnceLock<Option<Vec<Differences>>>,
+}
+
+impl From<Volume> for Prepared {
+    fn from(volume: Volume) -> Self {
+        Self::new(volume)
+    }
+}
+
+impl std::ops::Deref for Prepared {
+    type Target = Volume;
+    fn deref(&self) -> &Volume {
+        &self.volume
+    }
+}
+
+impl Prepared {
+    /// Nothing is computed yet: each structure on the first render that needs it.
+    pub fn new(volume: Volume) -> Self {
+        Self {
+            volume,
+            blocks: OnceLock::new(),
+            differences: OnceLock::new(),
+        }
+    }
+
+    pub fn volume(&self) -> &Volume {
+        &self.volume
+    }
+
+    /// The volume back, its caches dropped.
+    pub fn into_volume(self) -> Volume {
+        self.volume
+    }
+
+    /// The value range of each block of cells (empty-space skipping, [`crate::skip`]): computed
+    /// once, on first use.
+    pub fn block_ranges(&self) -> &BlockRanges {
+        self.blocks.get_or_init(|| BlockRanges::of(&self.volume))
+    }
+
+    /// Whether the block ranges have been computed (no render has had to wait for them since).
+    pub fn has_block_ranges(&self) -> bool {
+        self.blocks.get().is_some()
+    }
+
+    /// Every lattice point's exact integer differences (see
+    /// [`crate::sample::lattice_differences`]), computed once on first use; `None` for float
+    /// data, ranges too wide for them, and volumes above [`MAX_DIFFERENCE_BYTES`].
+    pub fn lattice_differences(&self) -> Option<&[Differences]> {
+        self.differences
+            .get_or_init(|| {
+                struct Build;
+                impl GridVisitor for Build {
+                    type Output = Option<Vec<Differences>>;
+                    fn visit<T: Voxel>(self, g: Grid<'_, T>) -> Self::Output {
+                        crate::sample::lattice_differences(&g)
+                    }
+                }
+                (self.volume.voxel_count() * 8 <= MAX_DIFFERENCE_BYTES)
+                    .then(|| self.volume.visit(Build))
+                    .flatten()
+            })
+            .as_deref()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::volume::VoxelData;
+    use glam::{UVec3, Vec3};
+
+    fn ramp(n: u32) -> Volume {
+        let data = (0..n * n * n).map(|i| (i % 251) as u8).collect();
+        Volume::new("ramp", UVec3::splat(n), Vec3::ONE, VoxelData::U8(data)).unwrap()
+    }
+
+    #[test]
+    fn caches_are_computed_once_and_match_a_fresh_computation() {
+        let p = Prepared::from(ramp(9));
+        assert!(!p.has_block_ranges());
+        let first = p.block_ranges() as *const BlockRanges;
+        assert!(p.has_block_ranges());
+        assert_eq!(
+            first,
+            p.block_ranges() as *const BlockRanges,
+            "kept, not rebuilt"
+        );
+        assert_eq!(p.block_ranges(), &BlockRanges::of(&ramp(9)));
+        for dims in [UVec3::ONE, UVec3::new(9, 2, 17), UVec3::new(10, 8, 1)] {
+            let v = Volume::new(
+                "d",
+                dims,
+                Vec3::ONE,
+                VoxelData::U8(vec![0; dims.element_product() as usize]),
+            );
+            let grid = crate::skip::block_grid(dims);
+            assert_eq!(grid, BlockRanges::of(&v.unwrap()).grid(), "{dims}");
+        }
+        let diffs = p.lattice_differences().expect("u8 data has differences");
+        assert_eq!(diffs.len(), 9 * 9 * 9);
+        assert_eq!(diffs.as_ptr(), p.lattice_differences().unwrap().as_ptr());
+    }
+
+    #[test]
+    fn float_volumes_have_no_differences_and_the_volume_comes_back_unchanged() {
+        let v = Volume::new(
+            "f",
+            UVec3::new(2, 1, 1),
+            Vec3::ONE,
+            VoxelData::F32(vec![0.0, 1.5]),
+        )
+        .unwrap();
+        let p = Prepared::from(v.clone());
+        assert!(p.lattice_differences().is_none());
+        assert_eq!(p.dims(), UVec3::new(2, 1, 1), "dereferences to the volume");
+        assert_eq!(p.into_volume(), v);
+    }
+}
