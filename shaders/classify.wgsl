@@ -1,7 +1,7 @@
 // Twin: crates/voxcast_core/src/classify.rs (`iso_contour_alpha`, `Classifier::classify`).
 #define_import_path voxcast::classify
 
-#import voxcast::bindings::params
+#import voxcast::bindings::{params, CLASSIFICATION}
 
 /// One isovalue's contour opacity (Levoy 1988) for value f with gradient magnitude g.
 fn iso_contour_alpha(f: f32, g: f32, f_v: f32, alpha_v: f32, r: f32) -> f32 {
@@ -17,14 +17,14 @@ fn iso_contour_alpha(f: f32, g: f32, f_v: f32, alpha_v: f32, r: f32) -> f32 {
 
 /// Opacity for value f with table opacity table_alpha and gradient magnitude g.
 fn classify(f: f32, table_alpha: f32, g: f32) -> f32 {
-    if params.classification == #{CLASSIFY_ISO_CONTOURS}u {
+    if CLASSIFICATION == #{CLASSIFY_ISO_CONTOURS}u {
         var transparency = 1.0;
         for (var i = 0u; i < params.iso_count; i++) {
             transparency *= 1.0 - iso_contour_alpha(f, g, params.iso_values[i], params.iso_alphas[i], params.iso_r);
         }
         return 1.0 - transparency;
     }
-    if params.classification == #{CLASSIFY_BOUNDARIES}u {
+    if CLASSIFICATION == #{CLASSIFY_BOUNDARIES}u {
         return min(table_alpha * g * params.inv_full_gradient, 1.0);
     }
     return table_alpha;

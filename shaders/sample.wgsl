@@ -4,7 +4,7 @@
 // preview does not depend on a device's filtering precision.
 #define_import_path voxcast::sample
 
-#import voxcast::bindings::{params, volume_texture, records_texture}
+#import voxcast::bindings::{params, volume_texture, records_texture, FLAGS}
 
 struct Cell {
     lo: vec3<u32>,
@@ -40,7 +40,7 @@ fn no_data_at(p_voxel: vec3<f32>) -> bool {
     if params.no_data == 0u {
         return false;
     }
-    if (params.flags & #{FLAG_TRILINEAR}u) == 0u {
+    if (FLAGS & #{FLAG_TRILINEAR}u) == 0u {
         return is_no_data(load_raw(nearest_index(p_voxel)));
     }
     let c = cell(p_voxel);
@@ -83,7 +83,7 @@ fn sample_nearest(p_voxel: vec3<f32>) -> f32 {
 
 /// The reconstructed raw value at p_voxel.
 fn sample(p_voxel: vec3<f32>) -> f32 {
-    if (params.flags & #{FLAG_TRILINEAR}u) != 0u {
+    if (FLAGS & #{FLAG_TRILINEAR}u) != 0u {
         return sample_trilinear(p_voxel);
     }
     return sample_nearest(p_voxel);
@@ -129,7 +129,7 @@ fn gradient(p_voxel: vec3<f32>) -> vec3<f32> {
 
 fn gradient_blended(p_voxel: vec3<f32>) -> vec3<f32> {
     let scale = params.slope / params.spacing;
-    if (params.flags & #{FLAG_TRILINEAR}u) == 0u {
+    if (FLAGS & #{FLAG_TRILINEAR}u) == 0u {
         return lattice_differences(nearest_index(p_voxel)) * scale;
     }
     let c = cell(p_voxel);

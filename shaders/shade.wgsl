@@ -3,7 +3,7 @@
 // the sample's colour.
 #define_import_path voxcast::shade
 
-#import voxcast::bindings::params
+#import voxcast::bindings::{params, FLAGS}
 
 /// x^n for x ≥ 0: by squaring for whole n (as the core), else pow.
 fn power(x: f32, n: f32) -> f32 {
@@ -31,11 +31,11 @@ fn shade(c: vec3<f32>, grad: vec3<f32>, p_world: vec3<f32>, view: vec3<f32>) -> 
         return c;
     }
     var n = grad * (-1.0 / len);
-    if (params.flags & #{FLAG_TWO_SIDED}u) != 0u && dot(n, view) < 0.0 {
+    if (FLAGS & #{FLAG_TWO_SIDED}u) != 0u && dot(n, view) < 0.0 {
         n = -n;
     }
     var tint = vec3(1.0);
-    if (params.flags & #{FLAG_LEVOY_HIGHLIGHT}u) != 0u {
+    if (FLAGS & #{FLAG_LEVOY_HIGHLIGHT}u) != 0u {
         tint = c;
     }
     var diffuse = vec3(0.0);
@@ -56,7 +56,7 @@ fn shade(c: vec3<f32>, grad: vec3<f32>, p_world: vec3<f32>, view: vec3<f32>) -> 
         var spec = 0.0;
         if n_dot_l > 0.0 {
             var base: f32;
-            if (params.flags & #{FLAG_BLINN_PHONG}u) != 0u {
+            if (FLAGS & #{FLAG_BLINN_PHONG}u) != 0u {
                 let h = l + view;
                 let h_len = length(h);
                 base = dot(n, select(n, h / h_len, h_len > 0.0));

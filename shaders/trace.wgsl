@@ -6,7 +6,7 @@
 // at a time: the CPU's eight lanes are its own way to the same samples.
 #define_import_path voxcast::trace
 
-#import voxcast::bindings::params
+#import voxcast::bindings::{params, FLAGS, METHOD, CLASSIFICATION, SKIP_EMPTY}
 #import voxcast::clip::clip_interval
 #import voxcast::step::{StepPlan, plan_steps, sample_t, segment_length, jitter_fraction, first_index_from}
 #import voxcast::sample::{sample, to_data, gradient, cell, no_data_at, value_and_gradient_in_cell}
@@ -24,7 +24,7 @@ fn value_at(pv: vec3<f32>) -> f32 {
 /// Colour and classified opacity of value v at pv.
 fn classified(v: f32, pv: vec3<f32>) -> vec4<f32> {
     let rgba = lut_lookup(v);
-    if params.classification == #{CLASSIFY_TABLE}u {
+    if CLASSIFICATION == #{CLASSIFY_TABLE}u {
         return rgba;
     }
     return vec4(rgba.rgb, classify(v, rgba.a, length(gradient(pv))));
@@ -33,7 +33,7 @@ fn classified(v: f32, pv: vec3<f32>) -> vec4<f32> {
 /// `classified`, with the gradient at the sample already read.
 fn classified_with(v: f32, grad: vec3<f32>) -> vec4<f32> {
     let rgba = lut_lookup(v);
-    if params.classification == #{CLASSIFY_TABLE}u {
+    if CLASSIFICATION == #{CLASSIFY_TABLE}u {
         return rgba;
     }
     return vec4(rgba.rgb, classify(v, rgba.a, length(grad)));
@@ -41,7 +41,7 @@ fn classified_with(v: f32, grad: vec3<f32>) -> vec4<f32> {
 
 /// Shades colour c at pv if shading is on.
 fn shaded(c: vec3<f32>, pv: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
-    if (params.flags & #{FLAG_SHADING}u) == 0u {
+    if (FLAGS & #{FLAG_SHADING}u) == 0u {
         return c;
     }
     return shade(c, gradient(pv), pv * params.spacing, view);
@@ -49,7 +49,7 @@ fn shaded(c: vec3<f32>, pv: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
 
 /// `shaded`, with the gradient at the sample already read.
 fn shaded_with(c: vec3<f32>, grad: vec3<f32>, pv: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
-    if (params.flags & #{FLAG_SHADING}u) == 0u {
+    if (FLAGS & #{FLAG_SHADING}u) == 0u {
         return c;
     }
     return shade(c, grad, pv * params.spacing, view);
@@ -63,34 +63,34 @@ fn trace(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, pixel: vec2<u32>) -> vec
         return vec4(0.0);
     }
     var jitter = 0.0;
-    if (params.flags & #{FLAG_JITTER}u) != 0u {
+    if (FLAGS & #{FLAG_JITTER}u) != 0u {
         jitter = jitter_fraction(pixel.x, pixel.y, params.jitter_seed);
     }
     let plan = plan_steps(hit.t_enter, hit.t_exit, params.dt, jitter, params.max_samples);
     let o_v = origin * params.inv_spacing;
     let d_v = dir * params.inv_spacing;
     let view = -dir;
-    if params.method == #{METHOD_ACCUMULATE}u {
+    if METHOD == #{METHOD_ACCUMULATE}u {
         return accumulate(plan, o_v, d_v, view);
     }
-    if params.method == #{METHOD_FIRST}u {
+    if METHOD == #{METHOD_FIRST}u {
         return first(plan, o_v, d_v, view);
     }
     return project(plan, o_v, d_v);
 }
 
 fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
-    let back_to_front = (params.flags & #{FLAG_BACK_TO_FRONT}u) != 0u;
+    let back_to_front = (FLAGS & #{FLAG_BACK_TO_FRONT}u) != 0u;
     var stop_at = 3.4e38;
-    if (params.flags & #{FLAG_EARLY_TERMINATION}u) != 0u && !back_to_front {
+    if (FLAGS & #{FLAG_EARLY_TERMINATION}u) != 0u && !back_to_front {
         stop_at = params.cutoff;
     }
     var acc = vec4(0.0);
-    let skip = params.skip_empty != 0u && !back_to_front;
-    let leaping = (params.flags & #{FLAG_SKIP_CELLS}u) != 0u;
+    let skip = SKIP_EMPTY != 0u && !back_to_front;
+    let leaping = (FLAGS & #{FLAG_SKIP_CELLS}u) != 0u;
     // As in the core, for trilinear reconstruction only.
-    let recorded = (params.flags & #{FLAG_RECORDS}u) != 0u
-        && (params.flags & #{FLAG_TRILINEAR}u) != 0u;
+    let recorded = (FLAGS & #{FLAG_RECORDS}u) != 0u
+        && (FLAGS & #{FLAG_TRILINEAR}u) != 0u;
     let margin_t = params.skip_margin / length(d_v);
     var checked = vec3(0xffffffffu);
     var i = 0u;
@@ -157,7 +157,7 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
             continue;
         }
         var alpha = cl.a;
-        if (params.flags & #{FLAG_OPACITY_CORRECTION}u) != 0u {
+        if (FLAGS & #{FLAG_OPACITY_CORRECTION}u) != 0u {
             alpha = correct_opacity(cl.a, segment_length(plan, k, t), params.dt_ref);
         }
         if alpha > 0.0 {
@@ -184,8 +184,8 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
     if plan.count == 0u {
         return vec4(0.0);
     }
-    let maximum = params.method == #{METHOD_MAXIMUM}u;
-    let extreme = maximum || params.method == #{METHOD_MINIMUM}u;
+    let maximum = METHOD == #{METHOD_MAXIMUM}u;
+    let extreme = maximum || METHOD == #{METHOD_MINIMUM}u;
     // The CPU's block skipping for Maximum and Minimum (trace.rs, `project_extreme`): a block
     // whose range cannot beat the running extreme is passed without sampling.
     let skip = params.skip_ranges != 0u && extreme;
@@ -236,7 +236,7 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
         value = hi;
     } else if extreme {
         value = lo;
-    } else if params.method == #{METHOD_SUM}u {
+    } else if METHOD == #{METHOD_SUM}u {
         // Σv·Δs with Δs the step in voxels along this ray, stretched over the table.
         let table_hi = params.lut_lo + f32(#{LUT_SIZE}u - 1u) / params.lut_scale;
         value = sum_to_value(

@@ -281,6 +281,7 @@ fn start_capture(
     preview_visible: Query<&Visibility, With<super::state::VolumeBox>>,
     preview: Option<Res<super::preview::PreviewSettings>>,
     progressive: Option<Res<super::progressive::Progressive>>,
+    compiling: Res<super::pipelines::Compiling>,
 ) {
     let Some(left) = comparison.settling else {
         // Cancelled while settling: nothing will be captured, so nothing else resets it.
@@ -291,6 +292,9 @@ fn start_capture(
     };
     if !full.0 {
         full.0 = true;
+    }
+    if compiling.now() {
+        return; // the preview for these settings is not drawn until its pipeline is ready
     }
     if left > 0 {
         comparison.settling = Some(left - 1);

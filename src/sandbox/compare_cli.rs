@@ -22,9 +22,10 @@ fn run_comparison(
     request: Res<CompareRequest>,
     mut exit: MessageWriter<AppExit>,
     cells: Res<super::state::CellsUpload>,
+    compiling: Res<super::pipelines::Compiling>,
 ) {
-    if cells.pending() {
-        return; // the preview as it will be: with the cells' visibility uploaded
+    if cells.pending() || compiling.now() {
+        return; // the preview as it will be: cells uploaded, its pipeline compiled
     }
     *frames += 1;
     if *frames == WARM_UP_FRAMES {

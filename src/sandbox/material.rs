@@ -3,7 +3,7 @@
 //! write, so the camera may be inside the box and opaque scene geometry stops the rays through
 //! the depth prepass instead.
 
-use super::uniform::{VolumeUniform, shader_defs};
+use super::uniform::{PreviewVariant, VolumeUniform, shader_defs};
 use bevy::asset::{RenderAssetUsages, uuid_handle};
 use bevy::mesh::MeshVertexBufferLayoutRef;
 use bevy::pbr::{MaterialPipeline, MaterialPipelineKey};
@@ -21,8 +21,9 @@ use voxcast_core::volume::{Grid, GridVisitor, ScalarType, Voxel};
 /// The fragment shader, `shaders/volume.wgsl`, registered under this handle.
 pub const VOLUME_SHADER: Handle<Shader> = uuid_handle!("6a1c3e0e-4f0f-4b8e-9a3a-2f4e0d1c7b55");
 
-/// The preview's material.
+/// The preview's material; its pipeline is compiled for the uniform's [`PreviewVariant`].
 #[derive(Asset, TypePath, AsBindGroup, Clone, Debug)]
+#[bind_group_data(PreviewVariant)]
 pub struct VolumeMaterial {
     #[uniform(0)]
     pub uniform: VolumeUniform,
@@ -38,6 +39,12 @@ pub struct VolumeMaterial {
     pub cells: Handle<Image>,
     #[texture(6, dimension = "3d", sample_type = "s_int")]
     pub records: Handle<Image>,
+}
+
+impl From<&VolumeMaterial> for PreviewVariant {
+    fn from(material: &VolumeMaterial) -> Self {
+        PreviewVariant::of(&material.uniform)
+    }
 }
 
 impl Material for VolumeMaterial {
@@ -61,7 +68,7 @@ impl Material for VolumeMaterial {
         _pipeline: &MaterialPipeline,
         descriptor: &mut RenderPipelineDescriptor,
         _layout: &MeshVertexBufferLayoutRef,
-        _key: MaterialPipelineKey<Self>,
+        key: MaterialPipelineKey<Self>,
     ) -> Result<(), SpecializedMeshPipelineError> {
         descriptor.primitive.cull_mode = Some(Face::Front);
         if let Some(depth) = descriptor.depth_stencil.as_mut() {
@@ -69,7 +76,9 @@ impl Material for VolumeMaterial {
             depth.depth_compare = Some(CompareFunction::Always);
         }
         if let Some(fragment) = descriptor.fragment.as_mut() {
-            fragment.shader_defs.extend(shader_defs());
+            fragment
+                .shader_defs
+                .extend(shader_defs(key.bind_group_data));
         }
         Ok(())
     }

@@ -21,6 +21,7 @@ mod measure;
 pub mod mode;
 mod orbit;
 mod overlay;
+mod pipelines;
 pub mod platform;
 mod preview;
 mod progressive;
@@ -223,6 +224,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         .add_plugins(MaterialPlugin::<VolumeMaterial>::default())
         .add_plugins((
             shaders::plugin,
+            pipelines::plugin,
             state::plugin,
             mode::plugin,
             light::marker_plugin,
@@ -328,7 +330,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         })
         .insert_resource(levels::Lessons::new(levels::progress_path()))
         .add_plugins((
-            preview::plugin,
+            (preview::plugin, pipelines::window_plugin),
             ui::plugin,
             levels::plugin,
             breakdown::plugin,

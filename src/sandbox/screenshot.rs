@@ -83,9 +83,10 @@ fn take_screenshot(
     target: Res<Target>,
     request: Res<Request>,
     cells: Res<super::state::CellsUpload>,
+    compiling: Res<super::pipelines::Compiling>,
 ) {
-    if cells.pending() {
-        return; // the preview as it will be: with the cells' visibility uploaded
+    if cells.pending() || compiling.now() {
+        return; // the preview as it will be: cells uploaded, its pipeline compiled
     }
     let shots = plan.get_or_insert_with(|| {
         if request.sweep {

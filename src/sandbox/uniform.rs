@@ -43,9 +43,38 @@ pub const CLASSIFY_BOUNDARIES: u32 = 2;
 /// The most isovalues the preview classifies with: the core refuses more.
 pub use voxcast_core::classify::MAX_ISOVALUES;
 
-/// Every constant the WGSL uses, as shader defs.
-pub fn shader_defs() -> Vec<ShaderDefVal> {
+/// What a preview pipeline is compiled for: the uniform's members that choose which code runs
+/// (the method, the flags, the classification, the skip switch), compiled in as constants
+/// (`shaders/bindings.wgsl`). Each combination a session uses is compiled once and kept (Bevy
+/// caches pipelines), so a frame runs only the branches its settings take; changing one of
+/// these settings compiles a pipeline (once) instead of branching in every sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct PreviewVariant {
+    pub method: u32,
+    pub flags: u32,
+    pub classification: u32,
+    pub skip_empty: u32,
+}
+
+impl PreviewVariant {
+    /// The variant the uniform's members call for.
+    pub fn of(u: &VolumeUniform) -> Self {
+        Self {
+            method: u.method,
+            flags: u.flags,
+            classification: u.classification,
+            skip_empty: u.skip_empty,
+        }
+    }
+}
+
+/// Every constant the WGSL uses, with the pipeline's `variant`, as shader defs.
+pub fn shader_defs(variant: PreviewVariant) -> Vec<ShaderDefVal> {
     let mut defs: Vec<ShaderDefVal> = vec![
+        ShaderDefVal::UInt("VARIANT_FLAGS".into(), variant.flags),
+        ShaderDefVal::UInt("VARIANT_METHOD".into(), variant.method),
+        ShaderDefVal::UInt("VARIANT_CLASSIFICATION".into(), variant.classification),
+        ShaderDefVal::UInt("VARIANT_SKIP_EMPTY".into(), variant.skip_empty),
         ShaderDefVal::UInt("LUT_SIZE".into(), LUT_SIZE as u32),
         ShaderDefVal::UInt("BLOCK".into(), voxcast_core::skip::BLOCK as u32),
         ShaderDefVal::UInt("FLAG_OPACITY_CORRECTION".into(), FLAG_OPACITY_CORRECTION),
@@ -295,8 +324,8 @@ mod tests {
     };
     use std::collections::HashMap;
 
-    fn defs() -> HashMap<String, ShaderDefValue> {
-        let mut map: HashMap<String, ShaderDefValue> = shader_defs()
+    fn defs_for(variant: PreviewVariant) -> HashMap<String, ShaderDefValue> {
+        let mut map: HashMap<String, ShaderDefValue> = shader_defs(variant)
             .into_iter()
             .map(|d| match d {
                 ShaderDefVal::UInt(name, v) => (name, ShaderDefValue::UInt(v)),
@@ -310,6 +339,10 @@ mod tests {
 
     /// Every library module composed and a fragment entry that traces one ray, validated.
     fn module() -> naga::Module {
+        module_for(PreviewVariant::default())
+    }
+
+    fn module_for(variant: PreviewVariant) -> naga::Module {
         let mut composer = Composer::default();
         // Dependencies first.
         for (name, source) in crate::sandbox::shaders::SOURCES {
@@ -319,7 +352,7 @@ mod tests {
             let added = composer.add_composable_module(ComposableModuleDescriptor {
                 source,
                 file_path: name,
-                shader_defs: defs(),
+                shader_defs: defs_for(variant),
                 ..Default::default()
             });
             if let Err(e) = added {
@@ -334,7 +367,7 @@ mod tests {
             .make_naga_module(NagaModuleDescriptor {
                 source: entry,
                 file_path: "entry.wgsl",
-                shader_defs: defs(),
+                shader_defs: defs_for(variant),
                 ..Default::default()
             })
             .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&composer)));
@@ -350,6 +383,65 @@ mod tests {
     #[test]
     fn the_wgsl_composes_and_validates() {
         module();
+    }
+
+    /// The pipeline variants compose and validate: each method with no flag, and with every
+    /// flag under each classification (so every branch is compiled in at least once).
+    #[test]
+    fn every_variant_composes_and_validates() {
+        let all_flags = FLAG_OPACITY_CORRECTION
+            | FLAG_EARLY_TERMINATION
+            | FLAG_JITTER
+            | FLAG_SHADING
+            | FLAG_TRILINEAR
+            | FLAG_TWO_SIDED
+            | FLAG_BLINN_PHONG
+            | FLAG_BACK_TO_FRONT
+            | FLAG_LEVOY_HIGHLIGHT
+            | FLAG_SKIP_CELLS
+            | FLAG_RECORDS;
+        let ways = [
+            (0, CLASSIFY_TABLE, 0),
+            (all_flags, CLASSIFY_ISO_CONTOURS, 1),
+            (all_flags & !FLAG_BACK_TO_FRONT, CLASSIFY_BOUNDARIES, 1),
+        ];
+        for method in Method::ALL {
+            for (flags, classification, skip_empty) in ways {
+                module_for(PreviewVariant {
+                    method: method.code(),
+                    flags,
+                    classification,
+                    skip_empty,
+                });
+            }
+        }
+    }
+
+    /// The variant is the uniform's own switches, so the pipeline compiled for a material is
+    /// the one its settings call for.
+    #[test]
+    fn the_variant_follows_the_settings() {
+        let u = VolumeUniform {
+            method: Method::Maximum.code(),
+            flags: FLAG_SHADING | FLAG_RECORDS,
+            classification: CLASSIFY_BOUNDARIES,
+            skip_empty: 1,
+            dt: 0.25,
+            ..VolumeUniform::default()
+        };
+        let v = PreviewVariant::of(&u);
+        assert_eq!(
+            v,
+            PreviewVariant {
+                method: Method::Maximum.code(),
+                flags: FLAG_SHADING | FLAG_RECORDS,
+                classification: CLASSIFY_BOUNDARIES,
+                skip_empty: 1,
+            }
+        );
+        // What is not a switch (a step, a colour) does not make a new pipeline.
+        let other_step = VolumeUniform { dt: 0.5, ..u };
+        assert_eq!(PreviewVariant::of(&other_step), v);
     }
 
     /// Bytes of one member of `u`, by its WGSL name.

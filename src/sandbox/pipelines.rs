@@ -1,0 +1,85 @@
+//! Whether the renderer is still compiling pipelines. The preview's pipeline is compiled per
+//! [`super::uniform::PreviewVariant`]: after a change of method, shading, interpolation or
+//! skipping, the new variant is compiled in the background (once; Bevy keeps it) and the volume
+//! is not drawn until it is ready. Captures wait for it instead of counting frames, and the
+//! window says so instead of showing an empty box.
+
+use bevy::prelude::*;
+use bevy::render::render_resource::PipelineCache;
+use bevy::render::{Render, RenderApp, RenderSystems};
+use bevy_egui::egui;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Set by the render world after each frame's pipeline work: true while any pipeline is queued
+/// or being compiled. Read by the main world a frame later.
+#[derive(Resource, Clone, Default)]
+pub struct Compiling(Arc<AtomicBool>);
+
+impl Compiling {
+    /// Whether a pipeline was still being compiled at the end of the last rendered frame.
+    pub fn now(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// In the window: while the GPU preview's pipeline is compiled, a line in the viewport says so
+/// (the volume is not drawn meanwhile).
+pub(super) fn window_plugin(app: &mut App) {
+    app.add_systems(
+        bevy_egui::EguiPrimaryContextPass,
+        say_compiling.after(super::preview::paint_preview),
+    );
+}
+
+fn say_compiling(
+    mut contexts: bevy_egui::EguiContexts,
+    compiling: Res<Compiling>,
+    preview: Res<super::preview::PreviewSettings>,
+    viewport: Option<Res<super::preview::Viewport>>,
+) -> Result {
+    if !(compiling.now() && preview.enabled && preview.backend == super::live::Backend::Gpu) {
+        return Ok(());
+    }
+    let ctx = contexts.ctx_mut()?;
+    let rect = super::preview::Viewport::rect(viewport.as_deref(), ctx);
+    ctx.layer_painter(egui::LayerId::background())
+        .with_clip_rect(rect)
+        .text(
+            rect.center_top() + egui::vec2(0.0, 12.0),
+            egui::Align2::CENTER_TOP,
+            "Compiling the GPU preview for these settings…",
+            egui::FontId::proportional(15.0),
+            egui::Color32::from_gray(220),
+        );
+    Ok(())
+}
+
+/// When the current wave of compiling started (render world), to log how long it took.
+#[derive(Resource, Default)]
+struct Started(Option<Instant>);
+
+pub(super) fn plugin(app: &mut App) {
+    let compiling = Compiling::default();
+    app.insert_resource(compiling.clone());
+    if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
+        render_app
+            .insert_resource(compiling)
+            .init_resource::<Started>()
+            .add_systems(Render, note.in_set(RenderSystems::Cleanup));
+    }
+}
+
+fn note(cache: Res<PipelineCache>, compiling: Res<Compiling>, mut started: ResMut<Started>) {
+    let waiting = cache.waiting_pipelines().next().is_some();
+    compiling.0.store(waiting, Ordering::Relaxed);
+    match (waiting, started.0) {
+        (true, None) => started.0 = Some(Instant::now()),
+        (false, Some(at)) => {
+            info!("pipelines compiled in {:.2} s", at.elapsed().as_secs_f64());
+            started.0 = None;
+        }
+        _ => {}
+    }
+}
