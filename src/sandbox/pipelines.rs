@@ -56,9 +56,13 @@ fn say_compiling(
     Ok(())
 }
 
-/// When the current wave of compiling started (render world), to log how long it took.
+/// When the current wave of compiling started (render world), to log how long it took, and
+/// whether it has been given up on.
 #[derive(Resource, Default)]
-struct Started(Option<Instant>);
+struct Started {
+    at: Option<Instant>,
+    given_up: bool,
+}
 
 pub(super) fn plugin(app: &mut App) {
     let compiling = Compiling::default();
@@ -71,14 +75,25 @@ pub(super) fn plugin(app: &mut App) {
     }
 }
 
+/// The longest a wave of compiling is waited for: a pipeline whose shader never arrives stays
+/// queued forever, and a capture must not wait for it forever.
+const MAX_WAIT_S: f64 = 60.0;
+
 fn note(cache: Res<PipelineCache>, compiling: Res<Compiling>, mut started: ResMut<Started>) {
     let waiting = cache.waiting_pipelines().next().is_some();
-    compiling.0.store(waiting, Ordering::Relaxed);
-    match (waiting, started.0) {
-        (true, None) => started.0 = Some(Instant::now()),
-        (false, Some(at)) => {
-            info!("pipelines compiled in {:.2} s", at.elapsed().as_secs_f64());
-            started.0 = None;
+    let waited = started.at.map_or(0.0, |at| at.elapsed().as_secs_f64());
+    if waiting && waited >= MAX_WAIT_S && !started.given_up {
+        warn!("a pipeline has been queued for {MAX_WAIT_S} s: no longer waiting for it");
+        started.given_up = true;
+    }
+    compiling
+        .0
+        .store(waiting && !started.given_up, Ordering::Relaxed);
+    match (waiting, started.at) {
+        (true, None) => started.at = Some(Instant::now()),
+        (false, Some(_)) => {
+            info!("pipelines compiled in {waited:.2} s");
+            *started = Started::default();
         }
         _ => {}
     }
