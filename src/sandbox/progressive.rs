@@ -7,9 +7,11 @@
 //!
 //! How many strips: the window's frame time is fitted, as it goes, to a fixed part (egui, the
 //! passes every frame pays) plus a part proportional to the work the camera was given (pixels ÷
-//! step multiplier); a pass gets as many strips as keep each frame's volume work within its
-//! share of [`FRAME_BUDGET_S`]. On a GPU that draws a whole frame within its share the preview
-//! draws whole frames as before.
+//! step multiplier); each strip gets as many rows as keep its frame's volume work within its
+//! share of [`FRAME_BUDGET_S`], planned again before every strip, so a model learnt while the
+//! view moved (a larger step, which costs more per unit of work than it says) is corrected by
+//! the pass's own strips. On a GPU that draws a whole frame within its share the preview draws
+//! whole frames as before.
 
 use super::preview::{FullQuality, Motion, PreviewSettings, PreviewTarget};
 use super::state::MainCamera;
@@ -81,9 +83,11 @@ pub struct Progressive {
     images: Option<([Handle<Image>; 2], UVec2)>,
     /// The image being filled.
     filling: usize,
-    /// Strips in the pass under way, and how many of them the camera was given.
-    strips: u32,
-    next: u32,
+    /// Rows of the pass under way the camera was given so far, and in how many strips.
+    rows: u32,
+    drawn: u32,
+    /// Strips the last finished pass took.
+    took: u32,
     /// The image the last finished pass drew (none since the view or settings changed).
     finished: Option<usize>,
     /// Whether the resting view is being drawn in strips.
@@ -96,11 +100,14 @@ pub struct Progressive {
     whole_frames: bool,
 }
 
-/// Rows `[y0, y1)` of strip `k` of `n` in an image `height` rows high.
-pub fn strip_rows(k: u32, n: u32, height: u32) -> (u32, u32) {
-    let n = n.max(1) as u64;
-    let row = |k: u64| (k * height as u64 / n) as u32;
-    (row(k as u64), row(k as u64 + 1))
+/// Rows `[y0, y1)` of the next strip of a pass that has drawn `done` of `height` rows: the
+/// height of one of the strips a whole pass of `predicted_s` seconds would need
+/// ([`strips_for`]), at most the rows left.
+pub fn next_strip(done: u32, height: u32, predicted_s: f64, share: f64) -> (u32, u32) {
+    let per = height
+        .div_ceil(strips_for(predicted_s, share, height))
+        .max(1);
+    (done.min(height), done.saturating_add(per).min(height))
 }
 
 /// How many strips a pass of `predicted_s` seconds of volume work needs for each frame to stay
@@ -126,9 +133,13 @@ impl Progressive {
         self.active
     }
 
-    /// Strips in the pass under way.
+    /// Strips the last finished pass took (before one finishes: those drawn so far).
     pub fn strips(&self) -> u32 {
-        self.strips
+        if self.finished.is_some() {
+            self.took
+        } else {
+            self.drawn
+        }
     }
 
     /// Whether the resting view is on screen at full quality: drawn whole, or a pass finished.
@@ -156,10 +167,9 @@ impl Progressive {
             return vec![(images[f].clone(), 0.0, 1.0)];
         }
         let mut out: Vec<_> = self.whole.iter().map(|w| (w.clone(), 0.0, 1.0)).collect();
-        let h = size.y.max(1) as f32;
-        for k in 0..self.next {
-            let (y0, y1) = strip_rows(k, self.strips, size.y);
-            out.push((images[self.filling].clone(), y0 as f32 / h, y1 as f32 / h));
+        if self.rows > 0 {
+            let h = size.y.max(1) as f32;
+            out.push((images[self.filling].clone(), 0.0, self.rows as f32 / h));
         }
         out
     }
@@ -220,24 +230,22 @@ pub(super) fn give_camera_its_work(
             p.active = false;
         }
         if p.active && p.pass_full != full.0 {
-            // The quality changed: a new pass, from the first strip.
-            (p.strips, p.next) = (0, 0);
+            // The quality changed: a new pass, from the first row.
+            (p.rows, p.drawn, p.pass_full) = (0, 0, full.0);
         }
         if !p.active {
-            (p.active, p.finished, p.strips, p.next) = (true, None, 0, 0);
-        }
-        if p.next >= p.strips {
-            if p.strips > 0 {
-                p.finished = Some(p.filling);
-                p.finished_full = p.pass_full;
-                p.filling ^= 1;
-            }
+            (p.active, p.finished, p.rows, p.drawn) = (true, None, 0, 0);
             p.pass_full = full.0;
-            p.strips = strips_for(predicted.unwrap_or(0.0), share, size.y);
-            p.next = 0;
         }
-        let rows = strip_rows(p.next, p.strips, size.y);
-        p.next += 1;
+        if p.rows >= size.y {
+            p.finished = Some(p.filling);
+            p.finished_full = p.pass_full;
+            p.took = p.drawn;
+            p.filling ^= 1;
+            (p.rows, p.drawn, p.pass_full) = (0, 0, full.0);
+        }
+        let rows = next_strip(p.rows, size.y, predicted.unwrap_or(0.0), share);
+        (p.rows, p.drawn) = (rows.1, p.drawn + 1);
         let image = p.images.as_ref().map(|(i, _)| i[p.filling].clone());
         (image.unwrap_or_else(|| target.image.clone()), Some(rows))
     } else {
@@ -322,18 +330,33 @@ pub fn strip_rects(rect: egui::Rect, y0: f32, y1: f32) -> (egui::Rect, egui::Rec
 mod tests {
     use super::*;
 
+    /// Whatever the model predicts from strip to strip, the strips cover every row once, in
+    /// order, and a pass predicted cheaper takes fewer.
     #[test]
-    fn strips_cover_every_row_once_in_order() {
-        for (n, height) in [(2, 2), (3, 10), (7, 720), (64, 64), (5, 1)] {
-            let mut next = 0;
-            for k in 0..n {
-                let (y0, y1) = strip_rows(k, n, height);
-                assert_eq!(y0, next, "strip {k} of {n} over {height} rows");
-                assert!(y1 >= y0);
-                next = y1;
+    fn strips_cover_every_row_once_in_order_as_the_plan_changes() {
+        let b = FRAME_BUDGET_S;
+        for height in [1, 2, 10, 720] {
+            for predictions in [vec![1.0], vec![3.2, 0.2], vec![0.06, 1e9, 0.3, f64::NAN]] {
+                let (mut done, mut strips) = (0, 0);
+                while done < height {
+                    let p = predictions[strips % predictions.len()];
+                    let (y0, y1) = next_strip(done, height, p, b);
+                    assert_eq!(y0, done, "{height} rows, {predictions:?}");
+                    assert!(y1 > y0, "every strip draws a row");
+                    (done, strips) = (y1, strips + 1);
+                }
+                assert_eq!(done, height);
             }
-            assert_eq!(next, height);
         }
+        let count = |predicted: f64| {
+            let (mut done, mut n) = (0, 0);
+            while done < 720 {
+                (done, n) = (next_strip(done, 720, predicted, b).1, n + 1);
+            }
+            n
+        };
+        assert_eq!(count(1.5), 30);
+        assert!(count(0.3) < count(3.0));
     }
 
     #[test]
@@ -390,16 +413,15 @@ mod tests {
         let mut p = Progressive {
             whole: Some(whole.clone()),
             images: Some((made.clone(), UVec2::new(8, 8))),
-            strips: 4,
-            next: 2,
+            rows: 4,
+            drawn: 2,
             active: true,
             ..Default::default()
         };
         let layers = p.layers();
-        assert_eq!(layers.len(), 3);
+        assert_eq!(layers.len(), 2);
         assert_eq!(layers[0], (whole, 0.0, 1.0));
-        assert_eq!(layers[1], (made[0].clone(), 0.0, 0.25));
-        assert_eq!(layers[2], (made[0].clone(), 0.25, 0.5));
+        assert_eq!(layers[1], (made[0].clone(), 0.0, 0.5));
         assert!(!p.full_quality_shown());
         p.finished = Some(1);
         assert_eq!(p.layers(), vec![(made[1].clone(), 0.0, 1.0)]);
