@@ -45,12 +45,16 @@ fn first_index_from(plan: StepPlan, t: f32) -> u32 {
 /// neighbours, the first starting at t_enter and the last ending at t_exit.
 fn segment_length(plan: StepPlan, k: u32, t_k: f32) -> f32 {
     let half = 0.5 * plan.dt;
+    let last = k + 1u == plan.count && !plan.capped;
+    if k > 0u && !last && t_k + half <= plan.t_exit {
+        return plan.dt; // an interior sample: dt exactly, not dt give or take t_k's rounding
+    }
     var start = t_k - half;
     if k == 0u {
         start = plan.t_enter;
     }
     var end = min(t_k + half, plan.t_exit);
-    if k + 1u == plan.count && !plan.capped {
+    if last {
         end = plan.t_exit;
     }
     return max(end - start, 0.0);

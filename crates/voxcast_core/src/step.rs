@@ -116,8 +116,14 @@ pub fn sample_t(plan: &StepPlan, k: u32) -> f32 {
 #[inline(always)]
 pub fn segment_length(plan: &StepPlan, k: u32, t_k: f32) -> f32 {
     let half = 0.5 * plan.dt;
+    let last = k + 1 == plan.count && !plan.capped;
+    if k > 0 && !last && t_k + half <= plan.t_exit {
+        // An interior sample: `(t_k + dt/2) − (t_k − dt/2)` is `dt` exactly; computed in
+        // floats it would be `dt` give or take the rounding of `t_k`.
+        return plan.dt;
+    }
     let start = if k == 0 { plan.t_enter } else { t_k - half };
-    let end = if k + 1 == plan.count && !plan.capped {
+    let end = if last {
         plan.t_exit
     } else {
         (t_k + half).min(plan.t_exit)
@@ -172,6 +178,18 @@ mod tests {
             .map(|(k, &t)| segment_length(&p, k as u32, t))
             .collect();
         assert_eq!(ds, vec![0.25, 0.5, 0.5, 0.5, 0.25]);
+    }
+
+    /// Far from the origin, where `t_k ± dt/2` round, an interior sample still stands for `dt`
+    /// exactly (so opacity correction sees the step the user chose, not its rounding).
+    #[test]
+    fn interior_samples_stand_for_exactly_the_step() {
+        let p = plan_steps(1234.567, 1300.1, 0.2392578, 0.37, 1 << 20);
+        assert!(p.count > 10);
+        for k in 1..p.count - 1 {
+            assert_eq!(segment_length(&p, k, sample_t(&p, k)), p.dt, "sample {k}");
+        }
+        assert!(segment_length(&p, 0, sample_t(&p, 0)) <= 1.5 * p.dt);
     }
 
     #[test]
