@@ -296,6 +296,12 @@ pub struct VisibleCells {
     /// Per brick, its chessboard distance in bricks to the nearest brick holding a visible
     /// cell: 0 for such a brick, at most [`MAX_LEAP`] (also where no cell can be seen at all).
     distance: Vec<u8>,
+    /// Per octant of directions ([`octant`]), each brick's distance as `distance` counts it but
+    /// to the nearest brick with a visible cell *ahead* of a ray moving in that octant (none
+    /// behind it on any axis it moves along): a ray there leaps out of the cube of bricks ahead
+    /// of it, as large as that allows — near a surface it runs along, farther than the cube
+    /// around it. Computed for an octant when a ray first asks.
+    forward: [std::sync::OnceLock<Vec<u8>>; 8],
     /// The box (voxel space) of the bricks holding a visible cell, widened by
     /// [`BRICK_MARGIN`] and unbounded on the volume's borders; `None` when no cell can be seen.
     visible_box: Option<(Vec3, Vec3)>,
@@ -360,6 +366,7 @@ impl VisibleCells {
                     bricks,
                     bits,
                     distance,
+                    forward: Default::default(),
                     visible_box,
                 }
             }
@@ -409,7 +416,17 @@ impl VisibleCells {
         self.distance[self.brick_index(lo.map(|l| l >> 2))]
     }
 
-    /// [`VisibleCells::leap_exit`] with the brick's distance already read.
+    /// Each brick's distance to the nearest brick with a visible cell ahead of a ray moving in
+    /// `octant` ([`octant`]; 0 for a brick with one, at most [`MAX_LEAP`]): with it,
+    /// [`VisibleCells::leap_exit_at`] leaves the cube of bricks ahead of the ray, whose faces
+    /// towards the ray's motion are those of the cube around it of the same distance.
+    pub fn forward_distances(&self, octant: usize) -> &[u8] {
+        self.forward[octant & 7].get_or_init(|| forward_distances(self.bricks, &self.bits, octant))
+    }
+
+    /// [`VisibleCells::leap_exit`] with the brick's distance already read (the distance of
+    /// [`VisibleCells::brick_distance`], or of [`VisibleCells::forward_distances`] for a ray in
+    /// that octant).
     #[inline(always)]
     pub fn leap_exit_at(&self, lo: [usize; 3], distance: u8, o_v: Vec3, inv_d: Vec3) -> f32 {
         let b = lo.map(|l| (l >> 2) as u32);
@@ -537,6 +554,61 @@ fn brick_distances(bricks: [usize; 3], words: &[u64]) -> Vec<u8> {
     };
     pass(&mut (0..n), 1);
     pass(&mut (0..n).rev(), -1);
+    d
+}
+
+/// The octant of direction `d`: bit `a` set where it moves towards −a (an axis it does not move
+/// along counts as +).
+pub fn octant(d: Vec3) -> usize {
+    usize::from(d.x < 0.0) | usize::from(d.y < 0.0) << 1 | usize::from(d.z < 0.0) << 2
+}
+
+/// [`brick_distances`] restricted to the bricks ahead in `octant`: for brick `b`, the least
+/// `max_a |v_a − b_a|` over bricks `v` with a non-zero word and `v_a − b_a` of the octant's sign
+/// (or 0) on every axis. One raster pass from the far corner: a brick's value is one more than
+/// the least of its (up to) 7 neighbours ahead, exact for this metric.
+fn forward_distances(bricks: [usize; 3], words: &[u64], octant: usize) -> Vec<u8> {
+    let [nx, ny, nz] = bricks;
+    let mut d = vec![MAX_LEAP; words.len()];
+    let step = |a: usize| if octant >> a & 1 == 1 { -1isize } else { 1 };
+    let s = [step(0), step(1), step(2)];
+    // Visit each axis from its far end (the direction of motion) back.
+    let order = |n: usize, s: isize| -> Vec<usize> {
+        if s > 0 {
+            (0..n).rev().collect()
+        } else {
+            (0..n).collect()
+        }
+    };
+    let (xs, ys, zs) = (order(nx, s[0]), order(ny, s[1]), order(nz, s[2]));
+    let ahead = |c: usize, s: isize, n: usize| -> Option<usize> {
+        let c = c as isize + s;
+        (c >= 0 && c < n as isize).then_some(c as usize)
+    };
+    for &z in &zs {
+        for &y in &ys {
+            for &x in &xs {
+                let i = x + nx * (y + ny * z);
+                if words[i] != 0 {
+                    d[i] = 0;
+                    continue;
+                }
+                let mut best = MAX_LEAP;
+                for m in 1..8usize {
+                    let (mx, my, mz) = (m & 1 == 1, m & 2 == 2, m & 4 == 4);
+                    let nb = (
+                        if mx { ahead(x, s[0], nx) } else { Some(x) },
+                        if my { ahead(y, s[1], ny) } else { Some(y) },
+                        if mz { ahead(z, s[2], nz) } else { Some(z) },
+                    );
+                    if let (Some(a), Some(b), Some(c)) = nb {
+                        best = best.min(d[a + nx * (b + ny * c)].saturating_add(1));
+                    }
+                }
+                d[i] = best;
+            }
+        }
+    }
     d
 }
 
@@ -765,6 +837,54 @@ mod tests {
         assert!((t - (7.0 - BRICK_MARGIN)).abs() < 1e-5, "{t}");
         // A sample at x = 3.9999 (t = 6.9999) is too close to the face: no leap.
         assert!(vis.leap_exit([3, 0, 0], o, inv) < 6.9999);
+    }
+
+    #[test]
+    fn forward_distances_count_only_the_bricks_ahead() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for dims in [[7, 5, 9], [1, 6, 4], [12, 1, 1], [3, 3, 3]] {
+            for density in [0, 1, 3, 40] {
+                let n = dims[0] * dims[1] * dims[2];
+                let words: Vec<u64> = (0..n).map(|_| u64::from(next() % 100 < density)).collect();
+                let around = brick_distances(dims, &words);
+                for octant in 0..8 {
+                    let sign = |a: usize| if octant >> a & 1 == 1 { -1i64 } else { 1 };
+                    let d = forward_distances(dims, &words, octant);
+                    for (i, &found) in d.iter().enumerate() {
+                        let p = [
+                            i % dims[0],
+                            (i / dims[0]) % dims[1],
+                            i / (dims[0] * dims[1]),
+                        ];
+                        let mut want = MAX_LEAP as i64;
+                        for (j, &w) in words.iter().enumerate().filter(|(_, w)| **w != 0) {
+                            let _ = w;
+                            let q = [
+                                j % dims[0],
+                                (j / dims[0]) % dims[1],
+                                j / (dims[0] * dims[1]),
+                            ];
+                            let off: Vec<i64> = (0..3)
+                                .map(|a| (q[a] as i64 - p[a] as i64) * sign(a))
+                                .collect();
+                            if off.iter().all(|&o| o >= 0) {
+                                want = want.min(*off.iter().max().unwrap());
+                            }
+                        }
+                        assert_eq!(found as i64, want, "{dims:?} octant {octant} brick {p:?}");
+                        assert!(found >= around[i], "never shorter than the cube around");
+                    }
+                }
+            }
+        }
+        assert_eq!(octant(Vec3::new(1.0, -0.5, 0.0)), 2);
+        assert_eq!(octant(Vec3::new(-1.0, -1.0, -1.0)), 7);
     }
 
     #[test]

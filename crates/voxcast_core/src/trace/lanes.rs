@@ -223,10 +223,14 @@ impl Lanes<'_> {
         let (t0, t1) = cells.visible_interval(o_v, inv_d)?;
         let mut k = first_index_from(plan, t0, inv_dt);
         let end = first_index_from(plan, t1, inv_dt);
+        // The distances ahead of a ray moving in this one's octant: its leaps are as long as
+        // the empty bricks in front of it allow (positions only grow along an axis it moves
+        // up and only shrink along one it moves down, rounding included).
+        let ahead = cells.forward_distances(crate::skip::octant(d_v));
         while k < end {
             // In an empty brick the ray leaps before it locates anything.
             let lo = self.cell_lo(o_v + d_v * sample_t(plan, k));
-            let distance = cells.brick_distance(lo);
+            let distance = ahead[cells.brick_index(lo.map(|l| l >> 2))];
             if distance > 0 {
                 let t = cells.leap_exit_at(lo, distance, o_v, inv_d);
                 let next = first_index_from(plan, t, inv_dt);
