@@ -383,8 +383,7 @@ impl VisibleCells {
     /// The cell's state: visible, invisible, or in a brick with no visible cell at all.
     #[inline(always)]
     pub fn lookup(&self, lo: [usize; 3]) -> Cell {
-        let word = self.bits
-            [(lo[0] >> 2) + self.bricks[0] * ((lo[1] >> 2) + self.bricks[1] * (lo[2] >> 2))];
+        let word = self.bits[self.brick_of(lo)];
         let bit = (lo[0] & 3) | (lo[1] & 3) << 2 | (lo[2] & 3) << 4;
         if word & (1 << bit) != 0 {
             Cell::Visible
@@ -413,7 +412,13 @@ impl VisibleCells {
     /// holds a visible cell.
     #[inline(always)]
     pub fn brick_distance(&self, lo: [usize; 3]) -> u8 {
-        self.distance[self.brick_index(lo.map(|l| l >> 2))]
+        self.distance[self.brick_of(lo)]
+    }
+
+    /// The index of the brick holding the cell with lower corner `lo`, in the distance maps.
+    #[inline(always)]
+    pub fn brick_of(&self, lo: [usize; 3]) -> usize {
+        self.brick_index(lo.map(|l| l >> 2))
     }
 
     /// Each brick's distance to the nearest brick with a visible cell ahead of a ray moving in
@@ -839,47 +844,72 @@ mod tests {
         assert!(vis.leap_exit([3, 0, 0], o, inv) < 6.9999);
     }
 
-    #[test]
-    fn forward_distances_count_only_the_bricks_ahead() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    /// Random sparse bricks on grids with odd and one-brick axes, from none to 40 % non-zero:
+    /// (bricks per axis, density in %, words).
+    fn sparse_grids() -> Vec<([usize; 3], u64, Vec<u64>)> {
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
         let mut next = move || {
             seed ^= seed << 13;
             seed ^= seed >> 7;
             seed ^= seed << 17;
             seed
         };
+        let mut grids = Vec::new();
         for dims in [[7, 5, 9], [1, 6, 4], [12, 1, 1], [3, 3, 3]] {
             for density in [0, 1, 3, 40] {
                 let n = dims[0] * dims[1] * dims[2];
-                let words: Vec<u64> = (0..n).map(|_| u64::from(next() % 100 < density)).collect();
-                let around = brick_distances(dims, &words);
-                for octant in 0..8 {
-                    let sign = |a: usize| if octant >> a & 1 == 1 { -1i64 } else { 1 };
-                    let d = forward_distances(dims, &words, octant);
-                    for (i, &found) in d.iter().enumerate() {
-                        let p = [
-                            i % dims[0],
-                            (i / dims[0]) % dims[1],
-                            i / (dims[0] * dims[1]),
-                        ];
-                        let mut want = MAX_LEAP as i64;
-                        for (j, &w) in words.iter().enumerate().filter(|(_, w)| **w != 0) {
-                            let _ = w;
-                            let q = [
-                                j % dims[0],
-                                (j / dims[0]) % dims[1],
-                                j / (dims[0] * dims[1]),
-                            ];
-                            let off: Vec<i64> = (0..3)
-                                .map(|a| (q[a] as i64 - p[a] as i64) * sign(a))
-                                .collect();
-                            if off.iter().all(|&o| o >= 0) {
-                                want = want.min(*off.iter().max().unwrap());
-                            }
-                        }
-                        assert_eq!(found as i64, want, "{dims:?} octant {octant} brick {p:?}");
-                        assert!(found >= around[i], "never shorter than the cube around");
-                    }
+                let words = (0..n).map(|_| u64::from(next() % 100 < density)).collect();
+                grids.push((dims, density, words));
+            }
+        }
+        grids
+    }
+
+    /// The brick at index `i` (x fastest).
+    fn brick_xyz(i: usize, dims: [usize; 3]) -> [usize; 3] {
+        [
+            i % dims[0],
+            (i / dims[0]) % dims[1],
+            i / (dims[0] * dims[1]),
+        ]
+    }
+
+    /// By brute force: the least chessboard distance from brick `p` to a brick with a non-zero
+    /// word whose offset from `p` `admit` accepts, at most [`MAX_LEAP`].
+    fn nearest(
+        dims: [usize; 3],
+        words: &[u64],
+        p: [usize; 3],
+        admit: impl Fn([i64; 3]) -> bool,
+    ) -> u8 {
+        (0..words.len())
+            .filter(|&j| words[j] != 0)
+            .map(|j| {
+                let q = brick_xyz(j, dims);
+                [0, 1, 2].map(|a| q[a] as i64 - p[a] as i64)
+            })
+            .filter(|&off| admit(off))
+            .map(|off| off.iter().map(|o| o.unsigned_abs()).max().unwrap_or(0))
+            .min()
+            .map_or(MAX_LEAP, |m| m.min(u64::from(MAX_LEAP)) as u8)
+    }
+
+    #[test]
+    fn forward_distances_count_only_the_bricks_ahead() {
+        for (dims, density, words) in sparse_grids() {
+            let around = brick_distances(dims, &words);
+            for octant in 0..8 {
+                let sign = |a: usize| if octant >> a & 1 == 1 { -1i64 } else { 1 };
+                let d = forward_distances(dims, &words, octant);
+                for (i, &found) in d.iter().enumerate() {
+                    let p = brick_xyz(i, dims);
+                    let ahead = |off: [i64; 3]| (0..3).all(|a| off[a] * sign(a) >= 0);
+                    let want = nearest(dims, &words, p, ahead);
+                    assert_eq!(
+                        found, want,
+                        "{dims:?} {density} % octant {octant} brick {p:?}"
+                    );
+                    assert!(found >= around[i], "never shorter than the cube around");
                 }
             }
         }
@@ -889,39 +919,12 @@ mod tests {
 
     #[test]
     fn brick_distances_are_chessboard_distances() {
-        // Random sparse bricks against brute force, on grids with odd and one-brick axes.
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
-        for dims in [[7, 5, 9], [1, 6, 4], [12, 1, 1], [3, 3, 3]] {
-            for density in [0, 1, 3, 40] {
-                let n = dims[0] * dims[1] * dims[2];
-                let words: Vec<u64> = (0..n).map(|_| u64::from(next() % 100 < density)).collect();
-                let d = brick_distances(dims, &words);
-                for (i, &found) in d.iter().enumerate() {
-                    let p = [
-                        i % dims[0],
-                        (i / dims[0]) % dims[1],
-                        i / (dims[0] * dims[1]),
-                    ];
-                    let expect = (0..n)
-                        .filter(|&j| words[j] != 0)
-                        .map(|j| {
-                            let q = [
-                                j % dims[0],
-                                (j / dims[0]) % dims[1],
-                                j / (dims[0] * dims[1]),
-                            ];
-                            (0..3).map(|a| p[a].abs_diff(q[a])).max().unwrap()
-                        })
-                        .min()
-                        .map_or(MAX_LEAP, |m| m.min(MAX_LEAP as usize) as u8);
-                    assert_eq!(found, expect, "dims {dims:?} density {density} brick {p:?}");
-                }
+        for (dims, density, words) in sparse_grids() {
+            let d = brick_distances(dims, &words);
+            for (i, &found) in d.iter().enumerate() {
+                let p = brick_xyz(i, dims);
+                let expect = nearest(dims, &words, p, |_| true);
+                assert_eq!(found, expect, "dims {dims:?} density {density} brick {p:?}");
             }
         }
     }

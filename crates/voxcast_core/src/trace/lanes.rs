@@ -230,7 +230,7 @@ impl Lanes<'_> {
         while k < end {
             // In an empty brick the ray leaps before it locates anything.
             let lo = self.cell_lo(o_v + d_v * sample_t(plan, k));
-            let distance = ahead[cells.brick_index(lo.map(|l| l >> 2))];
+            let distance = ahead[cells.brick_of(lo)];
             if distance > 0 {
                 let t = cells.leap_exit_at(lo, distance, o_v, inv_d);
                 let next = first_index_from(plan, t, inv_dt);
