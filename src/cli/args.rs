@@ -52,14 +52,19 @@ pub struct Opened {
     pub notes: Vec<String>,
 }
 
+impl From<Loaded> for Opened {
+    fn from(Loaded { volume, notes }: Loaded) -> Self {
+        Self {
+            volume: volume.into(),
+            notes,
+        }
+    }
+}
+
 impl VolumeArgs {
     /// Loads the volume, applying the raw-file options.
     pub fn load(&self) -> Result<Opened, CliError> {
-        let Loaded { volume, notes } = self.read()?;
-        Ok(Opened {
-            volume: volume.into(),
-            notes,
-        })
+        Ok(self.read()?.into())
     }
 
     fn read(&self) -> Result<Loaded, CliError> {

@@ -168,12 +168,7 @@ impl Start {
             match raydata::compute_source(&args.volume.volume, &|_, _| {}, &never) {
                 Some(outcome) => {
                     let outcome = outcome.map_err(CliError::failed)?;
-                    let loaded = outcome.loaded;
-                    let opened = crate::cli::args::Opened {
-                        volume: loaded.volume.into(),
-                        notes: loaded.notes,
-                    };
-                    (opened, outcome.rays)
+                    (outcome.loaded.into(), outcome.rays)
                 }
                 None => (args.volume.load()?, None),
             };

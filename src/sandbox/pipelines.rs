@@ -1,8 +1,8 @@
 //! Whether the renderer is still compiling pipelines. The preview's pipeline is compiled per
 //! [`super::uniform::PreviewVariant`]: after a change of method, shading, interpolation or
-//! skipping, the new variant is compiled in the background (once; Bevy keeps it) and the volume
-//! is not drawn until it is ready. Captures wait for it instead of counting frames, and the
-//! window says so instead of showing an empty box.
+//! skipping, the new variant is compiled in the background (once; Bevy keeps it) and the preview
+//! pass draws nothing until it is ready. Captures wait for it instead of counting frames; the
+//! window keeps showing the last picture and says it is compiling.
 
 use bevy::prelude::*;
 use bevy::render::render_resource::PipelineCache;
@@ -25,7 +25,7 @@ impl Compiling {
 }
 
 /// In the window: while the GPU preview's pipeline is compiled, a line in the viewport says so
-/// (the volume is not drawn meanwhile).
+/// (over the last picture, which stays until the new pipeline draws).
 pub(super) fn window_plugin(app: &mut App) {
     app.add_systems(
         bevy_egui::EguiPrimaryContextPass,
