@@ -13,7 +13,7 @@
 //! | shade | [`shade`] | Phong / Blinn–Phong with central-difference normals |
 //! | composite | [`composite`] | Accumulate, First, Average, Maximum, Minimum |
 //! | trace | [`scene`], [`trace`], [`breakdown`], [`explain`] | what a render shares; one ray, optionally recorded sample by sample, and its formulas with the numbers put in |
-//! | render | [`render`], [`cost`] | every pixel, in parallel, cancellable; what each pixel's rays cost, as a heat map |
+//! | render | [`render`], [`entry`], [`cost`] | every pixel, in parallel, cancellable; where each pixel's rays can first meet a visible cell; what each pixel's rays cost, as a heat map |
 //!
 //! # Conventions (written down once)
 //!
@@ -42,6 +42,7 @@ pub mod clip;
 pub mod colormap;
 pub mod composite;
 pub mod cost;
+pub mod entry;
 pub mod error;
 pub mod explain;
 pub mod hash;

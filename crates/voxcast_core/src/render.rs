@@ -14,6 +14,7 @@
 //! [`crate::trace`]'s, run with [`NoRecord`].
 
 use crate::camera::Camera;
+use crate::entry::EntryBounds;
 use crate::error::SettingsError;
 use crate::image_out::LinearImage;
 use crate::trace::{Marcher, NoRecord, Scene, StopReason};
@@ -329,6 +330,7 @@ impl Job<'_, '_> {
         value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
     ) -> Result<(Vec<Vec4>, RenderStats), Cancelled> {
         let (scene, width, height) = (self.scene, self.width, self.height);
+        let spacing = grid.spacing;
         let marcher = Marcher::new(scene, grid);
         // Each occluder's pixel rectangle (None: anywhere), to test a tile's rays only
         // against the occluders that can appear in it.
@@ -343,6 +345,13 @@ impl Job<'_, '_> {
         let done = AtomicUsize::new(0);
         let n = scene.settings.supersampling.max(1);
         let rays = self.camera.rays(width, height);
+        // Where each pixel's rays can first meet a visible cell, for the march that uses it.
+        let entry = match &scene.empty {
+            Some((_, cells)) if marcher.reads_entry_bounds() => {
+                EntryBounds::new(cells, spacing, &rays, (width, height))
+            }
+            _ => None,
+        };
 
         let tiles: Vec<Option<TileResult>> = (0..total as u32)
             .into_par_iter()
@@ -369,31 +378,42 @@ impl Job<'_, '_> {
                     .map(|(o, _)| o)
                     .collect();
                 let (pixels, samples, positions, capped) =
-                    self.tile_rays(&marcher, &rays, [x0, y0, x1, y1], &near, &value);
+                    self.tile_rays(&marcher, &rays, &entry, [x0, y0, x1, y1], &near, &value);
                 let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                 (self.progress)(d, total);
                 Some((x0, y0, pixels, samples, positions, capped))
             })
             .collect();
 
-        let mut image = vec![Vec4::ZERO; width as usize * height as usize];
         let mut stats = RenderStats {
             rays: width as u64 * height as u64 * (n * n) as u64,
             samples: 0,
             positions: 0,
             capped: 0,
         };
-        for tile in tiles {
-            let (x0, y0, pixels, samples, positions, capped) = tile.ok_or(Cancelled)?;
+        let tiles = tiles
+            .into_iter()
+            .collect::<Option<Vec<TileResult>>>()
+            .ok_or(Cancelled)?;
+        for &(_, _, _, samples, positions, capped) in &tiles {
             stats.samples += samples;
             stats.positions += positions;
             stats.capped += capped;
-            let w = (x0 + TILE).min(width) - x0;
-            for (i, p) in pixels.into_iter().enumerate() {
-                let (x, y) = (x0 + i as u32 % w, y0 + i as u32 / w);
-                image[(y * width + x) as usize] = p;
-            }
         }
+        // Each band of tile rows is one stretch of the image: copied in parallel.
+        let mut image = vec![Vec4::ZERO; width as usize * height as usize];
+        image
+            .par_chunks_mut((width * TILE) as usize)
+            .zip(tiles.par_chunks(tiles_x as usize))
+            .for_each(|(band, row)| {
+                for (x0, _, pixels, ..) in row.iter() {
+                    let w = ((x0 + TILE).min(width) - x0) as usize;
+                    for (i, line) in pixels.chunks(w).enumerate() {
+                        let at = i * width as usize + *x0 as usize;
+                        band[at..at + w].copy_from_slice(line);
+                    }
+                }
+            });
         Ok((image, stats))
     }
 
@@ -405,6 +425,7 @@ impl Job<'_, '_> {
         &self,
         marcher: &Marcher<'_, '_, '_, T>,
         rays: &crate::camera::ImageRays,
+        entry: &Option<EntryBounds>,
         [x0, y0, x1, y1]: [u32; 4],
         near: &[&Occluder],
         value: &impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4,
@@ -417,6 +438,7 @@ impl Job<'_, '_> {
         let (mut samples, mut positions, mut capped) = (0u64, 0u64, 0u64);
         for py in y0..y1 {
             for px in x0..x1 {
+                let from = entry.as_ref().map_or(f32::NEG_INFINITY, |e| e.at(px, py));
                 let mut sum = Vec4::ZERO;
                 for sy in 0..n {
                     for sx in 0..n {
@@ -440,7 +462,7 @@ impl Job<'_, '_> {
                             behind = Some(c);
                         }
                         let jitter = scene.jitter([px * n + sx, py * n + sy]);
-                        let out = marcher.march(&ray, jitter, &mut NoRecord);
+                        let out = marcher.march_from(&ray, jitter, from, &mut NoRecord);
                         samples += out.samples as u64;
                         positions += out.positions as u64;
                         capped += (out.stop == StopReason::SampleCap) as u64;
@@ -467,9 +489,10 @@ fn render_typed<T: Voxel>(
     let (pixels, stats) = job.run(grid, |out, background, _| {
         Vec4::from((out.pixel(background), 1.0))
     })?;
-    let mut image = LinearImage::new(width, height);
-    for (i, p) in pixels.into_iter().enumerate() {
-        image.set(i as u32 % width, i as u32 / width, p.truncate());
-    }
+    let image = LinearImage {
+        width,
+        height,
+        pixels: pixels.into_par_iter().map(Vec4::truncate).collect(),
+    };
     Ok((image, stats))
 }

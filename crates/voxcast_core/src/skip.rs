@@ -302,6 +302,10 @@ pub struct VisibleCells {
     /// of it, as large as that allows — near a surface it runs along, farther than the cube
     /// around it. Computed for an octant when a ray first asks.
     forward: [std::sync::OnceLock<Vec<u8>>; 8],
+    /// The bricks with a visible cell on the surface of the visible region, with their open
+    /// faces ([`crate::entry::EntryBounds`] projects those facing the camera); found when
+    /// first asked.
+    surface: std::sync::OnceLock<Vec<([u32; 3], u8)>>,
     /// The box (voxel space) of the bricks holding a visible cell, widened by
     /// [`BRICK_MARGIN`] and unbounded on the volume's borders; `None` when no cell can be seen.
     visible_box: Option<(Vec3, Vec3)>,
@@ -367,6 +371,7 @@ impl VisibleCells {
                     bits,
                     distance,
                     forward: Default::default(),
+                    surface: Default::default(),
                     visible_box,
                 }
             }
@@ -427,6 +432,14 @@ impl VisibleCells {
     /// towards the ray's motion are those of the cube around it of the same distance.
     pub fn forward_distances(&self, octant: usize) -> &[u8] {
         self.forward[octant & 7].get_or_init(|| forward_distances(self.bricks, &self.bits, octant))
+    }
+
+    /// The bricks holding a visible cell with a face on the volume's border or next to a
+    /// brick without one (x, y, z in bricks), each with those faces as bits (`2a` the lower
+    /// face on axis `a`, `2a + 1` the upper); found on the first call.
+    pub fn surface_bricks(&self) -> &[([u32; 3], u8)] {
+        self.surface
+            .get_or_init(|| crate::entry::surface_bricks(self.bricks, &self.bits))
     }
 
     /// [`VisibleCells::leap_exit`] with the brick's distance already read (the distance of

@@ -292,6 +292,30 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     /// Marches `ray` with jitter fraction `jitter`.
     #[inline]
     pub(crate) fn march<R: Recorder>(&self, ray: &Ray, jitter: f32, rec: &mut R) -> RayOutcome {
+        self.march_from(ray, jitter, f32::NEG_INFINITY, rec)
+    }
+
+    /// Whether [`Marcher::march_from`] makes use of its `from`: Accumulate front to back on
+    /// the eight lanes, the only march that reads it.
+    pub(crate) fn reads_entry_bounds(&self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return self.lanes.is_some()
+            && self.s.settings.method == Method::Accumulate
+            && self.s.settings.order != Order::BackToFront;
+        #[cfg(not(target_arch = "x86_64"))]
+        false
+    }
+
+    /// [`Marcher::march`], told that no sample before `t = from` lies in a visible cell
+    /// ([`crate::entry::EntryBounds`]); the lanes start there, the other marches ignore it.
+    #[inline]
+    pub(crate) fn march_from<R: Recorder>(
+        &self,
+        ray: &Ray,
+        jitter: f32,
+        from: f32,
+        rec: &mut R,
+    ) -> RayOutcome {
         let Some((t0, t1)) = self.interval(ray) else {
             let cut = intersect_box(ray, self.s.bounds.0, self.s.bounds.1).is_some();
             return RayOutcome {
@@ -311,7 +335,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let o_v = ray.origin * self.inv_spacing;
         let d_v = ray.dir * self.inv_spacing;
         let mut out = match set.method {
-            Method::Accumulate => self.accumulate(ray, &plan, o_v, d_v, rec),
+            Method::Accumulate => self.accumulate(ray, &plan, (o_v, d_v), from, rec),
             Method::First => self.first(ray, &plan, o_v, d_v, rec),
             Method::Average | Method::Maximum | Method::Minimum | Method::Sum => {
                 self.project(&plan, o_v, d_v, rec)
@@ -331,8 +355,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         &self,
         ray: &Ray,
         plan: &StepPlan,
-        o_v: Vec3,
-        d_v: Vec3,
+        (o_v, d_v): (Vec3, Vec3),
+        from: f32,
         rec: &mut R,
     ) -> RayOutcome {
         let set = &self.s.settings;
@@ -363,6 +387,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                         cells,
                         plan,
                         (o_v, d_v),
+                        from,
                         &viewing,
                         stop_at,
                         &mut acc,

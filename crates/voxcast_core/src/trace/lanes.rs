@@ -1,25 +1,28 @@
 //! Accumulate's hot path eight sample positions at a time, on x86-64 CPUs with AVX2: the same
 //! pixels as the one-at-a-time march of `skipping.rs`, bit for bit.
 //!
-//! A ray still walks the 8³ blocks one by one ([`crate::skip::BlockWalk`]) and passes over the
-//! empty ones. Inside a block that can be seen, its sample positions are located eight at a
-//! time — `t`, the voxel position, the cell and the cell's visibility bit
+//! A ray starts at its pixel's entry bound ([`crate::entry::EntryBounds`], where the render
+//! has one) and leaps over empty bricks by their distance to the nearest visible cell ahead
+//! ([`VisibleCells::forward_distances`]). Elsewhere its sample positions are located eight at
+//! a time — `t`, the voxel position, the cell and the cell's visibility bit
 //! ([`crate::skip::VisibleCells`]), each lane computing exactly what `sample_t`,
 //! `crate::sample::cell` and `VisibleCells::lookup` compute for one position. The positions in
-//! visible cells queue up; once eight are waiting they are *evaluated* together: the eight
-//! corners' records ([`crate::sample::Differences`]) gathered, the value and gradient blended,
-//! the table looked up, the colour shaded — the very operations of `Marcher::evaluate`, in the
-//! same order, with no fused multiply-add, so every lane's numbers are the scalar ones. Then the
-//! samples are *composited* one by one, in order along the ray, by the scalar code itself
-//! (opacity correction, front-to-back blend, early termination). A ray that stops early has
-//! evaluated up to seven samples beyond its last; they are dropped, as are positions located
-//! past it.
+//! visible cells are queued, in order, by one permutation of the eight lanes; once eight are
+//! waiting they are *evaluated* together: the eight corners' records
+//! ([`crate::sample::Differences`]) gathered, the value and gradient blended, the table looked
+//! up, the colour shaded — the very operations of `Marcher::evaluate`, in the same order, with
+//! no fused multiply-add, so every lane's numbers are the scalar ones — and, where every sample
+//! of the batch stands for one whole step, their opacity corrected. Then the samples are
+//! *composited* one by one, in order along the ray, by the scalar code itself (opacity
+//! correction where not done yet, front-to-back blend, early termination). A ray that stops
+//! early has evaluated up to seven samples beyond its last; they are dropped, as are positions
+//! located past it.
 //!
 //! Used where it applies exactly: Accumulate front to back with skipping, trilinear, table
 //! classification, the precomputed records (an integer volume, shading on), directional lights
 //! and a whole-number shininess (the scalar code then raises by repeated squaring, which lanes
 //! repeat step for step). Anything else, or a CPU without AVX2, takes the scalar march.
-//! `tests/properties.rs` renders random scenes both ways and compares every bit.
+//! `tests/lanes.rs` renders random scenes both ways and compares every bit.
 
 use super::{Accumulation, Marcher};
 use crate::composite::{accumulate_front_to_back, correct_opacity};
@@ -69,6 +72,10 @@ pub(super) struct Lanes<'s> {
     light_count: usize,
     correction: bool,
     dt_ref: f32,
+    /// The power `dt / dt_ref` that opacity correction raises by for a sample standing for
+    /// one step, where it is one the scalar code takes without `powf` (½, 1 or 2): then a whole
+    /// batch of such samples is corrected at once.
+    step_power: Option<f32>,
 }
 
 impl<'s> Lanes<'s> {
@@ -138,27 +145,50 @@ impl<'s> Lanes<'s> {
             light_count: resolved.len(),
             correction: set.opacity_correction,
             dt_ref: s.dt_ref,
+            step_power: Some(s.dt / s.dt_ref).filter(|e| [0.5, 1.0, 2.0].contains(e)),
         })
     }
 }
 
 /// The samples waiting to be evaluated: their index and `t` along the ray, their cell's
-/// lower corner as a record index, and the position inside the cell.
+/// lower corner as a record index, and the position inside the cell. Room for two batches:
+/// eight located positions are queued at once, behind up to seven waiting.
 #[derive(Default)]
 struct Pending {
     n: usize,
-    k: [u32; LANES],
-    t: [f32; LANES],
-    base: [i32; LANES],
-    fx: [f32; LANES],
-    fy: [f32; LANES],
-    fz: [f32; LANES],
+    k: [i32; 2 * LANES],
+    t: [f32; 2 * LANES],
+    base: [i32; 2 * LANES],
+    fx: [f32; 2 * LANES],
+    fy: [f32; 2 * LANES],
+    fz: [f32; 2 * LANES],
 }
+
+/// Per set of lanes (a bit each), the lanes' numbers in order, packed to the front: the
+/// permutation that queues the visible ones of eight located positions.
+const PACK: [[u8; LANES]; 256] = {
+    let mut table = [[0u8; LANES]; 256];
+    let mut mask = 0;
+    while mask < 256 {
+        let (mut lane, mut n) = (0, 0);
+        while lane < LANES {
+            if mask & (1 << lane) != 0 {
+                table[mask][n] = lane as u8;
+                n += 1;
+            }
+            lane += 1;
+        }
+        mask += 1;
+    }
+    table
+};
 
 /// What a batch contributes: the table's opacity and the shaded colour per lane.
 struct Evaluated {
     alpha: [f32; LANES],
     rgb: [[f32; LANES]; 3],
+    /// Whether `alpha` is already corrected for the step ([`Lanes::correct_batch`]).
+    corrected: bool,
 }
 
 /// One ray's view of the lights: the direction to the viewer and, per light, its direction,
@@ -179,6 +209,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         cells: &VisibleCells,
         plan: &StepPlan,
         (o_v, d_v): (Vec3, Vec3),
+        from: f32,
         viewing: &Viewing,
         stop_at: f32,
         acc: &mut Accumulation,
@@ -197,14 +228,15 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             rl.lights[i] = (dir, color, half);
         }
         // SAFETY: `Lanes` exists only where the CPU has AVX2 (checked in `Lanes::new`).
-        Some(unsafe { lanes.march(cells, plan, (o_v, d_v), &rl, stop_at, acc) })
+        Some(unsafe { lanes.march(cells, plan, (o_v, d_v), from, &rl, stop_at, acc) })
     }
 }
 
 impl Lanes<'_> {
-    /// The positions of the ray located eight at a time, the visible samples evaluated eight
-    /// at a time; where the last position located lies in an empty brick, the ray leaps over
-    /// the empty bricks around it ([`VisibleCells::leap_exit`]).
+    /// The positions of the ray from `t = from` on (its pixel's entry bound) located eight at
+    /// a time, the visible samples evaluated eight at a time; where the next position lies in
+    /// an empty brick, the ray first leaps over the empty bricks ahead of it
+    /// ([`VisibleCells::leap_exit_at`]).
     #[allow(clippy::too_many_arguments)]
     #[target_feature(enable = "avx2")]
     unsafe fn march(
@@ -212,15 +244,22 @@ impl Lanes<'_> {
         cells: &VisibleCells,
         plan: &StepPlan,
         (o_v, d_v): (Vec3, Vec3),
+        from: f32,
         rl: &RayLights,
         stop_at: f32,
         acc: &mut Accumulation,
     ) -> Option<u32> {
+        // No visible cell along the ray at all (its pixel's entry bound).
+        if from == f32::INFINITY {
+            return None;
+        }
         let inv_dt = 1.0 / plan.dt;
         let inv_d = 1.0 / d_v;
         let mut pending = Pending::default();
-        // Only the part of the ray in the box of the visible bricks can hold a visible cell.
+        // Only the part of the ray in the box of the visible bricks, and from its entry bound
+        // on, can hold a visible cell.
         let (t0, t1) = cells.visible_interval(o_v, inv_d)?;
+        let t0 = crate::minmax::fmax(t0, from);
         let mut k = first_index_from(plan, t0, inv_dt);
         let end = first_index_from(plan, t1, inv_dt);
         // The distances ahead of a ray moving in this one's octant: its leaps are as long as
@@ -241,38 +280,31 @@ impl Lanes<'_> {
             }
             // SAFETY: AVX2 (this function's own feature).
             let (taken, visible, located) = unsafe { self.locate(plan, k, end, (o_v, d_v)) };
-            let mut bits = visible;
-            while bits != 0 {
-                let lane = bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                let n = pending.n;
-                pending.k[n] = k + lane as u32;
-                pending.t[n] = located.t[lane];
-                pending.base[n] = located.base[lane];
-                pending.fx[n] = located.fx[lane];
-                pending.fy[n] = located.fy[lane];
-                pending.fz[n] = located.fz[lane];
-                pending.n += 1;
-                self.prefetch(located.base[lane]);
-                if pending.n == LANES {
+            if visible != 0 {
+                // SAFETY: AVX2; fewer than eight are waiting, so eight more fit.
+                let queued = unsafe { pending.push(k, visible, &located) };
+                for &base in &pending.base[queued] {
+                    self.prefetch(base);
+                }
+                if pending.n >= LANES {
                     // SAFETY: AVX2; every pending base is a cell of the lattice.
-                    let e = unsafe { self.evaluate(&pending, rl) };
-                    if let Some(stop) = self.composite(plan, &pending, &e, stop_at, acc) {
+                    let e = unsafe { self.evaluate(&pending, rl, Some(plan)) };
+                    if let Some(stop) = self.composite(plan, &pending, LANES, &e, stop_at, acc) {
                         return Some(stop);
                     }
-                    pending.n = 0;
+                    // SAFETY: AVX2.
+                    unsafe { pending.shift() };
                 }
             }
             k += taken;
         }
         if pending.n > 0 {
             // Unused lanes read the first record (their results are ignored).
-            for lane in pending.n..LANES {
-                pending.base[lane] = 0;
-            }
+            let n = pending.n;
+            pending.base[n..LANES].fill(0);
             // SAFETY: as above.
-            let e = unsafe { self.evaluate(&pending, rl) };
-            return self.composite(plan, &pending, &e, stop_at, acc);
+            let e = unsafe { self.evaluate(&pending, rl, None) };
+            return self.composite(plan, &pending, n, &e, stop_at, acc);
         }
         None
     }
@@ -303,25 +335,27 @@ impl Lanes<'_> {
         [x.x, x.y, x.z].map(|c| unsafe { c.to_int_unchecked::<i32>() } as usize)
     }
 
-    /// Composites the pending samples in order, exactly as `Marcher::composite_sample` does;
-    /// the index of the sample that stopped the ray, if one did.
+    /// Composites the first `n` pending samples in order, exactly as
+    /// `Marcher::composite_sample` does; the index of the sample that stopped the ray, if one
+    /// did.
     #[inline(always)]
     fn composite(
         &self,
         plan: &StepPlan,
         p: &Pending,
+        n: usize,
         e: &Evaluated,
         stop_at: f32,
         acc: &mut Accumulation,
     ) -> Option<u32> {
-        for lane in 0..p.n {
+        for lane in 0..n {
             acc.taken += 1;
             let a = e.alpha[lane];
             if a <= 0.0 {
                 continue;
             }
-            let (k, t) = (p.k[lane], p.t[lane]);
-            let alpha = if self.correction {
+            let (k, t) = (p.k[lane] as u32, p.t[lane]);
+            let alpha = if self.correction && !e.corrected {
                 correct_opacity(a, segment_length(plan, k, t), self.dt_ref)
             } else {
                 a
@@ -340,11 +374,77 @@ impl Lanes<'_> {
 
 /// Eight positions located: `t`, the cell's record index and the fractions inside it.
 struct Located {
-    t: [f32; LANES],
-    base: [i32; LANES],
-    fx: [f32; LANES],
-    fy: [f32; LANES],
-    fz: [f32; LANES],
+    t: __m256,
+    base: __m256i,
+    fx: __m256,
+    fy: __m256,
+    fz: __m256,
+}
+
+impl Pending {
+    /// Queues the positions `k + lane` of `located` whose bit is set in `visible`, in order,
+    /// behind those waiting; the range of `base` they took.
+    ///
+    /// # Safety
+    /// AVX2; fewer than [`LANES`] are waiting.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    unsafe fn push(&mut self, k: u32, visible: u32, located: &Located) -> std::ops::Range<usize> {
+        let n = self.n;
+        debug_assert!(n < LANES);
+        // SAFETY: the table's row is eight bytes.
+        let order = _mm256_cvtepu8_epi32(unsafe {
+            _mm_loadl_epi64(PACK[visible as usize].as_ptr() as *const __m128i)
+        });
+        let ks = _mm256_add_epi32(
+            _mm256_set1_epi32(k as i32),
+            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+        );
+        let pack = |v: __m256| _mm256_permutevar8x32_ps(v, order);
+        // SAFETY: n < 8, so lanes n .. n + 8 lie in the arrays of sixteen.
+        unsafe {
+            _mm256_storeu_si256(
+                self.k.as_mut_ptr().add(n) as *mut __m256i,
+                _mm256_permutevar8x32_epi32(ks, order),
+            );
+            _mm256_storeu_si256(
+                self.base.as_mut_ptr().add(n) as *mut __m256i,
+                _mm256_permutevar8x32_epi32(located.base, order),
+            );
+            _mm256_storeu_ps(self.t.as_mut_ptr().add(n), pack(located.t));
+            _mm256_storeu_ps(self.fx.as_mut_ptr().add(n), pack(located.fx));
+            _mm256_storeu_ps(self.fy.as_mut_ptr().add(n), pack(located.fy));
+            _mm256_storeu_ps(self.fz.as_mut_ptr().add(n), pack(located.fz));
+        }
+        self.n = n + visible.count_ones() as usize;
+        n..self.n
+    }
+
+    /// Drops the first batch: those waiting behind it move to the front.
+    ///
+    /// # Safety
+    /// AVX2; at least [`LANES`] are waiting.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    unsafe fn shift(&mut self) {
+        // SAFETY: lanes 8 .. 16 exist in each array.
+        unsafe {
+            let move_i = |a: &mut [i32; 2 * LANES]| {
+                let upper = _mm256_loadu_si256(a.as_ptr().add(LANES) as *const __m256i);
+                _mm256_storeu_si256(a.as_mut_ptr() as *mut __m256i, upper);
+            };
+            let move_f = |a: &mut [f32; 2 * LANES]| {
+                _mm256_storeu_ps(a.as_mut_ptr(), _mm256_loadu_ps(a.as_ptr().add(LANES)));
+            };
+            move_i(&mut self.k);
+            move_i(&mut self.base);
+            move_f(&mut self.t);
+            move_f(&mut self.fx);
+            move_f(&mut self.fy);
+            move_f(&mut self.fz);
+        }
+        self.n -= LANES;
+    }
 }
 
 impl Lanes<'_> {
@@ -422,28 +522,22 @@ impl Lanes<'_> {
                 _mm256_mullo_epi32(iz, _mm256_set1_epi32(self.nxy)),
             ),
         );
-        let mut out = Located {
-            t: [0.0; LANES],
-            base: [0; LANES],
-            fx: [0.0; LANES],
-            fy: [0.0; LANES],
-            fz: [0.0; LANES],
+        let out = Located {
+            t,
+            base,
+            fx,
+            fy,
+            fz,
         };
-        // SAFETY: each array holds eight lanes.
-        unsafe {
-            _mm256_storeu_ps(out.t.as_mut_ptr(), t);
-            _mm256_storeu_si256(out.base.as_mut_ptr() as *mut __m256i, base);
-            _mm256_storeu_ps(out.fx.as_mut_ptr(), fx);
-            _mm256_storeu_ps(out.fy.as_mut_ptr(), fy);
-            _mm256_storeu_ps(out.fz.as_mut_ptr(), fz);
-        }
         (taken, visible, out)
     }
 
     /// Evaluates the pending samples: `value_and_gradient_in_cell`, `Grid::to_data`,
-    /// `Lut::lookup_if_visible` and `shade` for eight lanes, operation for operation.
+    /// `Lut::lookup_if_visible` and `shade` for eight lanes, operation for operation; for a
+    /// full batch (`plan` given) also the opacity correction where [`Lanes::correct_batch`]
+    /// can.
     #[target_feature(enable = "avx2")]
-    unsafe fn evaluate(&self, p: &Pending, rl: &RayLights) -> Evaluated {
+    unsafe fn evaluate(&self, p: &Pending, rl: &RayLights, plan: Option<&StepPlan>) -> Evaluated {
         // SAFETY: every pending base is a cell of the lattice.
         let b = unsafe { self.blend_records(p) };
         let half = _mm256_set1_ps(0.5);
@@ -492,10 +586,13 @@ impl Lanes<'_> {
         let alpha = _mm256_and_ps(opaque, rgba[3]);
         let color = [rgba[0], rgba[1], rgba[2]];
         let shaded = self.shade(color, grad, rl);
+        let corrected = plan.and_then(|plan| self.correct_batch(plan, p, alpha));
         let mut out = Evaluated {
             alpha: [0.0; LANES],
             rgb: [[0.0; LANES]; 3],
+            corrected: corrected.is_some(),
         };
+        let alpha = corrected.unwrap_or(alpha);
         // SAFETY: eight lanes each.
         unsafe {
             _mm256_storeu_ps(out.alpha.as_mut_ptr(), alpha);
@@ -504,6 +601,55 @@ impl Lanes<'_> {
             }
         }
         out
+    }
+
+    /// `correct_opacity` for a full batch at once, where it is the same for every lane: each
+    /// sample stands for exactly one step (`segment_length`'s interior case) and the step's
+    /// power is one the scalar code takes without `powf` ([`Lanes::step_power`]): ½ is a
+    /// square root and 2 a square, correctly rounded in lanes as alone. `None` otherwise (the
+    /// composite then corrects sample by sample).
+    #[target_feature(enable = "avx2")]
+    fn correct_batch(&self, plan: &StepPlan, p: &Pending, alpha: __m256) -> Option<__m256> {
+        let e = self.step_power.filter(|_| self.correction)?;
+        // SAFETY: the arrays hold sixteen lanes; the batch is the first eight.
+        let (k, t) = unsafe {
+            (
+                _mm256_loadu_si256(p.k.as_ptr() as *const __m256i),
+                _mm256_loadu_ps(p.t.as_ptr()),
+            )
+        };
+        // segment_length's interior: k > 0, not the last sample, t + dt/2 ≤ t_exit.
+        let first = _mm256_cmpeq_epi32(k, _mm256_setzero_si256());
+        let last = if plan.capped {
+            _mm256_setzero_si256()
+        } else {
+            _mm256_cmpeq_epi32(k, _mm256_set1_epi32(plan.count as i32 - 1))
+        };
+        let inside = _mm256_cmp_ps::<_CMP_LE_OQ>(
+            _mm256_add_ps(t, _mm256_set1_ps(0.5 * plan.dt)),
+            _mm256_set1_ps(plan.t_exit),
+        );
+        let edge = _mm256_castsi256_ps(_mm256_or_si256(first, last));
+        if _mm256_movemask_ps(_mm256_andnot_ps(edge, inside)) != 0xFF {
+            return None;
+        }
+        let one = _mm256_set1_ps(1.0);
+        let keep = _mm256_sub_ps(one, alpha);
+        let raised = if e == 1.0 {
+            alpha
+        } else if e == 0.5 {
+            _mm256_sub_ps(one, _mm256_sqrt_ps(keep))
+        } else {
+            _mm256_sub_ps(one, _mm256_mul_ps(keep, keep))
+        };
+        // α ≤ 0 stays (the composite passes over it); α ≥ 1 is 1 (the step is positive).
+        let opaque = _mm256_cmp_ps::<_CMP_GE_OQ>(alpha, one);
+        let clear = _mm256_cmp_ps::<_CMP_LE_OQ>(alpha, _mm256_setzero_ps());
+        Some(_mm256_blendv_ps(
+            _mm256_blendv_ps(raised, one, opaque),
+            alpha,
+            clear,
+        ))
     }
 
     /// `value_and_gradient_in_cell` for the pending lanes: each lane's cell read as four pairs
