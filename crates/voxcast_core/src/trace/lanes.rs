@@ -782,12 +782,16 @@ impl Lanes<'_> {
                 specular[ch] = _mm256_add_ps(specular[ch], s);
             }
         }
-        [0, 1, 2].map(|ch| {
+        // A loop, not `map` with a closure: the closure was left out of line (a call per
+        // channel, its vectors through memory).
+        let mut shaded = [zero; 3];
+        for (ch, out) in shaded.iter_mut().enumerate() {
             let ambient = _mm256_mul_ps(c[ch], splat(self.ka));
             let sum = _mm256_add_ps(_mm256_add_ps(ambient, diffuse[ch]), specular[ch]);
-            let out = _mm256_min_ps(_mm256_max_ps(sum, zero), splat(1.0));
-            _mm256_blendv_ps(c[ch], out, lit)
-        })
+            let clamped = _mm256_min_ps(_mm256_max_ps(sum, zero), splat(1.0));
+            *out = _mm256_blendv_ps(c[ch], clamped, lit);
+        }
+        shaded
     }
 }
 
