@@ -376,6 +376,11 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         } else {
             self.s.empty.as_ref()
         };
+        if from == f32::INFINITY && skip.is_some() {
+            // No visible cell along the ray (its pixel's entry bound): nothing to composite,
+            // as either skipping march would find.
+            return self.accumulated(acc, None);
+        }
         let viewing = Viewing::new(-ray.dir, &self.s.lights);
         let mut stopped_at = None;
         match skip {
