@@ -254,7 +254,7 @@ pub fn gradient<T: Voxel>(g: &Grid<'_, T>, p_voxel: Vec3, interpolation: Interpo
 
 /// One lattice point's record for fast exact gradients and values: its differences per axis,
 /// as exact integers — `f(i+1) − f(i−1)` inside, `2·(f(1) − f(0))` and `2·(f(n−1) − f(n−2))` at
-/// the borders, 0 on a one-point axis, so that `D·½` is [`lattice_difference`] exactly — and in
+/// the borders, 0 on a one-point axis, so that `D·½` is `lattice_difference` exactly — and in
 /// the fourth lane its raw value. One 8-byte read of a cell corner gives both, and the value
 /// and the gradient are blended together, four lanes at once ([`value_and_gradient_in_cell`]).
 pub type Differences = [i16; 4];

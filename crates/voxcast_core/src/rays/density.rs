@@ -115,7 +115,7 @@ pub struct Chunk {
     pub cells: Vec<CellSum>,
 }
 
-/// One cell: the ray count and the sum of unit directions (fixed point, [`DIRECTION_SCALE`] per
+/// One cell: the ray count and the sum of unit directions (fixed point, 2²⁰ per
 /// unit), side by side so that a visit writes one cache line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CellSum {
