@@ -249,10 +249,6 @@ impl Lanes<'_> {
         stop_at: f32,
         acc: &mut Accumulation,
     ) -> Option<u32> {
-        // No visible cell along the ray at all (its pixel's entry bound).
-        if from == f32::INFINITY {
-            return None;
-        }
         let inv_dt = 1.0 / plan.dt;
         let inv_d = 1.0 / d_v;
         let mut pending = Pending::default();
@@ -282,7 +278,7 @@ impl Lanes<'_> {
             let (taken, visible, located) = unsafe { self.locate(plan, k, end, (o_v, d_v)) };
             if visible != 0 {
                 // SAFETY: AVX2; fewer than eight are waiting, so eight more fit.
-                let queued = unsafe { pending.push(k, visible, &located) };
+                let queued = unsafe { pending.push(visible, &located) };
                 for &base in &pending.base[queued] {
                     self.prefetch(base);
                 }
@@ -372,8 +368,10 @@ impl Lanes<'_> {
     }
 }
 
-/// Eight positions located: `t`, the cell's record index and the fractions inside it.
+/// Eight positions located: their index `k` and `t`, the cell's record index and the
+/// fractions inside it.
 struct Located {
+    k: __m256i,
     t: __m256,
     base: __m256i,
     fx: __m256,
@@ -382,30 +380,26 @@ struct Located {
 }
 
 impl Pending {
-    /// Queues the positions `k + lane` of `located` whose bit is set in `visible`, in order,
+    /// Queues the positions of `located` whose bit is set in `visible`, in order,
     /// behind those waiting; the range of `base` they took.
     ///
     /// # Safety
     /// AVX2; fewer than [`LANES`] are waiting.
     #[inline]
     #[target_feature(enable = "avx2")]
-    unsafe fn push(&mut self, k: u32, visible: u32, located: &Located) -> std::ops::Range<usize> {
+    unsafe fn push(&mut self, visible: u32, located: &Located) -> std::ops::Range<usize> {
         let n = self.n;
         debug_assert!(n < LANES);
         // SAFETY: the table's row is eight bytes.
         let order = _mm256_cvtepu8_epi32(unsafe {
             _mm_loadl_epi64(PACK[visible as usize].as_ptr() as *const __m128i)
         });
-        let ks = _mm256_add_epi32(
-            _mm256_set1_epi32(k as i32),
-            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
-        );
         let pack = |v: __m256| _mm256_permutevar8x32_ps(v, order);
         // SAFETY: n < 8, so lanes n .. n + 8 lie in the arrays of sixteen.
         unsafe {
             _mm256_storeu_si256(
                 self.k.as_mut_ptr().add(n) as *mut __m256i,
-                _mm256_permutevar8x32_epi32(ks, order),
+                _mm256_permutevar8x32_epi32(located.k, order),
             );
             _mm256_storeu_si256(
                 self.base.as_mut_ptr().add(n) as *mut __m256i,
@@ -523,6 +517,7 @@ impl Lanes<'_> {
             ),
         );
         let out = Located {
+            k: ks,
             t,
             base,
             fx,
