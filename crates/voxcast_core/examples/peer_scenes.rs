@@ -7,8 +7,11 @@
 //!
 //! ```text
 //! cargo run --release -p voxcast_core --example peer_scenes -- [--threads N] [--repeat N]
-//!     [--only NAME] [--size N] [--step VOXELS] [--no-simd]
+//!     [--only NAME] [--size N] [--step VOXELS] [--no-simd] [--method NAME] [--no-skipping]
 //! ```
+//!
+//! `--method` renders another compositing method (maximum, minimum, average, sum, first) over
+//! the same preset; `--no-skipping` turns every exact acceleration off (the hash must not move).
 //!
 //! Volumes come from `$VOXCAST_DATA` (default `../shared/data`), cameras from
 //! `../shared/tools/peer/cams`; a missing one is left out with a note.
@@ -39,6 +42,8 @@ struct Options {
     size: u32,
     step: f32,
     simd: bool,
+    method: Option<voxcast_core::composite::Method>,
+    skipping: bool,
 }
 
 fn options() -> Result<Options, String> {
@@ -49,6 +54,8 @@ fn options() -> Result<Options, String> {
         size: 512,
         step: 0.5,
         simd: true,
+        method: None,
+        skipping: true,
     };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -60,6 +67,16 @@ fn options() -> Result<Options, String> {
             "--step" => o.step = value()?.parse().map_err(|e| format!("{e}"))?,
             "--only" => o.only = Some(value()?),
             "--no-simd" => o.simd = false,
+            "--no-skipping" => o.skipping = false,
+            "--method" => {
+                let name = value()?;
+                o.method = Some(
+                    voxcast_core::composite::Method::ALL
+                        .into_iter()
+                        .find(|m| m.name().eq_ignore_ascii_case(&name))
+                        .ok_or(format!("--method {name}: unknown"))?,
+                );
+            }
             other => return Err(format!("unknown argument {other}")),
         }
     }
@@ -128,6 +145,10 @@ fn main() {
             .settings_over(&RenderSettings::default())
             .expect("settings");
         settings.step = Length::Voxels(o.step);
+        settings.skipping = o.skipping;
+        if let Some(m) = o.method {
+            settings.method = m;
+        }
         let mut scene =
             Scene::new(&volume, &p.transfer, &settings, camera.forward()).expect("a valid scene");
         scene.simd = o.simd;

@@ -216,7 +216,19 @@ impl BlockWalk {
     /// `d_v`), in a grid of `blocks` blocks per axis.
     #[inline]
     pub fn new(blocks: [usize; 3], start_cell_lo: [usize; 3], o_v: Vec3, d_v: Vec3) -> Self {
-        let b = [0, 1, 2].map(|a| (start_cell_lo[a] / BLOCK).min(blocks[a] - 1));
+        Self::sized(BLOCK, blocks, start_cell_lo, o_v, d_v)
+    }
+
+    /// [`BlockWalk::new`] for blocks of `size`³ cells (a coarser level of the same walk).
+    #[inline]
+    pub fn sized(
+        size: usize,
+        blocks: [usize; 3],
+        start_cell_lo: [usize; 3],
+        o_v: Vec3,
+        d_v: Vec3,
+    ) -> Self {
+        let b = [0, 1, 2].map(|a| (start_cell_lo[a] / size).min(blocks[a] - 1));
         let mut w = BlockWalk {
             blocks,
             b,
@@ -228,15 +240,15 @@ impl BlockWalk {
             let d = d_v[a];
             if d > 0.0 {
                 w.step[a] = 1;
-                w.t_delta[a] = BLOCK as f32 / d;
+                w.t_delta[a] = size as f32 / d;
                 if b[a] + 1 < blocks[a] {
-                    w.t_next[a] = (((b[a] + 1) * BLOCK) as f32 - o_v[a]) / d;
+                    w.t_next[a] = (((b[a] + 1) * size) as f32 - o_v[a]) / d;
                 }
             } else if d < 0.0 {
                 w.step[a] = -1;
-                w.t_delta[a] = BLOCK as f32 / -d;
+                w.t_delta[a] = size as f32 / -d;
                 if b[a] > 0 {
-                    w.t_next[a] = ((b[a] * BLOCK) as f32 - o_v[a]) / d;
+                    w.t_next[a] = ((b[a] * size) as f32 - o_v[a]) / d;
                 }
             }
         }

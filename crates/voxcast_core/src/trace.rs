@@ -38,8 +38,11 @@ pub use crate::breakdown::{
 pub use crate::scene::Scene;
 
 #[cfg(target_arch = "x86_64")]
+mod extreme;
 mod lanes;
 mod skipping;
+#[cfg(target_arch = "x86_64")]
+mod value_lanes;
 
 /// The result of one ray.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -150,6 +153,11 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     /// Accumulate's eight-lane path, where it applies (see `lanes.rs`).
     #[cfg(target_arch = "x86_64")]
     lanes: Option<lanes::Lanes<'s>>,
+    /// Maximum and Minimum's coarser block level, for integer data (see `extreme.rs`).
+    superblocks: Option<extreme::Superblocks>,
+    /// The projections' eight-lane values, where they apply (see `value_lanes.rs`).
+    #[cfg(target_arch = "x86_64")]
+    values: Option<value_lanes::ValueLanes<'g>>,
 }
 
 /// Accumulate's running state along a ray.
@@ -191,6 +199,17 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             iso_contours: matches!(s.classifier, Classifier::IsoContours { .. }),
             #[cfg(target_arch = "x86_64")]
             lanes: lanes::Lanes::new(s, &g),
+            superblocks: s
+                .blocks
+                .filter(|_| {
+                    T::TABLE.is_some()
+                        && s.block_skipping
+                        && matches!(s.settings.method, Method::Maximum | Method::Minimum)
+                })
+                .map(extreme::Superblocks::of),
+            #[cfg(target_arch = "x86_64")]
+            values: value_lanes::ValueLanes::new(&g)
+                .filter(|_| s.simd && s.settings.interpolation == Interpolation::Trilinear),
             s,
             g,
         }
@@ -574,7 +593,11 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut zeros = 0u32;
         let ranges = self.s.blocks.filter(|_| !R::ACTIVE && plan.count > 0);
         if let Some(ranges) = ranges.filter(|_| extreme && self.s.block_skipping) {
-            self.project_extreme(ranges, plan, o_v, d_v, &mut stats);
+            if let Some(supers) = &self.superblocks {
+                self.project_extreme_ordered((ranges, supers), plan, (o_v, d_v), &mut stats);
+            } else {
+                self.project_extreme(ranges, plan, o_v, d_v, &mut stats);
+            }
         } else if let Some(ranges) = ranges.filter(|_| self.s.sum_skipping) {
             zeros = self.project_sum(ranges, plan, o_v, d_v, &mut stats);
         } else {

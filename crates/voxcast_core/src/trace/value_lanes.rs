@@ -1,0 +1,205 @@
+//! The projections' samples eight at a time, on x86-64 CPUs with AVX2: trilinear raw values of
+//! an integer volume, each lane computing exactly what `sample_t`, `crate::sample::cell` and
+//! `crate::sample::trilinear_in_cell` compute for one position (the same operations in the
+//! same order, no fused multiply-add), so a projection over them is the scalar one bit for bit.
+//!
+//! A cell's two x corners sit side by side in memory, so one 32-bit gather per lane reads both
+//! of a 16-bit volume's, and four gathers read the whole cell (for 8-bit voxels the gather ends
+//! at the pair, starting two bytes early, so it never reads past the data). Used by Maximum and
+//! Minimum (`extreme.rs`) where the volume is of integers and is interpolated trilinearly;
+//! `tests/projections.rs` compares it with the scalar march.
+
+use crate::step::StepPlan;
+use crate::volume::{ScalarType, Voxel};
+use glam::Vec3;
+use std::arch::x86_64::*;
+
+/// What every ray of a render shares: the data and the lattice's constants.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct ValueLanes<'g> {
+    data: *const u8,
+    kind: ScalarType,
+    /// Element offsets of a cell's upper y and z rows (0 on a one-point axis).
+    dy: i32,
+    dz: i32,
+    nx: i32,
+    nxy: i32,
+    last: Vec3,
+    max_lo: Vec3,
+    _data: std::marker::PhantomData<&'g [u8]>,
+}
+
+// SAFETY: the pointer is a shared borrow of the grid's data (`'g`), only ever read.
+unsafe impl Send for ValueLanes<'_> {}
+unsafe impl Sync for ValueLanes<'_> {}
+
+impl<'g> ValueLanes<'g> {
+    /// The lanes for `g`, if this CPU has AVX2 and the grid suits them (integers, at least two
+    /// points along x so a cell's x corners are two elements, 8-bit data of at least four
+    /// bytes, indices within `i32`).
+    pub(super) fn new<T: Voxel>(g: &crate::volume::Grid<'g, T>) -> Option<Self> {
+        let applies = std::arch::is_x86_feature_detected!("avx2")
+            && T::TYPE != ScalarType::F32
+            && g.dims[0] >= 2
+            && (T::TYPE != ScalarType::U8 || g.data.len() >= 4)
+            && g.data.len() < (i32::MAX / 2) as usize;
+        applies.then(|| Self {
+            data: g.data.as_ptr() as *const u8,
+            kind: T::TYPE,
+            dy: g.corner_step[1] as i32,
+            dz: g.corner_step[2] as i32,
+            nx: g.dims[0] as i32,
+            nxy: (g.dims[0] * g.dims[1]) as i32,
+            last: g.last,
+            max_lo: g.max_lo,
+            _data: std::marker::PhantomData,
+        })
+    }
+
+    /// The largest (`larger`) or smallest raw value of the ray's samples `k0..k1`.
+    ///
+    /// # Safety
+    /// AVX2 (as checked in [`ValueLanes::new`]); `self` built from the grid the ray samples.
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn extreme(
+        &self,
+        plan: &StepPlan,
+        (o_v, d_v): (Vec3, Vec3),
+        (k0, k1): (u32, u32),
+        larger: bool,
+    ) -> f32 {
+        let worst = if larger {
+            f32::NEG_INFINITY
+        } else {
+            f32::INFINITY
+        };
+        let mut acc = _mm256_set1_ps(worst);
+        let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        let mut k = k0;
+        while k < k1 {
+            // SAFETY: AVX2; the cells are clamped into the lattice.
+            let v = unsafe { self.values(plan, (o_v, d_v), k) };
+            // Positions past k1 belong to other stretches: left out.
+            let inside = _mm256_cmpgt_epi32(_mm256_set1_epi32((k1 - k) as i32), lane);
+            let v = _mm256_blendv_ps(_mm256_set1_ps(worst), v, _mm256_castsi256_ps(inside));
+            acc = if larger {
+                _mm256_max_ps(acc, v)
+            } else {
+                _mm256_min_ps(acc, v)
+            };
+            k += 8;
+        }
+        let mut out = [0f32; 8];
+        // SAFETY: eight floats.
+        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), acc) };
+        out.into_iter()
+            .fold(worst, |a, v| if larger { a.max(v) } else { a.min(v) })
+    }
+
+    /// The raw trilinear values at positions `k .. k + 8`.
+    ///
+    /// # Safety
+    /// AVX2; `self` built from the grid the ray samples.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    unsafe fn values(&self, plan: &StepPlan, (o_v, d_v): (Vec3, Vec3), k: u32) -> __m256 {
+        let ks = _mm256_add_epi32(
+            _mm256_set1_epi32(k as i32),
+            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+        );
+        // sample_t: min(t_enter + (jitter + k)·dt, t_exit).
+        let t = _mm256_min_ps(
+            _mm256_add_ps(
+                _mm256_set1_ps(plan.t_enter),
+                _mm256_mul_ps(
+                    _mm256_add_ps(_mm256_set1_ps(plan.jitter), _mm256_cvtepi32_ps(ks)),
+                    _mm256_set1_ps(plan.dt),
+                ),
+            ),
+            _mm256_set1_ps(plan.t_exit),
+        );
+        // cell(): x = min(max(p, 0), last); i = ⌊min(x, max_lo)⌋; f = x − i.
+        let axis = |o: f32, d: f32, last: f32, max_lo: f32| {
+            let p = _mm256_add_ps(_mm256_set1_ps(o), _mm256_mul_ps(_mm256_set1_ps(d), t));
+            let x = _mm256_min_ps(_mm256_max_ps(p, _mm256_setzero_ps()), _mm256_set1_ps(last));
+            let i = _mm256_cvttps_epi32(_mm256_min_ps(x, _mm256_set1_ps(max_lo)));
+            (i, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)))
+        };
+        let (ix, fx) = axis(o_v.x, d_v.x, self.last.x, self.max_lo.x);
+        let (iy, fy) = axis(o_v.y, d_v.y, self.last.y, self.max_lo.y);
+        let (iz, fz) = axis(o_v.z, d_v.z, self.last.z, self.max_lo.z);
+        let base = _mm256_add_epi32(
+            ix,
+            _mm256_add_epi32(
+                _mm256_mullo_epi32(iy, _mm256_set1_epi32(self.nx)),
+                _mm256_mullo_epi32(iz, _mm256_set1_epi32(self.nxy)),
+            ),
+        );
+        // The four rows' x pairs: lower corner and the one after it.
+        let row = |offset: i32| -> (__m256, __m256) {
+            let at = _mm256_add_epi32(base, _mm256_set1_epi32(offset));
+            // SAFETY: a cell's lower corner has its upper x neighbour in the data (at least
+            // two points along x), in every row of the cell.
+            let (lo, hi) = unsafe { self.pair(at) };
+            (_mm256_cvtepi32_ps(lo), _mm256_cvtepi32_ps(hi))
+        };
+        let lerp = |a: __m256, b: __m256, f: __m256| {
+            _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), f))
+        };
+        let (v000, v100) = row(0);
+        let (v010, v110) = row(self.dy);
+        let (v001, v101) = row(self.dz);
+        let (v011, v111) = row(self.dz + self.dy);
+        let x00 = lerp(v000, v100, fx);
+        let x10 = lerp(v010, v110, fx);
+        let x01 = lerp(v001, v101, fx);
+        let x11 = lerp(v011, v111, fx);
+        lerp(lerp(x00, x10, fy), lerp(x01, x11, fy), fz)
+    }
+
+    /// Elements `at` and `at + 1` of every lane, as 32-bit integers.
+    ///
+    /// # Safety
+    /// AVX2; `at + 1` is an element of the data in every lane.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    unsafe fn pair(&self, at: __m256i) -> (__m256i, __m256i) {
+        // SAFETY (all arms): every lane reads four bytes that lie in the data.
+        unsafe {
+            match self.kind {
+                ScalarType::U8 => {
+                    // Bytes at − 2 ..= at + 1 (the pair in the upper half), never past the pair's
+                    // end; a pair at 0 or 1 is read from bytes 0 ..= 3 (the data has at least
+                    // four: checked in `new`) and shifted out of the word.
+                    let start = _mm256_max_epi32(
+                        _mm256_sub_epi32(at, _mm256_set1_epi32(2)),
+                        _mm256_setzero_si256(),
+                    );
+                    let word = _mm256_i32gather_epi32::<1>(self.data as *const i32, start);
+                    // Bit offset of the pair inside the word: (at − start)·8.
+                    let shift = _mm256_slli_epi32::<3>(_mm256_sub_epi32(at, start));
+                    let w = _mm256_srlv_epi32(word, shift);
+                    let byte = _mm256_set1_epi32(0xff);
+                    (
+                        _mm256_and_si256(w, byte),
+                        _mm256_and_si256(_mm256_srli_epi32::<8>(w), byte),
+                    )
+                }
+                ScalarType::I16 => {
+                    let w = _mm256_i32gather_epi32::<2>(self.data as *const i32, at);
+                    (
+                        _mm256_srai_epi32::<16>(_mm256_slli_epi32::<16>(w)),
+                        _mm256_srai_epi32::<16>(w),
+                    )
+                }
+                _ => {
+                    let w = _mm256_i32gather_epi32::<2>(self.data as *const i32, at);
+                    (
+                        _mm256_and_si256(w, _mm256_set1_epi32(0xffff)),
+                        _mm256_srli_epi32::<16>(w),
+                    )
+                }
+            }
+        }
+    }
+}

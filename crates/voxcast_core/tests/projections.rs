@@ -1,0 +1,159 @@
+//! Maximum and Minimum with the best blocks first and eight lanes (`trace/extreme.rs`,
+//! `trace/value_lanes.rs`) render the plain march's pixels bit for bit: over random scan-like
+//! volumes of every integer type (a negative rescale slope among them, which turns the largest
+//! raw value into the smallest), cameras outside, along an axis, inside and orthographic, and
+//! steps from tiny to huge — and at the extremes (a one-voxel volume, a volume one voxel thin
+//! along x, where the lanes do not apply, an 8-bit volume of three voxels, a constant one).
+
+mod scenes;
+
+use proptest::prelude::*;
+use scenes::{camera, volume};
+use voxcast_core::camera::Camera;
+use voxcast_core::composite::Method;
+use voxcast_core::glam::{UVec3, Vec3};
+use voxcast_core::render::render_with_threads;
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::step::Length;
+use voxcast_core::trace::Scene;
+use voxcast_core::transfer::TransferFunction;
+use voxcast_core::{Prepared, Volume, VoxelData};
+
+/// The image of `scene` as rendered (ordered blocks, lanes), with the lanes off, and by the
+/// plain march (no skipping at all); with the sample counts of the first and the last.
+fn three(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, u64); 3] {
+    let mut scalar = scene.clone();
+    scalar.simd = false;
+    let mut plain = scene.clone();
+    plain.block_skipping = false;
+    plain.simd = false;
+    [scene, &scalar, &plain].map(|s| {
+        let (image, stats) = render_with_threads(s, camera, w, h, 1).unwrap();
+        (image.pixels, stats.samples)
+    })
+}
+
+fn settings(method: Method, step: f32, jitter: bool) -> RenderSettings {
+    RenderSettings {
+        method,
+        step: Length::Voxels(step),
+        jitter,
+        max_samples: 1 << 16,
+        ..RenderSettings::default()
+    }
+}
+
+/// A ramp over the volume's values, so every value has its own colour.
+fn ramp(v: &Volume) -> TransferFunction {
+    let (lo, hi) = v.value_range();
+    TransferFunction::ramp(lo, hi.max(lo + 1.0), 1.0).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(192))]
+
+    #[test]
+    fn ordered_projections_render_the_plain_pixels_bit_for_bit(
+        v in volume(),
+        maximum in any::<bool>(),
+        step in prop_oneof![3 => 0.1f32..3.0, 1 => Just(0.02f32), 1 => Just(40.0f32)],
+        jitter in any::<bool>(),
+        kind in 0u8..4,
+        a in proptest::array::uniform3(0f32..1.0),
+        b in proptest::array::uniform3(0f32..1.0),
+    ) {
+        let method = if maximum { Method::Maximum } else { Method::Minimum };
+        let Some(camera) = camera(&v, kind, Vec3::from(a), Vec3::from(b)) else { return Ok(()) };
+        let tf = ramp(&v);
+        let scene = Scene::new(&v, &tf, &settings(method, step, jitter), camera.forward()).unwrap();
+        prop_assert!(scene.block_skipping);
+        let [(fast, taken), (scalar, _), (plain, all)] = three(&scene, &camera, 20, 15);
+        prop_assert_eq!(&fast, &plain);
+        prop_assert_eq!(&scalar, &plain);
+        prop_assert!(taken <= all);
+    }
+}
+
+/// On real volumes blocks are passed over: fewer samples, the same pixels.
+#[test]
+fn real_volumes_take_fewer_samples_for_the_same_pixels() {
+    use voxcast_core::builtin::load_builtin;
+    for name in ["bunny", "brainsmall"] {
+        let v = Prepared::from(load_builtin(name).unwrap().volume);
+        let (lo, hi) = v.bounds();
+        let camera = Camera::framing(lo, hi, Vec3::new(0.4, 0.3, 1.0), Vec3::Y).unwrap();
+        let tf = ramp(&v);
+        for method in [Method::Maximum, Method::Minimum] {
+            let scene =
+                Scene::new(&v, &tf, &settings(method, 0.5, false), camera.forward()).unwrap();
+            let [(fast, taken), (scalar, _), (plain, all)] = three(&scene, &camera, 64, 48);
+            assert_eq!(fast, plain, "{name} {method:?}");
+            assert_eq!(scalar, plain, "{name} {method:?}");
+            eprintln!("{name} {method:?}: {taken} of {all} samples");
+            assert!(taken < all, "{name} {method:?}: {taken} of {all} samples");
+        }
+    }
+}
+
+/// The extremes: one voxel, one voxel thin along x (no lanes: a cell's x corners are one
+/// point), three 8-bit voxels (fewer than a lane's four-byte read), a constant volume (every
+/// block ties), huge and tiny steps.
+#[test]
+fn extremes_agree() {
+    let make = |dims: [u32; 3], data: VoxelData| {
+        Prepared::from(Volume::new("extreme", UVec3::from(dims), Vec3::ONE, data).unwrap())
+    };
+    let n = |d: [u32; 3]| (d[0] * d[1] * d[2]) as usize;
+    let volumes = [
+        make([1, 1, 1], VoxelData::U8(vec![77])),
+        make(
+            [1, 20, 30],
+            VoxelData::U16((0..600).map(|i| (i * 37 % 1000) as u16).collect()),
+        ),
+        make([3, 1, 1], VoxelData::U8(vec![5, 250, 9])),
+        make([2, 2, 1], VoxelData::I16(vec![-300, 12, 7, -5])),
+        make([17, 9, 21], VoxelData::U8(vec![42; n([17, 9, 21])])),
+        make(
+            [33, 17, 9],
+            VoxelData::I16(
+                (0..n([33, 17, 9]))
+                    .map(|i| ((i * 7919) % 4001) as i16 - 2000)
+                    .collect(),
+            ),
+        ),
+    ];
+    for v in &volumes {
+        let (lo, hi) = v.bounds();
+        let tf = ramp(v);
+        for method in [Method::Maximum, Method::Minimum] {
+            for step in [1e-3, 0.5, 1e4] {
+                for from in [Vec3::new(0.3, 0.5, 1.0), Vec3::Z, Vec3::X, Vec3::NEG_Y] {
+                    let up = if from.y != 0.0 || from == Vec3::X {
+                        Vec3::Z
+                    } else {
+                        Vec3::Y
+                    };
+                    let camera = Camera::framing(lo, hi, from, up).unwrap();
+                    let s = RenderSettings {
+                        max_samples: 1 << 20,
+                        ..settings(method, step, false)
+                    };
+                    let scene = Scene::new(v, &tf, &s, camera.forward()).unwrap();
+                    let [(fast, _), (scalar, _), (plain, _)] = three(&scene, &camera, 9, 7);
+                    assert_eq!(
+                        fast,
+                        plain,
+                        "{:?} {method:?} step {step} from {from}",
+                        v.dims()
+                    );
+                    assert_eq!(
+                        scalar,
+                        plain,
+                        "{:?} {method:?} step {step} from {from}",
+                        v.dims()
+                    );
+                }
+            }
+        }
+    }
+}
