@@ -25,18 +25,8 @@ run() { # scene file steps [camera [extra arguments]]
         --peer "$PEER" --threads "$THREADS" --repeat 3 --steps "$steps" \
         --report BENCHMARKS.md --section "$v" --plot "docs/bench/${v}_speed_accuracy.png" "$@"
 }
-# ch2.nii.gz from Debian's mricron-data, once.
-ch2() {
-    local cache=${XDG_CACHE_HOME:-$HOME/.cache}/voxcast
-    if [ ! -f "$cache/ch2.nii.gz" ]; then
-        mkdir -p "$cache/deb"
-        (cd "$cache/deb" && apt-get download mricron-data >/dev/null)
-        dpkg -x "$cache"/deb/mricron-data_*.deb "$cache/deb/x"
-        cp "$cache/deb/x/usr/share/mricron/templates/ch2.nii.gz" "$cache/"
-        rm -rf "$cache/deb"
-    fi
-    echo "$cache/ch2.nii.gz"
-}
+# shellcheck source=benches/ch2.sh
+source benches/ch2.sh
 run ct_cranium "$DATA/ct_cranium.nrrd" 4,2,1,0.5,0.25,0.125
 run mri_mni152 "$DATA/mri_mni152.nii.gz" 2,1,0.5,0.25
 run mri_brainsmall "$DATA/mri_brainsmall.nrrd" 2,1,0.5,0.25

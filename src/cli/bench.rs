@@ -426,11 +426,20 @@ fn report(
     let s = &resolved.settings;
     let mut r = String::new();
     let ghz = super::knobs::cpu_ghz();
-    let lanes = voxcast_core::trace::Scene::new(volume, &resolved.transfer, s, Vec3::NEG_Z)
-        .is_ok_and(|scene| voxcast_core::trace::uses_lanes(&scene));
+    let scene = voxcast_core::trace::Scene::new(volume, &resolved.transfer, s, Vec3::NEG_Z);
+    let (path, lanes) = match s.method {
+        voxcast_core::composite::Method::Maximum | voxcast_core::composite::Method::Minimum => (
+            "the projections' eight-lane values (AVX2)",
+            scene.is_ok_and(|scene| voxcast_core::trace::uses_value_lanes(&scene)),
+        ),
+        _ => (
+            "Accumulate's eight-lane path (AVX2)",
+            scene.is_ok_and(|scene| voxcast_core::trace::uses_lanes(&scene)),
+        ),
+    };
     let _ = writeln!(
         r,
-        "Measured on {} ({} threads{}), Accumulate's eight-lane path (AVX2) {}. *ns* and \
+        "Measured on {} ({} threads{}), {path} {}. *ns* and \
          *cycles* are per interpolated sample, all of the render's time counted (threads × \
          seconds ÷ interpolated samples; cycles at the nominal clock: this machine exposes no \
          cycle counters).\n",

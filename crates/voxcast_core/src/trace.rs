@@ -140,6 +140,27 @@ pub fn uses_lanes(scene: &Scene<'_>) -> bool {
     scene.settings.method == Method::Accumulate && scene.volume.visit(Probe(scene))
 }
 
+/// Whether Maximum or Minimum renders of `scene` read their samples eight at a time
+/// (`value_lanes.rs`, with the best blocks first: `extreme.rs`): integer data, trilinear,
+/// skipping on, [`Scene::simd`], and a CPU with AVX2.
+pub fn uses_value_lanes(scene: &Scene<'_>) -> bool {
+    struct Probe<'s, 'a>(&'s Scene<'a>);
+    impl GridVisitor for Probe<'_, '_> {
+        type Output = bool;
+        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> bool {
+            let m = Marcher::new(self.0, grid);
+            #[cfg(target_arch = "x86_64")]
+            return m.superblocks.is_some() && m.values.is_some();
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                let _ = m;
+                false
+            }
+        }
+    }
+    scene.volume.visit(Probe(scene))
+}
+
 /// The march for one voxel type: borrowed scene plus the typed grid.
 pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     s: &'s Scene<'a>,
