@@ -37,8 +37,8 @@ pub use crate::breakdown::{
 };
 pub use crate::scene::Scene;
 
-#[cfg(target_arch = "x86_64")]
 mod extreme;
+#[cfg(target_arch = "x86_64")]
 mod lanes;
 mod skipping;
 #[cfg(target_arch = "x86_64")]

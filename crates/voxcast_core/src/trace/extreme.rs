@@ -101,7 +101,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         let maximum = self.s.settings.method == Method::Maximum;
         let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
         let inv_dt = 1.0 / plan.dt;
-        let ray = Ray8 {
+        let ray = ProjectionRay {
             plan,
             o_v,
             d_v,
@@ -141,7 +141,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
 
     /// Walks the superblocks the ray crosses, noting each one's bound and where the ray leaves
     /// it, up to the one where its last sample lies.
-    fn walk_superblocks(&self, supers: &Superblocks, ray: &Ray8<'_>, w: &mut Walked) {
+    fn walk_superblocks(&self, supers: &Superblocks, ray: &ProjectionRay<'_>, w: &mut Walked) {
         w.bound.clear();
         w.t_out.clear();
         let first = cell(&self.g, ray.position(0)).lo;
@@ -164,7 +164,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     fn sample_blocks(
         &self,
         blocks: &BlockRanges,
-        ray: &Ray8<'_>,
+        ray: &ProjectionRay<'_>,
         (k0, k1): (u32, u32),
         found: &mut Found,
     ) {
@@ -197,7 +197,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     }
 
     /// Samples `k0..k1` and keeps the best.
-    fn sample_run(&self, ray: &Ray8<'_>, (k0, k1): (u32, u32), found: &mut Found) {
+    fn sample_run(&self, ray: &ProjectionRay<'_>, (k0, k1): (u32, u32), found: &mut Found) {
         // Raw values, compared in whichever direction makes the data value the best.
         let raw_larger = ray.maximum == (self.g.slope >= 0.0);
         let value = self.g.to_data(self.raw_extreme(ray, (k0, k1), raw_larger));
@@ -208,7 +208,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// The largest (`larger`) or smallest raw value of the samples `k0..k1`: eight at a time
     /// where the CPU and the grid allow (`value_lanes.rs`, the same numbers), else one by one.
     #[inline]
-    fn raw_extreme(&self, ray: &Ray8<'_>, (k0, k1): (u32, u32), larger: bool) -> f32 {
+    fn raw_extreme(&self, ray: &ProjectionRay<'_>, (k0, k1): (u32, u32), larger: bool) -> f32 {
         #[cfg(target_arch = "x86_64")]
         if let Some(lanes) = &self.values {
             // SAFETY: `ValueLanes` exists only where the CPU has AVX2, built from this grid.
@@ -228,7 +228,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
 }
 
 /// A ray of a projection, as its marches need it.
-struct Ray8<'p> {
+struct ProjectionRay<'p> {
     plan: &'p StepPlan,
     o_v: Vec3,
     d_v: Vec3,
@@ -237,7 +237,7 @@ struct Ray8<'p> {
     maximum: bool,
 }
 
-impl Ray8<'_> {
+impl ProjectionRay<'_> {
     /// Voxel-space position of sample `k`.
     fn position(&self, k: u32) -> Vec3 {
         self.o_v + self.d_v * sample_t(self.plan, k)

@@ -452,31 +452,9 @@ impl Lanes<'_> {
         end: u32,
         (o_v, d_v): (Vec3, Vec3),
     ) -> (u32, u32, Located) {
-        let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-        let ks = _mm256_add_epi32(_mm256_set1_epi32(k as i32), lane);
-        // sample_t: min(t_enter + (jitter + k)·dt, t_exit).
-        let kf = _mm256_cvtepi32_ps(ks);
-        let t = _mm256_min_ps(
-            _mm256_add_ps(
-                _mm256_set1_ps(plan.t_enter),
-                _mm256_mul_ps(
-                    _mm256_add_ps(_mm256_set1_ps(plan.jitter), kf),
-                    _mm256_set1_ps(plan.dt),
-                ),
-            ),
-            _mm256_set1_ps(plan.t_exit),
-        );
+        let c = super::value_lanes::cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
         let taken = (end - k).min(LANES as u32);
-        // cell(): x = min(max(p, 0), last); i = ⌊min(x, max_lo)⌋; f = x − i.
-        let axis = |o: f32, d: f32, last: f32, max_lo: f32| {
-            let p = _mm256_add_ps(_mm256_set1_ps(o), _mm256_mul_ps(_mm256_set1_ps(d), t));
-            let x = _mm256_min_ps(_mm256_max_ps(p, _mm256_setzero_ps()), _mm256_set1_ps(last));
-            let i = _mm256_cvttps_epi32(_mm256_min_ps(x, _mm256_set1_ps(max_lo)));
-            (i, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)))
-        };
-        let (ix, fx) = axis(o_v.x, d_v.x, self.last.x, self.max_lo.x);
-        let (iy, fy) = axis(o_v.y, d_v.y, self.last.y, self.max_lo.y);
-        let (iz, fz) = axis(o_v.z, d_v.z, self.last.z, self.max_lo.z);
+        let [ix, iy, iz] = c.i;
         // VisibleCells::lookup: the brick's word, the cell's bit in it (read as 32-bit halves).
         let word = _mm256_add_epi32(
             _mm256_srli_epi32::<2>(ix),
@@ -509,17 +487,11 @@ impl Lanes<'_> {
             _mm256_set1_epi32(1),
         ))) as u32
             & ((1u32 << taken) - 1);
-        let base = _mm256_add_epi32(
-            ix,
-            _mm256_add_epi32(
-                _mm256_mullo_epi32(iy, _mm256_set1_epi32(self.nx)),
-                _mm256_mullo_epi32(iz, _mm256_set1_epi32(self.nxy)),
-            ),
-        );
+        let [fx, fy, fz] = c.f;
         let out = Located {
-            k: ks,
-            t,
-            base,
+            k: c.k,
+            t: c.t,
+            base: c.corner(self.nx, self.nxy),
             fx,
             fy,
             fz,

@@ -106,9 +106,11 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         stopped_at
     }
 
-    /// Maximum and Minimum with block skipping: a block whose value range cannot beat the
-    /// running maximum (minimum) is crossed without sampling, which leaves the result exactly
-    /// as it was (see `crate::skip`; ranges include a one-point apron for rounding).
+    /// Maximum and Minimum with block skipping, for float data (integer data take the best
+    /// blocks first: `extreme.rs`): a block whose value range cannot beat the running maximum
+    /// (minimum) is crossed without sampling, which leaves the result exactly as it was (see
+    /// `crate::skip`; ranges include a one-point apron for rounding). A block that can only tie
+    /// it is still sampled: float rounding could exceed the corners' range by an ulp.
     pub(super) fn project_extreme(
         &self,
         ranges: &BlockRanges,
@@ -117,16 +119,14 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         d_v: Vec3,
         stats: &mut ValueStats,
     ) {
+        debug_assert!(T::TABLE.is_none());
         let maximum = self.s.settings.method == Method::Maximum;
-        // Interpolating integers never leaves the corners' range, so a block that can only tie
-        // the running extreme is skippable too; float rounding could exceed it by an ulp.
-        let ties_skippable = T::TABLE.is_some();
         self.project_blocks(ranges, plan, o_v, d_v, stats, |(lo, hi), stats| {
             stats.count > 0
                 && if maximum {
-                    hi < stats.max || (ties_skippable && hi == stats.max)
+                    hi < stats.max
                 } else {
-                    lo > stats.min || (ties_skippable && lo == stats.min)
+                    lo > stats.min
                 }
         });
     }

@@ -103,38 +103,9 @@ impl<'g> ValueLanes<'g> {
     #[inline]
     #[target_feature(enable = "avx2")]
     unsafe fn values(&self, plan: &StepPlan, (o_v, d_v): (Vec3, Vec3), k: u32) -> __m256 {
-        let ks = _mm256_add_epi32(
-            _mm256_set1_epi32(k as i32),
-            _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
-        );
-        // sample_t: min(t_enter + (jitter + k)·dt, t_exit).
-        let t = _mm256_min_ps(
-            _mm256_add_ps(
-                _mm256_set1_ps(plan.t_enter),
-                _mm256_mul_ps(
-                    _mm256_add_ps(_mm256_set1_ps(plan.jitter), _mm256_cvtepi32_ps(ks)),
-                    _mm256_set1_ps(plan.dt),
-                ),
-            ),
-            _mm256_set1_ps(plan.t_exit),
-        );
-        // cell(): x = min(max(p, 0), last); i = ⌊min(x, max_lo)⌋; f = x − i.
-        let axis = |o: f32, d: f32, last: f32, max_lo: f32| {
-            let p = _mm256_add_ps(_mm256_set1_ps(o), _mm256_mul_ps(_mm256_set1_ps(d), t));
-            let x = _mm256_min_ps(_mm256_max_ps(p, _mm256_setzero_ps()), _mm256_set1_ps(last));
-            let i = _mm256_cvttps_epi32(_mm256_min_ps(x, _mm256_set1_ps(max_lo)));
-            (i, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)))
-        };
-        let (ix, fx) = axis(o_v.x, d_v.x, self.last.x, self.max_lo.x);
-        let (iy, fy) = axis(o_v.y, d_v.y, self.last.y, self.max_lo.y);
-        let (iz, fz) = axis(o_v.z, d_v.z, self.last.z, self.max_lo.z);
-        let base = _mm256_add_epi32(
-            ix,
-            _mm256_add_epi32(
-                _mm256_mullo_epi32(iy, _mm256_set1_epi32(self.nx)),
-                _mm256_mullo_epi32(iz, _mm256_set1_epi32(self.nxy)),
-            ),
-        );
+        let c = cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
+        let [fx, fy, fz] = c.f;
+        let base = c.corner(self.nx, self.nxy);
         // The four rows' x pairs: lower corner and the one after it.
         let row = |offset: i32| -> (__m256, __m256) {
             let at = _mm256_add_epi32(base, _mm256_set1_epi32(offset));
@@ -201,5 +172,79 @@ impl<'g> ValueLanes<'g> {
                 }
             }
         }
+    }
+}
+
+/// Eight sample positions of a ray located: their indices `k` and `t`, and per axis the lower
+/// corner of their cell and the fraction inside it.
+pub(super) struct Cells {
+    pub k: __m256i,
+    pub t: __m256,
+    pub i: [__m256i; 3],
+    pub f: [__m256; 3],
+}
+
+/// Locates positions `k .. k + 8` of the ray: each lane computes what `sample_t` and
+/// `crate::sample::cell` compute for one, in the same operations (`last` and `max_lo` are the
+/// grid's).
+#[inline]
+#[target_feature(enable = "avx2")]
+pub(super) fn cells(
+    plan: &StepPlan,
+    k: u32,
+    (o_v, d_v): (Vec3, Vec3),
+    (last, max_lo): (Vec3, Vec3),
+) -> Cells {
+    let ks = _mm256_add_epi32(
+        _mm256_set1_epi32(k as i32),
+        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
+    );
+    // sample_t: min(t_enter + (jitter + k)·dt, t_exit).
+    let t = _mm256_min_ps(
+        _mm256_add_ps(
+            _mm256_set1_ps(plan.t_enter),
+            _mm256_mul_ps(
+                _mm256_add_ps(_mm256_set1_ps(plan.jitter), _mm256_cvtepi32_ps(ks)),
+                _mm256_set1_ps(plan.dt),
+            ),
+        ),
+        _mm256_set1_ps(plan.t_exit),
+    );
+    // cell(): x = min(max(p, 0), last); i = ⌊min(x, max_lo)⌋; f = x − i.
+    let axis = |a: usize| {
+        let p = _mm256_add_ps(
+            _mm256_set1_ps(o_v[a]),
+            _mm256_mul_ps(_mm256_set1_ps(d_v[a]), t),
+        );
+        let x = _mm256_min_ps(
+            _mm256_max_ps(p, _mm256_setzero_ps()),
+            _mm256_set1_ps(last[a]),
+        );
+        let i = _mm256_cvttps_epi32(_mm256_min_ps(x, _mm256_set1_ps(max_lo[a])));
+        (i, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)))
+    };
+    let [(ix, fx), (iy, fy), (iz, fz)] = [axis(0), axis(1), axis(2)];
+    Cells {
+        k: ks,
+        t,
+        i: [ix, iy, iz],
+        f: [fx, fy, fz],
+    }
+}
+
+impl Cells {
+    /// The index of each lane's lower corner in a lattice of `nx` points per row and `nxy`
+    /// per slice.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub(super) fn corner(&self, nx: i32, nxy: i32) -> __m256i {
+        let [ix, iy, iz] = self.i;
+        _mm256_add_epi32(
+            ix,
+            _mm256_add_epi32(
+                _mm256_mullo_epi32(iy, _mm256_set1_epi32(nx)),
+                _mm256_mullo_epi32(iz, _mm256_set1_epi32(nxy)),
+            ),
+        )
     }
 }
