@@ -35,6 +35,7 @@
 //! * **Distances along a ray** (`t`, `dt`) are in world units; the ray's direction is unit length.
 
 pub mod breakdown;
+pub mod bricks;
 pub mod builtin;
 pub mod camera;
 pub mod classify;

@@ -1,12 +1,14 @@
 //! A volume with the structures its renders reuse: the value range of every block (empty-space
-//! skipping) and every lattice point's integer differences (exact gradients without 56 reads),
-//! each computed on first use and kept for the next render of the same volume.
+//! skipping) and of every brick (the projections' per-sample bound), and every lattice point's
+//! integer differences (exact gradients without 56 reads), each computed on first use and kept
+//! for the next render of the same volume.
 //!
 //! [`Volume`] itself holds only what a file says (lattice, values, rescale) and so compares,
 //! clones and serialises as data; whoever renders one volume many times (the sandbox, the bench,
 //! a test that sweeps settings) keeps one `Prepared` and builds each [`crate::scene::Scene`]
 //! from it.
 
+use crate::bricks::BrickRanges;
 use crate::sample::Differences;
 use crate::skip::BlockRanges;
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
@@ -22,6 +24,8 @@ pub struct Prepared {
     volume: Volume,
     /// Per-block value ranges for empty-space skipping, computed on first use.
     blocks: OnceLock<BlockRanges>,
+    /// Per-brick raw value ranges for Maximum and Minimum, computed on first use.
+    bricks: OnceLock<Option<BrickRanges>>,
     /// Lattice differences for fast exact gradients, computed on first use where they fit.
     differences: OnceLock<Option<Vec<Differences>>>,
 }
@@ -45,6 +49,7 @@ impl Prepared {
         Self {
             volume,
             blocks: OnceLock::new(),
+            bricks: OnceLock::new(),
             differences: OnceLock::new(),
         }
     }
@@ -67,6 +72,14 @@ impl Prepared {
     /// Whether the block ranges have been computed (no render has had to wait for them since).
     pub fn has_block_ranges(&self) -> bool {
         self.blocks.get().is_some()
+    }
+
+    /// The raw value range of each 4³ brick of cells ([`crate::bricks`]): computed once, on
+    /// first use; `None` for float data.
+    pub fn brick_ranges(&self) -> Option<&BrickRanges> {
+        self.bricks
+            .get_or_init(|| BrickRanges::of(&self.volume))
+            .as_ref()
     }
 
     /// Every lattice point's exact integer differences (see

@@ -2,6 +2,7 @@
 //! function and the settings — the baked table, step lengths in world units, the light for this
 //! view, and the acceleration structures ([`crate::skip`], precomputed gradients).
 
+use crate::bricks::BrickRanges;
 use crate::classify::Classifier;
 use crate::clip::ResolvedClip;
 use crate::composite::{Method, Order};
@@ -46,6 +47,8 @@ pub struct Scene<'a> {
     pub differences: Option<&'a [crate::sample::Differences]>,
     /// The blocks' value ranges, where block or zero skipping uses them.
     pub blocks: Option<&'a BlockRanges>,
+    /// The bricks' raw value ranges, where Maximum and Minimum test their samples against them.
+    pub bricks: Option<&'a BrickRanges>,
     /// Whether Accumulate may locate and evaluate eight samples at once where the CPU has the
     /// instructions for it (AVX2) — the same pixels, bit for bit (`crate::trace`'s lanes); on
     /// by default, off to compare.
@@ -92,6 +95,9 @@ impl<'a> Scene<'a> {
         if scene.block_skipping || scene.sum_skipping {
             scene.blocks = Some(volume.block_ranges());
         }
+        if scene.block_skipping && matches!(settings.method, Method::Maximum | Method::Minimum) {
+            scene.bricks = volume.brick_ranges();
+        }
         Ok(scene)
     }
 
@@ -114,6 +120,7 @@ impl<'a> Scene<'a> {
             sum_skipping: false,
             differences: None,
             blocks: None,
+            bricks: None,
             simd: true,
             volume,
             classifier,

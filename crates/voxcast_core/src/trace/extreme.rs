@@ -3,20 +3,25 @@
 //!
 //! The largest value along a ray does not depend on the order its samples are looked at. So a
 //! ray first walks the *superblocks* it crosses ([`SUPER`]³ blocks of `crate::skip`, with the
-//! union of their value ranges), samples the one with the largest range first (the smallest,
-//! for Minimum), and then, front to back, only the superblocks — and in them only the blocks
-//! — whose range can still beat the value found; consecutive such blocks are sampled as one
-//! run, eight positions at a time where the CPU allows (`value_lanes.rs`). Ties are skipped
-//! too: the data are integers, whose interpolated values never leave their corners' range. A
-//! front-to-back march meets a CT's brightest bone late and has to sample everything before
-//! it; this one samples the bone first and passes over the rest.
+//! union of their value ranges), and samples the one with the largest range first (the
+//! smallest, for Minimum) — in it, the block with the largest range first, then the rest of
+//! its blocks that can still beat the value found. Then, front to back, it samples only the
+//! superblocks whose range can still beat the best value. Where the eight lanes apply
+//! (`value_lanes.rs`) each eight positions are tested against their cells' bricks
+//! (`crate::bricks`, 4³ cells) and passed over when none can beat the best, so a later
+//! superblock is sampled as one run; without them, only its blocks that can beat the best are,
+//! in runs of consecutive blocks. Ties are skipped too: the data are integers, whose
+//! interpolated values never leave their corners' range. A front-to-back march meets a CT's
+//! brightest bone late and has to sample everything before it; this one samples the bone first
+//! and passes over the rest.
 //!
-//! Exact for the same reason as the front-to-back skipping (`crate::skip`): at either level
-//! a block's share of the samples is those with `t` in `[t_in − margin, t_out − margin)` of
-//! its walk, the very set that march passes over when the block cannot help, so the block's
-//! range (its apron included) bounds every one of them. The value found is converted to data
-//! units once per run: `raw·slope + intercept` is monotone in floating point, so the largest
-//! converted value is the converted largest (the smallest, for a negative slope).
+//! Exact for the same reason as the front-to-back skipping (`crate::skip`): at either block
+//! level a block's share of the samples is those with `t` in `[t_in − margin, t_out − margin)`
+//! of its walk, the very set that march passes over when the block cannot help, so the
+//! block's range (its apron included) bounds every one of them; a brick is looked up by each
+//! sample's own cell. The best value is kept in raw units and converted to data units after
+//! each run: `raw·slope + intercept` is monotone in floating point, so the largest converted
+//! value is the converted largest (the smallest, for a negative slope).
 
 use super::{Marcher, SKIP_MARGIN_VOXELS};
 use crate::composite::{Method, ValueStats};
@@ -64,6 +69,15 @@ impl Superblocks {
 struct Walked {
     bound: Vec<f32>,
     t_out: Vec<f32>,
+    /// The blocks of the superblock being sampled.
+    shares: Vec<Share>,
+}
+
+/// A block's bound and its share of the samples, `k0..k1`.
+struct Share {
+    bound: f32,
+    k0: u32,
+    k1: u32,
 }
 
 thread_local! {
@@ -71,10 +85,12 @@ thread_local! {
     static WALKED: RefCell<Walked> = RefCell::new(Walked::default());
 }
 
-/// What a ray has found so far: the best value (data units, negated for Minimum) and how many
-/// samples it took.
+/// What a ray has found so far: the best value (data units, negated for Minimum), the same
+/// in raw units (the largest or the smallest raw value, whichever is the best data value), and
+/// how many samples it interpolated.
 struct Found {
     best: f32,
+    raw: f32,
     taken: u32,
 }
 
@@ -99,18 +115,29 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     ) {
         debug_assert!(T::TABLE.is_some() && plan.count > 0);
         let maximum = self.s.settings.method == Method::Maximum;
-        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
-        let inv_dt = 1.0 / plan.dt;
+        // Raw values compared in whichever direction makes the data value the best.
+        let raw_larger = maximum == (self.g.slope >= 0.0);
         let ray = ProjectionRay {
             plan,
             o_v,
             d_v,
-            margin_t,
-            inv_dt,
+            margin_t: SKIP_MARGIN_VOXELS / d_v.length(),
+            inv_dt: 1.0 / plan.dt,
             maximum,
+            raw_larger,
+            bricks: self.s.bricks.map(|b| {
+                let bound = if raw_larger { &b.max } else { &b.min };
+                (&bound[..], [b.bricks[0] as i32, b.bricks[1] as i32])
+            }),
         };
+        let by_bricks = self.by_bricks(&ray);
         let mut found = Found {
             best: f32::NEG_INFINITY,
+            raw: if raw_larger {
+                f32::NEG_INFINITY
+            } else {
+                f32::INFINITY
+            },
             taken: 0,
         };
         WALKED.with_borrow_mut(|w| {
@@ -124,10 +151,17 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             let first = (0..w.bound.len())
                 .max_by(|&a, &b| w.bound[a].total_cmp(&w.bound[b]))
                 .expect("a ray with samples crosses a superblock");
-            self.sample_blocks(blocks, &ray, share(first), &mut found);
+            self.sample_blocks(blocks, &ray, share(first), &mut found, &mut w.shares);
             for j in 0..w.bound.len() {
-                if j != first && found.open(w.bound[j]) {
-                    self.sample_blocks(blocks, &ray, share(j), &mut found);
+                if j == first || !found.open(w.bound[j]) {
+                    continue;
+                }
+                // Where each sample's brick is tested, a block's test passes over less.
+                let (k0, k1) = share(j);
+                if !by_bricks {
+                    self.sample_blocks(blocks, &ray, (k0, k1), &mut found, &mut w.shares);
+                } else if k1 > k0 {
+                    self.sample_run(&ray, (k0, k1), &mut found);
                 }
             }
         });
@@ -159,37 +193,57 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         }
     }
 
-    /// Samples `k0..k1` (one superblock's share), front to back, in runs of consecutive blocks
-    /// that can still beat the best found; blocks that cannot are passed over.
+    /// Samples `k0..k1` (one superblock's share): the block with the best bound first if
+    /// nothing has been found yet, then front to back, in runs of consecutive blocks that can
+    /// still beat the best found; blocks that cannot are passed over.
     fn sample_blocks(
         &self,
         blocks: &BlockRanges,
         ray: &ProjectionRay<'_>,
         (k0, k1): (u32, u32),
         found: &mut Found,
+        shares: &mut Vec<Share>,
     ) {
         if k1 <= k0 {
             return;
         }
+        shares.clear();
         let start = cell(&self.g, ray.position(k0)).lo;
         let mut walk = BlockWalk::new(blocks.grid(), start, ray.o_v, ray.d_v);
-        let mut run: Option<(u32, u32)> = None;
         let mut k = k0;
         loop {
             let t_out = walk.exit();
             let end = ray.index(t_out).min(k1);
             if end > k {
-                if found.open(ray.bound(blocks.ranges[walk.index()])) {
-                    run = Some((run.map_or(k, |r| r.0), end));
-                } else if let Some(r) = run.take() {
-                    self.sample_run(ray, r, found);
-                }
+                let bound = ray.bound(blocks.ranges[walk.index()]);
+                shares.push(Share {
+                    bound,
+                    k0: k,
+                    k1: end,
+                });
                 k = end;
             }
             if k >= k1 || !t_out.is_finite() {
                 break;
             }
             walk.advance();
+        }
+        if found.taken == 0 {
+            let best = (0..shares.len())
+                .max_by(|&a, &b| shares[a].bound.total_cmp(&shares[b].bound))
+                .expect("a share with samples has a block");
+            let first = &mut shares[best];
+            self.sample_run(ray, (first.k0, first.k1), found);
+            // Taken: no bound beats a value found.
+            first.bound = f32::NEG_INFINITY;
+        }
+        let mut run: Option<(u32, u32)> = None;
+        for share in shares.iter() {
+            if found.open(share.bound) {
+                run = Some((run.map_or(share.k0, |r| r.0), share.k1));
+            } else if let Some(r) = run.take() {
+                self.sample_run(ray, r, found);
+            }
         }
         if let Some(r) = run {
             self.sample_run(ray, r, found);
@@ -198,32 +252,47 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
 
     /// Samples `k0..k1` and keeps the best.
     fn sample_run(&self, ray: &ProjectionRay<'_>, (k0, k1): (u32, u32), found: &mut Found) {
-        // Raw values, compared in whichever direction makes the data value the best.
-        let raw_larger = ray.maximum == (self.g.slope >= 0.0);
-        let value = self.g.to_data(self.raw_extreme(ray, (k0, k1), raw_larger));
-        found.best = found.best.max(if ray.maximum { value } else { -value });
-        found.taken += k1 - k0;
+        let (raw, taken) = self.raw_extreme(ray, (k0, k1), found.raw);
+        if taken > 0 {
+            // `raw` includes the best before, and the rescale is monotone.
+            let value = self.g.to_data(raw);
+            found.raw = raw;
+            found.best = if ray.maximum { value } else { -value };
+            found.taken += taken;
+        }
     }
 
-    /// The largest (`larger`) or smallest raw value of the samples `k0..k1`: eight at a time
-    /// where the CPU and the grid allow (`value_lanes.rs`, the same numbers), else one by one.
+    /// Whether the ray's samples are tested against their bricks before they are interpolated
+    /// (the eight lanes with the volume's bricks).
+    fn by_bricks(&self, ray: &ProjectionRay<'_>) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        return ray.bricks.is_some() && self.values.is_some();
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = ray;
+            false
+        }
+    }
+
+    /// The best of `prior` and the raw values of the samples `k0..k1`, and how many of them
+    /// were interpolated: eight at a time where the CPU and the grid allow, passing over those
+    /// whose bricks cannot beat the best (`value_lanes.rs`, the same numbers), else one by one.
     #[inline]
-    fn raw_extreme(&self, ray: &ProjectionRay<'_>, (k0, k1): (u32, u32), larger: bool) -> f32 {
+    fn raw_extreme(&self, ray: &ProjectionRay<'_>, (k0, k1): (u32, u32), prior: f32) -> (f32, u32) {
+        let larger = ray.raw_larger;
         #[cfg(target_arch = "x86_64")]
         if let Some(lanes) = &self.values {
-            // SAFETY: `ValueLanes` exists only where the CPU has AVX2, built from this grid.
-            return unsafe { lanes.extreme(ray.plan, (ray.o_v, ray.d_v), (k0, k1), larger) };
+            let (o_d, range) = ((ray.o_v, ray.d_v), (k0, k1));
+            // SAFETY: `ValueLanes` exists only where the CPU has AVX2, built from this grid;
+            // the bricks are this volume's.
+            return unsafe { lanes.extreme(ray.plan, o_d, range, (larger, prior), ray.bricks) };
         }
-        let mut raw = if larger {
-            f32::NEG_INFINITY
-        } else {
-            f32::INFINITY
-        };
+        let mut raw = prior;
         for k in k0..k1 {
             let v = sample(&self.g, ray.position(k), self.interp);
             raw = if larger { raw.max(v) } else { raw.min(v) };
         }
-        raw
+        (raw, k1 - k0)
     }
 }
 
@@ -235,6 +304,12 @@ struct ProjectionRay<'p> {
     margin_t: f32,
     inv_dt: f32,
     maximum: bool,
+    /// Whether the largest raw value is the best (Maximum with a positive rescale slope, or
+    /// Minimum with a negative one).
+    raw_larger: bool,
+    /// The bricks' bounds in that direction and the bricks per axis along x and y.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    bricks: Option<(&'p [f32], [i32; 2])>,
 }
 
 impl ProjectionRay<'_> {

@@ -5,7 +5,10 @@
 //!
 //! A cell's two x corners sit side by side in memory, so one 32-bit gather per lane reads both
 //! of a 16-bit volume's, and four gathers read the whole cell (for 8-bit voxels the gather ends
-//! at the pair, starting two bytes early, so it never reads past the data). Used by Maximum and
+//! at the pair, starting two bytes early, so it never reads past the data). Before it reads a
+//! cell, each lane gathers the range of its cell's brick (`crate::bricks`): eight positions
+//! none of whose bricks can beat the best value so far are passed over, and the best is kept
+//! in every lane, updated after each eight. Used by Maximum and
 //! Minimum (`extreme.rs`) where the volume is of integers and is interpolated trilinearly;
 //! `tests/projections.rs` compares it with the scalar march.
 
@@ -56,54 +59,94 @@ impl<'g> ValueLanes<'g> {
         })
     }
 
-    /// The largest (`larger`) or smallest raw value of the ray's samples `k0..k1`.
+    /// The largest (`larger`) or smallest of `prior` and the raw values of the ray's samples
+    /// `k0..k1`, and how many of those samples were interpolated: with `bricks` (the bricks'
+    /// largest raw values for `larger`, else their smallest, and the bricks per axis along x
+    /// and y), eight positions whose bricks cannot beat the best value so far are passed over
+    /// (`crate::bricks`).
     ///
     /// # Safety
-    /// AVX2 (as checked in [`ValueLanes::new`]); `self` built from the grid the ray samples.
+    /// AVX2 (as checked in [`ValueLanes::new`]); `self` built from the grid the ray samples,
+    /// `bricks` from its volume.
     #[target_feature(enable = "avx2")]
     pub(super) unsafe fn extreme(
         &self,
         plan: &StepPlan,
         (o_v, d_v): (Vec3, Vec3),
         (k0, k1): (u32, u32),
-        larger: bool,
-    ) -> f32 {
+        (larger, prior): (bool, f32),
+        bricks: Option<(&[f32], [i32; 2])>,
+    ) -> (f32, u32) {
         let worst = if larger {
             f32::NEG_INFINITY
         } else {
             f32::INFINITY
         };
-        let mut acc = _mm256_set1_ps(worst);
+        let better = |a: __m256, b: __m256| {
+            if larger {
+                _mm256_max_ps(a, b)
+            } else {
+                _mm256_min_ps(a, b)
+            }
+        };
+        // Every lane holds the best so far, `prior` included.
+        let mut best = _mm256_set1_ps(prior);
         let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        let mut taken = 0;
         let mut k = k0;
         while k < k1 {
-            // SAFETY: AVX2; the cells are clamped into the lattice.
-            let v = unsafe { self.values(plan, (o_v, d_v), k) };
             // Positions past k1 belong to other stretches: left out.
             let inside = _mm256_cmpgt_epi32(_mm256_set1_epi32((k1 - k) as i32), lane);
+            let c = cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
+            let mut wanted = _mm256_castsi256_ps(inside);
+            if let Some((bound, [bx, by])) = bricks {
+                let [ix, iy, iz] = c.i;
+                let (ix, iy, iz) = (
+                    _mm256_srli_epi32::<2>(ix),
+                    _mm256_srli_epi32::<2>(iy),
+                    _mm256_srli_epi32::<2>(iz),
+                );
+                let at = _mm256_add_epi32(
+                    ix,
+                    _mm256_mullo_epi32(
+                        _mm256_set1_epi32(bx),
+                        _mm256_add_epi32(iy, _mm256_mullo_epi32(_mm256_set1_epi32(by), iz)),
+                    ),
+                );
+                // SAFETY: every lane's cell lies in the lattice, so its brick in `bound`.
+                let b = unsafe { _mm256_i32gather_ps::<4>(bound.as_ptr(), at) };
+                let beats = if larger {
+                    _mm256_cmp_ps::<_CMP_GT_OQ>(b, best)
+                } else {
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(b, best)
+                };
+                wanted = _mm256_and_ps(wanted, beats);
+                if _mm256_movemask_ps(wanted) == 0 {
+                    k += 8;
+                    continue;
+                }
+            }
+            taken += _mm256_movemask_ps(_mm256_castsi256_ps(inside)).count_ones();
+            // SAFETY: AVX2; the cells are clamped into the lattice.
+            let v = unsafe { self.values(&c) };
             let v = _mm256_blendv_ps(_mm256_set1_ps(worst), v, _mm256_castsi256_ps(inside));
-            acc = if larger {
-                _mm256_max_ps(acc, v)
-            } else {
-                _mm256_min_ps(acc, v)
-            };
+            // The best of the eight, in every lane.
+            let mut m = better(best, v);
+            m = better(m, _mm256_permute2f128_ps::<1>(m, m));
+            m = better(m, _mm256_shuffle_ps::<0b01_00_11_10>(m, m));
+            best = better(m, _mm256_shuffle_ps::<0b10_11_00_01>(m, m));
             k += 8;
         }
-        let mut out = [0f32; 8];
-        // SAFETY: eight floats.
-        unsafe { _mm256_storeu_ps(out.as_mut_ptr(), acc) };
-        out.into_iter()
-            .fold(worst, |a, v| if larger { a.max(v) } else { a.min(v) })
+        (_mm256_cvtss_f32(best), taken)
     }
 
-    /// The raw trilinear values at positions `k .. k + 8`.
+    /// The raw trilinear values at eight located positions.
     ///
     /// # Safety
     /// AVX2; `self` built from the grid the ray samples.
     #[inline]
     #[target_feature(enable = "avx2")]
-    unsafe fn values(&self, plan: &StepPlan, (o_v, d_v): (Vec3, Vec3), k: u32) -> __m256 {
-        let c = cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
+    unsafe fn values(&self, c: &Cells) -> __m256 {
         let [fx, fy, fz] = c.f;
         let base = c.corner(self.nx, self.nxy);
         // The four rows' x pairs: lower corner and the one after it.
