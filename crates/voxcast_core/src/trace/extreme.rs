@@ -5,9 +5,9 @@
 //! ray first walks the *superblocks* it crosses ([`SUPER`]³ blocks of `crate::skip`, with the
 //! union of their value ranges), and samples the one with the largest range first (the
 //! smallest, for Minimum) — in it, the block with the largest range first, then the rest of
-//! its blocks that can still beat the value found. Then, front to back, it samples only the
-//! superblocks whose range can still beat the best value. Where the eight lanes apply
-//! (`value_lanes.rs`) each eight positions are tested against their cells' bricks
+//! its blocks that can still beat the value found. Then it takes the superblock with the next
+//! best range, and so on, until no superblock left can beat the best value. Where the eight
+//! lanes apply (`value_lanes.rs`) each eight positions are tested against their cells' bricks
 //! (`crate::bricks`, 4³ cells) and passed over when none can beat the best, so a later
 //! superblock is sampled as one run; without them, only its blocks that can beat the best are,
 //! in runs of consecutive blocks. Ties are skipped too: the data are integers, whose
@@ -148,17 +148,20 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
                 let k0 = if j == 0 { 0 } else { ray.index(w.t_out[j - 1]) };
                 (k0, ray.index(w.t_out[j]).max(k0))
             };
-            let first = (0..w.bound.len())
-                .max_by(|&a, &b| w.bound[a].total_cmp(&w.bound[b]))
-                .expect("a ray with samples crosses a superblock");
-            self.sample_blocks(blocks, &ray, share(first), &mut found, &mut w.shares);
-            for j in 0..w.bound.len() {
-                if j == first || !found.open(w.bound[j]) {
-                    continue;
+            // Best first: the superblock with the best bound, until none left can beat the
+            // value found (a superblock taken is marked with the worst bound).
+            for round in 0..w.bound.len() {
+                let j = (0..w.bound.len())
+                    .max_by(|&a, &b| w.bound[a].total_cmp(&w.bound[b]))
+                    .expect("a ray with samples crosses a superblock");
+                if round > 0 && !found.open(w.bound[j]) {
+                    break;
                 }
-                // Where each sample's brick is tested, a block's test passes over less.
+                w.bound[j] = f32::NEG_INFINITY;
                 let (k0, k1) = share(j);
-                if !by_bricks {
+                // Where each sample's brick is tested, a block's test passes over little
+                // more, except in the first, whose best block sets the value to beat.
+                if round == 0 || !by_bricks {
                     self.sample_blocks(blocks, &ray, (k0, k1), &mut found, &mut w.shares);
                 } else if k1 > k0 {
                     self.sample_run(&ray, (k0, k1), &mut found);
