@@ -3,17 +3,16 @@
 //!
 //! The largest value along a ray does not depend on the order its samples are looked at. So a
 //! ray first walks the *superblocks* it crosses ([`SUPER`]³ blocks of `crate::skip`, with the
-//! union of their value ranges), and samples the one with the largest range first (the
-//! smallest, for Minimum) — in it, the block with the largest range first, then the rest of
-//! its blocks that can still beat the value found. Then it takes the superblock with the next
-//! best range, and so on, until no superblock left can beat the best value. Where the eight
-//! lanes apply (`value_lanes.rs`) each eight positions are tested against their cells' bricks
-//! (`crate::bricks`, 4³ cells) and passed over when none can beat the best, so a later
-//! superblock is sampled as one run; without them, only its blocks that can beat the best are,
-//! in runs of consecutive blocks. Ties are skipped too: the data are integers, whose
-//! interpolated values never leave their corners' range. A front-to-back march meets a CT's
-//! brightest bone late and has to sample everything before it; this one samples the bone first
-//! and passes over the rest.
+//! union of their value ranges), samples the one with the largest range first (the smallest,
+//! for Minimum), then the one with the next best range, and so on, until no superblock left
+//! can beat the best value. Where the eight lanes apply (`value_lanes.rs`) a superblock is
+//! sampled as one run, each eight positions tested against their cells' bricks
+//! (`crate::bricks`, 4³ cells) and passed over when none can beat the best so far (which the
+//! first eight set); without them its blocks are walked — in the first superblock the best
+//! block first — and only those that can beat the best are sampled, in runs of consecutive
+//! blocks. Ties are skipped too: the data are integers, whose interpolated values never leave
+//! their corners' range. A front-to-back march meets a CT's brightest bone late and has to
+//! sample everything before it; this one samples the bone first and passes over the rest.
 //!
 //! Exact for the same reason as the front-to-back skipping (`crate::skip`): at either block
 //! level a block's share of the samples is those with `t` in `[t_in − margin, t_out − margin)`
@@ -159,9 +158,9 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
                 }
                 w.bound[j] = f32::NEG_INFINITY;
                 let (k0, k1) = share(j);
-                // Where each sample's brick is tested, a block's test passes over little
-                // more, except in the first, whose best block sets the value to beat.
-                if round == 0 || !by_bricks {
+                // Where each sample's brick is tested against the best so far (found after
+                // the first eight), the blocks' walk would pass over little more.
+                if !by_bricks {
                     self.sample_blocks(blocks, &ray, (k0, k1), &mut found, &mut w.shares);
                 } else if k1 > k0 {
                     self.sample_run(&ray, (k0, k1), &mut found);
