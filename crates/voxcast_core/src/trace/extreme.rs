@@ -61,13 +61,12 @@ impl Superblocks {
     }
 }
 
-/// A ray's superblocks in order along it: each one's bound — its largest value for Maximum,
-/// its smallest negated for Minimum (larger is better either way) — and the `t` where the ray
-/// leaves it (infinite for the last).
+/// A ray's superblocks that hold samples, in order along it, and the blocks of the one being
+/// sampled: each one's bound — its largest value for Maximum, its smallest negated for
+/// Minimum (larger is better either way) — and its share of the samples.
 #[derive(Default)]
 struct Walked {
-    bound: Vec<f32>,
-    t_out: Vec<f32>,
+    supers: Vec<Share>,
     /// The blocks of the superblock being sampled.
     shares: Vec<Share>,
 }
@@ -140,30 +139,30 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             taken: 0,
         };
         WALKED.with_borrow_mut(|w| {
-            self.walk_superblocks(supers, &ray, w);
-            // Superblock j's samples: from where the ray is a margin short of leaving
-            // superblock j − 1 to where it is a margin short of leaving superblock j.
-            let share = |j: usize| {
-                let k0 = if j == 0 { 0 } else { ray.index(w.t_out[j - 1]) };
-                (k0, ray.index(w.t_out[j]).max(k0))
-            };
+            self.walk_superblocks(supers, &ray, &mut w.supers);
             // Best first: the superblock with the best bound, until none left can beat the
             // value found (a superblock taken is marked with the worst bound).
-            for round in 0..w.bound.len() {
-                let j = (0..w.bound.len())
-                    .max_by(|&a, &b| w.bound[a].total_cmp(&w.bound[b]))
-                    .expect("a ray with samples crosses a superblock");
-                if round > 0 && !found.open(w.bound[j]) {
+            for round in 0..w.supers.len() {
+                // Of equal bounds the furthest along the ray (fewer samples in these scenes
+                // than the nearest: 2 % for Maximum, 15 % for Minimum).
+                let mut j = 0;
+                for (i, s) in w.supers.iter().enumerate() {
+                    if s.bound >= w.supers[j].bound {
+                        j = i;
+                    }
+                }
+                let next = &mut w.supers[j];
+                if round > 0 && !found.open(next.bound) {
                     break;
                 }
-                w.bound[j] = f32::NEG_INFINITY;
-                let (k0, k1) = share(j);
+                next.bound = f32::NEG_INFINITY;
+                let range = (next.k0, next.k1);
                 // Where each sample's brick is tested against the best so far (found after
                 // the first eight), the blocks' walk would pass over little more.
-                if !by_bricks {
-                    self.sample_blocks(blocks, &ray, (k0, k1), &mut found, &mut w.shares);
-                } else if k1 > k0 {
-                    self.sample_run(&ray, (k0, k1), &mut found);
+                if by_bricks {
+                    self.sample_run(&ray, range, &mut found);
+                } else {
+                    self.sample_blocks(blocks, &ray, range, &mut found, &mut w.shares);
                 }
             }
         });
@@ -175,22 +174,37 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         }
     }
 
-    /// Walks the superblocks the ray crosses, noting each one's bound and where the ray leaves
-    /// it, up to the one where its last sample lies.
-    fn walk_superblocks(&self, supers: &Superblocks, ray: &ProjectionRay<'_>, w: &mut Walked) {
-        w.bound.clear();
-        w.t_out.clear();
+    /// Walks the superblocks the ray crosses, noting each one's bound and its share of the
+    /// samples — from where the ray is a margin short of leaving the superblock before to
+    /// where it is a margin short of leaving this one — up to the one where its last sample
+    /// lies; superblocks with no share are left out.
+    fn walk_superblocks(
+        &self,
+        supers: &Superblocks,
+        ray: &ProjectionRay<'_>,
+        out: &mut Vec<Share>,
+    ) {
+        out.clear();
         let first = cell(&self.g, ray.position(0)).lo;
         let mut walk = BlockWalk::sized(BLOCK * SUPER, supers.grid, first, ray.o_v, ray.d_v);
+        let mut k0 = 0;
         loop {
-            w.bound.push(ray.bound(supers.ranges[walk.index()]));
             let t_out = walk.exit();
             // No sample lies a margin short of a face beyond the ray's end.
-            if !t_out.is_finite() || t_out - ray.margin_t > ray.plan.t_exit {
-                w.t_out.push(f32::INFINITY);
+            let last = !t_out.is_finite() || t_out - ray.margin_t > ray.plan.t_exit;
+            let k1 = if last {
+                ray.plan.count
+            } else {
+                ray.index(t_out)
+            };
+            if k1 > k0 {
+                let bound = ray.bound(supers.ranges[walk.index()]);
+                out.push(Share { bound, k0, k1 });
+                k0 = k1;
+            }
+            if last {
                 break;
             }
-            w.t_out.push(t_out);
             walk.advance();
         }
     }
