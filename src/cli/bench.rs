@@ -429,7 +429,7 @@ fn report(
     let scene = voxcast_core::trace::Scene::new(volume, &resolved.transfer, s, Vec3::NEG_Z);
     let (path, lanes) = match s.method {
         voxcast_core::composite::Method::Maximum | voxcast_core::composite::Method::Minimum => (
-            "the projections' eight-lane values (AVX2)",
+            "the projections' eight-lane values and bricks' test (AVX2)",
             scene.is_ok_and(|scene| voxcast_core::trace::uses_value_lanes(&scene)),
         ),
         _ => (
