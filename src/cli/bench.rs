@@ -432,6 +432,10 @@ fn report(
             "the projections' eight-lane values and bricks' test (AVX2)",
             scene.is_ok_and(|scene| voxcast_core::trace::uses_value_lanes(&scene)),
         ),
+        voxcast_core::composite::Method::Average | voxcast_core::composite::Method::Sum => (
+            "the projections' eight-lane values (AVX2)",
+            scene.is_ok_and(|scene| voxcast_core::trace::uses_value_lanes(&scene)),
+        ),
         _ => (
             "Accumulate's eight-lane path (AVX2)",
             scene.is_ok_and(|scene| voxcast_core::trace::uses_lanes(&scene)),

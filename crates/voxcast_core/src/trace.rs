@@ -140,9 +140,9 @@ pub fn uses_lanes(scene: &Scene<'_>) -> bool {
     scene.settings.method == Method::Accumulate && scene.volume.visit(Probe(scene))
 }
 
-/// Whether Maximum or Minimum renders of `scene` read their samples eight at a time
-/// (`value_lanes.rs`, with the best blocks first: `extreme.rs`): integer data, trilinear,
-/// skipping on, [`Scene::simd`], and a CPU with AVX2.
+/// Whether projection renders of `scene` (Maximum, Minimum, Average, Sum) read their samples
+/// eight at a time (`value_lanes.rs`; with skipping on, Maximum and Minimum take the best
+/// blocks first, `extreme.rs`): integer data, trilinear, [`Scene::simd`], and a CPU with AVX2.
 pub fn uses_value_lanes(scene: &Scene<'_>) -> bool {
     struct Probe<'s, 'a>(&'s Scene<'a>);
     impl GridVisitor for Probe<'_, '_> {
@@ -150,7 +150,11 @@ pub fn uses_value_lanes(scene: &Scene<'_>) -> bool {
         fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> bool {
             let m = Marcher::new(self.0, grid);
             #[cfg(target_arch = "x86_64")]
-            return m.superblocks.is_some() && m.values.is_some();
+            return m.values.is_some()
+                && matches!(
+                    self.0.settings.method,
+                    Method::Maximum | Method::Minimum | Method::Average | Method::Sum
+                );
             #[cfg(not(target_arch = "x86_64"))]
             {
                 let _ = m;
@@ -600,6 +604,35 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         acc.o >= stop_at
     }
 
+    /// Adds the ray's samples `k0..k1` to `stats` in order: eight at a time where the
+    /// projections' lanes apply (`value_lanes.rs`: integer data, trilinear, AVX2) — the same
+    /// statistics — else one by one.
+    fn add_samples(
+        &self,
+        plan: &StepPlan,
+        (o_v, d_v): (Vec3, Vec3),
+        (k0, k1): (u32, u32),
+        stats: &mut ValueStats,
+    ) {
+        // Every value finite (as `ValueStats::add` counts only those): the rescale of the
+        // type's whole range is, and it is monotone.
+        let finite = T::TABLE.is_some_and(|(offset, count)| {
+            let ends = [-offset, count as i32 - 1 - offset];
+            ends.iter().all(|&r| self.g.to_data(r as f32).is_finite())
+        });
+        #[cfg(target_arch = "x86_64")]
+        if let Some(lanes) = self.values.as_ref().filter(|_| finite) {
+            let rescale = (self.g.slope, self.g.intercept);
+            // SAFETY: `ValueLanes` exists only where the CPU has AVX2, built from this grid.
+            unsafe { lanes.add_range(plan, (o_v, d_v), (k0, k1), rescale, stats) };
+            return;
+        }
+        let _ = finite;
+        for k in k0..k1 {
+            stats.add(self.value(o_v + d_v * sample_t(plan, k)));
+        }
+    }
+
     fn project<R: Recorder>(
         &self,
         plan: &StepPlan,
@@ -621,6 +654,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             }
         } else if let Some(ranges) = ranges.filter(|_| self.s.sum_skipping) {
             zeros = self.project_sum(ranges, plan, o_v, d_v, &mut stats);
+        } else if !R::ACTIVE {
+            self.add_samples(plan, (o_v, d_v), (0, plan.count), &mut stats);
         } else {
             for k in 0..plan.count {
                 let t = sample_t(plan, k);

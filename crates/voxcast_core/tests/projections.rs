@@ -1,5 +1,6 @@
 //! Maximum and Minimum with the best blocks first and eight lanes (`trace/extreme.rs`,
-//! `trace/value_lanes.rs`) render the plain march's pixels bit for bit: over random scan-like
+//! `trace/value_lanes.rs`), and Average and Sum adding their samples eight at a time, render
+//! the plain march's pixels bit for bit: over random scan-like
 //! volumes of every integer type (a negative rescale slope among them, which turns the largest
 //! raw value into the smallest), cameras outside, along an axis, inside and orthographic, and
 //! steps from tiny to huge — and at the extremes (a one-voxel volume, a volume one voxel thin
@@ -19,13 +20,15 @@ use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
 use voxcast_core::{Prepared, Volume, VoxelData};
 
-/// The image of `scene` as rendered (ordered blocks, lanes), with the lanes off, and by the
-/// plain march (no skipping at all); with the sample counts of the first and the last.
+/// The image of `scene` as rendered (ordered blocks or zero blocks passed over, lanes), with
+/// the lanes off, and by the plain march (no skipping at all); with the sample counts of the
+/// first and the last.
 fn three(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, u64); 3] {
     let mut scalar = scene.clone();
     scalar.simd = false;
     let mut plain = scene.clone();
     plain.block_skipping = false;
+    plain.sum_skipping = false;
     plain.simd = false;
     [scene, &scalar, &plain].map(|s| {
         let (image, stats) = render_with_threads(s, camera, w, h, 1).unwrap();
@@ -74,6 +77,31 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// Average and Sum add every sample (Sum passing over blocks of zeros): eight at a time,
+    /// the same sums to the last bit.
+    #[test]
+    fn averages_and_sums_in_lanes_are_the_scalar_ones_bit_for_bit(
+        v in volume(),
+        sum in any::<bool>(),
+        step in prop_oneof![3 => 0.1f32..3.0, 1 => Just(0.02f32), 1 => Just(40.0f32)],
+        jitter in any::<bool>(),
+        kind in 0u8..4,
+        a in proptest::array::uniform3(0f32..1.0),
+        b in proptest::array::uniform3(0f32..1.0),
+    ) {
+        let method = if sum { Method::Sum } else { Method::Average };
+        let Some(camera) = camera(&v, kind, Vec3::from(a), Vec3::from(b)) else { return Ok(()) };
+        let tf = ramp(&v);
+        let scene = Scene::new(&v, &tf, &settings(method, step, jitter), camera.forward()).unwrap();
+        let [(fast, _), (scalar, _), (plain, _)] = three(&scene, &camera, 20, 15);
+        prop_assert_eq!(&fast, &plain);
+        prop_assert_eq!(&scalar, &plain);
+    }
+}
+
 /// On real volumes blocks are passed over: fewer samples, the same pixels.
 #[test]
 fn real_volumes_take_fewer_samples_for_the_same_pixels() {
@@ -93,6 +121,43 @@ fn real_volumes_take_fewer_samples_for_the_same_pixels() {
             assert!(taken < all, "{name} {method:?}: {taken} of {all} samples");
         }
     }
+}
+
+/// Sum passes over blocks of zeros around an object: every run of samples between them ends
+/// exactly where the scalar march's does (a sample lost or added at a block's margin would
+/// change the sum), eight at a time or one by one.
+#[test]
+fn sums_around_zero_blocks_agree() {
+    let n = 40u32;
+    let data = (0..n * n * n)
+        .map(|i| {
+            let p = Vec3::new((i % n) as f32, (i / n % n) as f32, (i / (n * n)) as f32);
+            let r = (p - Vec3::splat(19.5)).length();
+            if r < 11.0 { (200.0 - 9.0 * r) as u8 } else { 0 }
+        })
+        .collect();
+    let v = Prepared::from(
+        Volume::new("ball", UVec3::splat(n), Vec3::ONE, VoxelData::U8(data)).unwrap(),
+    );
+    let (lo, hi) = v.bounds();
+    let tf = ramp(&v);
+    let mut passed = false;
+    for (i, from) in [Vec3::new(0.3, 0.5, 1.0), Vec3::Z, Vec3::new(-1.0, 0.2, 0.1)]
+        .into_iter()
+        .enumerate()
+    {
+        for step in [0.13, 0.5, 0.77, 2.0] {
+            let camera = Camera::framing(lo, hi, from, Vec3::Y).unwrap();
+            let s = settings(Method::Sum, step, i == 1);
+            let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+            assert!(scene.sum_skipping);
+            let [(fast, taken), (scalar, _), (plain, all)] = three(&scene, &camera, 31, 23);
+            assert_eq!(fast, plain, "from {from} step {step}");
+            assert_eq!(scalar, plain, "from {from} step {step}");
+            passed |= taken < all;
+        }
+    }
+    assert!(passed, "zero blocks were passed over");
 }
 
 /// The extremes: one voxel, one voxel thin along x (no lanes: a cell's x corners are one
@@ -125,7 +190,12 @@ fn extremes_agree() {
     for v in &volumes {
         let (lo, hi) = v.bounds();
         let tf = ramp(v);
-        for method in [Method::Maximum, Method::Minimum] {
+        for method in [
+            Method::Maximum,
+            Method::Minimum,
+            Method::Average,
+            Method::Sum,
+        ] {
             for step in [1e-3, 0.5, 1e4] {
                 for from in [Vec3::new(0.3, 0.5, 1.0), Vec3::Z, Vec3::X, Vec3::NEG_Y] {
                     let up = if from.y != 0.0 || from == Vec3::X {

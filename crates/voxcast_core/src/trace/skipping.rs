@@ -176,14 +176,10 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
                     k = next;
                 }
             } else {
-                while k < plan.count {
-                    let t = sample_t(plan, k);
-                    if t >= t_out + margin_t {
-                        break;
-                    }
-                    stats.add(self.value(o_v + d_v * t));
-                    k += 1;
-                }
+                // The samples before a margin past the block's exit face.
+                let end = first_at_or_after(plan, t_out + margin_t, inv_dt, k);
+                self.add_samples(plan, (o_v, d_v), (k, end), stats);
+                k = end;
             }
             if k >= plan.count || !t_out.is_finite() {
                 break;
@@ -257,4 +253,21 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             ..RayOutcome::MISS
         }
     }
+}
+
+/// The first sample from `k` on whose `t` is at or past `t` (`count` if none): exactly the
+/// first that a loop from `k` testing `sample_t(plan, j) >= t` stops at, since `sample_t` is
+/// monotone in `j`; `first_index_from` gives the estimate, corrected by a step either way.
+fn first_at_or_after(plan: &StepPlan, t: f32, inv_dt: f32, k: u32) -> u32 {
+    if t.is_nan() || t == f32::INFINITY {
+        return plan.count; // nothing is at or past it
+    }
+    let mut j = first_index_from(plan, t, inv_dt).clamp(k, plan.count);
+    while j > k && sample_t(plan, j - 1) >= t {
+        j -= 1;
+    }
+    while j < plan.count && sample_t(plan, j) < t {
+        j += 1;
+    }
+    j
 }

@@ -8,10 +8,12 @@
 //! at the pair, starting two bytes early, so it never reads past the data). Before it reads a
 //! cell, each lane gathers the range of its cell's brick (`crate::bricks`): eight positions
 //! none of whose bricks can beat the best value so far are passed over, and the best is kept
-//! in every lane, updated after each eight. Used by Maximum and
-//! Minimum (`extreme.rs`) where the volume is of integers and is interpolated trilinearly;
-//! `tests/projections.rs` compares it with the scalar march.
+//! in every lane, updated after each eight. Used by Maximum and Minimum (`extreme.rs`), and
+//! by every projection that adds all its samples (Average, Sum, and Maximum and Minimum with
+//! skipping off: [`ValueLanes::add_range`]), where the volume is of integers and is
+//! interpolated trilinearly; `tests/projections.rs` compares them with the scalar march.
 
+use crate::composite::ValueStats;
 use crate::step::StepPlan;
 use crate::volume::{ScalarType, Voxel};
 use glam::Vec3;
@@ -57,6 +59,66 @@ impl<'g> ValueLanes<'g> {
             max_lo: g.max_lo,
             _data: std::marker::PhantomData,
         })
+    }
+
+    /// Adds the ray's samples `k0..k1` to `stats` in order, as [`ValueStats::add`] would one
+    /// by one: each value in data units (`raw·slope + intercept`, as `Grid::to_data`), the
+    /// sum in `f64` added lane by lane in sample order (so the same rounding), the extremes
+    /// kept per lane and folded at the end (order does not matter to them). Integer data have
+    /// no missing values, so every sample counts.
+    ///
+    /// # Safety
+    /// AVX2 (as checked in [`ValueLanes::new`]); `self` built from the grid the ray samples.
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn add_range(
+        &self,
+        plan: &StepPlan,
+        (o_v, d_v): (Vec3, Vec3),
+        (k0, k1): (u32, u32),
+        (slope, intercept): (f32, f32),
+        stats: &mut ValueStats,
+    ) {
+        let lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+        let mut hi = _mm256_set1_ps(stats.max);
+        let mut lo = _mm256_set1_ps(stats.min);
+        let mut sum = stats.sum;
+        let mut out = [0f32; 8];
+        let mut k = k0;
+        while k < k1 {
+            let c = cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
+            // SAFETY: AVX2; the cells are clamped into the lattice.
+            let raw = unsafe { self.values(&c) };
+            let v = _mm256_add_ps(
+                _mm256_mul_ps(raw, _mm256_set1_ps(slope)),
+                _mm256_set1_ps(intercept),
+            );
+            let n = (k1 - k).min(8) as usize;
+            // Lanes past the range's end repeat its first: no new extreme.
+            let inside = _mm256_cmpgt_epi32(_mm256_set1_epi32(n as i32), lane);
+            let v = _mm256_blendv_ps(
+                _mm256_permutevar8x32_ps(v, _mm256_setzero_si256()),
+                v,
+                _mm256_castsi256_ps(inside),
+            );
+            hi = _mm256_max_ps(hi, v);
+            lo = _mm256_min_ps(lo, v);
+            // SAFETY: eight floats.
+            unsafe { _mm256_storeu_ps(out.as_mut_ptr(), v) };
+            for &x in &out[..n] {
+                sum += x as f64;
+            }
+            k += 8;
+        }
+        let fold = |v: __m256, f: fn(f32, f32) -> f32, start: f32| {
+            let mut o = [0f32; 8];
+            // SAFETY: eight floats.
+            unsafe { _mm256_storeu_ps(o.as_mut_ptr(), v) };
+            o.into_iter().fold(start, f)
+        };
+        stats.count += k1 - k0;
+        stats.sum = sum;
+        stats.max = fold(hi, f32::max, stats.max);
+        stats.min = fold(lo, f32::min, stats.min);
     }
 
     /// The largest (`larger`) or smallest of `prior` and the raw values of the ray's samples
