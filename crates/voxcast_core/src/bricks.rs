@@ -10,8 +10,8 @@
 //! looked up by the cell a sample lies in, not by where the ray crosses its faces, so it needs
 //! no apron and no margin. Raw units, as the samples are compared before they are rescaled.
 
+use crate::skip::{box_count, raw_ranges};
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
-use rayon::prelude::*;
 
 /// Cells per brick edge.
 pub const BRICK: usize = 4;
@@ -27,11 +27,6 @@ pub struct BrickRanges {
     pub max: Vec<f32>,
 }
 
-/// Bricks per axis for `n` lattice points.
-fn brick_count(n: usize) -> usize {
-    (n.saturating_sub(1)).max(1).div_ceil(BRICK)
-}
-
 impl BrickRanges {
     /// Scans the volume once (in parallel over z-slabs of bricks); `None` for float data,
     /// whose interpolated values this bound does not cover (no data, rounding).
@@ -41,44 +36,10 @@ impl BrickRanges {
             type Output = Option<BrickRanges>;
             fn visit<T: Voxel>(self, g: Grid<'_, T>) -> Option<BrickRanges> {
                 T::TABLE?;
-                let nb = g.dims.map(brick_count);
+                let nb = g.dims.map(|n| box_count(n, BRICK));
+                // The brick's cells and their upper corners, clamped to the lattice.
                 let span = |b: usize, n: usize| (b * BRICK, (b * BRICK + BRICK).min(n - 1));
-                let slabs: Vec<(Vec<f32>, Vec<f32>)> = (0..nb[2])
-                    .into_par_iter()
-                    .map(|bz| {
-                        let mut lo_out = Vec::with_capacity(nb[0] * nb[1]);
-                        let mut hi_out = Vec::with_capacity(nb[0] * nb[1]);
-                        let (z0, z1) = span(bz, g.dims[2]);
-                        for by in 0..nb[1] {
-                            let (y0, y1) = span(by, g.dims[1]);
-                            for bx in 0..nb[0] {
-                                let (x0, x1) = span(bx, g.dims[0]);
-                                let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
-                                for k in z0..=z1 {
-                                    for j in y0..=y1 {
-                                        let row = g.index(x0, j, k);
-                                        for v in &g.data[row..=row + (x1 - x0)] {
-                                            let v = v.to_f32();
-                                            lo = lo.min(v);
-                                            hi = hi.max(v);
-                                        }
-                                    }
-                                }
-                                lo_out.push(lo);
-                                hi_out.push(hi);
-                            }
-                        }
-                        (lo_out, hi_out)
-                    })
-                    .collect();
-                let (min, max) = slabs.into_iter().fold(
-                    (Vec::new(), Vec::new()),
-                    |(mut min, mut max), (lo, hi)| {
-                        min.extend(lo);
-                        max.extend(hi);
-                        (min, max)
-                    },
-                );
+                let (min, max) = raw_ranges(&g, nb, span, |r| r).into_iter().unzip();
                 Some(BrickRanges {
                     bricks: nb,
                     min,

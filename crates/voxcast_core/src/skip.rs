@@ -46,9 +46,56 @@ pub struct BlockRanges {
     pub ranges: Vec<(f32, f32)>,
 }
 
+/// Boxes per axis for `n` lattice points when a box holds `size` cells along it:
+/// ⌈(n − 1)/size⌉, at least one.
+pub(crate) fn box_count(n: usize, size: usize) -> usize {
+    (n - 1).div_ceil(size).max(1)
+}
+
 /// Blocks per axis for `n` lattice points: ⌈(n − 1)/BLOCK⌉, at least one.
 fn block_count(n: usize) -> usize {
-    (n - 1).div_ceil(BLOCK).max(1)
+    box_count(n, BLOCK)
+}
+
+/// The smallest and largest raw value in each of `boxes` boxes of lattice points (box `b`
+/// spans points `span(b, n)` inclusive along an axis of `n`), each pair handed to `finish`;
+/// scanned in parallel over z-slabs, x fastest. Values that are not finite (no data) are left
+/// out: a box without any gives `(∞, −∞)`.
+pub(crate) fn raw_ranges<T: Voxel, O: Send>(
+    g: &Grid<'_, T>,
+    boxes: [usize; 3],
+    span: impl Fn(usize, usize) -> (usize, usize) + Sync,
+    finish: impl Fn((f32, f32)) -> O + Sync,
+) -> Vec<O> {
+    (0..boxes[2])
+        .into_par_iter()
+        .flat_map_iter(|bz| {
+            let mut out = Vec::with_capacity(boxes[0] * boxes[1]);
+            let (z0, z1) = span(bz, g.dims[2]);
+            for by in 0..boxes[1] {
+                let (y0, y1) = span(by, g.dims[1]);
+                for bx in 0..boxes[0] {
+                    let (x0, x1) = span(bx, g.dims[0]);
+                    let mut lo = f32::INFINITY;
+                    let mut hi = f32::NEG_INFINITY;
+                    for k in z0..=z1 {
+                        for j in y0..=y1 {
+                            let row = g.index(x0, j, k);
+                            for v in &g.data[row..=row + (x1 - x0)] {
+                                let v = v.to_f32();
+                                if v.is_finite() {
+                                    lo = fmin(lo, v);
+                                    hi = fmax(hi, v);
+                                }
+                            }
+                        }
+                    }
+                    out.push(finish((lo, hi)));
+                }
+            }
+            out
+        })
+        .collect()
 }
 
 /// Blocks per axis for a lattice of `dims` points, as [`BlockRanges::grid`] gives them.
@@ -84,43 +131,15 @@ impl BlockRanges {
                         ((b + 1) * BLOCK + 1).min(n - 1),
                     )
                 };
-                let ranges: Vec<(f32, f32)> = (0..nb[2])
-                    .into_par_iter()
-                    .flat_map_iter(|bz| {
-                        let mut out = Vec::with_capacity(nb[0] * nb[1]);
-                        for by in 0..nb[1] {
-                            for bx in 0..nb[0] {
-                                let (x0, x1) = span(bx, g.dims[0]);
-                                let (y0, y1) = span(by, g.dims[1]);
-                                let (z0, z1) = span(bz, g.dims[2]);
-                                let mut lo = f32::INFINITY;
-                                let mut hi = f32::NEG_INFINITY;
-                                for k in z0..=z1 {
-                                    for j in y0..=y1 {
-                                        let row = g.index(x0, j, k);
-                                        for v in &g.data[row..=row + (x1 - x0)] {
-                                            let v = v.to_f32();
-                                            // No data (non-finite) holds no value to find.
-                                            if v.is_finite() {
-                                                lo = fmin(lo, v);
-                                                hi = fmax(hi, v);
-                                            }
-                                        }
-                                    }
-                                }
-                                if lo > hi {
-                                    // A block of no data: a range no test can find a value in
-                                    // (finite, for the GPU's texture of ranges).
-                                    out.push((f32::MAX, f32::MIN));
-                                    continue;
-                                }
-                                let (a, b) = (g.to_data(lo), g.to_data(hi));
-                                out.push((a.min(b), a.max(b)));
-                            }
-                        }
-                        out
-                    })
-                    .collect();
+                let ranges = raw_ranges(&g, nb, span, |(lo, hi)| {
+                    if lo > hi {
+                        // A block of no data: a range no test can find a value in (finite,
+                        // for the GPU's texture of ranges).
+                        return (f32::MAX, f32::MIN);
+                    }
+                    let (a, b) = (g.to_data(lo), g.to_data(hi));
+                    (a.min(b), a.max(b))
+                });
                 BlockRanges {
                     blocks: UVec3::new(nb[0] as u32, nb[1] as u32, nb[2] as u32),
                     ranges,
