@@ -9,8 +9,11 @@
 //! change it (and likewise for Minimum). Unlike the blocks of [`crate::skip`], a brick is
 //! looked up by the cell a sample lies in, not by where the ray crosses its faces, so it needs
 //! no apron and no margin. Raw units, as the samples are compared before they are rescaled.
+//!
+//! At the other end, [`Superblocks`]: the blocks' ranges gathered into 32³ cells, the level
+//! at which a projection's ray chooses what to sample first (`crate::trace`'s `extreme.rs`).
 
-use crate::skip::{box_count, raw_ranges};
+use crate::skip::{BlockRanges, box_count, raw_ranges};
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
 
 /// Cells per brick edge.
@@ -54,6 +57,38 @@ impl BrickRanges {
     pub fn index(&self, lo: [usize; 3]) -> usize {
         let [x, y, z] = lo.map(|c| c / BRICK);
         x + self.bricks[0] * (y + self.bricks[1] * z)
+    }
+}
+
+/// Blocks per superblock edge.
+pub const SUPER: usize = 4;
+
+/// The blocks' value ranges gathered into superblocks of [`SUPER`]³ blocks.
+#[derive(Clone, Debug)]
+pub struct Superblocks {
+    /// Superblocks per axis.
+    pub(crate) grid: [usize; 3],
+    /// The union of its blocks' ranges per superblock, x fastest (data units).
+    pub(crate) ranges: Vec<(f32, f32)>,
+}
+
+impl Superblocks {
+    /// The union of each superblock's block ranges (its blocks' aprons included).
+    pub fn of(blocks: &BlockRanges) -> Self {
+        let fine = blocks.grid();
+        let grid = fine.map(|n| n.div_ceil(SUPER));
+        let mut ranges = vec![(f32::INFINITY, f32::NEG_INFINITY); grid[0] * grid[1] * grid[2]];
+        for z in 0..fine[2] {
+            for y in 0..fine[1] {
+                for x in 0..fine[0] {
+                    let (lo, hi) = blocks.ranges[x + fine[0] * (y + fine[1] * z)];
+                    let at = x / SUPER + grid[0] * (y / SUPER + grid[1] * (z / SUPER));
+                    let r = &mut ranges[at];
+                    *r = (r.0.min(lo), r.1.max(hi));
+                }
+            }
+        }
+        Self { grid, ranges }
     }
 }
 
@@ -119,5 +154,19 @@ mod tests {
         );
         let f = volume([2, 1, 1], VoxelData::F32(vec![0.0, 1.0]));
         assert!(BrickRanges::of(&f).is_none());
+    }
+
+    #[test]
+    fn superblocks_hold_the_union_of_their_blocks_ranges() {
+        // 5 × 1 × 2 blocks: superblocks of 4 along x make two columns, one slab deep.
+        let ranges = (0..10).map(|i| (i as f32, 10.0 * i as f32)).collect();
+        let blocks = BlockRanges {
+            blocks: UVec3::new(5, 1, 2),
+            ranges,
+        };
+        let s = Superblocks::of(&blocks);
+        assert_eq!(s.grid, [2, 1, 1]);
+        // Blocks x = 0..4 of both z layers (0..=3 and 5..=8), then x = 4 (4 and 9).
+        assert_eq!(s.ranges, vec![(0.0, 80.0), (4.0, 90.0)]);
     }
 }

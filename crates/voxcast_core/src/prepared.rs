@@ -1,5 +1,5 @@
 //! A volume with the structures its renders reuse: the value range of every block (empty-space
-//! skipping) and of every brick (the projections' per-sample bound), and every lattice point's
+//! skipping), of every brick and superblock (the projections' bounds), and every lattice point's
 //! integer differences (exact gradients without 56 reads), each computed on first use and kept
 //! for the next render of the same volume.
 //!
@@ -8,7 +8,7 @@
 //! a test that sweeps settings) keeps one `Prepared` and builds each [`crate::scene::Scene`]
 //! from it.
 
-use crate::bricks::BrickRanges;
+use crate::bricks::{BrickRanges, Superblocks};
 use crate::sample::Differences;
 use crate::skip::BlockRanges;
 use crate::volume::{Grid, GridVisitor, Volume, Voxel};
@@ -26,6 +26,8 @@ pub struct Prepared {
     blocks: OnceLock<BlockRanges>,
     /// Per-brick raw value ranges for Maximum and Minimum, computed on first use.
     bricks: OnceLock<Option<BrickRanges>>,
+    /// The block ranges gathered into superblocks for Maximum and Minimum, on first use.
+    superblocks: OnceLock<Superblocks>,
     /// Lattice differences for fast exact gradients, computed on first use where they fit.
     differences: OnceLock<Option<Vec<Differences>>>,
 }
@@ -50,6 +52,7 @@ impl Prepared {
             volume,
             blocks: OnceLock::new(),
             bricks: OnceLock::new(),
+            superblocks: OnceLock::new(),
             differences: OnceLock::new(),
         }
     }
@@ -80,6 +83,13 @@ impl Prepared {
         self.bricks
             .get_or_init(|| BrickRanges::of(&self.volume))
             .as_ref()
+    }
+
+    /// The block ranges gathered into superblocks ([`crate::bricks::Superblocks`]): computed
+    /// once, on first use (with the block ranges, if they are not yet).
+    pub fn superblocks(&self) -> &Superblocks {
+        self.superblocks
+            .get_or_init(|| Superblocks::of(self.block_ranges()))
     }
 
     /// Every lattice point's exact integer differences (see

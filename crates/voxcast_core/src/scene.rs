@@ -2,7 +2,7 @@
 //! function and the settings — the baked table, step lengths in world units, the light for this
 //! view, and the acceleration structures ([`crate::skip`], precomputed gradients).
 
-use crate::bricks::BrickRanges;
+use crate::bricks::{BrickRanges, Superblocks};
 use crate::classify::Classifier;
 use crate::clip::ResolvedClip;
 use crate::composite::{Method, Order};
@@ -49,6 +49,8 @@ pub struct Scene<'a> {
     pub blocks: Option<&'a BlockRanges>,
     /// The bricks' raw value ranges, where Maximum and Minimum test their samples against them.
     pub bricks: Option<&'a BrickRanges>,
+    /// The superblocks' ranges, where Maximum and Minimum choose what to sample first.
+    pub superblocks: Option<&'a Superblocks>,
     /// Whether Accumulate may locate and evaluate eight samples at once where the CPU has the
     /// instructions for it (AVX2) — the same pixels, bit for bit (`crate::trace`'s lanes); on
     /// by default, off to compare.
@@ -97,6 +99,7 @@ impl<'a> Scene<'a> {
         }
         if scene.block_skipping && matches!(settings.method, Method::Maximum | Method::Minimum) {
             scene.bricks = volume.brick_ranges();
+            scene.superblocks = Some(volume.superblocks());
         }
         Ok(scene)
     }
@@ -121,6 +124,7 @@ impl<'a> Scene<'a> {
             differences: None,
             blocks: None,
             bricks: None,
+            superblocks: None,
             simd: true,
             volume,
             classifier,

@@ -179,7 +179,7 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     #[cfg(target_arch = "x86_64")]
     lanes: Option<lanes::Lanes<'s>>,
     /// Maximum and Minimum's coarser block level, for integer data (see `extreme.rs`).
-    superblocks: Option<extreme::Superblocks>,
+    superblocks: Option<&'s crate::bricks::Superblocks>,
     /// The projections' eight-lane values, where they apply (see `value_lanes.rs`).
     #[cfg(target_arch = "x86_64")]
     values: Option<value_lanes::ValueLanes<'g>>,
@@ -224,14 +224,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             iso_contours: matches!(s.classifier, Classifier::IsoContours { .. }),
             #[cfg(target_arch = "x86_64")]
             lanes: lanes::Lanes::new(s, &g),
-            superblocks: s
-                .blocks
-                .filter(|_| {
-                    T::TABLE.is_some()
-                        && s.block_skipping
-                        && matches!(s.settings.method, Method::Maximum | Method::Minimum)
-                })
-                .map(extreme::Superblocks::of),
+            superblocks: s.superblocks.filter(|_| T::TABLE.is_some()),
             #[cfg(target_arch = "x86_64")]
             values: value_lanes::ValueLanes::new(&g)
                 .filter(|_| s.simd && s.settings.interpolation == Interpolation::Trilinear),
@@ -647,7 +640,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut zeros = 0u32;
         let ranges = self.s.blocks.filter(|_| !R::ACTIVE && plan.count > 0);
         if let Some(ranges) = ranges.filter(|_| extreme && self.s.block_skipping) {
-            if let Some(supers) = &self.superblocks {
+            if let Some(supers) = self.superblocks {
                 self.project_extreme_ordered((ranges, supers), plan, (o_v, d_v), &mut stats);
             } else {
                 self.project_extreme(ranges, plan, o_v, d_v, &mut stats);

@@ -2,7 +2,7 @@
 //! pixels as the plain march, bit for bit, from a fraction of its samples and its block steps.
 //!
 //! The largest value along a ray does not depend on the order its samples are looked at. So a
-//! ray first walks the *superblocks* it crosses ([`SUPER`]³ blocks of `crate::skip`, with the
+//! ray first walks the *superblocks* it crosses (`crate::bricks::SUPER`³ blocks of `crate::skip`, with the
 //! union of their value ranges), samples the one with the largest range first (the smallest,
 //! for Minimum), then the one with the next best range, and so on, until no superblock left
 //! can beat the best value. Where the eight lanes apply (`value_lanes.rs`) a superblock is
@@ -23,6 +23,7 @@
 //! value is the converted largest (the smallest, for a negative slope).
 
 use super::{Marcher, SKIP_MARGIN_VOXELS};
+use crate::bricks::{SUPER, Superblocks};
 use crate::composite::{Method, ValueStats};
 use crate::sample::{cell, sample};
 use crate::skip::{BLOCK, BlockRanges, BlockWalk};
@@ -30,36 +31,6 @@ use crate::step::{StepPlan, first_index_from, sample_t};
 use crate::volume::Voxel;
 use glam::Vec3;
 use std::cell::RefCell;
-
-/// Blocks per superblock edge.
-const SUPER: usize = 4;
-
-/// The blocks' value ranges gathered into superblocks of [`SUPER`]³ blocks.
-#[derive(Clone, Debug)]
-pub(super) struct Superblocks {
-    grid: [usize; 3],
-    ranges: Vec<(f32, f32)>,
-}
-
-impl Superblocks {
-    /// The union of each superblock's block ranges (its blocks' aprons included).
-    pub(super) fn of(blocks: &BlockRanges) -> Self {
-        let fine = blocks.grid();
-        let grid = fine.map(|n| n.div_ceil(SUPER));
-        let mut ranges = vec![(f32::INFINITY, f32::NEG_INFINITY); grid[0] * grid[1] * grid[2]];
-        for z in 0..fine[2] {
-            for y in 0..fine[1] {
-                for x in 0..fine[0] {
-                    let (lo, hi) = blocks.ranges[x + fine[0] * (y + fine[1] * z)];
-                    let at = x / SUPER + grid[0] * (y / SUPER + grid[1] * (z / SUPER));
-                    let r = &mut ranges[at];
-                    *r = (r.0.min(lo), r.1.max(hi));
-                }
-            }
-        }
-        Self { grid, ranges }
-    }
-}
 
 /// A ray's superblocks that hold samples, in order along it, and the blocks of the one being
 /// sampled: each one's bound — its largest value for Maximum, its smallest negated for
@@ -346,25 +317,5 @@ impl ProjectionRay<'_> {
     /// A block's bound from its value range.
     fn bound(&self, (lo, hi): (f32, f32)) -> f32 {
         if self.maximum { hi } else { -lo }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use glam::UVec3;
-
-    #[test]
-    fn superblocks_hold_the_union_of_their_blocks_ranges() {
-        // 5 × 1 × 2 blocks: superblocks of 4 along x make two columns, one slab deep.
-        let ranges = (0..10).map(|i| (i as f32, 10.0 * i as f32)).collect();
-        let blocks = BlockRanges {
-            blocks: UVec3::new(5, 1, 2),
-            ranges,
-        };
-        let s = Superblocks::of(&blocks);
-        assert_eq!(s.grid, [2, 1, 1]);
-        // Blocks x = 0..4 of both z layers (0..=3 and 5..=8), then x = 4 (4 and 9).
-        assert_eq!(s.ranges, vec![(0.0, 80.0), (4.0, 90.0)]);
     }
 }
