@@ -226,8 +226,16 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             lanes: lanes::Lanes::new(s, &g),
             superblocks: s.superblocks.filter(|_| T::TABLE.is_some()),
             #[cfg(target_arch = "x86_64")]
-            values: value_lanes::ValueLanes::new(&g)
-                .filter(|_| s.simd && s.settings.interpolation == Interpolation::Trilinear),
+            // Every value finite, as the lanes count every sample (`ValueStats::add` counts
+            // only those): the rescale of the type's whole range is, and it is monotone.
+            values: value_lanes::ValueLanes::new(&g).filter(|_| {
+                s.simd
+                    && s.settings.interpolation == Interpolation::Trilinear
+                    && T::TABLE.is_some_and(|(offset, count)| {
+                        let ends = [-offset, count as i32 - 1 - offset];
+                        ends.iter().all(|&r| g.to_data(r as f32).is_finite())
+                    })
+            }),
             s,
             g,
         }
@@ -607,20 +615,13 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         (k0, k1): (u32, u32),
         stats: &mut ValueStats,
     ) {
-        // Every value finite (as `ValueStats::add` counts only those): the rescale of the
-        // type's whole range is, and it is monotone.
-        let finite = T::TABLE.is_some_and(|(offset, count)| {
-            let ends = [-offset, count as i32 - 1 - offset];
-            ends.iter().all(|&r| self.g.to_data(r as f32).is_finite())
-        });
         #[cfg(target_arch = "x86_64")]
-        if let Some(lanes) = self.values.as_ref().filter(|_| finite) {
+        if let Some(lanes) = &self.values {
             let rescale = (self.g.slope, self.g.intercept);
             // SAFETY: `ValueLanes` exists only where the CPU has AVX2, built from this grid.
             unsafe { lanes.add_range(plan, (o_v, d_v), (k0, k1), rescale, stats) };
             return;
         }
-        let _ = finite;
         for k in k0..k1 {
             stats.add(self.value(o_v + d_v * sample_t(plan, k)));
         }

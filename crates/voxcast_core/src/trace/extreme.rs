@@ -2,10 +2,10 @@
 //! pixels as the plain march, bit for bit, from a fraction of its samples and its block steps.
 //!
 //! The largest value along a ray does not depend on the order its samples are looked at. So a
-//! ray first walks the *superblocks* it crosses (`crate::bricks::SUPER`³ blocks of `crate::skip`, with the
-//! union of their value ranges), samples the one with the largest range first (the smallest,
-//! for Minimum), then the one with the next best range, and so on, until no superblock left
-//! can beat the best value. Where the eight lanes apply (`value_lanes.rs`) a superblock is
+//! ray first walks the *superblocks* it crosses (`crate::bricks::SUPER`³ blocks of
+//! `crate::skip`, with the union of their value ranges), samples the one with the largest
+//! range first (the smallest, for Minimum), then the one with the next best range, and so on,
+//! until no superblock left can beat the best value. Where the eight lanes apply (`value_lanes.rs`) a superblock is
 //! sampled as one run, each eight positions tested against their cells' bricks
 //! (`crate::bricks`, 4³ cells) and passed over when none can beat the best so far (which the
 //! first eight set); without them its blocks are walked — in the first superblock the best
