@@ -423,24 +423,22 @@ fn report(
     voxel: f32,
 ) -> String {
     use std::fmt::Write;
+    use voxcast_core::composite::Method;
     let s = &resolved.settings;
     let mut r = String::new();
     let ghz = super::knobs::cpu_ghz();
     let scene = voxcast_core::trace::Scene::new(volume, &resolved.transfer, s, Vec3::NEG_Z);
-    let (path, lanes) = match s.method {
-        voxcast_core::composite::Method::Maximum | voxcast_core::composite::Method::Minimum => (
-            "the projections' eight-lane values and bricks' test (AVX2)",
-            scene.is_ok_and(|scene| voxcast_core::trace::uses_value_lanes(&scene)),
-        ),
-        voxcast_core::composite::Method::Average | voxcast_core::composite::Method::Sum => (
-            "the projections' eight-lane values (AVX2)",
-            scene.is_ok_and(|scene| voxcast_core::trace::uses_value_lanes(&scene)),
-        ),
-        _ => (
-            "Accumulate's eight-lane path (AVX2)",
-            scene.is_ok_and(|scene| voxcast_core::trace::uses_lanes(&scene)),
-        ),
+    let path = match s.method {
+        Method::Maximum | Method::Minimum => {
+            "the projections' eight-lane values and bricks' test (AVX2)"
+        }
+        Method::Average | Method::Sum => "the projections' eight-lane values (AVX2)",
+        Method::Accumulate | Method::First => "Accumulate's eight-lane path (AVX2)",
     };
+    let lanes = scene.is_ok_and(|scene| match s.method {
+        Method::Accumulate | Method::First => voxcast_core::trace::uses_lanes(&scene),
+        _ => voxcast_core::trace::uses_value_lanes(&scene),
+    });
     let _ = writeln!(
         r,
         "Measured on {} ({} threads{}), {path} {}. *ns* and \
