@@ -332,8 +332,11 @@ impl Lanes<'_> {
     }
 
     /// Composites the first `n` pending samples in order, exactly as
-    /// `Marcher::composite_sample` does; the index of the sample that stopped the ray, if one
-    /// did.
+    /// `Marcher::composite_sample` does (`accumulate_front_to_back`'s operations, each
+    /// rounded as there); the index of the sample that stopped the ray, if one did. The
+    /// opacity and the three colour channels are carried as four scalars: packed into one
+    /// vector (as the compiler did with `Vec3`s), each sample's opacity waited for the colour's
+    /// shuffles too (about 16 cycles a sample instead of the 9 of subtract, multiply, add).
     #[inline(always)]
     fn composite(
         &self,
@@ -344,8 +347,12 @@ impl Lanes<'_> {
         stop_at: f32,
         acc: &mut Accumulation,
     ) -> Option<u32> {
+        let [mut r, mut g, mut b] = acc.c.to_array();
+        let mut o = acc.o;
+        let mut stopped = None;
+        let mut taken = 0;
         for lane in 0..n {
-            acc.taken += 1;
+            taken += 1;
             let a = e.alpha[lane];
             if a <= 0.0 {
                 continue;
@@ -357,14 +364,22 @@ impl Lanes<'_> {
                 a
             };
             if alpha > 0.0 {
-                let color = Vec3::new(e.rgb[0][lane], e.rgb[1][lane], e.rgb[2][lane]);
-                (acc.c, acc.o) = accumulate_front_to_back(acc.c, acc.o, color, alpha);
+                // accumulate_front_to_back, channel by channel.
+                let w = (1.0 - o) * alpha;
+                r += e.rgb[0][lane] * w;
+                g += e.rgb[1][lane] * w;
+                b += e.rgb[2][lane] * w;
+                o += w;
             }
-            if acc.o >= stop_at {
-                return Some(k);
+            if o >= stop_at {
+                stopped = Some(k);
+                break;
             }
         }
-        None
+        acc.c = Vec3::new(r, g, b);
+        acc.o = o;
+        acc.taken += taken;
+        stopped
     }
 }
 
