@@ -12,6 +12,20 @@ use crate::prepared::Prepared;
 use crate::settings::RenderSettings;
 use crate::shade::ResolvedLights;
 use crate::skip::{BlockRanges, EmptyBlocks, VisibleCells};
+
+/// The share of a volume's 8³ blocks that must hold only zeros for Sum to walk the blocks and
+/// pass over those (measured, 512², step ½ voxel, AMD EPYC: with 71 % and 60 % zero blocks,
+/// mni152 and the bunny rendered 30 % and 8 % faster than without; with 33 %, ch2 18 %
+/// slower; with none, the CT 57 % slower).
+pub const ZERO_SHARE_TO_SKIP: f32 = 0.5;
+
+/// Whether at least [`ZERO_SHARE_TO_SKIP`] of the blocks hold only zeros: where Sum passes over
+/// them (if it may, [`Scene::may_skip_zeros`]); below that, walking the blocks costs more than
+/// the samples it passes over.
+pub fn mostly_zeros(ranges: &BlockRanges) -> bool {
+    let zeros = ranges.ranges.iter().filter(|&&r| r == (0.0, 0.0)).count();
+    zeros as f32 >= ZERO_SHARE_TO_SKIP * ranges.ranges.len() as f32
+}
 use crate::transfer::{Lut, TransferFunction};
 use crate::volume::Volume;
 use glam::Vec3;
@@ -93,7 +107,7 @@ impl<'a> Scene<'a> {
             scene.differences = volume.lattice_differences();
         }
         scene.block_skipping = scene.skips_by_ranges();
-        scene.sum_skipping = scene.skips_zeros();
+        scene.sum_skipping = scene.may_skip_zeros() && mostly_zeros(volume.block_ranges());
         if scene.block_skipping || scene.sum_skipping {
             scene.blocks = Some(volume.block_ranges());
         }
@@ -166,11 +180,11 @@ impl<'a> Scene<'a> {
             )
     }
 
-    /// Whether Sum passes over blocks of zeros (when skipping is on): exact only where a block
-    /// whose values are all 0 interpolates to exactly 0 everywhere — no voxel without data
-    /// (a NaN would make its neighbours no data, not zeros) and a rescale without intercept
-    /// (stored 0 is value 0, and a weighted sum of zeros is zero).
-    pub fn skips_zeros(&self) -> bool {
+    /// Whether Sum may pass over blocks of zeros (when skipping is on): exact only where a
+    /// block whose values are all 0 interpolates to exactly 0 everywhere — no voxel without
+    /// data (a NaN would make its neighbours no data, not zeros) and a rescale without
+    /// intercept (stored 0 is value 0, and a weighted sum of zeros is zero).
+    pub fn may_skip_zeros(&self) -> bool {
         self.settings.skipping
             && self.settings.method == Method::Sum
             && self.volume.no_data_count() == 0

@@ -492,8 +492,11 @@ proptest! {
         let dir = Vec3::from(from);
         if dir.length() < 0.1 { return Ok(()) }
         let Ok(camera) = Camera::framing(lo, hi, dir, Vec3::Y) else { return Ok(()) };
-        let fast = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
-        prop_assert!(fast.sum_skipping);
+        // Skipping forced on, whatever share of the blocks holds zeros.
+        let mut fast = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
+        prop_assert!(fast.may_skip_zeros());
+        fast.sum_skipping = true;
+        fast.blocks = Some(v.block_ranges());
         let mut slow = fast.clone();
         slow.sum_skipping = false;
         let (a, fast_stats) = render_with_threads(&fast, &camera, 14, 10, 1).unwrap();
@@ -502,7 +505,7 @@ proptest! {
         prop_assert!(fast_stats.samples <= slow_stats.samples);
         let off = RenderSettings { skipping: false, ..s };
         let unskipped = Scene::new(&v, &tf, &off, camera.forward()).unwrap();
-        prop_assert!(!unskipped.sum_skipping);
+        prop_assert!(!unskipped.may_skip_zeros() && !unskipped.sum_skipping);
         let (c, _) = render_with_threads(&unskipped, &camera, 14, 10, 1).unwrap();
         prop_assert_eq!(&a.pixels, &c.pixels);
     }
@@ -565,4 +568,13 @@ fn sum_skipping_pays_and_only_where_exact() {
         .unwrap(),
     );
     assert!(!Scene::new(&shifted, &tf, &s, Vec3::Z).unwrap().sum_skipping);
+    // Where fewer than half the blocks are zeros the walk would cost more than it passes over.
+    let mut data = vec![0u8; 48 * 48 * 48];
+    data[..48 * 48 * 30].fill(3);
+    let dense = voxcast_core::Prepared::from(
+        Volume::new("dense", UVec3::splat(48), Vec3::ONE, VoxelData::U8(data)).unwrap(),
+    );
+    let scene = Scene::new(&dense, &tf, &s, Vec3::Z).unwrap();
+    assert!(scene.may_skip_zeros() && !scene.sum_skipping);
+    assert!(Scene::new(&v, &tf, &s, Vec3::Z).unwrap().sum_skipping);
 }

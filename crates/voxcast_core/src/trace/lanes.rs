@@ -25,7 +25,7 @@
 //! `tests/lanes.rs` renders random scenes both ways and compares every bit.
 
 use super::{Accumulation, Marcher};
-use crate::composite::{accumulate_front_to_back, correct_opacity};
+use crate::composite::correct_opacity;
 use crate::scene::Scene;
 use crate::shade::{Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel, Viewing};
 use crate::skip::VisibleCells;

@@ -121,7 +121,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     ) {
         debug_assert!(T::TABLE.is_none());
         let maximum = self.s.settings.method == Method::Maximum;
-        self.project_blocks(ranges, plan, o_v, d_v, stats, |(lo, hi), stats| {
+        self.project_blocks(ranges, plan, (o_v, d_v), stats, false, |(lo, hi), stats| {
             stats.count > 0
                 && if maximum {
                     hi < stats.max
@@ -143,7 +143,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         d_v: Vec3,
         stats: &mut ValueStats,
     ) -> u32 {
-        self.project_blocks(ranges, plan, o_v, d_v, stats, |range, _| {
+        self.project_blocks(ranges, plan, (o_v, d_v), stats, true, |range, _| {
             range == (0.0, 0.0)
         })
     }
@@ -152,13 +152,18 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// `useless(range, stats)` says cannot change the result is crossed without sampling
     /// (samples within the margin of its faces are still taken), the others' samples are added
     /// to `stats`. Returns the samples passed over.
+    ///
+    /// Where `useless` does not read `stats` (`stats_free`: Sum's zero blocks), the samples of
+    /// consecutive useful blocks are added as one run, in the same order — the same sums,
+    /// without a run's set-up per block (on the CT, where no block is zero, that set-up had
+    /// made Sum's skipping twice as slow as none).
     fn project_blocks(
         &self,
         ranges: &BlockRanges,
         plan: &StepPlan,
-        o_v: Vec3,
-        d_v: Vec3,
+        (o_v, d_v): (Vec3, Vec3),
         stats: &mut ValueStats,
+        stats_free: bool,
         useless: impl Fn((f32, f32), &ValueStats) -> bool,
     ) -> u32 {
         let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
@@ -167,24 +172,35 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         let mut walk = BlockWalk::new(ranges.grid(), first, o_v, d_v);
         let mut passed = 0u32;
         let mut k = 0u32;
+        // The samples waiting to be added: `run..k`.
+        let mut run = 0u32;
         loop {
             let t_out = walk.exit();
+            if !stats_free && run < k {
+                self.add_samples(plan, (o_v, d_v), (run, k), stats);
+                run = k;
+            }
             if useless(ranges.ranges[walk.index()], stats) {
                 let next = first_index_from(plan, t_out - margin_t, inv_dt).min(plan.count);
                 if next > k {
+                    if run < k {
+                        self.add_samples(plan, (o_v, d_v), (run, k), stats);
+                    }
                     passed += next - k;
                     k = next;
+                    run = k;
                 }
             } else {
                 // The samples before a margin past the block's exit face.
-                let end = first_at_or_after(plan, t_out + margin_t, inv_dt, k);
-                self.add_samples(plan, (o_v, d_v), (k, end), stats);
-                k = end;
+                k = first_at_or_after(plan, t_out + margin_t, inv_dt, k);
             }
             if k >= plan.count || !t_out.is_finite() {
                 break;
             }
             walk.advance();
+        }
+        if run < k {
+            self.add_samples(plan, (o_v, d_v), (run, k), stats);
         }
         passed
     }
