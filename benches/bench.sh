@@ -22,7 +22,7 @@ run() { # scene file steps [camera [extra arguments]]
     local v=$1 file=$2 steps=$3 camera=${4:-$PEER/cams/$1.json}
     shift 4 2>/dev/null || shift $#
     ${CARGO_TARGET_DIR:-./target}/release/voxcast bench --volume "$file" --camera "$camera" \
-        --peer "$PEER" --threads "$THREADS" --repeat 3 --steps "$steps" \
+        --peer "$PEER" --threads "$THREADS" --repeat 3 --peer-rounds 5 --steps "$steps" \
         --report BENCHMARKS.md --section "$v" --plot "docs/bench/${v}_speed_accuracy.png" "$@"
 }
 # shellcheck source=benches/ch2.sh
