@@ -607,7 +607,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
 
     /// Adds the ray's samples `k0..k1` to `stats` in order: eight at a time where the
     /// projections' lanes apply (`value_lanes.rs`: integer data, trilinear, AVX2) — the same
-    /// statistics — else one by one.
+    /// statistics — else one by one; nothing for an empty range.
     fn add_samples(
         &self,
         plan: &StepPlan,
@@ -615,6 +615,9 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         (k0, k1): (u32, u32),
         stats: &mut ValueStats,
     ) {
+        if k0 >= k1 {
+            return;
+        }
         #[cfg(target_arch = "x86_64")]
         if let Some(lanes) = &self.values {
             let rescale = (self.g.slope, self.g.intercept);

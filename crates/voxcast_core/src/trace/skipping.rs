@@ -176,16 +176,14 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         let mut run = 0u32;
         loop {
             let t_out = walk.exit();
-            if !stats_free && run < k {
+            if !stats_free {
                 self.add_samples(plan, (o_v, d_v), (run, k), stats);
                 run = k;
             }
             if useless(ranges.ranges[walk.index()], stats) {
                 let next = first_index_from(plan, t_out - margin_t, inv_dt).min(plan.count);
                 if next > k {
-                    if run < k {
-                        self.add_samples(plan, (o_v, d_v), (run, k), stats);
-                    }
+                    self.add_samples(plan, (o_v, d_v), (run, k), stats);
                     passed += next - k;
                     k = next;
                     run = k;
@@ -199,9 +197,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             }
             walk.advance();
         }
-        if run < k {
-            self.add_samples(plan, (o_v, d_v), (run, k), stats);
-        }
+        self.add_samples(plan, (o_v, d_v), (run, k), stats);
         passed
     }
 
