@@ -69,19 +69,33 @@ pub fn tables(
     Ok(out)
 }
 
-/// The CPU's model name (`lscpu`'s "Model name", from /proc/cpuinfo), or "an unnamed CPU".
+/// The CPU's model name (`lscpu`'s "Model name", from /proc/cpuinfo), or "an unnamed CPU",
+/// with its family and model and whether it has AVX-512: a virtual machine often names only
+/// the vendor's line ("AMD EPYC" for a Zen 1 and a Zen 4 alike), and the two run the lanes
+/// at different speeds.
 pub fn cpu_model() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|m| m.trim().to_string())
-        })
-        .unwrap_or_else(|| "an unnamed CPU".into())
+    cpu_words(&std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default())
 }
 
+/// [`cpu_model`] from the text of /proc/cpuinfo.
+fn cpu_words(info: &str) -> String {
+    let field = |key: &str| {
+        info.lines()
+            .find(|l| l.split(':').next().is_some_and(|k| k.trim() == key))
+            .and_then(|l| l.split_once(':'))
+            .map(|(_, v)| v.trim().to_string())
+            .filter(|v| !v.is_empty())
+    };
+    let Some(name) = field("model name") else {
+        return "an unnamed CPU".into();
+    };
+    let (Some(family), Some(model)) = (field("cpu family"), field("model")) else {
+        return name;
+    };
+    let wide = field("flags").is_some_and(|f| f.split_whitespace().any(|x| x == "avx512f"));
+    let avx512 = if wide { "AVX-512" } else { "no AVX-512" };
+    format!("{name} (family {family}, model {model}, {avx512})")
+}
 /// The clock /proc/cpuinfo reports for the first core, GHz (a virtual machine shows its
 /// nominal clock; no boost), if it reports one.
 pub fn cpu_ghz() -> Option<f64> {
@@ -134,5 +148,21 @@ pub fn report(
             print!("{text}");
             Ok(())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cpu_words;
+
+    #[test]
+    fn a_cpu_is_named_with_its_family_model_and_widest_vectors() {
+        let zen1 = "processor\t: 0\nvendor_id\t: AuthenticAMD\ncpu family\t: 23\nmodel\t\t: 1\n\
+                    model name\t: AMD EPYC\nflags\t\t: fpu sse avx2\n";
+        assert_eq!(cpu_words(zen1), "AMD EPYC (family 23, model 1, no AVX-512)");
+        let zen4 = zen1.replace(": 23", ": 25").replace("avx2", "avx2 avx512f");
+        assert_eq!(cpu_words(&zen4), "AMD EPYC (family 25, model 1, AVX-512)");
+        assert_eq!(cpu_words("model name : Some CPU\n"), "Some CPU");
+        assert_eq!(cpu_words(""), "an unnamed CPU");
     }
 }
