@@ -79,35 +79,33 @@ pub fn cpu_model() -> String {
 
 /// [`cpu_model`] from the text of /proc/cpuinfo.
 fn cpu_words(info: &str) -> String {
-    let field = |key: &str| {
-        info.lines()
-            .find(|l| l.split(':').next().is_some_and(|k| k.trim() == key))
-            .and_then(|l| l.split_once(':'))
-            .map(|(_, v)| v.trim().to_string())
-            .filter(|v| !v.is_empty())
-    };
+    let field = |key| cpuinfo_field(info, key);
     let Some(name) = field("model name") else {
         return "an unnamed CPU".into();
     };
     let (Some(family), Some(model)) = (field("cpu family"), field("model")) else {
-        return name;
+        return name.into();
     };
     let wide = field("flags").is_some_and(|f| f.split_whitespace().any(|x| x == "avx512f"));
     let avx512 = if wide { "AVX-512" } else { "no AVX-512" };
     format!("{name} (family {family}, model {model}, {avx512})")
 }
+
+/// The value of the first line of /proc/cpuinfo's text whose key is `key` (the first core's),
+/// if it has one.
+fn cpuinfo_field<'a>(info: &'a str, key: &str) -> Option<&'a str> {
+    info.lines()
+        .filter_map(|l| l.split_once(':'))
+        .find(|(k, _)| k.trim() == key)
+        .map(|(_, v)| v.trim())
+        .filter(|v| !v.is_empty())
+}
+
 /// The clock /proc/cpuinfo reports for the first core, GHz (a virtual machine shows its
 /// nominal clock; no boost), if it reports one.
 pub fn cpu_ghz() -> Option<f64> {
     let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
-    let mhz: f64 = info
-        .lines()
-        .find(|l| l.starts_with("cpu MHz"))?
-        .split(':')
-        .nth(1)?
-        .trim()
-        .parse()
-        .ok()?;
+    let mhz: f64 = cpuinfo_field(&info, "cpu MHz")?.parse().ok()?;
     (mhz > 0.0).then_some(mhz / 1000.0)
 }
 

@@ -4,13 +4,14 @@
 //! same order, no fused multiply-add), so a projection over them is the scalar one bit for bit.
 //!
 //! A cell's two x corners sit side by side in memory, so one read per lane and row (two bytes
-//! of an 8-bit volume, four of a 16-bit one) takes both, and four read the whole cell. Before it reads a
-//! cell, each lane gathers the range of its cell's brick (`crate::bricks`): eight positions
-//! none of whose bricks can beat the best value so far are passed over, and the best is kept
-//! in every lane, updated after each eight. Used by Maximum and Minimum (`extreme.rs`), and
-//! by every projection that adds all its samples (Average, Sum, and Maximum and Minimum with
-//! skipping off: [`ValueLanes::add_range`]), where the volume is of integers and is
-//! interpolated trilinearly; `tests/projections.rs` compares them with the scalar march.
+//! of an 8-bit volume, four of a 16-bit one) takes both, and four read the whole cell. Before
+//! it reads a cell, each lane gathers the range of its cell's brick (`crate::bricks`): eight
+//! positions none of whose bricks can beat the best value so far are passed over, and the
+//! best is kept in every lane, updated after each eight. Used by Maximum and Minimum
+//! (`extreme.rs`), and by every projection that adds all its samples (Average, Sum, and
+//! Maximum and Minimum with skipping off: [`ValueLanes::add_range`]), where the volume is of
+//! integers and is interpolated trilinearly; `tests/projections.rs` compares them with the
+//! scalar march.
 
 use crate::composite::ValueStats;
 use crate::step::StepPlan;
