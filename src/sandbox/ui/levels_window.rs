@@ -337,7 +337,9 @@ fn composite_table(ui: &mut egui::Ui, rows: &[voxcast_core::worked::WorkedPoint]
     });
 }
 
-#[cfg(test)]
+// egui keeps its debug options (used to find buttons by their label) only in debug builds, so
+// these tests run where they can: `cargo test`, not `cargo test --release`.
+#[cfg(all(test, debug_assertions))]
 mod tests {
     use super::*;
     use egui::{Pos2, Rect, vec2};
