@@ -186,6 +186,8 @@ const PACK: [[u8; LANES]; 256] = {
 /// What a batch contributes: the table's opacity and the shaded colour per lane.
 struct Evaluated {
     alpha: [f32; LANES],
+    /// The lanes whose `alpha` is not `≤ 0` (a bit each): those the composite blends.
+    opaque: u32,
     rgb: [[f32; LANES]; 3],
     /// Whether `alpha` is already corrected for the step ([`Lanes::correct_batch`]).
     corrected: bool,
@@ -350,13 +352,14 @@ impl Lanes<'_> {
         let [mut r, mut g, mut b] = acc.c.to_array();
         let mut o = acc.o;
         let mut stopped = None;
-        let mut taken = 0;
-        for lane in 0..n {
-            taken += 1;
+        let mut taken = n as u32;
+        // Only the lanes with opacity: a bit each, so that the many transparent samples cost
+        // no unpredictable branch apiece.
+        let mut lanes = e.opaque & ((1u32 << n) - 1);
+        while lanes != 0 {
+            let lane = lanes.trailing_zeros() as usize;
+            lanes &= lanes - 1;
             let a = e.alpha[lane];
-            if a <= 0.0 {
-                continue;
-            }
             let (k, t) = (p.k[lane] as u32, p.t[lane]);
             let alpha = if self.correction && !e.corrected {
                 correct_opacity(a, segment_length(plan, k, t), self.dt_ref)
@@ -373,6 +376,7 @@ impl Lanes<'_> {
             }
             if o >= stop_at {
                 stopped = Some(k);
+                taken = lane as u32 + 1;
                 break;
             }
         }
@@ -564,12 +568,14 @@ impl Lanes<'_> {
         let color = [rgba[0], rgba[1], rgba[2]];
         let shaded = self.shade(color, grad, rl);
         let corrected = plan.and_then(|plan| self.correct_batch(plan, p, alpha));
+        let alpha = corrected.unwrap_or(alpha);
         let mut out = Evaluated {
             alpha: [0.0; LANES],
+            // Not `≤ 0`, as the scalar composite asks (unordered: a NaN is blended there too).
+            opaque: _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_NLE_UQ>(alpha, zero)) as u32,
             rgb: [[0.0; LANES]; 3],
             corrected: corrected.is_some(),
         };
-        let alpha = corrected.unwrap_or(alpha);
         // SAFETY: eight lanes each.
         unsafe {
             _mm256_storeu_ps(out.alpha.as_mut_ptr(), alpha);
