@@ -1,6 +1,6 @@
 //! Rays and the ray–box slab test: where a ray enters and leaves the volume's box.
 //!
-//! Twin: `shaders/ray.wgsl` (`intersect_box`).
+//! Twin: `shaders/ray.wgsl` (`intersect_box`, `slab`).
 //!
 //! The slab test (Kay & Kajiya 1986; Williams et al., "An efficient and robust ray–box
 //! intersection algorithm", 2005) intersects the ray `p(t) = origin + t·dir` with the three pairs of
