@@ -40,6 +40,8 @@ pub use crate::scene::Scene;
 mod extreme;
 #[cfg(target_arch = "x86_64")]
 mod lanes;
+#[cfg(target_arch = "x86_64")]
+mod leaps;
 mod skipping;
 #[cfg(target_arch = "x86_64")]
 mod value_lanes;

@@ -24,6 +24,7 @@
 //! repeat step for step). Anything else, or a CPU without AVX2, takes the scalar march.
 //! `tests/lanes.rs` renders random scenes both ways and compares every bit.
 
+use super::leaps::Leaps;
 use super::{Accumulation, Marcher};
 use crate::composite::correct_opacity;
 use crate::scene::Scene;
@@ -264,13 +265,15 @@ impl Lanes<'_> {
         // the empty bricks in front of it allow (positions only grow along an axis it moves
         // up and only shrink along one it moves down, rounding included).
         let ahead = cells.forward_distances(crate::skip::octant(d_v));
+        let rows = self.corner_rows();
+        let leaps = Leaps::new(cells, (o_v, d_v, inv_d), (self.last, self.max_lo));
         while k < end {
             // In an empty brick the ray leaps before it locates anything.
-            let lo = self.cell_lo(o_v + d_v * sample_t(plan, k));
-            let distance = ahead[cells.brick_of(lo)];
+            let look = leaps.look(sample_t(plan, k));
+            let distance = ahead[look.index];
             if distance > 0 {
-                let t = cells.leap_exit_at(lo, distance, o_v, inv_d);
-                let next = first_index_from(plan, t, inv_dt);
+                let t = leaps.exit(&look, distance);
+                let next = super::leaps::first_index_from(plan, t, inv_dt);
                 if next > k {
                     k = next;
                     continue;
@@ -282,7 +285,7 @@ impl Lanes<'_> {
                 // SAFETY: AVX2; fewer than eight are waiting, so eight more fit.
                 let queued = unsafe { pending.push(visible, &located) };
                 for &base in &pending.base[queued] {
-                    self.prefetch(base);
+                    prefetch(&rows, base);
                 }
                 if pending.n >= LANES {
                     // SAFETY: AVX2; every pending base is a cell of the lattice.
@@ -307,30 +310,12 @@ impl Lanes<'_> {
         None
     }
 
-    /// Asks for the cache lines of a queued sample's corners (its cell's lower row and the rows
-    /// above it and behind it) while the batch fills up: they are read once it is full.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn prefetch(&self, base: i32) {
+    /// Where the rows of a cell's corners start in the records, for [`prefetch`]: the lower
+    /// row and the rows above it, behind it, and both.
+    fn corner_rows(&self) -> [*const crate::sample::Differences; 4] {
         let p = self.records.as_ptr();
-        for o in [
-            self.corners[0],
-            self.corners[2],
-            self.corners[4],
-            self.corners[6],
-        ] {
-            // Only a hint: an address past the records is never dereferenced by it.
-            let at = p.wrapping_add((base + o) as usize) as *const i8;
-            _mm_prefetch::<_MM_HINT_T0>(at);
-        }
-    }
-
-    /// The lower corner of the cell holding voxel-space `pv`, as `crate::sample::cell` finds it.
-    #[inline(always)]
-    fn cell_lo(&self, pv: Vec3) -> [usize; 3] {
-        let x = pv.max(Vec3::ZERO).min(self.last).min(self.max_lo);
-        // SAFETY: clamped, so finite and in [0, n − 2] (an axis has at most 2²⁴ points).
-        [x.x, x.y, x.z].map(|c| unsafe { c.to_int_unchecked::<i32>() } as usize)
+        // Only hints are given with them: an address past the records is never dereferenced.
+        [0, 2, 4, 6].map(|c| p.wrapping_add(self.corners[c] as usize))
     }
 
     /// Composites the first `n` pending samples in order, exactly as
@@ -384,6 +369,18 @@ impl Lanes<'_> {
         acc.o = o;
         acc.taken += taken;
         stopped
+    }
+}
+
+/// Asks for the cache lines of a queued sample's corners (`base`: its cell's lower corner;
+/// `rows` from [`Lanes::corner_rows`]) while the batch fills up: they are read once it is full.
+/// One instruction a row, the row's start per ray.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn prefetch(rows: &[*const crate::sample::Differences; 4], base: i32) {
+    let base = base as usize;
+    for &row in rows {
+        _mm_prefetch::<_MM_HINT_T0>(row.wrapping_add(base) as *const i8);
     }
 }
 
