@@ -3,7 +3,8 @@
 //!
 //! A ray starts at its pixel's entry bound ([`crate::entry::EntryBounds`], where the render
 //! has one) and leaps over empty bricks by their distance to the nearest visible cell ahead
-//! ([`VisibleCells::forward_distances`]). Elsewhere its sample positions are located eight at
+//! ([`VisibleCells::forward_distances`]; the look at the next brick and the leap, three axes in
+//! one vector, are in `leaps.rs`). Elsewhere its sample positions are located eight at
 //! a time — `t`, the voxel position, the cell and the cell's visibility bit
 //! ([`crate::skip::VisibleCells`]), each lane computing exactly what `sample_t`,
 //! `crate::sample::cell` and `VisibleCells::lookup` compute for one position. The positions in
