@@ -11,7 +11,7 @@
 //! along has no face). `tests/lanes.rs` compares every pixel with the scalar march.
 
 use crate::skip::{BRICK_MARGIN, VisibleCells};
-use crate::step::StepPlan;
+use crate::step::{StepPlan, first_index_with};
 use glam::Vec3;
 use std::arch::x86_64::*;
 
@@ -118,16 +118,10 @@ impl Leaps {
 #[inline]
 #[target_feature(enable = "avx2")]
 pub(super) fn first_index_from(plan: &StepPlan, t: f32, inv_dt: f32) -> u32 {
-    let x = (t - plan.t_enter) * inv_dt - plan.jitter;
-    let v = _mm_set_ss(x);
-    let k = _mm_cvtss_f32(_mm_ceil_ss(v, v));
-    if k <= 0.0 {
-        0
-    } else if k >= plan.count as f32 {
-        plan.count
-    } else {
-        k as u32
-    }
+    first_index_with(plan, t, inv_dt, |x| {
+        let v = _mm_set_ss(x);
+        _mm_cvtss_f32(_mm_ceil_ss(v, v))
+    })
 }
 
 #[cfg(test)]
