@@ -220,6 +220,19 @@ impl Order {
 /// the profile put `powf` at 4 % of a render).
 #[inline(always)]
 pub fn correct_opacity(alpha: f32, ds: f32, ds_ref: f32) -> f32 {
+    correct_opacity_with(alpha, ds, ds_ref, None)
+}
+
+/// [`correct_opacity`] where a render has prepared its whole step's power
+/// ([`crate::power::StepPower`], for `e = dt/dt_ref`): a sample whose `ds/ds_ref` is that
+/// power is raised by its tables instead of `powf` (at least as close to the exact value).
+#[inline(always)]
+pub fn correct_opacity_with(
+    alpha: f32,
+    ds: f32,
+    ds_ref: f32,
+    whole_step: Option<&crate::power::StepPower>,
+) -> f32 {
     if alpha <= 0.0 {
         return 0.0;
     }
@@ -234,6 +247,8 @@ pub fn correct_opacity(alpha: f32, ds: f32, ds_ref: f32) -> f32 {
         1.0 - keep.sqrt()
     } else if e == 2.0 {
         1.0 - keep * keep
+    } else if let Some(p) = whole_step.filter(|p| p.exponent() == e) {
+        1.0 - p.keep_power(keep)
     } else {
         1.0 - keep.powf(e)
     }

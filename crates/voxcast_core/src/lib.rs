@@ -11,7 +11,7 @@
 //! | sample | [`sample`] | nearest / trilinear reconstruction, the 8 corners, gradients |
 //! | classify | [`transfer`], [`classify`] | value → colour and opacity (LUT, Levoy's modes) |
 //! | shade | [`shade`] | Phong / Blinn–Phong with central-difference normals |
-//! | composite | [`composite`] | Accumulate, First, Average, Maximum, Minimum |
+//! | composite | [`composite`], [`power`] | Accumulate, First, Average, Maximum, Minimum; the opacity correction's power for a whole step |
 //! | trace | [`scene`], [`trace`], [`breakdown`], [`explain`] | what a render shares; one ray, optionally recorded sample by sample, and its formulas with the numbers put in |
 //! | render | [`render`], [`entry`], [`cost`] | every pixel, in parallel, cancellable; where each pixel's rays can first meet a visible cell; what each pixel's rays cost, as a heat map |
 //!
@@ -56,6 +56,7 @@ pub mod marker;
 mod minmax;
 pub mod numbers;
 pub mod peer;
+pub mod power;
 pub mod prepared;
 pub mod preset;
 pub mod ray;

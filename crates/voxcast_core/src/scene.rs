@@ -44,6 +44,9 @@ pub struct Scene<'a> {
     pub dt: f32,
     /// Reference step of the transfer function's opacity, world units.
     pub dt_ref: f32,
+    /// The opacity correction's power for a sample standing for one whole step, `dt/dt_ref`,
+    /// prepared (where correction is on and the power is one the tables serve).
+    pub step_power: Option<Box<crate::power::StepPower>>,
     /// First-hit target value, data units.
     pub target: f32,
     /// Sum's range (value × voxels), resolved ([`RenderSettings::sum_range`]).
@@ -132,6 +135,10 @@ impl<'a> Scene<'a> {
         let (lo, hi) = volume.value_range();
         let lut = tf.bake(lo, hi);
         let classifier = Classifier::new(&settings.classification, &lut, voxel);
+        let (dt, dt_ref) = (
+            settings.step.world(voxel),
+            settings.reference_step.world(voxel),
+        );
         Ok(Self {
             empty: None,
             block_skipping: false,
@@ -144,8 +151,12 @@ impl<'a> Scene<'a> {
             volume,
             classifier,
             lights: settings.phong.resolve(view_forward),
-            dt: settings.step.world(voxel),
-            dt_ref: settings.reference_step.world(voxel),
+            dt,
+            dt_ref,
+            step_power: settings
+                .opacity_correction
+                .then(|| crate::power::StepPower::new(dt / dt_ref))
+                .flatten(),
             target: settings.target.unwrap_or(0.5 * (lo + hi)),
             // The default needs the volume's mean (a pass over the data): only for Sum.
             sum_range: match settings.sum_range {

@@ -18,7 +18,7 @@ use crate::classify::Classifier;
 use crate::clip::clip_interval;
 use crate::composite::{
     Method, Order, ValueStats, accumulate_back_to_front, accumulate_front_to_back,
-    blend_background, correct_opacity, crossing_fraction, reaches, sum_to_value,
+    blend_background, correct_opacity_with, crossing_fraction, reaches, sum_to_value,
 };
 use crate::ray::{Ray, intersect_box};
 use crate::sample::{
@@ -573,7 +573,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
         let ds = segment_length(plan, k, t);
         let alpha = if set.opacity_correction {
-            correct_opacity(e.cl.alpha, ds, self.s.dt_ref)
+            correct_opacity_with(e.cl.alpha, ds, self.s.dt_ref, self.s.step_power.as_deref())
         } else {
             e.cl.alpha
         };

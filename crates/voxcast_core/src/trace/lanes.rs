@@ -27,7 +27,8 @@
 
 use super::leaps::Leaps;
 use super::{Accumulation, Marcher};
-use crate::composite::correct_opacity;
+use crate::composite::correct_opacity_with;
+use crate::power::StepPower;
 use crate::scene::Scene;
 use crate::shade::{Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel, Viewing};
 use crate::skip::VisibleCells;
@@ -78,6 +79,8 @@ pub(super) struct Lanes<'s> {
     /// one step, where it is one the scalar code takes without `powf` (½, 1 or 2): then a whole
     /// batch of such samples is corrected at once.
     step_power: Option<f32>,
+    /// The scene's whole-step power ([`Scene::step_power`]), for the composite.
+    whole_step: Option<&'s StepPower>,
 }
 
 impl<'s> Lanes<'s> {
@@ -148,6 +151,7 @@ impl<'s> Lanes<'s> {
             correction: set.opacity_correction,
             dt_ref: s.dt_ref,
             step_power: Some(s.dt / s.dt_ref).filter(|e| [0.5, 1.0, 2.0].contains(e)),
+            whole_step: s.step_power.as_deref(),
         })
     }
 }
@@ -348,7 +352,7 @@ impl Lanes<'_> {
             let a = e.alpha[lane];
             let (k, t) = (p.k[lane] as u32, p.t[lane]);
             let alpha = if self.correction && !e.corrected {
-                correct_opacity(a, segment_length(plan, k, t), self.dt_ref)
+                correct_opacity_with(a, segment_length(plan, k, t), self.dt_ref, self.whole_step)
             } else {
                 a
             };
