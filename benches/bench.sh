@@ -17,6 +17,11 @@ cd "$(dirname "$0")/.."
 PEER=$(realpath "${1:-../shared/tools/peer}")
 DATA=$(realpath "${2:-../shared/data}")
 THREADS=${THREADS:-2}
+# Without the peer's venv every table would be rewritten with "VTK peer: not measured".
+if [ ! -x "$PEER/venv/bin/python" ]; then
+    echo "no $PEER/venv/bin/python: run $PEER/setup_env.sh first (the tables are left as they are)" >&2
+    exit 1
+fi
 cargo build --release --quiet
 run() { # scene file steps [camera [extra arguments]]
     local v=$1 file=$2 steps=$3 camera=${4:-$PEER/cams/$1.json}
