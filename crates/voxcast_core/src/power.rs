@@ -30,6 +30,8 @@ const ENTRIES: usize = 1 << FRACTION_BITS;
 const OCTAVES: usize = 25;
 /// Degree of the binomial series for `(1 + z)^e`.
 pub const DEGREE: usize = 4;
+// `StepPower::keep_power` evaluates the series term by term to this degree (Estrin's scheme).
+const _: () = assert!(DEGREE == 4);
 /// The largest relative error the series' tail may add (`2⁻⁴⁷`): a power whose tail bound is
 /// larger (steps above about five reference steps) is left to `powf`.
 const TAIL_BOUND: f64 = 7.105_427_357_601_002e-15;

@@ -78,7 +78,7 @@ pub(super) struct Lanes<'s> {
     /// The power `dt / dt_ref` that opacity correction raises by for a sample standing for
     /// one step, where it is one the scalar code takes without `powf` (½, 1 or 2): then a whole
     /// batch of such samples is corrected at once.
-    step_power: Option<f32>,
+    batch_power: Option<f32>,
     /// The scene's whole-step power ([`Scene::step_power`]), for the composite.
     whole_step: Option<&'s StepPower>,
 }
@@ -150,7 +150,7 @@ impl<'s> Lanes<'s> {
             light_count: resolved.len(),
             correction: set.opacity_correction,
             dt_ref: s.dt_ref,
-            step_power: Some(s.dt / s.dt_ref).filter(|e| [0.5, 1.0, 2.0].contains(e)),
+            batch_power: Some(s.dt / s.dt_ref).filter(|e| [0.5, 1.0, 2.0].contains(e)),
             whole_step: s.step_power.as_deref(),
         })
     }
@@ -590,12 +590,12 @@ impl Lanes<'_> {
 
     /// `correct_opacity` for a full batch at once, where it is the same for every lane: each
     /// sample stands for exactly one step (`segment_length`'s interior case) and the step's
-    /// power is one the scalar code takes without `powf` ([`Lanes::step_power`]): ½ is a
+    /// power is one the scalar code takes without `powf` ([`Lanes::batch_power`]): ½ is a
     /// square root and 2 a square, correctly rounded in lanes as alone. `None` otherwise (the
     /// composite then corrects sample by sample).
     #[target_feature(enable = "avx2")]
     fn correct_batch(&self, plan: &StepPlan, p: &Pending, alpha: __m256) -> Option<__m256> {
-        let e = self.step_power.filter(|_| self.correction)?;
+        let e = self.batch_power.filter(|_| self.correction)?;
         // SAFETY: the arrays hold sixteen lanes; the batch is the first eight.
         let (k, t) = unsafe {
             (
