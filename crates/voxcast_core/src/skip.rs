@@ -16,17 +16,22 @@
 //! is nearest. Samples in empty blocks are skipped, except within a small margin of a face;
 //! samples in other blocks are taken without any further test. Blocks on the volume's border
 //! extend to infinity outwards, because sampling clamps positions outside the lattice onto it.
-//! Skipping is used by the image renderer for Accumulate with table or boundary classification;
-//! the recorded breakdown ([`crate::trace::trace_ray`]) visits every sample.
+//! The block walk is what the GPU preview does for Accumulate until the cells below are
+//! uploaded (the blocks' flags are a texture there), and what the CPU's First, Maximum, Minimum
+//! and Sum do with their own block tests; the recorded breakdown
+//! ([`crate::trace::trace_ray`]) visits every sample.
 //!
 //! Finer, for Accumulate on the CPU: [`VisibleCells`] keeps one bit per cell (can any point in
 //! it be seen?) in 4×4×4 bricks of one 64-bit word each, and per brick its chessboard distance
-//! to the nearest brick holding a visible cell. A sample in an empty brick lets the ray *leap*
-//! out of the whole cube of bricks that distance guarantees empty ([`VisibleCells::leap_exit`],
-//! the "distance to occupied" of Cohen & Sheffer 1994, "Proximity clouds"), and a ray is only
-//! marched inside the box of the bricks that hold visible cells
-//! ([`VisibleCells::visible_interval`]). Both keep a margin against rounding, so no sample that
-//! could be seen is ever passed over.
+//! to the nearest brick holding a visible cell, in all directions and ahead of a ray in each
+//! octant. A sample in an empty brick lets the ray *leap* out of the whole cube of bricks that
+//! distance guarantees empty ([`VisibleCells::leap_exit_at`], the "distance to occupied" of
+//! Cohen & Sheffer 1994, "Proximity clouds"), a ray is only marched inside the box of the
+//! bricks that hold visible cells ([`VisibleCells::visible_interval`]) and from its pixel's
+//! entry bound on ([`crate::entry`]), and every other sample is taken only where its cell's bit
+//! is set. All keep a margin against rounding, so no sample that could be seen is ever passed
+//! over. The CPU's Accumulate takes this route, eight samples at a time on the lanes or one at a
+//! time, and no longer walks the blocks (the cells' route was 5–30 % faster one at a time).
 
 use crate::minmax::{fmax, fmin};
 use crate::transfer::Lut;

@@ -342,15 +342,12 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         self.march_from(ray, jitter, f32::NEG_INFINITY, rec)
     }
 
-    /// Whether [`Marcher::march_from`] makes use of its `from`: Accumulate front to back on
-    /// the eight lanes, the only march that reads it.
+    /// Whether [`Marcher::march_from`] makes use of its `from`: Accumulate front to back with
+    /// skipping (on the eight lanes or one sample at a time), the only march that reads it.
     pub(crate) fn reads_entry_bounds(&self) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        return self.lanes.is_some()
+        self.s.empty.is_some()
             && self.s.settings.method == Method::Accumulate
-            && self.s.settings.order != Order::BackToFront;
-        #[cfg(not(target_arch = "x86_64"))]
-        false
+            && self.s.settings.order != Order::BackToFront
     }
 
     /// [`Marcher::march`], told that no sample before `t = from` lies in a visible cell
@@ -431,7 +428,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let viewing = Viewing::new(-ray.dir, &self.s.lights);
         let mut stopped_at = None;
         match skip {
-            Some((blocks, cells)) if plan.count > 0 => {
+            Some((_, cells)) if plan.count > 0 => {
                 #[cfg(target_arch = "x86_64")]
                 if let Some(lanes) = self.lanes.as_ref().filter(|_| !R::ACTIVE)
                     && let Some(stop) = self.accumulate_lanes(
@@ -448,13 +445,13 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
                     return self.accumulated(acc, stop);
                 }
                 stopped_at = self.accumulate_skipping(
-                    (blocks, cells),
+                    cells,
                     plan,
                     (o_v, d_v),
+                    from,
                     &viewing,
                     stop_at,
                     &mut acc,
-                    rec,
                 );
             }
             _ => {

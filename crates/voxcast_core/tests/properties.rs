@@ -238,6 +238,11 @@ proptest! {
         let (a, _) = render_with_threads(&skipping, &camera, 12, 9, 1).unwrap();
         let (b, _) = render_with_threads(&plain_scene, &camera, 12, 9, 1).unwrap();
         prop_assert_eq!(&a.pixels, &b.pixels);
+        // So does the one-sample-at-a-time skipping march (what a CPU without AVX2 takes).
+        let mut scalar = skipping.clone();
+        scalar.simd = false;
+        let (d, _) = render_with_threads(&scalar, &camera, 12, 9, 1).unwrap();
+        prop_assert_eq!(&a.pixels, &d.pixels);
         // The switch a user turns does the same.
         let off = RenderSettings { skipping: false, ..s.clone() };
         let unskipped = Scene::new(&v, &tf, &off, camera.forward()).unwrap();

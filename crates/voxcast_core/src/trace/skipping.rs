@@ -1,109 +1,73 @@
 //! The skipping marches: the same samples as the plain marches of `trace.rs` (the twin of
 //! `shaders/trace.wgsl`), with empty space passed over where that leaves every pixel as it
-//! was (`crate::skip`) — Accumulate through blocks, bricks and cells the transfer function makes
+//! was (`crate::skip`) — Accumulate over bricks and cells the transfer function makes
 //! transparent, First through blocks below the target, Maximum and Minimum through blocks
 //! that cannot beat the running extreme.
 
-use super::{
-    Accumulation, Marcher, NoRecord, RayOutcome, Recorder, SKIP_MARGIN_VOXELS, StopReason,
-};
+use super::{Accumulation, Marcher, NoRecord, RayOutcome, SKIP_MARGIN_VOXELS, StopReason};
 use crate::composite::{Method, ValueStats, reaches};
+use crate::minmax::fmax;
 use crate::ray::Ray;
 use crate::sample::cell;
 use crate::shade::Viewing;
-use crate::skip::{BlockRanges, BlockWalk, Cell as CellState, EmptyBlocks, VisibleCells};
+use crate::skip::{BlockRanges, BlockWalk, Cell as CellState, VisibleCells, octant};
 use crate::step::{StepPlan, first_index_from, sample_t};
 use crate::volume::Voxel;
 use glam::Vec3;
 
 impl<T: Voxel> Marcher<'_, '_, '_, T> {
-    /// Accumulate front to back with empty-space skipping (see `crate::skip`): walks the
-    /// blocks, sampling only those that can be seen, and in them only the cells that can be
-    /// seen. A sample within `margin_t` of a block face is always looked at. Returns the index
-    /// of the sample that stopped the ray, if one did.
+    /// Accumulate front to back with empty-space skipping (see `crate::skip`), one sample at a
+    /// time along the eight lanes' route (`lanes.rs`): from the pixel's entry bound `from` (no
+    /// visible cell before it) to the end of the box of the visible bricks, leaping over empty
+    /// bricks by their distance ahead in the ray's octant, taking every sample whose cell can be
+    /// seen. The samples passed over lie in cells the transfer function makes transparent, so
+    /// the image is the plain march's. Returns the index of the sample that stopped the ray, if
+    /// one did.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(super) fn accumulate_skipping<R: Recorder>(
+    pub(super) fn accumulate_skipping(
         &self,
-        (blocks, cells): (&EmptyBlocks, &VisibleCells),
+        cells: &VisibleCells,
         plan: &StepPlan,
         (o_v, d_v): (Vec3, Vec3),
+        from: f32,
         viewing: &Viewing,
         stop_at: f32,
         acc: &mut Accumulation,
-        rec: &mut R,
     ) -> Option<u32> {
-        let mut stopped_at = None;
-        let margin_t = SKIP_MARGIN_VOXELS / d_v.length();
-        let first = cell(&self.g, o_v + d_v * sample_t(plan, 0)).lo;
-        let mut walk = blocks.walk(first, o_v, d_v);
         let inv_d = 1.0 / d_v;
-        // Multiplying by the inverse step may round the index of the first sample past a
-        // face up or down by one; either way that sample lies within rounding of the
-        // margin inside the skipped region, or is simply taken.
+        // Multiplying by the inverse step may round an index by one either way; each bound
+        // below lies in invisible cells by more than that rounding (`BRICK_MARGIN`).
         let inv_dt = 1.0 / plan.dt;
-        let mut k = 0u32;
-        // The exit of the last empty block crossed, if the samples have not been moved past it:
-        // a run of empty blocks moves them once, at its end (monotone in t, so the same index).
-        let mut passed: Option<f32> = None;
-        'blocks: loop {
-            let (is_empty, t_out) = blocks.current(&walk);
-            if is_empty {
-                passed = Some(t_out);
-            } else {
-                if let Some(t) = passed.take() {
-                    k = k.max(first_index_from(plan, t - margin_t, inv_dt));
-                }
-                while k < plan.count {
-                    let t = sample_t(plan, k);
-                    if t >= t_out + margin_t {
-                        break;
+        let (t0, t1) = cells.visible_interval(o_v, inv_d)?;
+        let mut k = first_index_from(plan, fmax(t0, from), inv_dt);
+        let end = first_index_from(plan, t1, inv_dt);
+        let ahead = cells.forward_distances(octant(d_v));
+        while k < end {
+            let t = sample_t(plan, k);
+            let pv = o_v + d_v * t;
+            let here = cell(&self.g, pv);
+            match cells.lookup(here.lo) {
+                CellState::Visible => {
+                    let (here, rec) = (Some(&here), &mut NoRecord);
+                    if self.accumulate_sample(viewing, plan, k, t, pv, here, stop_at, acc, rec) {
+                        return Some(k);
                     }
-                    let pv = o_v + d_v * t;
-                    let here = cell(&self.g, pv);
-                    match cells.lookup(here.lo) {
-                        CellState::Visible => {
-                            let stop = self.accumulate_sample(
-                                viewing,
-                                plan,
-                                k,
-                                t,
-                                pv,
-                                Some(&here),
-                                stop_at,
-                                acc,
-                                rec,
-                            );
-                            if stop {
-                                stopped_at = Some(k);
-                                break 'blocks;
-                            }
-                        }
-                        CellState::EmptyBrick => {
-                            // Leap over the empty bricks around (see `VisibleCells::leap_exit`).
-                            let t_leap = cells.leap_exit(here.lo, o_v, inv_d);
-                            let next = first_index_from(plan, t_leap.min(t_out), inv_dt);
-                            if next > k + 1 {
-                                k = next;
-                                continue;
-                            }
-                        }
-                        CellState::Invisible => {}
-                    }
-                    k += 1;
                 }
+                CellState::EmptyBrick => {
+                    let distance = ahead[cells.brick_of(here.lo)];
+                    let t_leap = cells.leap_exit_at(here.lo, distance, o_v, inv_d);
+                    let next = first_index_from(plan, t_leap, inv_dt);
+                    if next > k {
+                        k = next;
+                        continue;
+                    }
+                }
+                CellState::Invisible => {}
             }
-            // Past the ray's last sample: the run moves them now, and the walk ends.
-            if let Some(t) = passed.filter(|t| *t - margin_t >= plan.t_exit) {
-                k = k.max(first_index_from(plan, t - margin_t, inv_dt));
-                passed = None;
-            }
-            if k >= plan.count || !t_out.is_finite() {
-                break;
-            }
-            blocks.advance(&mut walk);
+            k += 1;
         }
-        stopped_at
+        None
     }
 
     /// Maximum and Minimum with block skipping, for float data (integer data take the best
