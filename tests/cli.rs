@@ -226,6 +226,49 @@ fn bench_writes_its_table_and_plot() {
     assert!(image::open(&plot).is_ok());
 }
 
+/// `bench --no-lanes` measures the path a CPU without AVX2 takes: it says so, and its images
+/// are the lanes' bit for bit.
+#[test]
+fn bench_without_the_lanes_says_so_and_draws_the_same_images() {
+    let dir = out_dir();
+    let run = |name: &str, extra: &[&str]| {
+        let (report, images) = (dir.join(format!("{name}.md")), dir.join(name));
+        let mut args = vec![
+            "bench",
+            "--volume",
+            "builtin:bunny",
+            "--size",
+            "48x40",
+            "--steps",
+            "0.5",
+            "--repeat",
+            "1",
+            "--report",
+            report.to_str().unwrap(),
+            "--images",
+            images.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = voxcast(&args);
+        assert!(o.status.success(), "{}", text(&o));
+        (std::fs::read_to_string(&report).unwrap(), images)
+    };
+    let (with, with_images) = run("lanes_on", &[]);
+    let (without, without_images) = run("lanes_off", &["--no-lanes"]);
+    assert!(without.contains("turned off"), "{without}");
+    assert!(!with.contains("turned off"), "{with}");
+    let names: Vec<_> = std::fs::read_dir(&with_images)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert!(names.len() >= 3, "{names:?}");
+    for name in names {
+        let a = std::fs::read(with_images.join(&name)).unwrap();
+        let b = std::fs::read(without_images.join(&name)).unwrap();
+        assert!(a == b, "{name:?} differs without the lanes");
+    }
+}
+
 /// `--knobs`: one table per knob, each ending with its reference, written into a section of an
 /// existing report; and `render --cost` writes its heat map beside the image.
 #[test]

@@ -76,6 +76,10 @@ pub struct BenchArgs {
     /// Keep the images (Voxcast at each step, the references, VTK's) in this folder.
     #[arg(long)]
     pub images: Option<PathBuf>,
+    /// Measure as a CPU without AVX2 renders (or one that is not x86-64): the eight-lane
+    /// paths off, every sample one at a time (the same images, bit for bit).
+    #[arg(long)]
+    pub no_lanes: bool,
     /// Instead: measure every knob's trade (step, interpolation, cutoff, jitter,
     /// supersampling, preview resolution and step multiplier) against its exact setting, and
     /// print (or with --report, write) a markdown table per knob.
@@ -145,7 +149,8 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
         let mut s = resolved.settings.clone();
         s.opacity_correction = correction;
         s.step = Length::Voxels(a.reference);
-        let scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
+        let mut scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
+        scene.simd = !a.no_lanes;
         let label = format!("reference 1/{:.0} voxel", 1.0 / a.reference);
         let reference = timed_render(&scene, &camera, a.size, 1, Some(threads), &label)?;
         save_image(
@@ -155,7 +160,8 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
         )?;
         for &step in &a.steps {
             s.step = Length::Voxels(step);
-            let scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
+            let mut scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
+            scene.simd = !a.no_lanes;
             let timed = timed_render(
                 &scene,
                 &camera,
@@ -336,8 +342,9 @@ fn compare_with_peer(
     let mut settings = resolved.settings.clone();
     settings.opacity_correction = true;
     settings.step = Length::Voxels(a.peer_step);
-    let scene = Scene::new(volume, &resolved.transfer, &settings, camera.forward())
+    let mut scene = Scene::new(volume, &resolved.transfer, &settings, camera.forward())
         .map_err(|e| e.to_string())?;
+    scene.simd = !a.no_lanes;
     let mut rounds = Vec::new();
     let mut first_s = f64::NAN;
     let mut fp_threads = String::new();
@@ -448,7 +455,13 @@ fn report(
         super::knobs::cpu_model(),
         threads,
         ghz.map_or(String::new(), |g| format!(", {g:.2} GHz nominal")),
-        if lanes { "on" } else { "not used" },
+        if a.no_lanes {
+            "turned off (`--no-lanes`: as a CPU without AVX2 renders)"
+        } else if lanes {
+            "on"
+        } else {
+            "not used"
+        },
     );
     let _ = writeln!(
         r,
