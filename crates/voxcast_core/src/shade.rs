@@ -294,7 +294,10 @@ impl ResolvedLights {
 /// several times faster than `powf`), else `powf`.
 #[inline(always)]
 pub fn power(x: f32, n: f32) -> f32 {
-    if n.fract() == 0.0 && (0.0..=1024.0).contains(&n) {
+    // Whole and in [0, 1024]: a round trip through `u32` is exact only for whole numbers in its
+    // range (negatives and NaN become 0). Not `fract`, which is a library call per sample on
+    // an x86-64 without SSE 4.1.
+    if (n as u32) as f32 == n && n <= 1024.0 {
         // Binary exponentiation, inline (Rust's `powi` calls a library loop).
         let (mut base, mut e, mut acc) = (x, n as u32, 1.0f32);
         while e > 0 {
@@ -708,6 +711,37 @@ mod tests {
         ] {
             let (a, b) = (power(x, n), x.powf(n));
             assert!((a - b).abs() <= 1e-5 * b.max(1e-30), "{x}^{n}: {a} vs {b}");
+        }
+    }
+
+    /// Repeated squaring exactly for whole exponents in 0..=1024 (±0 included), `powf`
+    /// elsewhere — fractions, negatives, above 1024, beyond `u32`, NaN.
+    #[test]
+    fn power_squares_exactly_where_the_exponent_is_whole_and_small() {
+        let squared = |x: f32, n: u32| {
+            let (mut base, mut e, mut acc) = (x, n, 1.0f32);
+            while e > 0 {
+                if e & 1 == 1 {
+                    acc *= base;
+                }
+                base *= base;
+                e >>= 1;
+            }
+            acc
+        };
+        for x in [0.0f32, 0.3, 0.7071, 0.999, 1.0] {
+            for n in [0u32, 1, 2, 3, 13, 64, 1023, 1024] {
+                assert_eq!(
+                    power(x, n as f32).to_bits(),
+                    squared(x, n).to_bits(),
+                    "{x}^{n}"
+                );
+            }
+            assert_eq!(power(x, -0.0), 1.0);
+            for n in [0.5f32, 2.5, 1024.5, 1025.0, -2.0, 5e9, f32::INFINITY] {
+                assert_eq!(power(x, n).to_bits(), x.powf(n).to_bits(), "{x}^{n}");
+            }
+            assert!(power(x, f32::NAN).is_nan() || x == 1.0);
         }
     }
 
