@@ -1,6 +1,8 @@
 //! A small orbit camera: left drag orbits around a focus point, right or middle drag pans,
-//! the wheel zooms. Input that egui wants (a panel under the pointer, a dragged slider) is left
-//! to egui.
+//! the wheel zooms — over the scene only. Input that egui wants (a window under the pointer, a
+//! dragged slider) is left to egui, and so is the wheel over a docked panel (egui counts those
+//! as background, not as something the pointer is over): it scrolls the panel and leaves the
+//! view alone; a drag that starts on a panel does not turn the view either.
 //!
 //! A drag is read from raw mouse motion where it arrives, else from the cursor's positions:
 //! remote desktops, VNC, Xvfb driven by xdotool and some touchpads move the cursor without
@@ -112,19 +114,30 @@ fn orbit_camera(
     buttons: Res<ButtonInput<MouseButton>>,
     motion: Res<AccumulatedMouseMotion>,
     scroll: Res<AccumulatedMouseScroll>,
-    window: Query<&Window, With<bevy::window::PrimaryWindow>>,
-    mut last_cursor: Local<Option<Vec2>>,
+    (window, viewport): (
+        Query<&Window, With<bevy::window::PrimaryWindow>>,
+        Option<Res<super::preview::Viewport>>,
+    ),
+    (mut last_cursor, mut grabbed): (Local<Option<Vec2>>, Local<bool>),
     egui: Option<Res<EguiWantsInput>>,
     light_drag: Option<Res<LightDrag>>,
     cut_drag: Option<Res<super::cut::CutDrag>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
 ) {
-    let cursor = window.single().ok().and_then(|w| w.cursor_position());
+    let window = window.single().ok();
+    let cursor = window.and_then(|w| w.cursor_position());
     let cursor_delta = match (*last_cursor, cursor) {
         (Some(a), Some(b)) => b - a,
         _ => Vec2::ZERO,
     };
     *last_cursor = cursor;
+    let over_scene = window.is_some_and(|w| over_scene(w, viewport.as_deref()));
+    let buttons_held = [MouseButton::Left, MouseButton::Right, MouseButton::Middle];
+    if buttons.any_just_pressed(buttons_held) {
+        *grabbed = over_scene;
+    } else if !buttons.any_pressed(buttons_held) {
+        *grabbed = false;
+    }
     if egui.is_some_and(|e| e.wants_any_pointer_input())
         || light_drag.is_some_and(|d| d.active())
         || cut_drag.is_some_and(|d| d.active())
@@ -139,13 +152,13 @@ fn orbit_camera(
     };
     for (mut orbit, mut transform, mut view) in &mut cameras {
         let mut changed = false;
-        if buttons.pressed(MouseButton::Left) && delta != Vec2::ZERO {
+        let dragging = *grabbed && delta != Vec2::ZERO;
+        if buttons.pressed(MouseButton::Left) && dragging {
             orbit.yaw -= delta.x * ORBIT_SPEED;
             orbit.pitch = (orbit.pitch + delta.y * ORBIT_SPEED).clamp(-1.55, 1.55);
             changed = true;
         }
-        if (buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle))
-            && delta != Vec2::ZERO
+        if (buttons.pressed(MouseButton::Right) || buttons.pressed(MouseButton::Middle)) && dragging
         {
             let scale = orbit.distance * 0.0015;
             let pan = transform.right() * -delta.x * scale + transform.up() * delta.y * scale;
@@ -156,7 +169,7 @@ fn orbit_camera(
             MouseScrollUnit::Line => scroll.delta.y,
             MouseScrollUnit::Pixel => scroll.delta.y / 40.0,
         };
-        if lines != 0.0 {
+        if lines != 0.0 && over_scene {
             orbit.distance = (orbit.distance * ZOOM_STEP.powf(lines)).max(1e-3);
             changed = true;
         }
@@ -170,6 +183,16 @@ fn orbit_camera(
             }
         }
     }
+}
+
+/// Whether the cursor is over the part of `window` the panels leave to the scene (anywhere in
+/// the window before the panels are laid out).
+fn over_scene(window: &Window, viewport: Option<&super::preview::Viewport>) -> bool {
+    let (min, size) = super::preview::Viewport::of(viewport, window);
+    window.physical_cursor_position().is_some_and(|p| {
+        let p = p - min;
+        p.cmpge(Vec2::ZERO).all() && p.cmplt(size.as_vec2()).all()
+    })
 }
 
 #[cfg(test)]
@@ -269,6 +292,100 @@ mod tests {
         move_to(&mut app, 300.0);
         let mut q = app.world_mut().query::<&Orbit>();
         assert_eq!(q.single(app.world()).unwrap().yaw, o.yaw);
+    }
+
+    /// The wheel over a docked panel scrolls the panel, not the view, and a drag that starts
+    /// there does not turn it; over the scene both do.
+    #[test]
+    fn the_wheel_and_drags_over_a_panel_leave_the_view_alone() {
+        use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
+        use bevy::window::{PrimaryWindow, WindowResolution};
+        use bevy_egui::egui;
+        let mut app = App::new();
+        app.init_resource::<ButtonInput<MouseButton>>()
+            .init_resource::<AccumulatedMouseMotion>()
+            .init_resource::<AccumulatedMouseScroll>()
+            // A panel takes the left half: the scene is x in [200, 400).
+            .insert_resource(crate::sandbox::preview::Viewport {
+                rect: egui::Rect::from_min_max(egui::pos2(200.0, 0.0), egui::pos2(400.0, 300.0)),
+                pixels_per_point: 1.0,
+            })
+            .add_systems(Update, orbit_camera);
+        let view =
+            voxcast_core::camera::Camera::framing(Vec3::ZERO, Vec3::splat(10.0), Vec3::Z, Vec3::Y)
+                .unwrap();
+        let start = Orbit::looking_at(view.eye, view.target, view.up);
+        app.world_mut()
+            .spawn((MainCamera, View(view), start, start.transform()));
+        app.world_mut().spawn((
+            Window {
+                resolution: WindowResolution::new(400, 300).with_scale_factor_override(1.0),
+                ..default()
+            },
+            PrimaryWindow,
+        ));
+        let move_to = |app: &mut App, x: f64| {
+            let mut q = app.world_mut().query::<&mut Window>();
+            let mut w = q.single_mut(app.world_mut()).unwrap();
+            w.set_physical_cursor_position(Some(bevy::math::DVec2::new(x, 150.0)));
+            app.update();
+        };
+        let orbit = |app: &mut App| {
+            *app.world_mut()
+                .query::<&Orbit>()
+                .single(app.world())
+                .unwrap()
+        };
+        let wheel = |app: &mut App, x: f64| {
+            app.world_mut()
+                .resource_mut::<AccumulatedMouseScroll>()
+                .delta = Vec2::new(0.0, 3.0);
+            move_to(app, x);
+            app.world_mut()
+                .resource_mut::<AccumulatedMouseScroll>()
+                .delta = Vec2::ZERO;
+        };
+        wheel(&mut app, 100.0);
+        assert_eq!(orbit(&mut app), start, "the wheel over the panel zoomed");
+        wheel(&mut app, 300.0);
+        assert!(
+            orbit(&mut app).distance < start.distance,
+            "the wheel over the scene did not zoom"
+        );
+        let zoomed = orbit(&mut app);
+        // A drag from the panel into the scene: nothing. (Input is cleared after each frame
+        // here as the input plugin clears it: "just pressed" lasts one frame.)
+        move_to(&mut app, 100.0);
+        app.world_mut()
+            .resource_mut::<ButtonInput<MouseButton>>()
+            .press(MouseButton::Left);
+        move_to(&mut app, 110.0);
+        app.world_mut()
+            .resource_mut::<ButtonInput<MouseButton>>()
+            .clear();
+        for x in [150.0, 250.0, 350.0] {
+            move_to(&mut app, x);
+        }
+        assert_eq!(
+            orbit(&mut app),
+            zoomed,
+            "a drag from the panel turned the view"
+        );
+        // Released, then pressed in the scene: it turns.
+        let mut input = app.world_mut().resource_mut::<ButtonInput<MouseButton>>();
+        input.release(MouseButton::Left);
+        input.clear();
+        move_to(&mut app, 300.0);
+        app.world_mut()
+            .resource_mut::<ButtonInput<MouseButton>>()
+            .press(MouseButton::Left);
+        for x in [320.0, 340.0] {
+            move_to(&mut app, x);
+        }
+        assert!(
+            orbit(&mut app).yaw < zoomed.yaw,
+            "a drag in the scene did not turn the view"
+        );
     }
 
     #[test]
