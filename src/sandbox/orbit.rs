@@ -244,9 +244,9 @@ mod tests {
         assert!((v.target - (lo + hi) * 0.5).length() < 1e-3);
     }
 
-    /// A drag that moves only the cursor (no raw motion, as xdotool and VNC send) orbits.
-    #[test]
-    fn a_drag_of_the_cursor_alone_orbits() {
+    /// An app with only the orbit camera, a 400×300 window (its scene in `viewport`, or all
+    /// of it) and a camera framing a 10-unit cube; and the camera's orbit.
+    fn orbit_app(viewport: Option<crate::sandbox::preview::Viewport>) -> (App, Orbit) {
         use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
         use bevy::window::{PrimaryWindow, WindowResolution};
         let mut app = App::new();
@@ -254,6 +254,9 @@ mod tests {
             .init_resource::<AccumulatedMouseMotion>()
             .init_resource::<AccumulatedMouseScroll>()
             .add_systems(Update, orbit_camera);
+        if let Some(v) = viewport {
+            app.insert_resource(v);
+        }
         let view =
             voxcast_core::camera::Camera::framing(Vec3::ZERO, Vec3::splat(10.0), Vec3::Z, Vec3::Y)
                 .unwrap();
@@ -267,12 +270,28 @@ mod tests {
             },
             PrimaryWindow,
         ));
-        let move_to = |app: &mut App, x: f64| {
-            let mut q = app.world_mut().query::<&mut Window>();
-            let mut w = q.single_mut(app.world_mut()).unwrap();
-            w.set_physical_cursor_position(Some(bevy::math::DVec2::new(x, 150.0)));
-            app.update();
-        };
+        (app, start)
+    }
+
+    /// Puts the cursor at `(x, 150)` and runs a frame.
+    fn move_to(app: &mut App, x: f64) {
+        let mut q = app.world_mut().query::<&mut Window>();
+        let mut w = q.single_mut(app.world_mut()).unwrap();
+        w.set_physical_cursor_position(Some(bevy::math::DVec2::new(x, 150.0)));
+        app.update();
+    }
+
+    fn orbit(app: &mut App) -> Orbit {
+        *app.world_mut()
+            .query::<&Orbit>()
+            .single(app.world())
+            .unwrap()
+    }
+
+    /// A drag that moves only the cursor (no raw motion, as xdotool and VNC send) orbits.
+    #[test]
+    fn a_drag_of_the_cursor_alone_orbits() {
+        let (mut app, start) = orbit_app(None);
         move_to(&mut app, 100.0);
         app.world_mut()
             .resource_mut::<ButtonInput<MouseButton>>()
@@ -280,8 +299,7 @@ mod tests {
         for x in [120.0, 140.0, 160.0] {
             move_to(&mut app, x);
         }
-        let mut q = app.world_mut().query::<&Orbit>();
-        let o = *q.single(app.world()).unwrap();
+        let o = orbit(&mut app);
         let expect = start.yaw - 60.0 * ORBIT_SPEED;
         assert!((o.yaw - expect).abs() < 1e-4, "yaw {} vs {expect}", o.yaw);
         assert!((o.pitch - start.pitch).abs() < 1e-6);
@@ -290,52 +308,20 @@ mod tests {
             .resource_mut::<ButtonInput<MouseButton>>()
             .release(MouseButton::Left);
         move_to(&mut app, 300.0);
-        let mut q = app.world_mut().query::<&Orbit>();
-        assert_eq!(q.single(app.world()).unwrap().yaw, o.yaw);
+        assert_eq!(orbit(&mut app).yaw, o.yaw);
     }
 
     /// The wheel over a docked panel scrolls the panel, not the view, and a drag that starts
     /// there does not turn it; over the scene both do.
     #[test]
     fn the_wheel_and_drags_over_a_panel_leave_the_view_alone() {
-        use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
-        use bevy::window::{PrimaryWindow, WindowResolution};
+        use bevy::input::mouse::AccumulatedMouseScroll;
         use bevy_egui::egui;
-        let mut app = App::new();
-        app.init_resource::<ButtonInput<MouseButton>>()
-            .init_resource::<AccumulatedMouseMotion>()
-            .init_resource::<AccumulatedMouseScroll>()
-            // A panel takes the left half: the scene is x in [200, 400).
-            .insert_resource(crate::sandbox::preview::Viewport {
-                rect: egui::Rect::from_min_max(egui::pos2(200.0, 0.0), egui::pos2(400.0, 300.0)),
-                pixels_per_point: 1.0,
-            })
-            .add_systems(Update, orbit_camera);
-        let view =
-            voxcast_core::camera::Camera::framing(Vec3::ZERO, Vec3::splat(10.0), Vec3::Z, Vec3::Y)
-                .unwrap();
-        let start = Orbit::looking_at(view.eye, view.target, view.up);
-        app.world_mut()
-            .spawn((MainCamera, View(view), start, start.transform()));
-        app.world_mut().spawn((
-            Window {
-                resolution: WindowResolution::new(400, 300).with_scale_factor_override(1.0),
-                ..default()
-            },
-            PrimaryWindow,
-        ));
-        let move_to = |app: &mut App, x: f64| {
-            let mut q = app.world_mut().query::<&mut Window>();
-            let mut w = q.single_mut(app.world_mut()).unwrap();
-            w.set_physical_cursor_position(Some(bevy::math::DVec2::new(x, 150.0)));
-            app.update();
-        };
-        let orbit = |app: &mut App| {
-            *app.world_mut()
-                .query::<&Orbit>()
-                .single(app.world())
-                .unwrap()
-        };
+        // A panel takes the left half: the scene is x in [200, 400).
+        let (mut app, start) = orbit_app(Some(crate::sandbox::preview::Viewport {
+            rect: egui::Rect::from_min_max(egui::pos2(200.0, 0.0), egui::pos2(400.0, 300.0)),
+            pixels_per_point: 1.0,
+        }));
         let wheel = |app: &mut App, x: f64| {
             app.world_mut()
                 .resource_mut::<AccumulatedMouseScroll>()
