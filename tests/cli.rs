@@ -226,8 +226,8 @@ fn bench_writes_its_table_and_plot() {
     assert!(image::open(&plot).is_ok());
 }
 
-/// `bench --no-lanes` measures the path a CPU without AVX2 takes: it says so, and its images
-/// are the lanes' bit for bit.
+/// `--no-lanes` renders as a CPU without AVX2 does: `bench` says so, and the images of `bench`
+/// and `render` are the lanes' bit for bit.
 #[test]
 fn bench_without_the_lanes_says_so_and_draws_the_same_images() {
     let dir = out_dir();
@@ -267,6 +267,23 @@ fn bench_without_the_lanes_says_so_and_draws_the_same_images() {
         let b = std::fs::read(without_images.join(&name)).unwrap();
         assert!(a == b, "{name:?} differs without the lanes");
     }
+    // `render` takes the switch too.
+    let render = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "render",
+            "--volume",
+            "builtin:brainsmall",
+            "--size",
+            "40x32",
+        ];
+        args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+        args.extend_from_slice(extra);
+        let o = voxcast(&args);
+        assert!(o.status.success(), "{}", text(&o));
+        std::fs::read(out).unwrap()
+    };
+    assert!(render("lanes_on.png", &[]) == render("lanes_off.png", &["--no-lanes"]));
 }
 
 /// `--knobs`: one table per knob, each ending with its reference, written into a section of an

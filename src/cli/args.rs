@@ -573,6 +573,23 @@ fn parse_light(s: &str) -> Result<Option<LightSource>, String> {
     Ok(Some(source))
 }
 
+/// How the CPU renders.
+#[derive(Args, Debug, Clone, Default)]
+pub struct CpuArgs {
+    /// Render as a CPU without AVX2 does (or one that is not x86-64): the eight-lane paths
+    /// off, every sample one at a time — the same images, slower. For measuring what such a
+    /// machine (a low-cost laptop, an ARM one) would see.
+    #[arg(long)]
+    pub no_lanes: bool,
+}
+
+impl CpuArgs {
+    /// Applies the options to the whole process (before any scene is built).
+    pub fn apply(&self) {
+        voxcast_core::trace::set_lanes_allowed(!self.no_lanes);
+    }
+}
+
 /// The camera options.
 #[derive(Args, Debug, Clone, Default)]
 pub struct CameraArgs {

@@ -29,6 +29,8 @@ pub struct BenchArgs {
     pub settings: SettingsArgs,
     #[command(flatten)]
     pub camera: CameraArgs,
+    #[command(flatten)]
+    pub cpu: super::args::CpuArgs,
     /// Image size in pixels.
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -76,10 +78,6 @@ pub struct BenchArgs {
     /// Keep the images (Voxcast at each step, the references, VTK's) in this folder.
     #[arg(long)]
     pub images: Option<PathBuf>,
-    /// Measure as a CPU without AVX2 renders (or one that is not x86-64): the eight-lane
-    /// paths off, every sample one at a time (the same images, bit for bit).
-    #[arg(long)]
-    pub no_lanes: bool,
     /// Instead: measure every knob's trade (step, interpolation, cutoff, jitter,
     /// supersampling, preview resolution and step multiplier) against its exact setting, and
     /// print (or with --report, write) a markdown table per knob.
@@ -116,6 +114,7 @@ impl PeerResult {
 }
 
 pub fn run(a: &BenchArgs) -> Result<(), CliError> {
+    a.cpu.apply();
     if a.steps.is_empty()
         || a.steps
             .iter()
@@ -149,8 +148,7 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
         let mut s = resolved.settings.clone();
         s.opacity_correction = correction;
         s.step = Length::Voxels(a.reference);
-        let mut scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
-        scene.simd = !a.no_lanes;
+        let scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
         let label = format!("reference 1/{:.0} voxel", 1.0 / a.reference);
         let reference = timed_render(&scene, &camera, a.size, 1, Some(threads), &label)?;
         save_image(
@@ -160,8 +158,7 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
         )?;
         for &step in &a.steps {
             s.step = Length::Voxels(step);
-            let mut scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
-            scene.simd = !a.no_lanes;
+            let scene = Scene::new(&loaded.volume, &resolved.transfer, &s, camera.forward())?;
             let timed = timed_render(
                 &scene,
                 &camera,
@@ -342,9 +339,8 @@ fn compare_with_peer(
     let mut settings = resolved.settings.clone();
     settings.opacity_correction = true;
     settings.step = Length::Voxels(a.peer_step);
-    let mut scene = Scene::new(volume, &resolved.transfer, &settings, camera.forward())
+    let scene = Scene::new(volume, &resolved.transfer, &settings, camera.forward())
         .map_err(|e| e.to_string())?;
-    scene.simd = !a.no_lanes;
     let mut rounds = Vec::new();
     let mut first_s = f64::NAN;
     let mut fp_threads = String::new();
@@ -455,7 +451,7 @@ fn report(
         super::knobs::cpu_model(),
         threads,
         ghz.map_or(String::new(), |g| format!(", {g:.2} GHz nominal")),
-        if a.no_lanes {
+        if !voxcast_core::trace::lanes_allowed() {
             "turned off (`--no-lanes`: as a CPU without AVX2 renders)"
         } else if lanes {
             "on"

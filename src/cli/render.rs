@@ -20,6 +20,8 @@ pub struct RenderArgs {
     pub settings: SettingsArgs,
     #[command(flatten)]
     pub camera: CameraArgs,
+    #[command(flatten)]
+    pub cpu: super::args::CpuArgs,
     /// Image size in pixels.
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -114,6 +116,7 @@ pub fn timed_render(
 }
 
 pub fn run(a: &RenderArgs) -> Result<(), CliError> {
+    a.cpu.apply();
     let t_load = Instant::now();
     let loaded = a.volume.load()?;
     let load_s = t_load.elapsed().as_secs_f64();

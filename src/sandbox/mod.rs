@@ -63,6 +63,8 @@ pub struct SandboxArgs {
     pub settings: SettingsArgs,
     #[command(flatten)]
     pub camera: CameraArgs,
+    #[command(flatten)]
+    pub cpu: crate::cli::args::CpuArgs,
     /// Render the preview of this view once, save it to this PNG and exit (no window needed).
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
@@ -206,6 +208,7 @@ impl Start {
 
 /// Runs the sandbox (or takes the screenshot) and returns when it closes.
 pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
+    args.cpu.apply();
     let start = Start::from_args(args)?;
     let mut app = App::new();
     let headless = args.screenshot.is_some() || args.compare.is_some();

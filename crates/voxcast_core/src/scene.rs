@@ -71,7 +71,7 @@ pub struct Scene<'a> {
     pub superblocks: Option<&'a Superblocks>,
     /// Whether Accumulate may locate and evaluate eight samples at once where the CPU has the
     /// instructions for it (AVX2) — the same pixels, bit for bit (`crate::trace`'s lanes); on
-    /// by default, off to compare.
+    /// by default (unless [`crate::trace::set_lanes_allowed`] said otherwise), off to compare.
     pub simd: bool,
 }
 
@@ -147,7 +147,7 @@ impl<'a> Scene<'a> {
             blocks: None,
             bricks: None,
             superblocks: None,
-            simd: true,
+            simd: crate::trace::lanes_allowed(),
             volume,
             classifier,
             lights: settings.phong.resolve(view_forward),

@@ -122,6 +122,21 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
     }
 }
 
+/// Whether scenes built from now on may take the eight-lane paths ([`Scene::simd`]'s default).
+static LANES_ALLOWED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
+
+/// Lets a measurement render as a CPU without AVX2 does (or one that is not x86-64): with
+/// `false`, scenes built afterwards take the one-sample-at-a-time marches — the same images,
+/// bit for bit. For the whole process (the command line's `--no-lanes`).
+pub fn set_lanes_allowed(allowed: bool) {
+    LANES_ALLOWED.store(allowed, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Whether scenes built now may take the eight-lane paths ([`set_lanes_allowed`]).
+pub fn lanes_allowed() -> bool {
+    LANES_ALLOWED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 /// Whether Accumulate renders of `scene` take the eight-lane path (`lanes.rs`): the scene
 /// allows it ([`Scene::simd`], Accumulate with skipping, trilinear, shading from precomputed
 /// records, directional lights, a whole-number shininess) and this CPU has AVX2.
