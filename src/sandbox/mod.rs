@@ -10,6 +10,7 @@ mod compare;
 mod compare_cli;
 mod cpu_lines;
 mod cut;
+mod fit;
 mod inspect;
 mod lattice;
 pub(crate) mod levels;
@@ -121,9 +122,10 @@ pub struct SandboxArgs {
     pub preview_scale: Option<f32>,
     #[arg(long, help = voxcast_core::tunables::PREVIEW_BACKEND.doc, value_parser = ["gpu", "cpu"])]
     pub preview_backend: Option<String>,
-    /// Window or screenshot size in pixels.
-    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
-    pub size: (u32, u32),
+    /// Window or screenshot size in pixels (default 1280x720; without it, a window larger than
+    /// the screen is made smaller to fit).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
     /// With a ray density as the volume (`--volume density:…`): also draw its rays as lines
     /// (`mesh`) or its vector field (`field`); repeat for both.
     #[arg(long, value_parser = ["mesh", "field"])]
@@ -276,7 +278,8 @@ fn build_headless(app: &mut App, args: &SandboxArgs) -> Result<(), CliError> {
     app.add_plugins(bevy::app::ScheduleRunnerPlugin::run_loop(
         std::time::Duration::ZERO,
     ));
-    app.insert_resource(screenshot::ImageSize(args.size.0, args.size.1))
+    let (width, height) = args.size.unwrap_or(fit::DEFAULT_SIZE);
+    app.insert_resource(screenshot::ImageSize(width, height))
         .add_plugins(screenshot::image_camera_plugin);
     if let Some(path) = &args.screenshot {
         if args.sweep {
@@ -307,15 +310,19 @@ fn build_headless(app: &mut App, args: &SandboxArgs) -> Result<(), CliError> {
 /// measurement of the frame time.
 fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Result<(), CliError> {
     platform::check_display()?;
+    let window_size = args.size.unwrap_or(fit::DEFAULT_SIZE);
     engine(
         app,
         Some(Window {
             title: "Voxcast".into(),
-            resolution: WindowResolution::new(args.size.0, args.size.1),
+            resolution: WindowResolution::new(window_size.0, window_size.1),
             ..default()
         }),
         args.play_levels.is_some(),
     );
+    if args.size.is_none() {
+        app.add_plugins(fit::plugin);
+    }
     let free_play = mode::FreePlay(mode::Stage {
         rays: Some(args.rays),
         rays_shown: !args.no_rays,
@@ -374,8 +381,8 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
                 orbit_degrees: args.auto_orbit,
                 label: format!(
                     "{}×{} {} rays {}×{} {}, adaptive {}",
-                    args.size.0,
-                    args.size.1,
+                    window_size.0,
+                    window_size.1,
                     render.settings.method.name(),
                     args.rays,
                     args.rays,
