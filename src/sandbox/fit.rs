@@ -39,9 +39,8 @@ pub fn fitted((w, h): (f32, f32), (mw, mh): (f32, f32)) -> (f32, f32) {
 fn fit_window(
     mut windows: Query<&mut Window, With<PrimaryWindow>>,
     monitors: Query<&Monitor, With<PrimaryMonitor>>,
-    mut waited: Local<Option<u32>>,
+    mut frames: Local<u32>,
 ) {
-    let frames = waited.get_or_insert(0);
     if *frames > PATIENCE {
         return;
     }

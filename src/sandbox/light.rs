@@ -143,10 +143,8 @@ fn place_marker(
 
 /// The ray under the cursor, from the main camera's view (shown in the viewport).
 pub(super) fn cursor_ray(window: &Window, viewport: Option<&Viewport>, view: &View) -> Option<Ray> {
-    let (min, size) = Viewport::of(viewport, window);
-    let cursor = window.physical_cursor_position()? - min;
-    let inside = cursor.cmpge(Vec2::ZERO).all() && cursor.cmplt(size.as_vec2()).all();
-    inside.then(|| view.0.ray(cursor.x, cursor.y, size.x, size.y))
+    let (cursor, size) = Viewport::cursor(viewport, window)?;
+    Some(view.0.ray(cursor.x, cursor.y, size.x, size.y))
 }
 
 /// Whether `ray` meets the sphere at `centre` of `radius` ahead of it (or starts inside it):

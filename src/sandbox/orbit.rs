@@ -131,7 +131,9 @@ fn orbit_camera(
         _ => Vec2::ZERO,
     };
     *last_cursor = cursor;
-    let over_scene = window.is_some_and(|w| over_scene(w, viewport.as_deref()));
+    // Over the part of the window the panels leave to the scene.
+    let over_scene =
+        window.is_some_and(|w| super::preview::Viewport::cursor(viewport.as_deref(), w).is_some());
     let buttons_held = [MouseButton::Left, MouseButton::Right, MouseButton::Middle];
     if buttons.any_just_pressed(buttons_held) {
         *grabbed = over_scene;
@@ -183,16 +185,6 @@ fn orbit_camera(
             }
         }
     }
-}
-
-/// Whether the cursor is over the part of `window` the panels leave to the scene (anywhere in
-/// the window before the panels are laid out).
-fn over_scene(window: &Window, viewport: Option<&super::preview::Viewport>) -> bool {
-    let (min, size) = super::preview::Viewport::of(viewport, window);
-    window.physical_cursor_position().is_some_and(|p| {
-        let p = p - min;
-        p.cmpge(Vec2::ZERO).all() && p.cmplt(size.as_vec2()).all()
-    })
 }
 
 #[cfg(test)]

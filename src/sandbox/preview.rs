@@ -209,6 +209,15 @@ impl Viewport {
         viewport.map_or(ctx.viewport_rect(), |v| v.rect)
     }
 
+    /// The cursor in the viewport of `window` (physical pixels from its top-left corner, with
+    /// the viewport's size), where the cursor is inside it.
+    pub fn cursor(viewport: Option<&Viewport>, window: &Window) -> Option<(Vec2, UVec2)> {
+        let (min, size) = Self::of(viewport, window);
+        let cursor = window.physical_cursor_position()? - min;
+        let inside = cursor.cmpge(Vec2::ZERO).all() && cursor.cmplt(size.as_vec2()).all();
+        inside.then_some((cursor, size))
+    }
+
     /// The viewport of `window` (its whole area when `viewport` is not known yet).
     pub fn of(viewport: Option<&Viewport>, window: &Window) -> (Vec2, UVec2) {
         match viewport {

@@ -3,11 +3,11 @@
 //!
 //! Each ray is marched exactly as the render marches it (same interval, jitter, skipping and
 //! early termination) to find where it stopped; then its path up to there is walked through
-//! the blocks (Amanatides–Woo, as the GPU preview's skipping walks them). A block is **crossed** by a
-//! ray whose marched part passes through it, and **sampled** when the ray has sample positions
-//! in it that the march looks at: every position where nothing is skipped, and under
-//! Accumulate's empty-space skipping only those in blocks the transfer function does not make
-//! wholly transparent. This is the block-level picture — what the GPU preview skips; the CPU
+//! the blocks (Amanatides–Woo, as the GPU preview's skipping walks them). A block is
+//! **crossed** by a ray whose marched part passes through it, and **sampled** when the ray has
+//! sample positions in it that the march looks at: every position where nothing is skipped,
+//! and under Accumulate's empty-space skipping only those in blocks the transfer function does
+//! not make wholly transparent. This is the block-level picture — what the GPU preview skips; the CPU
 //! skips finer, by cells and bricks (`crate::skip::VisibleCells`), which the blocks are too
 //! coarse to show.
 //! First, Maximum and Minimum pass blocks by their running value (not drawn here): under them
