@@ -576,17 +576,29 @@ fn parse_light(s: &str) -> Result<Option<LightSource>, String> {
 /// How the CPU renders.
 #[derive(Args, Debug, Clone, Default)]
 pub struct CpuArgs {
-    /// Render as a CPU without AVX2 does (or one that is not x86-64): the eight-lane paths
-    /// off, every sample one at a time — the same images, slower. For measuring what such a
-    /// machine (a low-cost laptop, an ARM one) would see.
-    #[arg(long)]
+    /// Render as a CPU without SSE 4.1 does (or one that is not x86-64, an ARM laptop): the
+    /// eight-lane paths off, every sample one at a time — the same images, slower. For
+    /// measuring what such a machine would see.
+    #[arg(long, conflicts_with = "narrow_lanes")]
     pub no_lanes: bool,
+    /// Render as an x86-64 CPU without AVX does (most low-cost laptops' Celeron and Pentium
+    /// Silver up to 2021): Accumulate's eight lanes in two halves of four (SSE 4.1), the
+    /// projections one sample at a time — the same images, slower.
+    #[arg(long)]
+    pub narrow_lanes: bool,
 }
 
 impl CpuArgs {
     /// Applies the options to the whole process (before any scene is built).
     pub fn apply(&self) {
-        voxcast_core::trace::set_lanes_allowed(!self.no_lanes);
+        use voxcast_core::trace::Vectors;
+        voxcast_core::trace::set_vectors(if self.no_lanes {
+            Vectors::Off
+        } else if self.narrow_lanes {
+            Vectors::Narrow
+        } else {
+            Vectors::Wide
+        });
     }
 }
 

@@ -436,12 +436,17 @@ fn report(
             "the projections' eight-lane values and bricks' test (AVX2)"
         }
         Method::Average | Method::Sum => "the projections' eight-lane values (AVX2)",
-        Method::Accumulate | Method::First => "Accumulate's eight-lane path (AVX2)",
+        Method::Accumulate | Method::First => "Accumulate's eight-lane path",
     };
-    let lanes = scene.is_ok_and(|scene| match s.method {
-        Method::Accumulate | Method::First => voxcast_core::trace::uses_lanes(&scene),
-        _ => voxcast_core::trace::uses_value_lanes(&scene),
+    let instructions = scene.as_ref().ok().and_then(|scene| match s.method {
+        Method::Accumulate | Method::First => voxcast_core::trace::lane_instructions(scene),
+        _ => voxcast_core::trace::uses_value_lanes(scene).then_some("AVX2"),
     });
+    let path = match instructions {
+        Some(i) if !path.ends_with(')') => format!("{path} ({i})"),
+        _ => path.to_string(),
+    };
+    let lanes = instructions.is_some();
     let _ = writeln!(
         r,
         "Measured on {} ({} threads{}), {path} {}. *ns* and \
@@ -451,8 +456,14 @@ fn report(
         super::knobs::cpu_model(),
         threads,
         ghz.map_or(String::new(), |g| format!(", {g:.2} GHz nominal")),
-        if !voxcast_core::trace::lanes_allowed() {
-            "turned off (`--no-lanes`: as a CPU without AVX2 renders)"
+        if voxcast_core::trace::vectors() == voxcast_core::trace::Vectors::Off {
+            "turned off (`--no-lanes`: as a CPU without SSE 4.1 renders)"
+        } else if voxcast_core::trace::vectors() == voxcast_core::trace::Vectors::Narrow {
+            if lanes {
+                "on, in two halves of four (`--narrow-lanes`: as a CPU without AVX renders)"
+            } else {
+                "turned off (`--narrow-lanes`: as a CPU without AVX renders)"
+            }
         } else if lanes {
             "on"
         } else {

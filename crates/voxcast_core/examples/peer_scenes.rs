@@ -7,7 +7,7 @@
 //!
 //! ```text
 //! cargo run --release -p voxcast_core --example peer_scenes -- [--threads N] [--repeat N]
-//!     [--only NAME] [--size N] [--step VOXELS] [--no-simd] [--method NAME] [--no-skipping]
+//!     [--only NAME] [--size N] [--step VOXELS] [--no-lanes | --narrow-lanes] [--method NAME] [--no-skipping]
 //! ```
 //!
 //! `--method` renders another compositing method (maximum, minimum, average, sum, first) over
@@ -41,7 +41,7 @@ struct Options {
     only: Option<String>,
     size: u32,
     step: f32,
-    simd: bool,
+    simd: voxcast_core::trace::Vectors,
     method: Option<voxcast_core::composite::Method>,
     skipping: bool,
 }
@@ -53,7 +53,7 @@ fn options() -> Result<Options, String> {
         only: None,
         size: 512,
         step: 0.5,
-        simd: true,
+        simd: voxcast_core::trace::Vectors::Wide,
         method: None,
         skipping: true,
     };
@@ -66,7 +66,8 @@ fn options() -> Result<Options, String> {
             "--size" => o.size = value()?.parse().map_err(|e| format!("{e}"))?,
             "--step" => o.step = value()?.parse().map_err(|e| format!("{e}"))?,
             "--only" => o.only = Some(value()?),
-            "--no-simd" => o.simd = false,
+            "--no-lanes" => o.simd = voxcast_core::trace::Vectors::Off,
+            "--narrow-lanes" => o.simd = voxcast_core::trace::Vectors::Narrow,
             "--no-skipping" => o.skipping = false,
             "--method" => {
                 let name = value()?;

@@ -69,10 +69,11 @@ pub struct Scene<'a> {
     pub bricks: Option<&'a BrickRanges>,
     /// The superblocks' ranges, where Maximum and Minimum choose what to sample first.
     pub superblocks: Option<&'a Superblocks>,
-    /// Whether Accumulate may locate and evaluate eight samples at once where the CPU has the
-    /// instructions for it (AVX2) — the same pixels, bit for bit (`crate::trace`'s lanes); on
-    /// by default (unless [`crate::trace::set_lanes_allowed`] said otherwise), off to compare.
-    pub simd: bool,
+    /// The widest vectors the CPU renderer may use to locate and evaluate eight samples at once
+    /// where the CPU has the instructions for it (AVX2, SSE 4.1) — the same pixels, bit for bit
+    /// (`crate::trace`'s lanes); the widest by default (unless [`crate::trace::set_vectors`]
+    /// said otherwise), narrower or off to compare.
+    pub simd: crate::trace::Vectors,
 }
 
 /// Sum's default range: from 0 to twice what a ray along the longest side gathers through
@@ -147,7 +148,7 @@ impl<'a> Scene<'a> {
             blocks: None,
             bricks: None,
             superblocks: None,
-            simd: crate::trace::lanes_allowed(),
+            simd: crate::trace::vectors(),
             volume,
             classifier,
             lights: settings.phong.resolve(view_forward),

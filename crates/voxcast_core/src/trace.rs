@@ -42,6 +42,8 @@ mod extreme;
 mod lanes;
 #[cfg(target_arch = "x86_64")]
 mod leaps;
+#[cfg(target_arch = "x86_64")]
+mod simd;
 mod skipping;
 #[cfg(target_arch = "x86_64")]
 mod value_lanes;
@@ -122,39 +124,67 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
     }
 }
 
-/// Whether scenes built from now on may take the eight-lane paths ([`Scene::simd`]'s default).
-static LANES_ALLOWED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
-
-/// Lets a measurement render as a CPU without AVX2 does (or one that is not x86-64): with
-/// `false`, scenes built afterwards take the one-sample-at-a-time marches — the same images,
-/// bit for bit. For the whole process (the command line's `--no-lanes`).
-pub fn set_lanes_allowed(allowed: bool) {
-    LANES_ALLOWED.store(allowed, std::sync::atomic::Ordering::Relaxed);
+/// The widest vectors the CPU renderer may use ([`Scene::simd`]): the same images, bit for bit,
+/// whichever it takes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub enum Vectors {
+    /// The widest the CPU has: AVX2 (eight lanes in one register), else SSE 4.1.
+    #[default]
+    Wide,
+    /// SSE 4.1 at most (eight lanes in two registers of four), as on an x86-64 without AVX —
+    /// most low-cost laptops' Celeron and Pentium Silver CPUs up to 2021. Accumulate only:
+    /// the projections' lanes need AVX2.
+    Narrow,
+    /// None: every sample one at a time, as on a CPU without SSE 4.1 or that is not x86-64.
+    Off,
 }
 
-/// Whether scenes built now may take the eight-lane paths ([`set_lanes_allowed`]).
-pub fn lanes_allowed() -> bool {
-    LANES_ALLOWED.load(std::sync::atomic::Ordering::Relaxed)
+/// [`Scene::simd`]'s default for scenes built from now on.
+static VECTORS: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
+
+/// Lets a measurement render as a CPU with narrower vectors, or none, does: scenes built
+/// afterwards take [`Vectors`] at most — the same images, bit for bit. For the whole process
+/// (the command line's `--no-lanes` and `--narrow-lanes`).
+pub fn set_vectors(v: Vectors) {
+    VECTORS.store(v as u8, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// The widest vectors scenes built now may use ([`set_vectors`]).
+pub fn vectors() -> Vectors {
+    match VECTORS.load(std::sync::atomic::Ordering::Relaxed) {
+        0 => Vectors::Wide,
+        1 => Vectors::Narrow,
+        _ => Vectors::Off,
+    }
 }
 
 /// Whether Accumulate renders of `scene` take the eight-lane path (`lanes.rs`): the scene
 /// allows it ([`Scene::simd`], Accumulate with skipping, trilinear, shading from precomputed
-/// records, directional lights, a whole-number shininess) and this CPU has AVX2.
+/// records, directional lights, a whole-number shininess) and this CPU has AVX2 or SSE 4.1.
 pub fn uses_lanes(scene: &Scene<'_>) -> bool {
+    lane_instructions(scene).is_some()
+}
+
+/// The instructions Accumulate renders of `scene` take their eight lanes with ("AVX2" or
+/// "SSE 4.1"), if they take them ([`uses_lanes`]).
+pub fn lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
     struct Probe<'s, 'a>(&'s Scene<'a>);
     impl GridVisitor for Probe<'_, '_> {
-        type Output = bool;
-        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> bool {
+        type Output = Option<&'static str>;
+        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Option<&'static str> {
             #[cfg(target_arch = "x86_64")]
-            return lanes::Lanes::new(self.0, &grid).is_some();
+            return lanes::Lanes::new(self.0, &grid).map(|l| l.instructions());
             #[cfg(not(target_arch = "x86_64"))]
             {
                 let _ = grid;
-                false
+                None
             }
         }
     }
-    scene.settings.method == Method::Accumulate && scene.volume.visit(Probe(scene))
+    if scene.settings.method != Method::Accumulate {
+        return None;
+    }
+    scene.volume.visit(Probe(scene))
 }
 
 /// Whether projection renders of `scene` (Maximum, Minimum, Average, Sum) read their samples
@@ -246,7 +276,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             // Every value finite, as the lanes count every sample (`ValueStats::add` counts
             // only those): the rescale of the type's whole range is, and it is monotone.
             values: value_lanes::ValueLanes::new(&g).filter(|_| {
-                s.simd
+                s.simd == Vectors::Wide
                     && s.settings.interpolation == Interpolation::Trilinear
                     && T::TABLE.is_some_and(|(offset, count)| {
                         let ends = [-offset, count as i32 - 1 - offset];

@@ -1,11 +1,11 @@
-//! The eight-lane Accumulate march (`trace/lanes.rs`, AVX2) renders the scalar march's pixels
-//! bit for bit, with the same sample counts: over random volumes of every integer type (with
+//! The eight-lane Accumulate march (`trace/lanes.rs`), with AVX2's vectors and with SSE 4.1's
+//! (`--narrow-lanes`), renders the scalar march's pixels bit for bit, with the same sample counts: over random volumes of every integer type (with
 //! and without a rescale), transfer functions, lights, shading models, steps and cameras —
 //! outside, inside, axis-parallel — and at the extremes (thin volumes, huge and tiny steps,
 //! empty and all-opaque tables, a light straight behind the viewer).
 //!
-//! On a CPU without AVX2 both renders take the scalar march; the tests then say so and compare
-//! it with itself.
+//! On a CPU without AVX2 (or SSE 4.1) those renders take the narrower lanes (or the scalar
+//! march); the tests then say so and compare what there is.
 
 mod scenes;
 
@@ -18,7 +18,7 @@ use voxcast_core::render::{RenderStats, render_with_threads};
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::shade::{Highlight, Light, LightSource, Phong, SpecularModel};
 use voxcast_core::step::Length;
-use voxcast_core::trace::{Scene, uses_lanes};
+use voxcast_core::trace::{Scene, Vectors, lane_instructions, uses_lanes};
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
 use voxcast_core::{Volume, VoxelData};
 
@@ -30,12 +30,20 @@ fn avx2() -> bool {
     false
 }
 
-/// Renders `scene` with the lanes and without; both images and stats.
-fn both(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, RenderStats); 2] {
-    let mut scalar = scene.clone();
-    scalar.simd = false;
-    [scene, &scalar].map(|s| {
-        let (image, stats) = render_with_threads(s, camera, w, h, 1).unwrap();
+/// Whether this CPU runs the narrow lanes.
+fn sse41() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::arch::is_x86_feature_detected!("sse4.1");
+    #[cfg(not(target_arch = "x86_64"))]
+    false
+}
+
+/// Renders `scene` with the widest lanes, the narrow ones and none; the images and stats.
+fn renders(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, RenderStats); 3] {
+    [Vectors::Wide, Vectors::Narrow, Vectors::Off].map(|v| {
+        let mut s = scene.clone();
+        s.simd = v;
+        let (image, stats) = render_with_threads(&s, camera, w, h, 1).unwrap();
         (image.pixels, stats)
     })
 }
@@ -163,14 +171,16 @@ proptest! {
         let tf = transfer(&v, &tf);
         let Some(camera) = camera(&v, kind, Vec3::from(a), Vec3::from(b)) else { return Ok(()) };
         let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
-        let [(lanes, ls), (scalar, ss)] = both(&scene, &camera, 20, 15);
-        prop_assert_eq!(lanes, scalar);
+        let [(lanes, ls), (narrow, ns), (scalar, ss)] = renders(&scene, &camera, 20, 15);
+        prop_assert_eq!(&lanes, &scalar);
+        prop_assert_eq!(&narrow, &scalar);
         prop_assert_eq!(ls, ss);
+        prop_assert_eq!(ns, ss);
     }
 }
 
 /// The lanes are taken where they should be (else the test above compares the scalar march
-/// with itself): the presets' scenes on a CPU with AVX2.
+/// with itself): the presets' scenes on a CPU with AVX2, and with SSE 4.1 when narrowed.
 #[test]
 fn the_presets_take_the_lanes_where_the_cpu_has_avx2() {
     use voxcast_core::builtin::load_builtin;
@@ -189,15 +199,23 @@ fn the_presets_take_the_lanes_where_the_cpu_has_avx2() {
         if s.method == Method::Accumulate && s.shading {
             // The lanes read the precomputed records (integer volumes; the head is float).
             let records = scene.differences.is_some();
-            assert_eq!(uses_lanes(&scene), avx2() && records, "{name}");
+            assert_eq!(uses_lanes(&scene), (avx2() || sse41()) && records, "{name}");
             assert_eq!(records, name != "head", "{name}");
+            let wide = if avx2() { "AVX2" } else { "SSE 4.1" };
+            let expect = |isa| (sse41() && records).then_some(isa);
+            assert_eq!(lane_instructions(&scene), expect(wide), "{name}");
+            let mut narrow = scene.clone();
+            narrow.simd = Vectors::Narrow;
+            assert_eq!(lane_instructions(&narrow), expect("SSE 4.1"), "{name}");
         }
-        let [(lanes, ls), (scalar, ss)] = both(&scene, &camera, 96, 72);
+        let [(lanes, ls), (narrow, ns), (scalar, ss)] = renders(&scene, &camera, 96, 72);
         assert_eq!(lanes, scalar, "{name}");
+        assert_eq!(narrow, scalar, "{name}");
         assert_eq!(ls, ss, "{name}");
+        assert_eq!(ns, ss, "{name}");
         // Switched off, or for a point light, they are not.
         let mut off = scene.clone();
-        off.simd = false;
+        off.simd = Vectors::Off;
         assert!(!uses_lanes(&off));
         let mut point = s.clone();
         point.phong.lights = vec![LightSource::new(Light::Point(hi * 2.0))];
@@ -244,9 +262,11 @@ fn extremes_agree() {
                     let up = if from == Vec3::X { Vec3::Z } else { Vec3::Y };
                     let camera = Camera::framing(lo, hi, from, up).unwrap();
                     let scene = Scene::new(v, tf, &s, camera.forward()).unwrap();
-                    let [(a, sa), (b, sb)] = both(&scene, &camera, 16, 12);
+                    let [(a, sa), (n, sn), (b, sb)] = renders(&scene, &camera, 16, 12);
                     assert_eq!(a, b, "{} step {step} from {from}", v.name());
+                    assert_eq!(n, b, "{} step {step} from {from}", v.name());
                     assert_eq!(sa, sb);
+                    assert_eq!(sn, sb);
                 }
             }
         }
@@ -257,6 +277,7 @@ fn extremes_agree() {
     let mut s = RenderSettings::default();
     s.phong.lights = vec![LightSource::new(Light::Directional(camera.forward()))];
     let scene = Scene::new(&slab, &ramp, &s, camera.forward()).unwrap();
-    let [(a, _), (b, _)] = both(&scene, &camera, 16, 12);
+    let [(a, _), (n, _), (b, _)] = renders(&scene, &camera, 16, 12);
     assert_eq!(a, b);
+    assert_eq!(n, b);
 }

@@ -25,11 +25,11 @@ use voxcast_core::{Prepared, Volume, VoxelData};
 /// first and the last.
 fn three(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, u64); 3] {
     let mut scalar = scene.clone();
-    scalar.simd = false;
+    scalar.simd = voxcast_core::trace::Vectors::Off;
     let mut plain = scene.clone();
     plain.block_skipping = false;
     plain.sum_skipping = false;
-    plain.simd = false;
+    plain.simd = voxcast_core::trace::Vectors::Off;
     [scene, &scalar, &plain].map(|s| {
         let (image, stats) = render_with_threads(s, camera, w, h, 1).unwrap();
         (image.pixels, stats.samples)

@@ -240,7 +240,7 @@ proptest! {
         prop_assert_eq!(&a.pixels, &b.pixels);
         // So does the one-sample-at-a-time skipping march (what a CPU without AVX2 takes).
         let mut scalar = skipping.clone();
-        scalar.simd = false;
+        scalar.simd = voxcast_core::trace::Vectors::Off;
         let (d, _) = render_with_threads(&scalar, &camera, 12, 9, 1).unwrap();
         prop_assert_eq!(&a.pixels, &d.pixels);
         // The switch a user turns does the same.

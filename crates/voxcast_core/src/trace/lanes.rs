@@ -1,5 +1,6 @@
-//! Accumulate's hot path eight sample positions at a time, on x86-64 CPUs with AVX2: the same
-//! pixels as the one-at-a-time march of `skipping.rs`, bit for bit.
+//! Accumulate's hot path eight sample positions at a time, on x86-64 CPUs with AVX2 or SSE 4.1
+//! (written once over [`Simd`], `simd.rs`): the same pixels as the one-at-a-time march of
+//! `skipping.rs`, bit for bit.
 //!
 //! A ray starts at its pixel's entry bound ([`crate::entry::EntryBounds`], where the render
 //! has one) and leaps over empty bricks by their distance to the nearest visible cell ahead
@@ -22,11 +23,13 @@
 //! Used where it applies exactly: Accumulate front to back with skipping, trilinear, table
 //! classification, the precomputed records (an integer volume, shading on), directional lights
 //! and a whole-number shininess (the scalar code then raises by repeated squaring, which lanes
-//! repeat step for step). Anything else, or a CPU without AVX2, takes the scalar march.
-//! `tests/lanes.rs` renders random scenes both ways and compares every bit.
+//! repeat step for step). Anything else, or a CPU without SSE 4.1, takes the scalar march.
+//! `tests/lanes.rs` renders random scenes with each backend and without lanes, and compares
+//! every bit.
 
 use super::leaps::Leaps;
-use super::{Accumulation, Marcher};
+use super::simd::{Avx2, Simd, Sse41};
+use super::{Accumulation, Marcher, Vectors};
 use crate::composite::correct_opacity_with;
 use crate::power::StepPower;
 use crate::scene::Scene;
@@ -37,7 +40,7 @@ use crate::volume::{Grid, Voxel};
 use glam::Vec3;
 use std::arch::x86_64::*;
 
-/// Lanes per batch (AVX2: eight `f32`).
+/// Lanes per batch (eight `f32`: one AVX2 vector, two SSE ones).
 const LANES: usize = 8;
 
 /// What every ray of a render shares on the fast path, where it applies.
@@ -81,16 +84,37 @@ pub(super) struct Lanes<'s> {
     batch_power: Option<f32>,
     /// The scene's whole-step power ([`Scene::step_power`]), for the composite.
     whole_step: Option<&'s StepPower>,
+    backend: Backend,
+}
+
+/// The instruction set the lanes run on: the widest the CPU has, up to the scene's
+/// [`Vectors`].
+#[derive(Clone, Copy, Debug)]
+enum Backend {
+    Avx2(Avx2),
+    Sse41(Sse41),
+}
+
+impl Backend {
+    /// The backend for the widest vectors this CPU has, up to `cap`.
+    fn for_cpu(cap: Vectors) -> Option<Self> {
+        let narrow = || Sse41::detect().map(Self::Sse41);
+        match cap {
+            Vectors::Off => None,
+            Vectors::Narrow => narrow(),
+            Vectors::Wide => Avx2::detect().map(Self::Avx2).or_else(narrow),
+        }
+    }
 }
 
 impl<'s> Lanes<'s> {
-    /// The fast path's constants, if it applies to `s` and this CPU has AVX2.
+    /// The fast path's constants, if it applies to `s` and this CPU has AVX2 or SSE 4.1 (as
+    /// [`Scene::simd`] allows).
     pub(super) fn new<T: Voxel>(s: &'s Scene<'_>, g: &Grid<'_, T>) -> Option<Self> {
         let set = &s.settings;
         let p = &set.phong;
-        let applies = s.simd
-            && std::arch::is_x86_feature_detected!("avx2")
-            && set.interpolation == crate::sample::Interpolation::Trilinear
+        let backend = Backend::for_cpu(s.simd)?;
+        let applies = set.interpolation == crate::sample::Interpolation::Trilinear
             && s.classifier == crate::classify::Classifier::Table
             && set.shading
             // `shade::power` squares repeatedly for these only (else it calls `powf`).
@@ -152,7 +176,18 @@ impl<'s> Lanes<'s> {
             dt_ref: s.dt_ref,
             batch_power: Some(s.dt / s.dt_ref).filter(|e| [0.5, 1.0, 2.0].contains(e)),
             whole_step: s.step_power.as_deref(),
+            backend,
         })
+    }
+}
+
+impl Lanes<'_> {
+    /// The instruction set the lanes run on, in words.
+    pub(super) fn instructions(&self) -> &'static str {
+        match self.backend {
+            Backend::Avx2(_) => "AVX2",
+            Backend::Sse41(_) => "SSE 4.1",
+        }
     }
 }
 
@@ -170,25 +205,6 @@ struct Pending {
     fz: [f32; 2 * LANES],
 }
 
-/// Per set of lanes (a bit each), the lanes' numbers in order, packed to the front: the
-/// permutation that queues the visible ones of eight located positions.
-const PACK: [[u8; LANES]; 256] = {
-    let mut table = [[0u8; LANES]; 256];
-    let mut mask = 0;
-    while mask < 256 {
-        let (mut lane, mut n) = (0, 0);
-        while lane < LANES {
-            if mask & (1 << lane) != 0 {
-                table[mask][n] = lane as u8;
-                n += 1;
-            }
-            lane += 1;
-        }
-        mask += 1;
-    }
-    table
-};
-
 /// What a batch contributes: the table's opacity and the shaded colour per lane.
 struct Evaluated {
     alpha: [f32; LANES],
@@ -204,6 +220,17 @@ struct Evaluated {
 struct RayLights {
     view: Vec3,
     lights: [(Vec3, Vec3, Vec3); MAX_LIGHTS],
+}
+
+/// One ray's march: its step plan, its origin and direction in voxels, its pixel's entry
+/// bound, its lights, the opacity that stops it.
+struct Ray<'p> {
+    plan: &'p StepPlan,
+    o_v: Vec3,
+    d_v: Vec3,
+    from: f32,
+    lights: RayLights,
+    stop_at: f32,
 }
 
 impl<T: Voxel> Marcher<'_, '_, '_, T> {
@@ -235,35 +262,69 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             };
             rl.lights[i] = (dir, color, half);
         }
-        // SAFETY: `Lanes` exists only where the CPU has AVX2 (checked in `Lanes::new`).
-        Some(unsafe { lanes.march(cells, plan, (o_v, d_v), from, &rl, stop_at, acc) })
+        let ray = Ray {
+            plan,
+            o_v,
+            d_v,
+            from,
+            lights: rl,
+            stop_at,
+        };
+        // SAFETY: each token exists only where the CPU has its instruction set.
+        Some(unsafe {
+            match lanes.backend {
+                Backend::Avx2(s) => lanes.march_avx2(s, cells, &ray, acc),
+                Backend::Sse41(s) => lanes.march_sse41(s, cells, &ray, acc),
+            }
+        })
     }
 }
 
 impl Lanes<'_> {
+    /// [`Lanes::march`] with AVX2's vectors, compiled for AVX2.
+    #[target_feature(enable = "avx2")]
+    fn march_avx2(
+        &self,
+        s: Avx2,
+        cells: &VisibleCells,
+        ray: &Ray<'_>,
+        acc: &mut Accumulation,
+    ) -> Option<u32> {
+        self.march(s, cells, ray, acc)
+    }
+
+    /// [`Lanes::march`] with SSE 4.1's vectors, compiled for SSE 4.1.
+    #[target_feature(enable = "sse4.1")]
+    fn march_sse41(
+        &self,
+        s: Sse41,
+        cells: &VisibleCells,
+        ray: &Ray<'_>,
+        acc: &mut Accumulation,
+    ) -> Option<u32> {
+        self.march(s, cells, ray, acc)
+    }
+
     /// The positions of the ray from `t = from` on (its pixel's entry bound) located eight at
     /// a time, the visible samples evaluated eight at a time; where the next position lies in
     /// an empty brick, the ray first leaps over the empty bricks ahead of it
     /// ([`VisibleCells::leap_exit_at`]).
-    #[allow(clippy::too_many_arguments)]
-    #[target_feature(enable = "avx2")]
-    unsafe fn march(
+    #[inline(always)]
+    fn march<S: Simd>(
         &self,
+        s: S,
         cells: &VisibleCells,
-        plan: &StepPlan,
-        (o_v, d_v): (Vec3, Vec3),
-        from: f32,
-        rl: &RayLights,
-        stop_at: f32,
+        ray: &Ray<'_>,
         acc: &mut Accumulation,
     ) -> Option<u32> {
+        let Ray { plan, o_v, d_v, .. } = *ray;
         let inv_dt = 1.0 / plan.dt;
         let inv_d = 1.0 / d_v;
         let mut pending = Pending::default();
         // Only the part of the ray in the box of the visible bricks, and from its entry bound
         // on, can hold a visible cell.
         let (t0, t1) = cells.visible_interval(o_v, inv_d)?;
-        let t0 = crate::minmax::fmax(t0, from);
+        let t0 = crate::minmax::fmax(t0, ray.from);
         let mut k = first_index_from(plan, t0, inv_dt);
         let end = first_index_from(plan, t1, inv_dt);
         // The distances ahead of a ray moving in this one's octant: its leaps are as long as
@@ -271,35 +332,37 @@ impl Lanes<'_> {
         // up and only shrink along one it moves down, rounding included).
         let ahead = cells.forward_distances(crate::skip::octant(d_v));
         let rows = self.corner_rows();
-        let leaps = Leaps::new(cells, (o_v, d_v, inv_d), (self.last, self.max_lo));
+        // SAFETY: every backend's CPU has SSE 4.1 (`simd.rs`), all that `Leaps` uses.
+        let leaps = unsafe { Leaps::new(cells, (o_v, d_v, inv_d), (self.last, self.max_lo)) };
         while k < end {
             // In an empty brick the ray leaps before it locates anything.
-            let look = leaps.look(sample_t(plan, k));
+            // SAFETY: SSE 4.1, as above.
+            let look = unsafe { leaps.look(sample_t(plan, k)) };
             let distance = ahead[look.index];
             if distance > 0 {
-                let t = leaps.exit(&look, distance);
-                let next = super::leaps::first_index_from(plan, t, inv_dt);
+                // SAFETY: SSE 4.1, as above.
+                let t = unsafe { leaps.exit(&look, distance) };
+                let next = unsafe { super::leaps::first_index_from(plan, t, inv_dt) };
                 if next > k {
                     k = next;
                     continue;
                 }
             }
-            // SAFETY: AVX2 (this function's own feature).
-            let (taken, visible, located) = unsafe { self.locate(plan, k, end, (o_v, d_v)) };
+            let (taken, visible, located) = self.locate(s, plan, k, end, (o_v, d_v));
             if visible != 0 {
-                // SAFETY: AVX2; fewer than eight are waiting, so eight more fit.
-                let queued = unsafe { pending.push(visible, &located) };
+                // Fewer than eight are waiting, so eight more fit.
+                let queued = pending.push(s, visible, &located);
                 for &base in &pending.base[queued] {
                     prefetch(&rows, base);
                 }
                 if pending.n >= LANES {
-                    // SAFETY: AVX2; every pending base is a cell of the lattice.
-                    let e = unsafe { self.evaluate(&pending, rl, Some(plan)) };
-                    if let Some(stop) = self.composite(plan, &pending, LANES, &e, stop_at, acc) {
-                        return Some(stop);
+                    // SAFETY: every pending base is a cell of the lattice.
+                    let e = unsafe { self.evaluate(s, &pending, &ray.lights, Some(plan)) };
+                    let stop = self.composite(plan, &pending, LANES, &e, ray.stop_at, acc);
+                    if stop.is_some() {
+                        return stop;
                     }
-                    // SAFETY: AVX2.
-                    unsafe { pending.shift() };
+                    pending.shift();
                 }
             }
             k += taken;
@@ -309,8 +372,8 @@ impl Lanes<'_> {
             let n = pending.n;
             pending.base[n..LANES].fill(0);
             // SAFETY: as above.
-            let e = unsafe { self.evaluate(&pending, rl, None) };
-            return self.composite(plan, &pending, n, &e, stop_at, acc);
+            let e = unsafe { self.evaluate(s, &pending, &ray.lights, None) };
+            return self.composite(plan, &pending, n, &e, ray.stop_at, acc);
         }
         None
     }
@@ -380,84 +443,63 @@ impl Lanes<'_> {
 /// Asks for the cache lines of a queued sample's corners (`base`: its cell's lower corner;
 /// `rows` from [`Lanes::corner_rows`]) while the batch fills up: they are read once it is full.
 /// One instruction a row, the row's start per ray.
-#[inline]
-#[target_feature(enable = "avx2")]
+#[inline(always)]
 fn prefetch(rows: &[*const crate::sample::Differences; 4], base: i32) {
     let base = base as usize;
     for &row in rows {
-        _mm_prefetch::<_MM_HINT_T0>(row.wrapping_add(base) as *const i8);
+        // SAFETY: SSE (every x86-64 has it); a hint, never a read.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(row.wrapping_add(base) as *const i8) };
     }
 }
 
 /// Eight positions located: their index `k` and `t`, the cell's record index and the
 /// fractions inside it.
-struct Located {
-    k: __m256i,
-    t: __m256,
-    base: __m256i,
-    fx: __m256,
-    fy: __m256,
-    fz: __m256,
+struct Located<S: Simd> {
+    k: S::I,
+    t: S::F,
+    base: S::I,
+    fx: S::F,
+    fy: S::F,
+    fz: S::F,
 }
 
 impl Pending {
     /// Queues the positions of `located` whose bit is set in `visible`, in order,
-    /// behind those waiting; the range of `base` they took.
-    ///
-    /// # Safety
-    /// AVX2; fewer than [`LANES`] are waiting.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    unsafe fn push(&mut self, visible: u32, located: &Located) -> std::ops::Range<usize> {
+    /// behind those waiting; the range of `base` they took. Fewer than [`LANES`] may be
+    /// waiting.
+    #[inline(always)]
+    fn push<S: Simd>(
+        &mut self,
+        s: S,
+        visible: u32,
+        located: &Located<S>,
+    ) -> std::ops::Range<usize> {
         let n = self.n;
-        debug_assert!(n < LANES);
-        // SAFETY: the table's row is eight bytes.
-        let order = _mm256_cvtepu8_epi32(unsafe {
-            _mm_loadl_epi64(PACK[visible as usize].as_ptr() as *const __m128i)
-        });
-        let pack = |v: __m256| _mm256_permutevar8x32_ps(v, order);
+        assert!(n < LANES);
+        let order = s.order(visible);
         // SAFETY: n < 8, so lanes n .. n + 8 lie in the arrays of sixteen.
         unsafe {
-            _mm256_storeu_si256(
-                self.k.as_mut_ptr().add(n) as *mut __m256i,
-                _mm256_permutevar8x32_epi32(located.k, order),
-            );
-            _mm256_storeu_si256(
-                self.base.as_mut_ptr().add(n) as *mut __m256i,
-                _mm256_permutevar8x32_epi32(located.base, order),
-            );
-            _mm256_storeu_ps(self.t.as_mut_ptr().add(n), pack(located.t));
-            _mm256_storeu_ps(self.fx.as_mut_ptr().add(n), pack(located.fx));
-            _mm256_storeu_ps(self.fy.as_mut_ptr().add(n), pack(located.fy));
-            _mm256_storeu_ps(self.fz.as_mut_ptr().add(n), pack(located.fz));
+            s.pack_i(self.k.as_mut_ptr().add(n), located.k, order);
+            s.pack_i(self.base.as_mut_ptr().add(n), located.base, order);
+            s.pack(self.t.as_mut_ptr().add(n), located.t, order);
+            s.pack(self.fx.as_mut_ptr().add(n), located.fx, order);
+            s.pack(self.fy.as_mut_ptr().add(n), located.fy, order);
+            s.pack(self.fz.as_mut_ptr().add(n), located.fz, order);
         }
         self.n = n + visible.count_ones() as usize;
         n..self.n
     }
 
-    /// Drops the first batch: those waiting behind it move to the front.
-    ///
-    /// # Safety
-    /// AVX2; at least [`LANES`] are waiting.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    unsafe fn shift(&mut self) {
-        // SAFETY: lanes 8 .. 16 exist in each array.
-        unsafe {
-            let move_i = |a: &mut [i32; 2 * LANES]| {
-                let upper = _mm256_loadu_si256(a.as_ptr().add(LANES) as *const __m256i);
-                _mm256_storeu_si256(a.as_mut_ptr() as *mut __m256i, upper);
-            };
-            let move_f = |a: &mut [f32; 2 * LANES]| {
-                _mm256_storeu_ps(a.as_mut_ptr(), _mm256_loadu_ps(a.as_ptr().add(LANES)));
-            };
-            move_i(&mut self.k);
-            move_i(&mut self.base);
-            move_f(&mut self.t);
-            move_f(&mut self.fx);
-            move_f(&mut self.fy);
-            move_f(&mut self.fz);
-        }
+    /// Drops the first batch (at least [`LANES`] are waiting): those waiting behind it move to
+    /// the front.
+    #[inline(always)]
+    fn shift(&mut self) {
+        self.k.copy_within(LANES.., 0);
+        self.base.copy_within(LANES.., 0);
+        self.t.copy_within(LANES.., 0);
+        self.fx.copy_within(LANES.., 0);
+        self.fy.copy_within(LANES.., 0);
+        self.fz.copy_within(LANES.., 0);
         self.n -= LANES;
     }
 }
@@ -465,54 +507,43 @@ impl Pending {
 impl Lanes<'_> {
     /// Locates positions `k .. k + 8`: how many of them lie before `end`, and as bits which of
     /// those lie in a visible cell.
-    #[target_feature(enable = "avx2")]
-    unsafe fn locate(
+    #[inline(always)]
+    fn locate<S: Simd>(
         &self,
+        s: S,
         plan: &StepPlan,
         k: u32,
         end: u32,
         (o_v, d_v): (Vec3, Vec3),
-    ) -> (u32, u32, Located) {
-        let c = super::value_lanes::cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
+    ) -> (u32, u32, Located<S>) {
+        let c = super::value_lanes::cells(s, plan, k, (o_v, d_v), (self.last, self.max_lo));
         let taken = (end - k).min(LANES as u32);
         let [ix, iy, iz] = c.i;
         // VisibleCells::lookup: the brick's word, the cell's bit in it (read as 32-bit halves).
-        let word = _mm256_add_epi32(
-            _mm256_srli_epi32::<2>(ix),
-            _mm256_add_epi32(
-                _mm256_mullo_epi32(_mm256_srli_epi32::<2>(iy), _mm256_set1_epi32(self.bricks_x)),
-                _mm256_mullo_epi32(
-                    _mm256_srli_epi32::<2>(iz),
-                    _mm256_set1_epi32(self.bricks_xy),
-                ),
+        let word = s.add_i(
+            s.shr_i::<2>(ix),
+            s.add_i(
+                s.mul_i(s.shr_i::<2>(iy), s.splat_i(self.bricks_x)),
+                s.mul_i(s.shr_i::<2>(iz), s.splat_i(self.bricks_xy)),
             ),
         );
-        let three = _mm256_set1_epi32(3);
-        let bit = _mm256_or_si256(
-            _mm256_and_si256(ix, three),
-            _mm256_or_si256(
-                _mm256_slli_epi32::<2>(_mm256_and_si256(iy, three)),
-                _mm256_slli_epi32::<4>(_mm256_and_si256(iz, three)),
+        let three = s.splat_i(3);
+        let bit = s.or_i(
+            s.and_i(ix, three),
+            s.or_i(
+                s.shl_i::<2>(s.and_i(iy, three)),
+                s.shl_i::<4>(s.and_i(iz, three)),
             ),
         );
-        let half = _mm256_add_epi32(_mm256_slli_epi32::<1>(word), _mm256_srli_epi32::<5>(bit));
-        // SAFETY: every lane's cell is in the lattice (clamped above), so its word exists.
-        let halves =
-            unsafe { _mm256_i32gather_epi32::<4>(self.words.as_ptr() as *const i32, half) };
-        let set = _mm256_and_si256(
-            _mm256_srlv_epi32(halves, _mm256_and_si256(bit, _mm256_set1_epi32(31))),
-            _mm256_set1_epi32(1),
-        );
-        let visible = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(
-            set,
-            _mm256_set1_epi32(1),
-        ))) as u32
-            & ((1u32 << taken) - 1);
+        let half = s.add_i(s.shl_i::<1>(word), s.shr_i::<5>(bit));
+        // SAFETY: every lane's cell is in the lattice (clamped), so its word exists.
+        let set = unsafe { s.bit_set(self.words.as_ptr() as *const i32, half, bit) };
+        let visible = set & ((1u32 << taken) - 1);
         let [fx, fy, fz] = c.f;
         let out = Located {
             k: c.k,
             t: c.t,
-            base: c.corner(self.nx, self.nxy),
+            base: c.corner(s, self.nx, self.nxy),
             fx,
             fy,
             fz,
@@ -524,65 +555,67 @@ impl Lanes<'_> {
     /// `Lut::lookup_if_visible` and `shade` for eight lanes, operation for operation; for a
     /// full batch (`plan` given) also the opacity correction where [`Lanes::correct_batch`]
     /// can.
-    #[target_feature(enable = "avx2")]
-    unsafe fn evaluate(&self, p: &Pending, rl: &RayLights, plan: Option<&StepPlan>) -> Evaluated {
-        // SAFETY: every pending base is a cell of the lattice.
-        let b = unsafe { self.blend_records(p) };
-        let half = _mm256_set1_ps(0.5);
+    ///
+    /// # Safety
+    /// Every pending base of the first eight is the lower corner of a cell of the lattice.
+    #[inline(always)]
+    unsafe fn evaluate<S: Simd>(
+        &self,
+        s: S,
+        p: &Pending,
+        rl: &RayLights,
+        plan: Option<&StepPlan>,
+    ) -> Evaluated {
+        // SAFETY: the caller's.
+        let b = unsafe { self.blend_records(s, p) };
+        let half = s.splat(0.5);
         let gs = self.gradient_scale;
         let grad = [
-            _mm256_mul_ps(_mm256_mul_ps(b[0], half), _mm256_set1_ps(gs.x)),
-            _mm256_mul_ps(_mm256_mul_ps(b[1], half), _mm256_set1_ps(gs.y)),
-            _mm256_mul_ps(_mm256_mul_ps(b[2], half), _mm256_set1_ps(gs.z)),
+            s.mul(s.mul(b[0], half), s.splat(gs.x)),
+            s.mul(s.mul(b[1], half), s.splat(gs.y)),
+            s.mul(s.mul(b[2], half), s.splat(gs.z)),
         ];
-        let v = _mm256_add_ps(
-            _mm256_mul_ps(b[3], _mm256_set1_ps(self.slope)),
-            _mm256_set1_ps(self.intercept),
-        );
+        let v = s.add(s.mul(b[3], s.splat(self.slope)), s.splat(self.intercept));
         // The table: position, the two entries, opaque where either has opacity.
-        let x = _mm256_min_ps(
-            _mm256_max_ps(
-                _mm256_mul_ps(
-                    _mm256_sub_ps(v, _mm256_set1_ps(self.lut_lo)),
-                    _mm256_set1_ps(self.lut_scale),
-                ),
-                _mm256_setzero_ps(),
+        let zero = s.splat(0.0);
+        let x = s.min(
+            s.max(
+                s.mul(s.sub(v, s.splat(self.lut_lo)), s.splat(self.lut_scale)),
+                zero,
             ),
-            _mm256_set1_ps(self.lut_last),
+            s.splat(self.lut_last),
         );
-        let i = _mm256_min_epi32(
-            _mm256_cvttps_epi32(x),
-            _mm256_set1_epi32(self.lut_max_index),
-        );
-        let f = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
+        let i = s.min_i(s.trunc(x), s.splat_i(self.lut_max_index));
+        let f = s.sub(x, s.to_f(i));
         // SAFETY: i ≤ len − 2, so entries i and i + 1 exist.
-        let (a, bb) = unsafe { self.entry_pairs(i) };
-        let zero = _mm256_setzero_ps();
-        let opaque = _mm256_or_ps(
-            _mm256_cmp_ps::<_CMP_GT_OQ>(a[3], zero),
-            _mm256_cmp_ps::<_CMP_GT_OQ>(bb[3], zero),
-        );
-        let lerp = |a: [__m256; 4], b: [__m256; 4], f: __m256| -> [__m256; 4] {
-            [0, 1, 2, 3].map(|c| _mm256_add_ps(a[c], _mm256_mul_ps(_mm256_sub_ps(b[c], a[c]), f)))
-        };
-        let rgba = lerp(a, bb, f);
-        let alpha = _mm256_and_ps(opaque, rgba[3]);
+        let (a, bb) = unsafe { self.entry_pairs(s, i) };
+        let opaque = s.or(s.gt(a[3], zero), s.gt(bb[3], zero));
+        let rgba = [
+            lerp(s, a[0], bb[0], f),
+            lerp(s, a[1], bb[1], f),
+            lerp(s, a[2], bb[2], f),
+            lerp(s, a[3], bb[3], f),
+        ];
+        let alpha = s.and(opaque, rgba[3]);
         let color = [rgba[0], rgba[1], rgba[2]];
-        let shaded = self.shade(color, grad, rl);
-        let corrected = plan.and_then(|plan| self.correct_batch(plan, p, alpha));
+        let shaded = self.shade(s, color, grad, rl);
+        let corrected = match plan {
+            Some(plan) => self.correct_batch(s, plan, p, alpha),
+            None => None,
+        };
         let alpha = corrected.unwrap_or(alpha);
         let mut out = Evaluated {
             alpha: [0.0; LANES],
             // Not `≤ 0`, as the scalar composite asks (unordered: a NaN is blended there too).
-            opaque: _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_NLE_UQ>(alpha, zero)) as u32,
+            opaque: s.bits(s.not_le(alpha, zero)),
             rgb: [[0.0; LANES]; 3],
             corrected: corrected.is_some(),
         };
         // SAFETY: eight lanes each.
         unsafe {
-            _mm256_storeu_ps(out.alpha.as_mut_ptr(), alpha);
-            for (ch, s) in shaded.iter().enumerate() {
-                _mm256_storeu_ps(out.rgb[ch].as_mut_ptr(), *s);
+            s.store(out.alpha.as_mut_ptr(), alpha);
+            for (ch, c) in shaded.iter().enumerate() {
+                s.store(out.rgb[ch].as_mut_ptr(), *c);
             }
         }
         out
@@ -593,48 +626,42 @@ impl Lanes<'_> {
     /// power is one the scalar code takes without `powf` ([`Lanes::batch_power`]): ½ is a
     /// square root and 2 a square, correctly rounded in lanes as alone. `None` otherwise (the
     /// composite then corrects sample by sample).
-    #[target_feature(enable = "avx2")]
-    fn correct_batch(&self, plan: &StepPlan, p: &Pending, alpha: __m256) -> Option<__m256> {
+    #[inline(always)]
+    fn correct_batch<S: Simd>(
+        &self,
+        s: S,
+        plan: &StepPlan,
+        p: &Pending,
+        alpha: S::F,
+    ) -> Option<S::F> {
         let e = self.batch_power.filter(|_| self.correction)?;
         // SAFETY: the arrays hold sixteen lanes; the batch is the first eight.
-        let (k, t) = unsafe {
-            (
-                _mm256_loadu_si256(p.k.as_ptr() as *const __m256i),
-                _mm256_loadu_ps(p.t.as_ptr()),
-            )
-        };
+        let (k, t) = unsafe { (s.load_i(p.k.as_ptr()), s.load(p.t.as_ptr())) };
         // segment_length's interior: k > 0, not the last sample, t + dt/2 ≤ t_exit.
-        let first = _mm256_cmpeq_epi32(k, _mm256_setzero_si256());
+        let first = s.eq_i(k, s.splat_i(0));
         let last = if plan.capped {
-            _mm256_setzero_si256()
+            s.splat(0.0)
         } else {
-            _mm256_cmpeq_epi32(k, _mm256_set1_epi32(plan.count as i32 - 1))
+            s.eq_i(k, s.splat_i(plan.count as i32 - 1))
         };
-        let inside = _mm256_cmp_ps::<_CMP_LE_OQ>(
-            _mm256_add_ps(t, _mm256_set1_ps(0.5 * plan.dt)),
-            _mm256_set1_ps(plan.t_exit),
-        );
-        let edge = _mm256_castsi256_ps(_mm256_or_si256(first, last));
-        if _mm256_movemask_ps(_mm256_andnot_ps(edge, inside)) != 0xFF {
+        let inside = s.le(s.add(t, s.splat(0.5 * plan.dt)), s.splat(plan.t_exit));
+        let edge = s.or(first, last);
+        if s.bits(s.and_not(edge, inside)) != 0xFF {
             return None;
         }
-        let one = _mm256_set1_ps(1.0);
-        let keep = _mm256_sub_ps(one, alpha);
+        let one = s.splat(1.0);
+        let keep = s.sub(one, alpha);
         let raised = if e == 1.0 {
             alpha
         } else if e == 0.5 {
-            _mm256_sub_ps(one, _mm256_sqrt_ps(keep))
+            s.sub(one, s.sqrt(keep))
         } else {
-            _mm256_sub_ps(one, _mm256_mul_ps(keep, keep))
+            s.sub(one, s.mul(keep, keep))
         };
         // α ≤ 0 stays (the composite passes over it); α ≥ 1 is 1 (the step is positive).
-        let opaque = _mm256_cmp_ps::<_CMP_GE_OQ>(alpha, one);
-        let clear = _mm256_cmp_ps::<_CMP_LE_OQ>(alpha, _mm256_setzero_ps());
-        Some(_mm256_blendv_ps(
-            _mm256_blendv_ps(raised, one, opaque),
-            alpha,
-            clear,
-        ))
+        let opaque = s.ge(alpha, one);
+        let clear = s.le(alpha, s.splat(0.0));
+        Some(s.select(s.select(raised, one, opaque), alpha, clear))
     }
 
     /// `value_and_gradient_in_cell` for the pending lanes: each lane's cell read as four pairs
@@ -642,51 +669,50 @@ impl Lanes<'_> {
     /// the eight results turned into one vector per channel (differences x, y, z, raw value).
     /// The pairs are regrouped as 64-bit integers before widening — `[c000 | c001]` against
     /// `[c100 | c101]`, `[c010 | c011]` against `[c110 | c111]` — so that the x blend gives
-    /// `[x00 | x01]` and `[x10 | x11]` and the y blend `[y0 | y1]` with no move across the
-    /// vectors' halves (`vperm2f128`: one micro-operation on Zen 4, eight on Zen 1).
+    /// `[x00 | x01]` and `[x10 | x11]` and the y blend `[y0 | y1]` with no move across AVX2's
+    /// halves (`vperm2f128`: one micro-operation on Zen 4, eight on Zen 1).
     ///
     /// # Safety
-    /// AVX2; every pending base is the lower corner of a cell whose upper x corner is the next
-    /// record (`Lanes::new` takes volumes with more than one point along x only).
-    #[target_feature(enable = "avx2")]
-    unsafe fn blend_records(&self, p: &Pending) -> [__m256; 4] {
+    /// Every pending base of the first eight is the lower corner of a cell whose upper x
+    /// corner is the next record (`Lanes::new` takes volumes with more than one point along x
+    /// only).
+    #[inline(always)]
+    unsafe fn blend_records<S: Simd>(&self, s: S, p: &Pending) -> [S::F; 4] {
         let [_, _, dy, _, dz, _, dzy, _] = self.corners;
         let records = self.records.as_ptr();
-        let mut rows = [_mm_setzero_ps(); LANES];
-        for (lane, row) in rows.iter_mut().enumerate() {
-            let at = records.wrapping_add(p.base[lane] as usize);
-            // SAFETY: the cell's corners (and so both records of each pair) are in the lattice.
-            let pair = |o: i32| unsafe { _mm_loadu_si128(at.add(o as usize) as *const __m128i) };
-            let (p00, p10, p01, p11) = (pair(0), pair(dy), pair(dz), pair(dzy));
-            let widen = |raw: __m128i| _mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(raw));
-            let (tx, ty, tz) = (
-                _mm256_set1_ps(p.fx[lane]),
-                _mm256_set1_ps(p.fy[lane]),
-                _mm256_set1_ps(p.fz[lane]),
-            );
-            let lerp = |a: __m256, b: __m256, t: __m256| {
-                _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), t))
-            };
-            // [x00 | x01] and [x10 | x11]: each low corner against its high one along x.
-            let x0 = lerp(
-                widen(_mm_unpacklo_epi64(p00, p01)),
-                widen(_mm_unpackhi_epi64(p00, p01)),
-                tx,
-            );
-            let x1 = lerp(
-                widen(_mm_unpacklo_epi64(p10, p11)),
-                widen(_mm_unpackhi_epi64(p10, p11)),
-                tx,
-            );
-            // [y0 | y1] = [x00 | x01] against [x10 | x11].
-            let y = lerp(x0, x1, ty);
-            let (y0, y1) = (_mm256_castps256_ps128(y), _mm256_extractf128_ps::<1>(y));
-            *row = _mm_add_ps(
-                y0,
-                _mm_mul_ps(_mm_sub_ps(y1, y0), _mm256_castps256_ps128(tz)),
-            );
+        // SAFETY (this block): SSE2, which every x86-64 has; the caller's bound.
+        unsafe {
+            let mut rows = [_mm_setzero_ps(); LANES];
+            for (lane, row) in rows.iter_mut().enumerate() {
+                let at = records.wrapping_add(p.base[lane] as usize);
+                // The cell's corners (so both records of each pair) are in the lattice.
+                let (p00, p10, p01, p11) = (
+                    pair_at(at, 0),
+                    pair_at(at, dy),
+                    pair_at(at, dz),
+                    pair_at(at, dzy),
+                );
+                let (tx, ty) = (s.splat(p.fx[lane]), s.splat(p.fy[lane]));
+                // [x00 | x01] and [x10 | x11]: each low corner against its high one along x.
+                let x0 = lerp(
+                    s,
+                    s.widen(_mm_unpacklo_epi64(p00, p01)),
+                    s.widen(_mm_unpackhi_epi64(p00, p01)),
+                    tx,
+                );
+                let x1 = lerp(
+                    s,
+                    s.widen(_mm_unpacklo_epi64(p10, p11)),
+                    s.widen(_mm_unpackhi_epi64(p10, p11)),
+                    tx,
+                );
+                // [y0 | y1] = [x00 | x01] against [x10 | x11].
+                let (y0, y1) = s.halves(lerp(s, x0, x1, ty));
+                let tz = _mm_set1_ps(p.fz[lane]);
+                *row = _mm_add_ps(y0, _mm_mul_ps(_mm_sub_ps(y1, y0), tz));
+            }
+            s.columns(rows)
         }
-        columns(rows)
     }
 
     /// Table entries `i` and `i + 1` of each lane as columns (red, green, blue, opacity):
@@ -694,129 +720,133 @@ impl Lanes<'_> {
     /// eight gathers (on Zen 1 a gather of eight is some twenty micro-operations).
     ///
     /// # Safety
-    /// AVX2; every lane's `i` is at most the table's length − 2.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    unsafe fn entry_pairs(&self, i: __m256i) -> ([__m256; 4], [__m256; 4]) {
+    /// Every lane's `i` is at most the table's length − 2.
+    #[inline(always)]
+    unsafe fn entry_pairs<S: Simd>(&self, s: S, i: S::I) -> ([S::F; 4], [S::F; 4]) {
         let mut at = [0i32; LANES];
         // SAFETY: eight lanes into eight slots.
-        unsafe { _mm256_storeu_si256(at.as_mut_ptr() as *mut __m256i, i) };
+        unsafe { s.store_i(at.as_mut_ptr(), i) };
         let entries = self.entries.as_ptr() as *const f32;
-        // SAFETY: the caller's bound; an entry is four floats.
-        let row = |lane: usize, next: usize| unsafe {
-            _mm_loadu_ps(entries.add(4 * (at[lane] as usize + next)))
-        };
-        (
-            columns([0, 1, 2, 3, 4, 5, 6, 7].map(|lane| row(lane, 0))),
-            columns([0, 1, 2, 3, 4, 5, 6, 7].map(|lane| row(lane, 1))),
-        )
+        // SAFETY: SSE, which every x86-64 has.
+        let zero = unsafe { _mm_setzero_ps() };
+        let (mut lo, mut hi) = ([zero; LANES], [zero; LANES]);
+        for lane in 0..LANES {
+            // SAFETY: the caller's bound; an entry is four floats.
+            unsafe {
+                let row = entries.add(4 * at[lane] as usize);
+                lo[lane] = _mm_loadu_ps(row);
+                hi[lane] = _mm_loadu_ps(row.add(4));
+            }
+        }
+        (s.columns(lo), s.columns(hi))
     }
 
     /// `crate::shade::shade` for eight lanes with directional lights, operation for operation.
-    #[target_feature(enable = "avx2")]
-    fn shade(&self, c: [__m256; 3], grad: [__m256; 3], rl: &RayLights) -> [__m256; 3] {
-        let splat = _mm256_set1_ps;
-        let dot = |a: &[__m256; 3], b: Vec3| {
-            _mm256_add_ps(
-                _mm256_add_ps(
-                    _mm256_mul_ps(a[0], splat(b.x)),
-                    _mm256_mul_ps(a[1], splat(b.y)),
-                ),
-                _mm256_mul_ps(a[2], splat(b.z)),
-            )
-        };
-        let len = _mm256_sqrt_ps(_mm256_add_ps(
-            _mm256_add_ps(
-                _mm256_mul_ps(grad[0], grad[0]),
-                _mm256_mul_ps(grad[1], grad[1]),
-            ),
-            _mm256_mul_ps(grad[2], grad[2]),
+    #[inline(always)]
+    fn shade<S: Simd>(&self, s: S, c: [S::F; 3], grad: [S::F; 3], rl: &RayLights) -> [S::F; 3] {
+        let len = s.sqrt(s.add(
+            s.add(s.mul(grad[0], grad[0]), s.mul(grad[1], grad[1])),
+            s.mul(grad[2], grad[2]),
         ));
         // lit: len > threshold and finite (ordered comparisons: NaN is neither).
-        let lit = _mm256_and_ps(
-            _mm256_cmp_ps::<_CMP_GT_OQ>(len, splat(self.threshold)),
-            _mm256_cmp_ps::<_CMP_LT_OQ>(len, splat(f32::INFINITY)),
+        let lit = s.and(
+            s.gt(len, s.splat(self.threshold)),
+            s.lt(len, s.splat(f32::INFINITY)),
         );
-        let inv = _mm256_div_ps(splat(-1.0), len);
-        let mut n = grad.map(|g| _mm256_mul_ps(g, inv));
+        let inv = s.div(s.splat(-1.0), len);
+        let mut n = [
+            s.mul(grad[0], inv),
+            s.mul(grad[1], inv),
+            s.mul(grad[2], inv),
+        ];
+        let zero = s.splat(0.0);
         if self.two_sided {
-            let back = _mm256_cmp_ps::<_CMP_LT_OQ>(dot(&n, rl.view), _mm256_setzero_ps());
-            let sign = _mm256_and_ps(back, splat(-0.0));
-            n = n.map(|x| _mm256_xor_ps(x, sign));
+            let back = s.lt(dot(s, &n, rl.view), zero);
+            let sign = s.and(back, s.splat(-0.0));
+            n = [s.xor(n[0], sign), s.xor(n[1], sign), s.xor(n[2], sign)];
         }
-        let tint = if self.levoy { c } else { [splat(1.0); 3] };
-        let zero = _mm256_setzero_ps();
+        let tint = if self.levoy { c } else { [s.splat(1.0); 3] };
         let (mut diffuse, mut specular) = ([zero; 3], [zero; 3]);
         for &(l, color, half) in &rl.lights[..self.light_count] {
-            let n_dot_l = dot(&n, l);
-            let lambert = _mm256_max_ps(n_dot_l, zero);
+            let n_dot_l = dot(s, &n, l);
+            let lambert = s.max(n_dot_l, zero);
             let base = if self.blinn {
-                dot(&n, half)
+                dot(s, &n, half)
             } else {
                 // (n·(2·n_dot_l) − l)·view
-                let two = _mm256_mul_ps(splat(2.0), n_dot_l);
+                let two = s.mul(s.splat(2.0), n_dot_l);
                 let r = [
-                    _mm256_sub_ps(_mm256_mul_ps(n[0], two), splat(l.x)),
-                    _mm256_sub_ps(_mm256_mul_ps(n[1], two), splat(l.y)),
-                    _mm256_sub_ps(_mm256_mul_ps(n[2], two), splat(l.z)),
+                    s.sub(s.mul(n[0], two), s.splat(l.x)),
+                    s.sub(s.mul(n[1], two), s.splat(l.y)),
+                    s.sub(s.mul(n[2], two), s.splat(l.z)),
                 ];
-                dot(&r, rl.view)
+                dot(s, &r, rl.view)
             };
-            let spec = _mm256_and_ps(
-                _mm256_cmp_ps::<_CMP_GT_OQ>(n_dot_l, zero),
-                power(_mm256_max_ps(base, zero), self.exponent),
+            let spec = s.and(
+                s.gt(n_dot_l, zero),
+                power(s, s.max(base, zero), self.exponent),
             );
-            let kd_lambert = _mm256_mul_ps(splat(self.kd), lambert);
-            let ks_spec = _mm256_mul_ps(splat(self.ks), spec);
+            let kd_lambert = s.mul(s.splat(self.kd), lambert);
+            let ks_spec = s.mul(s.splat(self.ks), spec);
             let light = color.to_array();
             for ch in 0..3 {
-                let d = _mm256_mul_ps(c[ch], _mm256_mul_ps(splat(light[ch]), kd_lambert));
-                let s = _mm256_mul_ps(_mm256_mul_ps(tint[ch], splat(light[ch])), ks_spec);
-                diffuse[ch] = _mm256_add_ps(diffuse[ch], d);
-                specular[ch] = _mm256_add_ps(specular[ch], s);
+                let d = s.mul(c[ch], s.mul(s.splat(light[ch]), kd_lambert));
+                let sp = s.mul(s.mul(tint[ch], s.splat(light[ch])), ks_spec);
+                diffuse[ch] = s.add(diffuse[ch], d);
+                specular[ch] = s.add(specular[ch], sp);
             }
         }
         // A loop, not `map` with a closure: the closure was left out of line (a call per
         // channel, its vectors through memory).
         let mut shaded = [zero; 3];
         for (ch, out) in shaded.iter_mut().enumerate() {
-            let ambient = _mm256_mul_ps(c[ch], splat(self.ka));
-            let sum = _mm256_add_ps(_mm256_add_ps(ambient, diffuse[ch]), specular[ch]);
-            let clamped = _mm256_min_ps(_mm256_max_ps(sum, zero), splat(1.0));
-            *out = _mm256_blendv_ps(c[ch], clamped, lit);
+            let ambient = s.mul(c[ch], s.splat(self.ka));
+            let sum = s.add(s.add(ambient, diffuse[ch]), specular[ch]);
+            let clamped = s.min(s.max(sum, zero), s.splat(1.0));
+            *out = s.select(c[ch], clamped, lit);
         }
         shaded
     }
 }
 
-/// Eight rows (one lane's four channels each) turned into four columns (one channel's eight
-/// lanes).
-#[inline]
-#[target_feature(enable = "avx2")]
-fn columns(rows: [__m128; LANES]) -> [__m256; 4] {
-    let pair = |a: usize| _mm256_set_m128(rows[a + 4], rows[a]);
-    let (r0, r1, r2, r3) = (pair(0), pair(1), pair(2), pair(3));
-    let t0 = _mm256_unpacklo_ps(r0, r1);
-    let t1 = _mm256_unpackhi_ps(r0, r1);
-    let t2 = _mm256_unpacklo_ps(r2, r3);
-    let t3 = _mm256_unpackhi_ps(r2, r3);
-    [
-        _mm256_shuffle_ps::<0x44>(t0, t2),
-        _mm256_shuffle_ps::<0xEE>(t0, t2),
-        _mm256_shuffle_ps::<0x44>(t1, t3),
-        _mm256_shuffle_ps::<0xEE>(t1, t3),
-    ]
+// The helpers below are functions, not closures: a closure in these generic functions is
+// compiled without the backend's instructions and may be left out of line, with every
+// intrinsic in it a call.
+
+/// `a + (b − a)·t`, lane by lane.
+#[inline(always)]
+fn lerp<S: Simd>(s: S, a: S::F, b: S::F, t: S::F) -> S::F {
+    s.add(a, s.mul(s.sub(b, a), t))
+}
+
+/// `a · b` for eight vectors `a` and one `b`, summed x, y, z in that order.
+#[inline(always)]
+fn dot<S: Simd>(s: S, a: &[S::F; 3], b: Vec3) -> S::F {
+    s.add(
+        s.add(s.mul(a[0], s.splat(b.x)), s.mul(a[1], s.splat(b.y))),
+        s.mul(a[2], s.splat(b.z)),
+    )
+}
+
+/// Two records side by side (16 bytes) at record `at + o`.
+///
+/// # Safety
+/// Records `at + o` and `at + o + 1` exist.
+#[inline(always)]
+unsafe fn pair_at(at: *const crate::sample::Differences, o: i32) -> __m128i {
+    // SAFETY: the caller's.
+    unsafe { _mm_loadu_si128(at.add(o as usize) as *const __m128i) }
 }
 
 /// `crate::shade::power` for a whole exponent, lane by lane: the same squarings and products.
-#[target_feature(enable = "avx2")]
-fn power(x: __m256, n: u32) -> __m256 {
-    let (mut base, mut e, mut acc) = (x, n, _mm256_set1_ps(1.0));
+#[inline(always)]
+fn power<S: Simd>(s: S, x: S::F, n: u32) -> S::F {
+    let (mut base, mut e, mut acc) = (x, n, s.splat(1.0));
     while e > 0 {
         if e & 1 == 1 {
-            acc = _mm256_mul_ps(acc, base);
+            acc = s.mul(acc, base);
         }
-        base = _mm256_mul_ps(base, base);
+        base = s.mul(base, base);
         e >>= 1;
     }
     acc

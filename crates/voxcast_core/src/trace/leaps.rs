@@ -37,9 +37,8 @@ pub(super) struct Look {
 }
 
 impl Leaps {
-    /// # Safety
-    /// AVX2 (SSE 4.1 and below are used).
-    #[target_feature(enable = "avx2")]
+    /// SSE 4.1 and below (so every backend of the lanes, `simd.rs`).
+    #[target_feature(enable = "sse4.1")]
     pub(super) fn new(
         cells: &VisibleCells,
         (o_v, d_v, inv_d): (Vec3, Vec3, Vec3),
@@ -66,7 +65,7 @@ impl Leaps {
     /// The brick of the cell holding the ray's position at `t` (`Lanes::cell_lo`, then
     /// `VisibleCells::brick_of`).
     #[inline]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "sse4.1")]
     pub(super) fn look(&self, t: f32) -> Look {
         let p = _mm_add_ps(self.origin, _mm_mul_ps(self.dir, _mm_set1_ps(t)));
         // `max` with zero first: a NaN lane becomes 0, as `f32::max` makes it.
@@ -87,7 +86,7 @@ impl Leaps {
     /// `VisibleCells::leap_exit_at` for the brick of `look`, `distance` its distance ahead: the
     /// least `t` at which the ray leaves the cube of empty bricks ahead of it.
     #[inline]
-    #[target_feature(enable = "avx2")]
+    #[target_feature(enable = "sse4.1")]
     pub(super) fn exit(&self, look: &Look, distance: u8) -> f32 {
         let b = look.brick;
         let reach = _mm_set1_epi32(i32::from(distance.max(1)) - 1);
@@ -116,7 +115,7 @@ impl Leaps {
 /// lacks: the same index for every `t` (a ceiling is exact; where it gives −0 for a value in
 /// (−1, 0) the scalar one gives +0, and both are index 0).
 #[inline]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "sse4.1")]
 pub(super) fn first_index_from(plan: &StepPlan, t: f32, inv_dt: f32) -> u32 {
     first_index_with(plan, t, inv_dt, |x| {
         let v = _mm_set_ss(x);
@@ -151,7 +150,7 @@ mod tests {
             dir in proptest::array::uniform3(component()),
             ts in proptest::collection::vec(-5f32..80.0, 16),
         ) {
-            prop_assume!(std::arch::is_x86_feature_detected!("avx2"));
+            prop_assume!(std::arch::is_x86_feature_detected!("sse4.1"));
             let d_v = Vec3::from(dir);
             prop_assume!(d_v.length() > 1e-3);
             let n = (dims[0] * dims[1] * dims[2]) as usize;
@@ -171,16 +170,16 @@ mod tests {
             let (last, max_lo) = (size - 1.0, (size - 2.0).max(Vec3::ZERO));
             let (o_v, inv_d) = (Vec3::from(origin), 1.0 / d_v);
             let ahead = cells.forward_distances(crate::skip::octant(d_v));
-            // SAFETY: AVX2 checked above.
+            // SAFETY: SSE 4.1 checked above.
             let leaps = unsafe { Leaps::new(&cells, (o_v, d_v, inv_d), (last, max_lo)) };
             for t in ts {
                 let x = (o_v + d_v * t).max(Vec3::ZERO).min(last).min(max_lo);
                 let lo = [x.x as usize, x.y as usize, x.z as usize];
-                // SAFETY: AVX2.
+                // SAFETY: SSE 4.1.
                 let look = unsafe { leaps.look(t) };
                 prop_assert_eq!(look.index, cells.brick_of(lo));
                 for distance in [ahead[look.index], 1, 2, 3, 7, 40, 255] {
-                    // SAFETY: AVX2.
+                    // SAFETY: SSE 4.1.
                     let fast = unsafe { leaps.exit(&look, distance) };
                     let slow = cells.leap_exit_at(lo, distance, o_v, inv_d);
                     prop_assert_eq!(fast.to_bits(), slow.to_bits(), "{} {} {:?}", t, distance, lo);
@@ -191,7 +190,7 @@ mod tests {
 
     #[test]
     fn first_index_agrees_with_the_scalar_one() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
+        if !std::arch::is_x86_feature_detected!("sse4.1") {
             return;
         }
         let plan = StepPlan {
@@ -212,7 +211,7 @@ mod tests {
                 f32::NAN,
                 f32::INFINITY,
             ] {
-                // SAFETY: AVX2 checked above.
+                // SAFETY: SSE 4.1 checked above.
                 let fast = unsafe { first_index_from(&plan, t, inv_dt) };
                 assert_eq!(fast, crate::step::first_index_from(&plan, t, inv_dt), "{t}");
             }

@@ -13,6 +13,7 @@
 //! [`ValueLanes::add_range`]), where the volume is of integers and is interpolated
 //! trilinearly; `tests/projections.rs` compares them with the scalar march.
 
+use super::simd::{Avx2, Simd};
 use crate::composite::ValueStats;
 use crate::step::StepPlan;
 use crate::volume::{ScalarType, Voxel};
@@ -35,6 +36,8 @@ pub(super) struct ValueLanes<'g> {
     /// lane ([`read_pairs`]): where the CPU has AVX-512, as the CPUs measured that have it
     /// (Zen 4) gather cheaply and those without it (Zen 1) do not. The same values either way.
     gather: bool,
+    /// The AVX2 token: these lanes exist only where the CPU has it.
+    simd: Avx2,
     _data: std::marker::PhantomData<&'g [u8]>,
 }
 
@@ -46,10 +49,9 @@ impl<'g> ValueLanes<'g> {
     /// The lanes for `g`, if this CPU has AVX2 and the grid suits them (integers, at least two
     /// points along x so a cell's x corners are two elements, indices within `i32`).
     pub(super) fn new<T: Voxel>(g: &crate::volume::Grid<'g, T>) -> Option<Self> {
-        let applies = std::arch::is_x86_feature_detected!("avx2")
-            && T::TYPE != ScalarType::F32
-            && g.dims[0] >= 2
-            && g.data.len() < (i32::MAX / 2) as usize;
+        let simd = Avx2::detect()?;
+        let applies =
+            T::TYPE != ScalarType::F32 && g.dims[0] >= 2 && g.data.len() < (i32::MAX / 2) as usize;
         applies.then(|| Self {
             data: g.data.as_ptr() as *const u8,
             kind: T::TYPE,
@@ -59,6 +61,7 @@ impl<'g> ValueLanes<'g> {
             nxy: (g.dims[0] * g.dims[1]) as i32,
             last: g.last,
             max_lo: g.max_lo,
+            simd,
             gather: std::arch::is_x86_feature_detected!("avx512f")
                 && (T::TYPE != ScalarType::U8 || g.data.len() >= 4),
             _data: std::marker::PhantomData,
@@ -89,7 +92,7 @@ impl<'g> ValueLanes<'g> {
         let mut out = [0f32; 8];
         let mut k = k0;
         while k < k1 {
-            let c = cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
+            let c = cells(self.simd, plan, k, (o_v, d_v), (self.last, self.max_lo));
             // SAFETY: AVX2; the cells are clamped into the lattice.
             let raw = unsafe { self.values(&c) };
             let v = _mm256_add_ps(
@@ -163,7 +166,7 @@ impl<'g> ValueLanes<'g> {
         while k < k1 {
             // Positions past k1 belong to other stretches: left out.
             let inside = _mm256_cmpgt_epi32(_mm256_set1_epi32((k1 - k) as i32), lane);
-            let c = cells(plan, k, (o_v, d_v), (self.last, self.max_lo));
+            let c = cells(self.simd, plan, k, (o_v, d_v), (self.last, self.max_lo));
             let mut wanted = _mm256_castsi256_ps(inside);
             if let Some((bound, [bx, by])) = bricks {
                 let [ix, iy, iz] = c.i;
@@ -212,9 +215,9 @@ impl<'g> ValueLanes<'g> {
     /// AVX2; `self` built from the grid the ray samples.
     #[inline]
     #[target_feature(enable = "avx2")]
-    unsafe fn values(&self, c: &Cells) -> __m256 {
+    unsafe fn values(&self, c: &Cells<Avx2>) -> __m256 {
         let [fx, fy, fz] = c.f;
-        let base = c.corner(self.nx, self.nxy);
+        let base = c.corner(self.simd, self.nx, self.nxy);
         // The four rows' x pairs: lower corner and the one after it.
         let row = |offset: i32| -> (__m256, __m256) {
             let at = _mm256_add_epi32(base, _mm256_set1_epi32(offset));
@@ -336,53 +339,36 @@ unsafe fn gathered_pairs(data: *const u8, kind: ScalarType, at: __m256i) -> __m2
 
 /// Eight sample positions of a ray located: their indices `k` and `t`, and per axis the lower
 /// corner of their cell and the fraction inside it.
-pub(super) struct Cells {
-    pub k: __m256i,
-    pub t: __m256,
-    pub i: [__m256i; 3],
-    pub f: [__m256; 3],
+pub(super) struct Cells<S: Simd> {
+    pub k: S::I,
+    pub t: S::F,
+    pub i: [S::I; 3],
+    pub f: [S::F; 3],
 }
 
 /// Locates positions `k .. k + 8` of the ray: each lane computes what `sample_t` and
 /// `crate::sample::cell` compute for one, in the same operations (`last` and `max_lo` are the
 /// grid's).
-#[inline]
-#[target_feature(enable = "avx2")]
-pub(super) fn cells(
+#[inline(always)]
+pub(super) fn cells<S: Simd>(
+    s: S,
     plan: &StepPlan,
     k: u32,
     (o_v, d_v): (Vec3, Vec3),
     (last, max_lo): (Vec3, Vec3),
-) -> Cells {
-    let ks = _mm256_add_epi32(
-        _mm256_set1_epi32(k as i32),
-        _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7),
-    );
+) -> Cells<S> {
+    let ks = s.add_i(s.splat_i(k as i32), s.iota());
     // sample_t: min(t_enter + (jitter + k)·dt, t_exit).
-    let t = _mm256_min_ps(
-        _mm256_add_ps(
-            _mm256_set1_ps(plan.t_enter),
-            _mm256_mul_ps(
-                _mm256_add_ps(_mm256_set1_ps(plan.jitter), _mm256_cvtepi32_ps(ks)),
-                _mm256_set1_ps(plan.dt),
-            ),
+    let t = s.min(
+        s.add(
+            s.splat(plan.t_enter),
+            s.mul(s.add(s.splat(plan.jitter), s.to_f(ks)), s.splat(plan.dt)),
         ),
-        _mm256_set1_ps(plan.t_exit),
+        s.splat(plan.t_exit),
     );
-    // cell(): x = min(max(p, 0), last); i = ⌊min(x, max_lo)⌋; f = x − i.
-    let axis = |a: usize| {
-        let p = _mm256_add_ps(
-            _mm256_set1_ps(o_v[a]),
-            _mm256_mul_ps(_mm256_set1_ps(d_v[a]), t),
-        );
-        let x = _mm256_min_ps(
-            _mm256_max_ps(p, _mm256_setzero_ps()),
-            _mm256_set1_ps(last[a]),
-        );
-        let i = _mm256_cvttps_epi32(_mm256_min_ps(x, _mm256_set1_ps(max_lo[a])));
-        (i, _mm256_sub_ps(x, _mm256_cvtepi32_ps(i)))
-    };
-    let [(ix, fx), (iy, fy), (iz, fz)] = [axis(0), axis(1), axis(2)];
+    let (ix, fx) = axis(s, (o_v.x, d_v.x), t, (last.x, max_lo.x));
+    let (iy, fy) = axis(s, (o_v.y, d_v.y), t, (last.y, max_lo.y));
+    let (iz, fz) = axis(s, (o_v.z, d_v.z), t, (last.z, max_lo.z));
     Cells {
         k: ks,
         t,
@@ -391,19 +377,27 @@ pub(super) fn cells(
     }
 }
 
-impl Cells {
+/// `crate::sample::cell` along one axis for eight positions at `t` of a ray with origin `o` and
+/// direction `d` on that axis: `x = min(max(p, 0), last)`, `i = ⌊min(x, max_lo)⌋`, `f = x − i`.
+/// A function, not a closure, so that it inlines where the backend's instructions are enabled
+/// (a closure here was left out of line, and its intrinsics with it).
+#[inline(always)]
+fn axis<S: Simd>(s: S, (o, d): (f32, f32), t: S::F, (last, max_lo): (f32, f32)) -> (S::I, S::F) {
+    let p = s.add(s.splat(o), s.mul(s.splat(d), t));
+    let x = s.min(s.max(p, s.splat(0.0)), s.splat(last));
+    let i = s.trunc(s.min(x, s.splat(max_lo)));
+    (i, s.sub(x, s.to_f(i)))
+}
+
+impl<S: Simd> Cells<S> {
     /// The index of each lane's lower corner in a lattice of `nx` points per row and `nxy`
     /// per slice.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn corner(&self, nx: i32, nxy: i32) -> __m256i {
+    #[inline(always)]
+    pub(super) fn corner(&self, s: S, nx: i32, nxy: i32) -> S::I {
         let [ix, iy, iz] = self.i;
-        _mm256_add_epi32(
+        s.add_i(
             ix,
-            _mm256_add_epi32(
-                _mm256_mullo_epi32(iy, _mm256_set1_epi32(nx)),
-                _mm256_mullo_epi32(iz, _mm256_set1_epi32(nxy)),
-            ),
+            s.add_i(s.mul_i(iy, s.splat_i(nx)), s.mul_i(iz, s.splat_i(nxy))),
         )
     }
 }

@@ -1,0 +1,122 @@
+//! Eight `f32` lanes on two x86-64 instruction sets: the operations the Accumulate lanes
+//! (`lanes.rs`) are written in, once, over [`Simd`], with one backend per instruction set —
+//! [`Avx2`] (one 256-bit register a vector) and [`Sse41`] (two 128-bit halves: the CPUs without
+//! AVX, as in most low-cost laptops: Intel's Celeron and Pentium Silver up to 2021).
+//!
+//! Every operation is lane-wise IEEE arithmetic, or moves bits, so both backends give the same
+//! numbers bit for bit. A backend is a zero-sized token that exists only where its CPU
+//! features were detected ([`Avx2::detect`], [`Sse41::detect`]): holding one is the proof that
+//! makes its operations safe to call. They are `#[inline(always)]` and carry no target
+//! feature of their own; the lanes' march is instantiated per backend inside a function that
+//! enables it (`Lanes::march_avx2`, `Lanes::march_sse41`), where the intrinsics inline.
+
+mod avx2;
+mod sse41;
+
+pub(super) use avx2::Avx2;
+pub(super) use sse41::Sse41;
+
+use std::arch::x86_64::{__m128, __m128i};
+
+/// Eight lanes of `f32` and of `i32`, and what the lanes' march does with them. Every
+/// backend's CPU has SSE 4.1 (AVX2 implies it), which code beside the lanes relies on
+/// (`leaps.rs`).
+///
+/// Comparisons give masks (every bit of a lane set where true) in [`Simd::F`]; `select` takes
+/// such a mask. Shifts and conversions are those of the x86 instructions: `trunc` rounds toward
+/// zero and gives `i32::MIN` for what does not fit.
+pub(super) trait Simd: Copy {
+    /// Eight `f32`.
+    type F: Copy;
+    /// Eight `i32`.
+    type I: Copy;
+    /// The permutation that packs chosen lanes to the front ([`Simd::order`]).
+    type Order: Copy;
+
+    fn splat(self, x: f32) -> Self::F;
+    fn splat_i(self, x: i32) -> Self::I;
+    /// Lanes `0, 1, …, 7`.
+    fn iota(self) -> Self::I;
+
+    fn add(self, a: Self::F, b: Self::F) -> Self::F;
+    fn sub(self, a: Self::F, b: Self::F) -> Self::F;
+    fn mul(self, a: Self::F, b: Self::F) -> Self::F;
+    fn div(self, a: Self::F, b: Self::F) -> Self::F;
+    fn sqrt(self, a: Self::F) -> Self::F;
+    /// `a < b ? a : b` per lane (`b` where either is NaN), as `minps`.
+    fn min(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a > b ? a : b` per lane (`b` where either is NaN), as `maxps`.
+    fn max(self, a: Self::F, b: Self::F) -> Self::F;
+    fn and(self, a: Self::F, b: Self::F) -> Self::F;
+    fn or(self, a: Self::F, b: Self::F) -> Self::F;
+    fn xor(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `!a & b`.
+    fn and_not(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a > b` (false where either is NaN).
+    fn gt(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a < b` (false where either is NaN).
+    fn lt(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a <= b` (false where either is NaN).
+    fn le(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `a >= b` (false where either is NaN).
+    fn ge(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `!(a <= b)` (true where either is NaN).
+    fn not_le(self, a: Self::F, b: Self::F) -> Self::F;
+    /// `b` where `mask`, else `a`.
+    fn select(self, a: Self::F, b: Self::F, mask: Self::F) -> Self::F;
+    /// The lanes' sign bits as bits 0–7.
+    fn bits(self, mask: Self::F) -> u32;
+
+    fn add_i(self, a: Self::I, b: Self::I) -> Self::I;
+    fn mul_i(self, a: Self::I, b: Self::I) -> Self::I;
+    fn and_i(self, a: Self::I, b: Self::I) -> Self::I;
+    fn or_i(self, a: Self::I, b: Self::I) -> Self::I;
+    fn min_i(self, a: Self::I, b: Self::I) -> Self::I;
+    fn shr_i<const N: i32>(self, a: Self::I) -> Self::I;
+    fn shl_i<const N: i32>(self, a: Self::I) -> Self::I;
+    /// `a == b` as a mask.
+    fn eq_i(self, a: Self::I, b: Self::I) -> Self::F;
+    /// Rounded toward zero (`cvttps2dq`).
+    fn trunc(self, a: Self::F) -> Self::I;
+    fn to_f(self, a: Self::I) -> Self::F;
+
+    /// # Safety
+    /// `p` points at eight readable `f32`.
+    unsafe fn load(self, p: *const f32) -> Self::F;
+    /// # Safety
+    /// `p` points at eight readable `i32`.
+    unsafe fn load_i(self, p: *const i32) -> Self::I;
+    /// # Safety
+    /// `p` points at eight writable `f32`.
+    unsafe fn store(self, p: *mut f32, a: Self::F);
+    /// # Safety
+    /// `p` points at eight writable `i32`.
+    unsafe fn store_i(self, p: *mut i32, a: Self::I);
+
+    /// Which lanes' bit `bit & 31` is set in the 32-bit word `words[word]`, as bits 0–7.
+    ///
+    /// # Safety
+    /// Every lane's `word` indexes `words`.
+    unsafe fn bit_set(self, words: *const i32, word: Self::I, bit: Self::I) -> u32;
+
+    /// The permutation that moves the lanes set in `mask` (bits 0–7) to the front, in order.
+    fn order(self, mask: u32) -> Self::Order;
+    /// Writes the lanes of `a` chosen by `order` to `dst[0..]`, in order; what follows them up
+    /// to `dst[8]` is overwritten with anything.
+    ///
+    /// # Safety
+    /// `p` points at eight writable `f32`.
+    unsafe fn pack(self, dst: *mut f32, a: Self::F, order: Self::Order);
+    /// [`Simd::pack`] for `i32`.
+    ///
+    /// # Safety
+    /// `p` points at eight writable `i32`.
+    unsafe fn pack_i(self, dst: *mut i32, a: Self::I, order: Self::Order);
+
+    /// A cell's corner records: `raw` (eight `i16`) as eight `f32`.
+    fn widen(self, raw: __m128i) -> Self::F;
+    /// Lanes 0–3 and 4–7.
+    fn halves(self, a: Self::F) -> (__m128, __m128);
+    /// Eight rows of four (one lane's four channels each) as four columns of eight.
+    fn columns(self, rows: [__m128; 8]) -> [Self::F; 4];
+}

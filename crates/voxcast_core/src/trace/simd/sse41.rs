@@ -1,0 +1,330 @@
+//! [`Simd`] on SSE 4.1: each vector two 128-bit halves, lanes 0–3 and 4–7. No gathers, no
+//! lane permutation across halves: the visibility bits are read lane by lane, and the packing
+//! shuffles each half by a table of sixteen.
+
+use super::Simd;
+use std::arch::x86_64::*;
+
+/// The SSE 4.1 backend: exists only where the CPU has SSE 4.1 ([`Sse41::detect`]).
+#[derive(Clone, Copy, Debug)]
+pub(in crate::trace) struct Sse41(());
+
+impl Sse41 {
+    /// The token, if this CPU has SSE 4.1.
+    pub(in crate::trace) fn detect() -> Option<Self> {
+        std::arch::is_x86_feature_detected!("sse4.1").then_some(Self(()))
+    }
+}
+
+/// Two halves: lanes 0–3, lanes 4–7.
+#[derive(Clone, Copy, Debug)]
+pub(in crate::trace) struct Pair<T>(T, T);
+
+/// How [`Simd::pack`] moves a vector's chosen lanes: each half's byte shuffle, and how many
+/// lanes the low half keeps.
+#[derive(Clone, Copy, Debug)]
+pub(in crate::trace) struct Order {
+    lo: __m128i,
+    hi: __m128i,
+    kept_lo: usize,
+}
+
+/// Per set of four lanes (a bit each), the byte shuffle that packs them to the front (the
+/// rest zeroed).
+const PACK4: [[u8; 16]; 16] = {
+    let mut table = [[0x80u8; 16]; 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let (mut lane, mut n) = (0, 0);
+        while lane < 4 {
+            if mask & (1 << lane) != 0 {
+                let mut byte = 0;
+                while byte < 4 {
+                    table[mask][4 * n + byte] = (4 * lane + byte) as u8;
+                    byte += 1;
+                }
+                n += 1;
+            }
+            lane += 1;
+        }
+        mask += 1;
+    }
+    table
+};
+
+/// Applies a two-argument intrinsic to both halves.
+macro_rules! halves {
+    ($f:ident, $a:expr, $b:expr) => {{
+        let (a, b) = ($a, $b);
+        // SAFETY: see the impl below.
+        unsafe { Pair($f(a.0, b.0), $f(a.1, b.1)) }
+    }};
+    ($f:ident, $a:expr) => {{
+        let a = $a;
+        // SAFETY: see the impl below.
+        unsafe { Pair($f(a.0), $f(a.1)) }
+    }};
+}
+
+type F = Pair<__m128>;
+type I = Pair<__m128i>;
+
+// SAFETY (every `unsafe` block below): the token exists only where the CPU has SSE 4.1 (and so
+// SSE2 and below); pointers are the callers' to vouch for, as each method's contract says.
+impl Simd for Sse41 {
+    type F = F;
+    type I = I;
+    type Order = Order;
+
+    #[inline(always)]
+    fn splat(self, x: f32) -> F {
+        let h = unsafe { _mm_set1_ps(x) };
+        Pair(h, h)
+    }
+    #[inline(always)]
+    fn splat_i(self, x: i32) -> I {
+        let h = unsafe { _mm_set1_epi32(x) };
+        Pair(h, h)
+    }
+    #[inline(always)]
+    fn iota(self) -> I {
+        unsafe { Pair(_mm_setr_epi32(0, 1, 2, 3), _mm_setr_epi32(4, 5, 6, 7)) }
+    }
+    #[inline(always)]
+    fn add(self, a: F, b: F) -> F {
+        halves!(_mm_add_ps, a, b)
+    }
+    #[inline(always)]
+    fn sub(self, a: F, b: F) -> F {
+        halves!(_mm_sub_ps, a, b)
+    }
+    #[inline(always)]
+    fn mul(self, a: F, b: F) -> F {
+        halves!(_mm_mul_ps, a, b)
+    }
+    #[inline(always)]
+    fn div(self, a: F, b: F) -> F {
+        halves!(_mm_div_ps, a, b)
+    }
+    #[inline(always)]
+    fn sqrt(self, a: F) -> F {
+        halves!(_mm_sqrt_ps, a)
+    }
+    #[inline(always)]
+    fn min(self, a: F, b: F) -> F {
+        halves!(_mm_min_ps, a, b)
+    }
+    #[inline(always)]
+    fn max(self, a: F, b: F) -> F {
+        halves!(_mm_max_ps, a, b)
+    }
+    #[inline(always)]
+    fn and(self, a: F, b: F) -> F {
+        halves!(_mm_and_ps, a, b)
+    }
+    #[inline(always)]
+    fn or(self, a: F, b: F) -> F {
+        halves!(_mm_or_ps, a, b)
+    }
+    #[inline(always)]
+    fn xor(self, a: F, b: F) -> F {
+        halves!(_mm_xor_ps, a, b)
+    }
+    #[inline(always)]
+    fn and_not(self, a: F, b: F) -> F {
+        halves!(_mm_andnot_ps, a, b)
+    }
+    #[inline(always)]
+    fn gt(self, a: F, b: F) -> F {
+        halves!(_mm_cmpgt_ps, a, b)
+    }
+    #[inline(always)]
+    fn lt(self, a: F, b: F) -> F {
+        halves!(_mm_cmplt_ps, a, b)
+    }
+    #[inline(always)]
+    fn le(self, a: F, b: F) -> F {
+        halves!(_mm_cmple_ps, a, b)
+    }
+    #[inline(always)]
+    fn ge(self, a: F, b: F) -> F {
+        halves!(_mm_cmpge_ps, a, b)
+    }
+    #[inline(always)]
+    fn not_le(self, a: F, b: F) -> F {
+        halves!(_mm_cmpnle_ps, a, b)
+    }
+    #[inline(always)]
+    fn select(self, a: F, b: F, mask: F) -> F {
+        unsafe {
+            Pair(
+                _mm_blendv_ps(a.0, b.0, mask.0),
+                _mm_blendv_ps(a.1, b.1, mask.1),
+            )
+        }
+    }
+    #[inline(always)]
+    fn bits(self, mask: F) -> u32 {
+        unsafe { (_mm_movemask_ps(mask.0) | (_mm_movemask_ps(mask.1) << 4)) as u32 }
+    }
+    #[inline(always)]
+    fn add_i(self, a: I, b: I) -> I {
+        halves!(_mm_add_epi32, a, b)
+    }
+    #[inline(always)]
+    fn mul_i(self, a: I, b: I) -> I {
+        halves!(_mm_mullo_epi32, a, b)
+    }
+    #[inline(always)]
+    fn and_i(self, a: I, b: I) -> I {
+        halves!(_mm_and_si128, a, b)
+    }
+    #[inline(always)]
+    fn or_i(self, a: I, b: I) -> I {
+        halves!(_mm_or_si128, a, b)
+    }
+    #[inline(always)]
+    fn min_i(self, a: I, b: I) -> I {
+        halves!(_mm_min_epi32, a, b)
+    }
+    #[inline(always)]
+    fn shr_i<const N: i32>(self, a: I) -> I {
+        unsafe { Pair(_mm_srli_epi32::<N>(a.0), _mm_srli_epi32::<N>(a.1)) }
+    }
+    #[inline(always)]
+    fn shl_i<const N: i32>(self, a: I) -> I {
+        unsafe { Pair(_mm_slli_epi32::<N>(a.0), _mm_slli_epi32::<N>(a.1)) }
+    }
+    #[inline(always)]
+    fn eq_i(self, a: I, b: I) -> F {
+        let m = halves!(_mm_cmpeq_epi32, a, b);
+        unsafe { Pair(_mm_castsi128_ps(m.0), _mm_castsi128_ps(m.1)) }
+    }
+    #[inline(always)]
+    fn trunc(self, a: F) -> I {
+        halves!(_mm_cvttps_epi32, a)
+    }
+    #[inline(always)]
+    fn to_f(self, a: I) -> F {
+        halves!(_mm_cvtepi32_ps, a)
+    }
+    #[inline(always)]
+    unsafe fn load(self, p: *const f32) -> F {
+        unsafe { Pair(_mm_loadu_ps(p), _mm_loadu_ps(p.add(4))) }
+    }
+    #[inline(always)]
+    unsafe fn load_i(self, p: *const i32) -> I {
+        unsafe {
+            Pair(
+                _mm_loadu_si128(p as *const __m128i),
+                _mm_loadu_si128(p.add(4) as *const __m128i),
+            )
+        }
+    }
+    #[inline(always)]
+    unsafe fn store(self, p: *mut f32, a: F) {
+        unsafe {
+            _mm_storeu_ps(p, a.0);
+            _mm_storeu_ps(p.add(4), a.1);
+        }
+    }
+    #[inline(always)]
+    unsafe fn store_i(self, p: *mut i32, a: I) {
+        unsafe {
+            _mm_storeu_si128(p as *mut __m128i, a.0);
+            _mm_storeu_si128(p.add(4) as *mut __m128i, a.1);
+        }
+    }
+
+    /// Lane by lane: eight loads and shifts (SSE has neither gathers nor variable shifts).
+    #[inline(always)]
+    unsafe fn bit_set(self, words: *const i32, word: I, bit: I) -> u32 {
+        let (mut w, mut b) = ([0i32; 8], [0i32; 8]);
+        unsafe {
+            self.store_i(w.as_mut_ptr(), word);
+            self.store_i(b.as_mut_ptr(), bit);
+        }
+        let mut set = 0;
+        for lane in 0..8 {
+            // SAFETY: the caller's bound.
+            let x = unsafe { *words.add(w[lane] as usize) } as u32;
+            set |= ((x >> (b[lane] & 31)) & 1) << lane;
+        }
+        set
+    }
+
+    #[inline(always)]
+    fn order(self, mask: u32) -> Order {
+        let (lo, hi) = (mask as usize & 0xF, (mask as usize >> 4) & 0xF);
+        // SAFETY (and SSE2): each row is sixteen bytes.
+        unsafe {
+            Order {
+                lo: _mm_loadu_si128(PACK4[lo].as_ptr() as *const __m128i),
+                hi: _mm_loadu_si128(PACK4[hi].as_ptr() as *const __m128i),
+                kept_lo: lo.count_ones() as usize,
+            }
+        }
+    }
+    #[inline(always)]
+    unsafe fn pack(self, dst: *mut f32, a: F, order: Order) {
+        unsafe {
+            let lo = _mm_shuffle_epi8(_mm_castps_si128(a.0), order.lo);
+            let hi = _mm_shuffle_epi8(_mm_castps_si128(a.1), order.hi);
+            _mm_storeu_ps(dst, _mm_castsi128_ps(lo));
+            _mm_storeu_ps(dst.add(order.kept_lo), _mm_castsi128_ps(hi));
+        }
+    }
+    #[inline(always)]
+    unsafe fn pack_i(self, dst: *mut i32, a: I, order: Order) {
+        unsafe {
+            _mm_storeu_si128(dst as *mut __m128i, _mm_shuffle_epi8(a.0, order.lo));
+            _mm_storeu_si128(
+                dst.add(order.kept_lo) as *mut __m128i,
+                _mm_shuffle_epi8(a.1, order.hi),
+            );
+        }
+    }
+
+    #[inline(always)]
+    fn widen(self, raw: __m128i) -> F {
+        unsafe {
+            Pair(
+                _mm_cvtepi32_ps(_mm_cvtepi16_epi32(raw)),
+                _mm_cvtepi32_ps(_mm_cvtepi16_epi32(_mm_unpackhi_epi64(raw, raw))),
+            )
+        }
+    }
+    #[inline(always)]
+    fn halves(self, a: F) -> (__m128, __m128) {
+        (a.0, a.1)
+    }
+    #[inline(always)]
+    fn columns(self, rows: [__m128; 8]) -> [F; 4] {
+        let [r0, r1, r2, r3, r4, r5, r6, r7] = rows;
+        let (lo, hi) = (transpose(r0, r1, r2, r3), transpose(r4, r5, r6, r7));
+        [
+            Pair(lo[0], hi[0]),
+            Pair(lo[1], hi[1]),
+            Pair(lo[2], hi[2]),
+            Pair(lo[3], hi[3]),
+        ]
+    }
+}
+
+/// Four rows of four as four columns.
+#[inline(always)]
+fn transpose(r0: __m128, r1: __m128, r2: __m128, r3: __m128) -> [__m128; 4] {
+    // SAFETY: SSE, which every x86-64 has.
+    unsafe {
+        let t0 = _mm_unpacklo_ps(r0, r1);
+        let t1 = _mm_unpackhi_ps(r0, r1);
+        let t2 = _mm_unpacklo_ps(r2, r3);
+        let t3 = _mm_unpackhi_ps(r2, r3);
+        [
+            _mm_movelh_ps(t0, t2),
+            _mm_movehl_ps(t2, t0),
+            _mm_movelh_ps(t1, t3),
+            _mm_movehl_ps(t3, t1),
+        ]
+    }
+}
