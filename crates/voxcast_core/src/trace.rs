@@ -12,7 +12,8 @@
 //!
 //! The plain marches here are the twin of `shaders/trace.wgsl`; `trace/skipping.rs` passes over
 //! empty space with the same samples; `trace/lanes.rs` runs Accumulate's hot path eight
-//! positions and eight samples at a time on CPUs with AVX2, to the same bits ([`uses_lanes`]).
+//! positions and eight samples at a time on CPUs with AVX2 or SSE 4.1, to the same bits
+//! ([`uses_lanes`]).
 
 use crate::classify::Classifier;
 use crate::clip::clip_interval;
@@ -38,11 +39,16 @@ pub use crate::breakdown::{
 pub use crate::scene::Scene;
 
 mod extreme;
-#[cfg(target_arch = "x86_64")]
+#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
 mod lanes;
 #[cfg(target_arch = "x86_64")]
 mod leaps;
-#[cfg(target_arch = "x86_64")]
+#[cfg(target_arch = "aarch64")]
+#[path = "trace/leaps_scalar.rs"]
+mod leaps;
+#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+mod positions;
+#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
 mod simd;
 mod skipping;
 #[cfg(target_arch = "x86_64")]
@@ -172,9 +178,9 @@ pub fn lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
     impl GridVisitor for Probe<'_, '_> {
         type Output = Option<&'static str>;
         fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Option<&'static str> {
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
             return lanes::Lanes::new(self.0, &grid).map(|l| l.instructions());
-            #[cfg(not(target_arch = "x86_64"))]
+            #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
             {
                 let _ = grid;
                 None
@@ -223,7 +229,7 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     /// Opacity independent of the table's opacity at the value (Levoy's isovalue contours).
     iso_contours: bool,
     /// Accumulate's eight-lane path, where it applies (see `lanes.rs`).
-    #[cfg(target_arch = "x86_64")]
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     lanes: Option<lanes::Lanes<'s>>,
     /// Maximum and Minimum's coarser block level, for integer data (see `extreme.rs`).
     superblocks: Option<&'s crate::bricks::Superblocks>,
@@ -269,7 +275,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             interp: s.settings.interpolation,
             classify_gradient: s.classifier != Classifier::Table,
             iso_contours: matches!(s.classifier, Classifier::IsoContours { .. }),
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
             lanes: lanes::Lanes::new(s, &g),
             superblocks: s.superblocks.filter(|_| T::TABLE.is_some()),
             #[cfg(target_arch = "x86_64")]
@@ -474,7 +480,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut stopped_at = None;
         match skip {
             Some((_, cells)) if plan.count > 0 => {
-                #[cfg(target_arch = "x86_64")]
+                #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
                 if let Some(lanes) = self.lanes.as_ref().filter(|_| !R::ACTIVE)
                     && let Some(stop) = self.accumulate_lanes(
                         lanes,

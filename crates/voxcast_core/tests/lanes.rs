@@ -5,7 +5,8 @@
 //! empty and all-opaque tables, a light straight behind the viewer).
 //!
 //! On a CPU without AVX2 (or SSE 4.1) those renders take the narrower lanes (or the scalar
-//! march); the tests then say so and compare what there is.
+//! march); the tests then say so and compare what there is. On 64-bit ARM both widths are
+//! NEON's (`.ci/run` runs this file there under qemu).
 
 mod scenes;
 
@@ -22,20 +23,19 @@ use voxcast_core::trace::{Scene, Vectors, lane_instructions, uses_lanes};
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
 use voxcast_core::{Volume, VoxelData};
 
-/// Whether this CPU runs the lanes at all.
-fn avx2() -> bool {
+/// The instructions this CPU runs the lanes with, at their widest and narrowed
+/// ([`Vectors::Narrow`]); `None` where it runs none.
+fn instructions() -> (Option<&'static str>, Option<&'static str>) {
     #[cfg(target_arch = "x86_64")]
-    return std::arch::is_x86_feature_detected!("avx2");
-    #[cfg(not(target_arch = "x86_64"))]
-    false
-}
-
-/// Whether this CPU runs the narrow lanes.
-fn sse41() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    return std::arch::is_x86_feature_detected!("sse4.1");
-    #[cfg(not(target_arch = "x86_64"))]
-    false
+    {
+        let narrow = std::arch::is_x86_feature_detected!("sse4.1").then_some("SSE 4.1");
+        let wide = std::arch::is_x86_feature_detected!("avx2").then_some("AVX2");
+        (wide.or(narrow), narrow)
+    }
+    #[cfg(target_arch = "aarch64")]
+    return (Some("NEON"), Some("NEON"));
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    (None, None)
 }
 
 /// Renders `scene` with the widest lanes, the narrow ones and none; the images and stats.
@@ -180,13 +180,15 @@ proptest! {
 }
 
 /// The lanes are taken where they should be (else the test above compares the scalar march
-/// with itself): the presets' scenes on a CPU with AVX2, and with SSE 4.1 when narrowed.
+/// with itself): the presets' scenes on a CPU with AVX2, and with SSE 4.1 when narrowed (on
+/// ARM, NEON both ways).
 #[test]
 fn the_presets_take_the_lanes_where_the_cpu_has_avx2() {
     use voxcast_core::builtin::load_builtin;
     use voxcast_core::preset;
-    if !avx2() {
-        eprintln!("note: this CPU has no AVX2: the lanes are not exercised here");
+    let (wide, narrow) = instructions();
+    if wide.is_none() {
+        eprintln!("note: this CPU runs no lanes: they are not exercised here");
     }
     for name in ["bunny", "brainsmall", "head"] {
         let v = voxcast_core::Prepared::from(load_builtin(name).unwrap().volume);
@@ -199,14 +201,17 @@ fn the_presets_take_the_lanes_where_the_cpu_has_avx2() {
         if s.method == Method::Accumulate && s.shading {
             // The lanes read the precomputed records (integer volumes; the head is float).
             let records = scene.differences.is_some();
-            assert_eq!(uses_lanes(&scene), (avx2() || sse41()) && records, "{name}");
+            assert_eq!(uses_lanes(&scene), wide.is_some() && records, "{name}");
             assert_eq!(records, name != "head", "{name}");
-            let wide = if avx2() { "AVX2" } else { "SSE 4.1" };
-            let expect = |isa| (sse41() && records).then_some(isa);
-            assert_eq!(lane_instructions(&scene), expect(wide), "{name}");
-            let mut narrow = scene.clone();
-            narrow.simd = Vectors::Narrow;
-            assert_eq!(lane_instructions(&narrow), expect("SSE 4.1"), "{name}");
+            assert_eq!(
+                lane_instructions(&scene),
+                wide.filter(|_| records),
+                "{name}"
+            );
+            let mut narrowed = scene.clone();
+            narrowed.simd = Vectors::Narrow;
+            let taken = lane_instructions(&narrowed);
+            assert_eq!(taken, narrow.filter(|_| records), "{name}");
         }
         let [(lanes, ls), (narrow, ns), (scalar, ss)] = renders(&scene, &camera, 96, 72);
         assert_eq!(lanes, scalar, "{name}");

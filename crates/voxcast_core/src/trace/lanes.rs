@@ -28,7 +28,11 @@
 //! every bit.
 
 use super::leaps::Leaps;
-use super::simd::{Avx2, Simd, Sse41};
+#[cfg(target_arch = "aarch64")]
+use super::simd::Neon;
+use super::simd::Simd;
+#[cfg(target_arch = "x86_64")]
+use super::simd::{Avx2, Sse41};
 use super::{Accumulation, Marcher, Vectors};
 use crate::composite::correct_opacity_with;
 use crate::power::StepPower;
@@ -38,7 +42,6 @@ use crate::skip::VisibleCells;
 use crate::step::{StepPlan, first_index_from, sample_t, segment_length};
 use crate::volume::{Grid, Voxel};
 use glam::Vec3;
-use std::arch::x86_64::*;
 
 /// Lanes per batch (eight `f32`: one AVX2 vector, two SSE ones).
 const LANES: usize = 8;
@@ -91,19 +94,29 @@ pub(super) struct Lanes<'s> {
 /// [`Vectors`].
 #[derive(Clone, Copy, Debug)]
 enum Backend {
+    #[cfg(target_arch = "x86_64")]
     Avx2(Avx2),
+    #[cfg(target_arch = "x86_64")]
     Sse41(Sse41),
+    #[cfg(target_arch = "aarch64")]
+    Neon(Neon),
 }
 
 impl Backend {
-    /// The backend for the widest vectors this CPU has, up to `cap`.
+    /// The backend for the widest vectors this CPU has, up to `cap` (on ARM, NEON for both
+    /// widths: it is the only one).
     fn for_cpu(cap: Vectors) -> Option<Self> {
-        let narrow = || Sse41::detect().map(Self::Sse41);
-        match cap {
-            Vectors::Off => None,
-            Vectors::Narrow => narrow(),
-            Vectors::Wide => Avx2::detect().map(Self::Avx2).or_else(narrow),
+        if cap == Vectors::Off {
+            return None;
         }
+        #[cfg(target_arch = "x86_64")]
+        return match cap {
+            Vectors::Wide => Avx2::detect().map(Self::Avx2),
+            _ => None,
+        }
+        .or_else(|| Sse41::detect().map(Self::Sse41));
+        #[cfg(target_arch = "aarch64")]
+        return Neon::detect().map(Self::Neon);
     }
 }
 
@@ -185,8 +198,12 @@ impl Lanes<'_> {
     /// The instruction set the lanes run on, in words.
     pub(super) fn instructions(&self) -> &'static str {
         match self.backend {
+            #[cfg(target_arch = "x86_64")]
             Backend::Avx2(_) => "AVX2",
+            #[cfg(target_arch = "x86_64")]
             Backend::Sse41(_) => "SSE 4.1",
+            #[cfg(target_arch = "aarch64")]
+            Backend::Neon(_) => "NEON",
         }
     }
 }
@@ -273,8 +290,12 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         // SAFETY: each token exists only where the CPU has its instruction set.
         Some(unsafe {
             match lanes.backend {
+                #[cfg(target_arch = "x86_64")]
                 Backend::Avx2(s) => lanes.march_avx2(s, cells, &ray, acc),
+                #[cfg(target_arch = "x86_64")]
                 Backend::Sse41(s) => lanes.march_sse41(s, cells, &ray, acc),
+                #[cfg(target_arch = "aarch64")]
+                Backend::Neon(s) => lanes.march_neon(s, cells, &ray, acc),
             }
         })
     }
@@ -282,6 +303,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
 
 impl Lanes<'_> {
     /// [`Lanes::march`] with AVX2's vectors, compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn march_avx2(
         &self,
@@ -294,10 +316,24 @@ impl Lanes<'_> {
     }
 
     /// [`Lanes::march`] with SSE 4.1's vectors, compiled for SSE 4.1.
+    #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "sse4.1")]
     fn march_sse41(
         &self,
         s: Sse41,
+        cells: &VisibleCells,
+        ray: &Ray<'_>,
+        acc: &mut Accumulation,
+    ) -> Option<u32> {
+        self.march(s, cells, ray, acc)
+    }
+
+    /// [`Lanes::march`] with NEON's vectors.
+    #[cfg(target_arch = "aarch64")]
+    #[target_feature(enable = "neon")]
+    fn march_neon(
+        &self,
+        s: Neon,
         cells: &VisibleCells,
         ray: &Ray<'_>,
         acc: &mut Accumulation,
@@ -332,7 +368,8 @@ impl Lanes<'_> {
         // up and only shrink along one it moves down, rounding included).
         let ahead = cells.forward_distances(crate::skip::octant(d_v));
         let rows = self.corner_rows();
-        // SAFETY: every backend's CPU has SSE 4.1 (`simd.rs`), all that `Leaps` uses.
+        // SAFETY: every x86-64 backend's CPU has SSE 4.1 (`simd.rs`), all that `Leaps` uses
+        // (`leaps_scalar.rs`, on ARM, needs nothing).
         let leaps = unsafe { Leaps::new(cells, (o_v, d_v, inv_d), (self.last, self.max_lo)) };
         while k < end {
             // In an empty brick the ray leaps before it locates anything.
@@ -353,7 +390,7 @@ impl Lanes<'_> {
                 // Fewer than eight are waiting, so eight more fit.
                 let queued = pending.push(s, visible, &located);
                 for &base in &pending.base[queued] {
-                    prefetch(&rows, base);
+                    prefetch(s, &rows, base);
                 }
                 if pending.n >= LANES {
                     // SAFETY: every pending base is a cell of the lattice.
@@ -444,11 +481,10 @@ impl Lanes<'_> {
 /// `rows` from [`Lanes::corner_rows`]) while the batch fills up: they are read once it is full.
 /// One instruction a row, the row's start per ray.
 #[inline(always)]
-fn prefetch(rows: &[*const crate::sample::Differences; 4], base: i32) {
+fn prefetch<S: Simd>(s: S, rows: &[*const crate::sample::Differences; 4], base: i32) {
     let base = base as usize;
     for &row in rows {
-        // SAFETY: SSE (every x86-64 has it); a hint, never a read.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(row.wrapping_add(base) as *const i8) };
+        s.prefetch(row.wrapping_add(base) as *const u8);
     }
 }
 
@@ -516,7 +552,7 @@ impl Lanes<'_> {
         end: u32,
         (o_v, d_v): (Vec3, Vec3),
     ) -> (u32, u32, Located<S>) {
-        let c = super::value_lanes::cells(s, plan, k, (o_v, d_v), (self.last, self.max_lo));
+        let c = super::positions::cells(s, plan, k, (o_v, d_v), (self.last, self.max_lo));
         let taken = (end - k).min(LANES as u32);
         let [ix, iy, iz] = c.i;
         // VisibleCells::lookup: the brick's word, the cell's bit in it (read as 32-bit halves).
@@ -680,39 +716,29 @@ impl Lanes<'_> {
     unsafe fn blend_records<S: Simd>(&self, s: S, p: &Pending) -> [S::F; 4] {
         let [_, _, dy, _, dz, _, dzy, _] = self.corners;
         let records = self.records.as_ptr();
-        // SAFETY (this block): SSE2, which every x86-64 has; the caller's bound.
-        unsafe {
-            let mut rows = [_mm_setzero_ps(); LANES];
-            for (lane, row) in rows.iter_mut().enumerate() {
-                let at = records.wrapping_add(p.base[lane] as usize);
-                // The cell's corners (so both records of each pair) are in the lattice.
-                let (p00, p10, p01, p11) = (
-                    pair_at(at, 0),
-                    pair_at(at, dy),
-                    pair_at(at, dz),
-                    pair_at(at, dzy),
-                );
-                let (tx, ty) = (s.splat(p.fx[lane]), s.splat(p.fy[lane]));
-                // [x00 | x01] and [x10 | x11]: each low corner against its high one along x.
-                let x0 = lerp(
-                    s,
-                    s.widen(_mm_unpacklo_epi64(p00, p01)),
-                    s.widen(_mm_unpackhi_epi64(p00, p01)),
-                    tx,
-                );
-                let x1 = lerp(
-                    s,
-                    s.widen(_mm_unpacklo_epi64(p10, p11)),
-                    s.widen(_mm_unpackhi_epi64(p10, p11)),
-                    tx,
-                );
-                // [y0 | y1] = [x00 | x01] against [x10 | x11].
-                let (y0, y1) = s.halves(lerp(s, x0, x1, ty));
-                let tz = _mm_set1_ps(p.fz[lane]);
-                *row = _mm_add_ps(y0, _mm_mul_ps(_mm_sub_ps(y1, y0), tz));
-            }
-            s.columns(rows)
+        let mut rows = [s.zero_h(); LANES];
+        for (lane, row) in rows.iter_mut().enumerate() {
+            let at = records.wrapping_add(p.base[lane] as usize);
+            // SAFETY: the cell's corners (so both records of each pair) are in the lattice.
+            let (p00, p10, p01, p11) = unsafe {
+                (
+                    pair_at(s, at, 0),
+                    pair_at(s, at, dy),
+                    pair_at(s, at, dz),
+                    pair_at(s, at, dzy),
+                )
+            };
+            let (tx, ty) = (s.splat(p.fx[lane]), s.splat(p.fy[lane]));
+            // [x00 | x01] and [x10 | x11]: each low corner against its high one along x.
+            let (lo, hi) = s.widen_pairs(p00, p01);
+            let x0 = lerp(s, lo, hi, tx);
+            let (lo, hi) = s.widen_pairs(p10, p11);
+            let x1 = lerp(s, lo, hi, tx);
+            // [y0 | y1] = [x00 | x01] against [x10 | x11].
+            let (y0, y1) = s.halves(lerp(s, x0, x1, ty));
+            *row = s.lerp_h(y0, y1, p.fz[lane]);
         }
+        s.columns(rows)
     }
 
     /// Table entries `i` and `i + 1` of each lane as columns (red, green, blue, opacity):
@@ -727,15 +753,13 @@ impl Lanes<'_> {
         // SAFETY: eight lanes into eight slots.
         unsafe { s.store_i(at.as_mut_ptr(), i) };
         let entries = self.entries.as_ptr() as *const f32;
-        // SAFETY: SSE, which every x86-64 has.
-        let zero = unsafe { _mm_setzero_ps() };
-        let (mut lo, mut hi) = ([zero; LANES], [zero; LANES]);
+        let (mut lo, mut hi) = ([s.zero_h(); LANES], [s.zero_h(); LANES]);
         for lane in 0..LANES {
             // SAFETY: the caller's bound; an entry is four floats.
             unsafe {
                 let row = entries.add(4 * at[lane] as usize);
-                lo[lane] = _mm_loadu_ps(row);
-                hi[lane] = _mm_loadu_ps(row.add(4));
+                lo[lane] = s.load_h(row);
+                hi[lane] = s.load_h(row.add(4));
             }
         }
         (s.columns(lo), s.columns(hi))
@@ -833,9 +857,9 @@ fn dot<S: Simd>(s: S, a: &[S::F; 3], b: Vec3) -> S::F {
 /// # Safety
 /// Records `at + o` and `at + o + 1` exist.
 #[inline(always)]
-unsafe fn pair_at(at: *const crate::sample::Differences, o: i32) -> __m128i {
+unsafe fn pair_at<S: Simd>(s: S, at: *const crate::sample::Differences, o: i32) -> S::R {
     // SAFETY: the caller's.
-    unsafe { _mm_loadu_si128(at.add(o as usize) as *const __m128i) }
+    unsafe { s.load_pair(at.add(o as usize) as *const u8) }
 }
 
 /// `crate::shade::power` for a whole exponent, lane by lane: the same squarings and products.

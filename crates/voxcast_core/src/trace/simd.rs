@@ -1,24 +1,31 @@
-//! Eight `f32` lanes on two x86-64 instruction sets: the operations the Accumulate lanes
+//! Eight `f32` lanes on three instruction sets: the operations the Accumulate lanes
 //! (`lanes.rs`) are written in, once, over [`Simd`], with one backend per instruction set —
-//! [`Avx2`] (one 256-bit register a vector) and [`Sse41`] (two 128-bit halves: the CPUs without
-//! AVX, as in most low-cost laptops: Intel's Celeron and Pentium Silver up to 2021).
+//! [`Avx2`] (one 256-bit register a vector), [`Sse41`] (two 128-bit halves: the x86-64 CPUs
+//! without AVX, as in most low-cost laptops: Intel's Celeron and Pentium Silver up to 2021) and
+//! `Neon` (two 128-bit halves: every 64-bit ARM CPU, Apple's among them).
 //!
 //! Every operation is lane-wise IEEE arithmetic, or moves bits, so both backends give the same
 //! numbers bit for bit. A backend is a zero-sized token that exists only where its CPU
 //! features were detected ([`Avx2::detect`], [`Sse41::detect`]): holding one is the proof that
 //! makes its operations safe to call. They are `#[inline(always)]` and carry no target
 //! feature of their own; the lanes' march is instantiated per backend inside a function that
-//! enables it (`Lanes::march_avx2`, `Lanes::march_sse41`), where the intrinsics inline.
+//! enables it (`Lanes::march_avx2` and its siblings), where the intrinsics inline.
 
+#[cfg(target_arch = "x86_64")]
 mod avx2;
+#[cfg(target_arch = "aarch64")]
+mod neon;
+#[cfg(target_arch = "x86_64")]
 mod sse41;
 
+#[cfg(target_arch = "x86_64")]
 pub(super) use avx2::Avx2;
+#[cfg(target_arch = "aarch64")]
+pub(super) use neon::Neon;
+#[cfg(target_arch = "x86_64")]
 pub(super) use sse41::Sse41;
 
-use std::arch::x86_64::{__m128, __m128i};
-
-/// Eight lanes of `f32` and of `i32`, and what the lanes' march does with them. Every
+/// Eight lanes of `f32` and of `i32`, and what the lanes' march does with them. Every x86-64
 /// backend's CPU has SSE 4.1 (AVX2 implies it), which code beside the lanes relies on
 /// (`leaps.rs`).
 ///
@@ -32,6 +39,10 @@ pub(super) trait Simd: Copy {
     type I: Copy;
     /// The permutation that packs chosen lanes to the front ([`Simd::order`]).
     type Order: Copy;
+    /// Four `f32`: one lane's four channels.
+    type H: Copy;
+    /// Sixteen bytes: two records side by side (eight `i16`).
+    type R: Copy;
 
     fn splat(self, x: f32) -> Self::F;
     fn splat_i(self, x: i32) -> Self::I;
@@ -113,10 +124,22 @@ pub(super) trait Simd: Copy {
     /// `p` points at eight writable `i32`.
     unsafe fn pack_i(self, dst: *mut i32, a: Self::I, order: Self::Order);
 
-    /// A cell's corner records: `raw` (eight `i16`) as eight `f32`.
-    fn widen(self, raw: __m128i) -> Self::F;
+    /// # Safety
+    /// `p` points at sixteen readable bytes.
+    unsafe fn load_pair(self, p: *const u8) -> Self::R;
+    /// Two pairs of records `a = [a0 | a1]` and `b = [b0 | b1]` (four `i16` each) as eight
+    /// `f32`: `[a0 | b0]` and `[a1 | b1]`.
+    fn widen_pairs(self, a: Self::R, b: Self::R) -> (Self::F, Self::F);
     /// Lanes 0–3 and 4–7.
-    fn halves(self, a: Self::F) -> (__m128, __m128);
+    fn halves(self, a: Self::F) -> (Self::H, Self::H);
+    /// `a + (b − a)·t` in four lanes.
+    fn lerp_h(self, a: Self::H, b: Self::H, t: f32) -> Self::H;
+    fn zero_h(self) -> Self::H;
+    /// # Safety
+    /// `p` points at four readable `f32`.
+    unsafe fn load_h(self, p: *const f32) -> Self::H;
     /// Eight rows of four (one lane's four channels each) as four columns of eight.
-    fn columns(self, rows: [__m128; 8]) -> [Self::F; 4];
+    fn columns(self, rows: [Self::H; 8]) -> [Self::F; 4];
+    /// Asks for the cache line at `p` (a hint: never a read, any address).
+    fn prefetch(self, p: *const u8);
 }

@@ -34,11 +34,14 @@ const PACK: [[u8; 8]; 256] = {
 
 // SAFETY (every `unsafe` block below): the token exists only where the CPU has AVX2 (and so
 // AVX, SSE 4.1 and below); pointers are the callers' to vouch for, as each method's contract
-// says.
+// says (a prefetch is a hint: it reads nothing and never faults). No closures: one would be
+// compiled without AVX2 and might stay out of line, its intrinsics calls.
 impl Simd for Avx2 {
     type F = __m256;
     type I = __m256i;
     type Order = __m256i;
+    type H = __m128;
+    type R = __m128i;
 
     #[inline(always)]
     fn splat(self, x: f32) -> __m256 {
@@ -214,12 +217,37 @@ impl Simd for Avx2 {
     }
 
     #[inline(always)]
-    fn widen(self, raw: __m128i) -> __m256 {
-        unsafe { _mm256_cvtepi32_ps(_mm256_cvtepi16_epi32(raw)) }
+    unsafe fn load_pair(self, p: *const u8) -> __m128i {
+        unsafe { _mm_loadu_si128(p as *const __m128i) }
+    }
+    /// Regrouped as 64-bit halves, then widened: nothing crosses the 256-bit vector's halves.
+    #[inline(always)]
+    fn widen_pairs(self, a: __m128i, b: __m128i) -> (__m256, __m256) {
+        unsafe {
+            let lo = _mm256_cvtepi16_epi32(_mm_unpacklo_epi64(a, b));
+            let hi = _mm256_cvtepi16_epi32(_mm_unpackhi_epi64(a, b));
+            (_mm256_cvtepi32_ps(lo), _mm256_cvtepi32_ps(hi))
+        }
     }
     #[inline(always)]
     fn halves(self, a: __m256) -> (__m128, __m128) {
         unsafe { (_mm256_castps256_ps128(a), _mm256_extractf128_ps::<1>(a)) }
+    }
+    #[inline(always)]
+    fn lerp_h(self, a: __m128, b: __m128, t: f32) -> __m128 {
+        unsafe { _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), _mm_set1_ps(t))) }
+    }
+    #[inline(always)]
+    fn zero_h(self) -> __m128 {
+        unsafe { _mm_setzero_ps() }
+    }
+    #[inline(always)]
+    unsafe fn load_h(self, p: *const f32) -> __m128 {
+        unsafe { _mm_loadu_ps(p) }
+    }
+    #[inline(always)]
+    fn prefetch(self, p: *const u8) {
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p as *const i8) }
     }
     #[inline(always)]
     fn columns(self, rows: [__m128; 8]) -> [__m256; 4] {

@@ -70,11 +70,14 @@ type F = Pair<__m128>;
 type I = Pair<__m128i>;
 
 // SAFETY (every `unsafe` block below): the token exists only where the CPU has SSE 4.1 (and so
-// SSE2 and below); pointers are the callers' to vouch for, as each method's contract says.
+// SSE2 and below); pointers are the callers' to vouch for, as each method's contract says (a
+// prefetch is a hint: it reads nothing and never faults). No closures, as in `avx2.rs`.
 impl Simd for Sse41 {
     type F = F;
     type I = I;
     type Order = Order;
+    type H = __m128;
+    type R = __m128i;
 
     #[inline(always)]
     fn splat(self, x: f32) -> F {
@@ -286,17 +289,41 @@ impl Simd for Sse41 {
     }
 
     #[inline(always)]
-    fn widen(self, raw: __m128i) -> F {
+    unsafe fn load_pair(self, p: *const u8) -> __m128i {
+        unsafe { _mm_loadu_si128(p as *const __m128i) }
+    }
+    /// Each half from one of the pairs: `[a0 | b0]` is `a`'s low four and `b`'s low four.
+    #[inline(always)]
+    fn widen_pairs(self, a: __m128i, b: __m128i) -> (F, F) {
         unsafe {
-            Pair(
-                _mm_cvtepi32_ps(_mm_cvtepi16_epi32(raw)),
-                _mm_cvtepi32_ps(_mm_cvtepi16_epi32(_mm_unpackhi_epi64(raw, raw))),
+            let (a1, b1) = (_mm_srli_si128::<8>(a), _mm_srli_si128::<8>(b));
+            let (a0, b0) = (_mm_cvtepi16_epi32(a), _mm_cvtepi16_epi32(b));
+            let (a1, b1) = (_mm_cvtepi16_epi32(a1), _mm_cvtepi16_epi32(b1));
+            (
+                Pair(_mm_cvtepi32_ps(a0), _mm_cvtepi32_ps(b0)),
+                Pair(_mm_cvtepi32_ps(a1), _mm_cvtepi32_ps(b1)),
             )
         }
     }
     #[inline(always)]
     fn halves(self, a: F) -> (__m128, __m128) {
         (a.0, a.1)
+    }
+    #[inline(always)]
+    fn lerp_h(self, a: __m128, b: __m128, t: f32) -> __m128 {
+        unsafe { _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), _mm_set1_ps(t))) }
+    }
+    #[inline(always)]
+    fn zero_h(self) -> __m128 {
+        unsafe { _mm_setzero_ps() }
+    }
+    #[inline(always)]
+    unsafe fn load_h(self, p: *const f32) -> __m128 {
+        unsafe { _mm_loadu_ps(p) }
+    }
+    #[inline(always)]
+    fn prefetch(self, p: *const u8) {
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p as *const i8) }
     }
     #[inline(always)]
     fn columns(self, rows: [__m128; 8]) -> [F; 4] {
