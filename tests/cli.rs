@@ -226,10 +226,11 @@ fn bench_writes_its_table_and_plot() {
     assert!(image::open(&plot).is_ok());
 }
 
-/// `--no-lanes` renders as a CPU without AVX2 does: `bench` says so, and the images of `bench`
-/// and `render` are the lanes' bit for bit.
+/// `--no-lanes` renders as a CPU without the lanes' vector units does, `--narrow-lanes` as an
+/// x86-64 without AVX: `bench` says so, and the images of `bench` and `render` are the widest
+/// lanes' bit for bit; the two switches together are refused.
 #[test]
-fn bench_without_the_lanes_says_so_and_draws_the_same_images() {
+fn bench_without_or_with_narrow_lanes_says_so_and_draws_the_same_images() {
     let dir = out_dir();
     let run = |name: &str, extra: &[&str]| {
         let (report, images) = (dir.join(format!("{name}.md")), dir.join(name));
@@ -255,8 +256,10 @@ fn bench_without_the_lanes_says_so_and_draws_the_same_images() {
     };
     let (with, with_images) = run("lanes_on", &[]);
     let (without, without_images) = run("lanes_off", &["--no-lanes"]);
+    let (narrow, narrow_images) = run("lanes_narrow", &["--narrow-lanes"]);
     assert!(without.contains("turned off"), "{without}");
     assert!(!with.contains("turned off"), "{with}");
+    assert!(narrow.contains("`--narrow-lanes`"), "{narrow}");
     let names: Vec<_> = std::fs::read_dir(&with_images)
         .unwrap()
         .map(|e| e.unwrap().file_name())
@@ -265,7 +268,9 @@ fn bench_without_the_lanes_says_so_and_draws_the_same_images() {
     for name in names {
         let a = std::fs::read(with_images.join(&name)).unwrap();
         let b = std::fs::read(without_images.join(&name)).unwrap();
+        let c = std::fs::read(narrow_images.join(&name)).unwrap();
         assert!(a == b, "{name:?} differs without the lanes");
+        assert!(a == c, "{name:?} differs with the narrow lanes");
     }
     // `render` takes the switch too.
     let render = |name: &str, extra: &[&str]| {
@@ -283,7 +288,13 @@ fn bench_without_the_lanes_says_so_and_draws_the_same_images() {
         assert!(o.status.success(), "{}", text(&o));
         std::fs::read(out).unwrap()
     };
-    assert!(render("lanes_on.png", &[]) == render("lanes_off.png", &["--no-lanes"]));
+    let on = render("lanes_on.png", &[]);
+    assert!(on == render("lanes_off.png", &["--no-lanes"]));
+    assert!(on == render("lanes_narrow.png", &["--narrow-lanes"]));
+    // Both at once is refused, with a message.
+    let o = voxcast(&["render", "--no-lanes", "--narrow-lanes"]);
+    assert!(!o.status.success());
+    assert!(text(&o).contains("cannot be used with"), "{}", text(&o));
 }
 
 /// `--knobs`: one table per knob, each ending with its reference, written into a section of an

@@ -576,14 +576,16 @@ fn parse_light(s: &str) -> Result<Option<LightSource>, String> {
 /// How the CPU renders.
 #[derive(Args, Debug, Clone, Default)]
 pub struct CpuArgs {
-    /// Render as a CPU without SSE 4.1 does (or one that is not x86-64, an ARM laptop): the
-    /// eight-lane paths off, every sample one at a time — the same images, slower. For
-    /// measuring what such a machine would see.
+    /// Render as a CPU without the lanes' vector instructions does (an x86-64 without SSE 4.1,
+    /// from before 2008, or one neither x86-64 nor 64-bit ARM): the eight-lane paths off,
+    /// every sample one at a time — the same images, slower. For measuring what such a machine
+    /// would see.
     #[arg(long, conflicts_with = "narrow_lanes")]
     pub no_lanes: bool,
     /// Render as an x86-64 CPU without AVX does (most low-cost laptops' Celeron and Pentium
     /// Silver up to 2021): Accumulate's eight lanes in two halves of four (SSE 4.1), the
-    /// projections one sample at a time — the same images, slower.
+    /// projections one sample at a time — the same images, slower. (On 64-bit ARM the lanes
+    /// are NEON's, two halves of four, either way.)
     #[arg(long)]
     pub narrow_lanes: bool,
 }

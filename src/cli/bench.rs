@@ -457,7 +457,7 @@ fn report(
         threads,
         ghz.map_or(String::new(), |g| format!(", {g:.2} GHz nominal")),
         if voxcast_core::trace::vectors() == voxcast_core::trace::Vectors::Off {
-            "turned off (`--no-lanes`: as a CPU without SSE 4.1 renders)"
+            "turned off (`--no-lanes`: as a CPU without their vector instructions renders)"
         } else if voxcast_core::trace::vectors() == voxcast_core::trace::Vectors::Narrow {
             if lanes {
                 "on, in two halves of four (`--narrow-lanes`: as a CPU without AVX renders)"

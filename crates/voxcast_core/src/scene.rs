@@ -70,7 +70,7 @@ pub struct Scene<'a> {
     /// The superblocks' ranges, where Maximum and Minimum choose what to sample first.
     pub superblocks: Option<&'a Superblocks>,
     /// The widest vectors the CPU renderer may use to locate and evaluate eight samples at once
-    /// where the CPU has the instructions for it (AVX2, SSE 4.1) — the same pixels, bit for bit
+    /// where the CPU has the instructions for it (AVX2, SSE 4.1, NEON) — the same pixels, bit for bit
     /// (`crate::trace`'s lanes); the widest by default (unless [`crate::trace::set_vectors`]
     /// said otherwise), narrower or off to compare.
     pub simd: crate::trace::Vectors,

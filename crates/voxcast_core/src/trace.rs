@@ -12,7 +12,7 @@
 //!
 //! The plain marches here are the twin of `shaders/trace.wgsl`; `trace/skipping.rs` passes over
 //! empty space with the same samples; `trace/lanes.rs` runs Accumulate's hot path eight
-//! positions and eight samples at a time on CPUs with AVX2 or SSE 4.1, to the same bits
+//! positions and eight samples at a time on CPUs with AVX2, SSE 4.1 or NEON, to the same bits
 //! ([`uses_lanes`]).
 
 use crate::classify::Classifier;
@@ -51,7 +51,7 @@ mod positions;
 #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
 mod simd;
 mod skipping;
-#[cfg(target_arch = "x86_64")]
+#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
 mod value_lanes;
 
 /// The result of one ray.
@@ -134,14 +134,16 @@ pub fn trace_ray(scene: &Scene<'_>, ray: &Ray, jitter_key: [u32; 2]) -> RayTrace
 /// whichever it takes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub enum Vectors {
-    /// The widest the CPU has: AVX2 (eight lanes in one register), else SSE 4.1.
+    /// The widest the CPU has: AVX2 (eight lanes in one register), else SSE 4.1; on 64-bit
+    /// ARM, NEON.
     #[default]
     Wide,
     /// SSE 4.1 at most (eight lanes in two registers of four), as on an x86-64 without AVX —
-    /// most low-cost laptops' Celeron and Pentium Silver CPUs up to 2021. Accumulate only:
-    /// the projections' lanes need AVX2.
+    /// most low-cost laptops' Celeron and Pentium Silver CPUs up to 2021 (on ARM, NEON as
+    /// ever).
     Narrow,
-    /// None: every sample one at a time, as on a CPU without SSE 4.1 or that is not x86-64.
+    /// None: every sample one at a time, as on an x86-64 without SSE 4.1 or a CPU neither
+    /// x86-64 nor 64-bit ARM.
     Off,
 }
 
@@ -166,13 +168,14 @@ pub fn vectors() -> Vectors {
 
 /// Whether Accumulate renders of `scene` take the eight-lane path (`lanes.rs`): the scene
 /// allows it ([`Scene::simd`], Accumulate with skipping, trilinear, shading from precomputed
-/// records, directional lights, a whole-number shininess) and this CPU has AVX2 or SSE 4.1.
+/// records, directional lights, a whole-number shininess) and this CPU has AVX2, SSE 4.1 or
+/// NEON.
 pub fn uses_lanes(scene: &Scene<'_>) -> bool {
     lane_instructions(scene).is_some()
 }
 
-/// The instructions Accumulate renders of `scene` take their eight lanes with ("AVX2" or
-/// "SSE 4.1"), if they take them ([`uses_lanes`]).
+/// The instructions Accumulate renders of `scene` take their eight lanes with ("AVX2",
+/// "SSE 4.1" or "NEON"), if they take them ([`uses_lanes`]).
 pub fn lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
     struct Probe<'s, 'a>(&'s Scene<'a>);
     impl GridVisitor for Probe<'_, '_> {
@@ -195,23 +198,31 @@ pub fn lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
 
 /// Whether projection renders of `scene` (Maximum, Minimum, Average, Sum) read their samples
 /// eight at a time (`value_lanes.rs`; with skipping on, Maximum and Minimum take the best
-/// blocks first, `extreme.rs`): integer data, trilinear, [`Scene::simd`], and a CPU with AVX2.
+/// blocks first, `extreme.rs`): integer data, trilinear, [`Scene::simd`], and a CPU with AVX2,
+/// SSE 4.1 or NEON.
 pub fn uses_value_lanes(scene: &Scene<'_>) -> bool {
+    value_lane_instructions(scene).is_some()
+}
+
+/// The instructions projection renders of `scene` read their samples eight at a time with
+/// ("AVX2", "SSE 4.1" or "NEON"), if they do ([`uses_value_lanes`]).
+pub fn value_lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
     struct Probe<'s, 'a>(&'s Scene<'a>);
     impl GridVisitor for Probe<'_, '_> {
-        type Output = bool;
-        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> bool {
+        type Output = Option<&'static str>;
+        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Option<&'static str> {
             let m = Marcher::new(self.0, grid);
-            #[cfg(target_arch = "x86_64")]
-            return m.values.is_some()
-                && matches!(
+            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+            return m.values.map(|v| v.instructions()).filter(|_| {
+                matches!(
                     self.0.settings.method,
                     Method::Maximum | Method::Minimum | Method::Average | Method::Sum
-                );
-            #[cfg(not(target_arch = "x86_64"))]
+                )
+            });
+            #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
             {
                 let _ = m;
-                false
+                None
             }
         }
     }
@@ -234,7 +245,7 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     /// Maximum and Minimum's coarser block level, for integer data (see `extreme.rs`).
     superblocks: Option<&'s crate::bricks::Superblocks>,
     /// The projections' eight-lane values, where they apply (see `value_lanes.rs`).
-    #[cfg(target_arch = "x86_64")]
+    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     values: Option<value_lanes::ValueLanes<'g>>,
 }
 
@@ -278,12 +289,11 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
             lanes: lanes::Lanes::new(s, &g),
             superblocks: s.superblocks.filter(|_| T::TABLE.is_some()),
-            #[cfg(target_arch = "x86_64")]
+            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
             // Every value finite, as the lanes count every sample (`ValueStats::add` counts
             // only those): the rescale of the type's whole range is, and it is monotone.
-            values: value_lanes::ValueLanes::new(&g).filter(|_| {
-                s.simd == Vectors::Wide
-                    && s.settings.interpolation == Interpolation::Trilinear
+            values: value_lanes::ValueLanes::new(&g, s.simd).filter(|_| {
+                s.settings.interpolation == Interpolation::Trilinear
                     && T::TABLE.is_some_and(|(offset, count)| {
                         let ends = [-offset, count as i32 - 1 - offset];
                         ends.iter().all(|&r| g.to_data(r as f32).is_finite())
@@ -656,7 +666,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     }
 
     /// Adds the ray's samples `k0..k1` to `stats` in order: eight at a time where the
-    /// projections' lanes apply (`value_lanes.rs`: integer data, trilinear, AVX2) — the same
+    /// projections' lanes apply (`value_lanes.rs`: integer data, trilinear, vectors) — the same
     /// statistics — else one by one; nothing for an empty range.
     fn add_samples(
         &self,
@@ -668,10 +678,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         if k0 >= k1 {
             return;
         }
-        #[cfg(target_arch = "x86_64")]
+        #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
         if let Some(lanes) = &self.values {
             let rescale = (self.g.slope, self.g.intercept);
-            // SAFETY: `ValueLanes` exists only where the CPU has AVX2, built from this grid.
+            // SAFETY: `ValueLanes` built from this grid.
             unsafe { lanes.add_range(plan, (o_v, d_v), (k0, k1), rescale, stats) };
             return;
         }

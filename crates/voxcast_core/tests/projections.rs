@@ -1,6 +1,6 @@
 //! Maximum and Minimum with the best blocks first and eight lanes (`trace/extreme.rs`,
-//! `trace/value_lanes.rs`), and Average and Sum adding their samples eight at a time, render
-//! the plain march's pixels bit for bit: over random scan-like
+//! `trace/value_lanes.rs`; AVX2's and SSE 4.1's, or NEON's on ARM), and Average and Sum adding
+//! their samples eight at a time, render the plain march's pixels bit for bit: over random scan-like
 //! volumes of every integer type (a negative rescale slope among them, which turns the largest
 //! raw value into the smallest), cameras outside, along an axis, inside and orthographic, and
 //! steps from tiny to huge — and at the extremes (a one-voxel volume, a volume one voxel thin
@@ -16,24 +16,40 @@ use voxcast_core::glam::{UVec3, Vec3};
 use voxcast_core::render::render_with_threads;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
-use voxcast_core::trace::Scene;
+use voxcast_core::trace::{Scene, Vectors, value_lane_instructions};
 use voxcast_core::transfer::TransferFunction;
 use voxcast_core::{Prepared, Volume, VoxelData};
 
-/// The image of `scene` as rendered (ordered blocks or zero blocks passed over, lanes), with
-/// the lanes off, and by the plain march (no skipping at all); with the sample counts of the
-/// first and the last.
-fn three(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, u64); 3] {
+/// The image of `scene` as rendered (ordered blocks or zero blocks passed over, the widest
+/// lanes), with the narrow lanes (SSE 4.1; NEON on ARM), with the lanes off, and by the plain
+/// march (no skipping at all); with the sample counts of each.
+fn four(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, u64); 4] {
+    let mut narrow = scene.clone();
+    narrow.simd = Vectors::Narrow;
     let mut scalar = scene.clone();
-    scalar.simd = voxcast_core::trace::Vectors::Off;
+    scalar.simd = Vectors::Off;
     let mut plain = scene.clone();
     plain.block_skipping = false;
     plain.sum_skipping = false;
-    plain.simd = voxcast_core::trace::Vectors::Off;
-    [scene, &scalar, &plain].map(|s| {
+    plain.simd = Vectors::Off;
+    [scene, &narrow, &scalar, &plain].map(|s| {
         let (image, stats) = render_with_threads(s, camera, w, h, 1).unwrap();
         (image.pixels, stats.samples)
     })
+}
+
+/// The instructions this CPU runs the lanes with, at their widest and narrowed.
+fn instructions() -> (Option<&'static str>, Option<&'static str>) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let narrow = std::arch::is_x86_feature_detected!("sse4.1").then_some("SSE 4.1");
+        let wide = std::arch::is_x86_feature_detected!("avx2").then_some("AVX2");
+        (wide.or(narrow), narrow)
+    }
+    #[cfg(target_arch = "aarch64")]
+    return (Some("NEON"), Some("NEON"));
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    (None, None)
 }
 
 fn settings(method: Method, step: f32, jitter: bool) -> RenderSettings {
@@ -70,9 +86,10 @@ proptest! {
         let tf = ramp(&v);
         let scene = Scene::new(&v, &tf, &settings(method, step, jitter), camera.forward()).unwrap();
         prop_assert!(scene.block_skipping);
-        let [(fast, taken), (scalar, _), (plain, all)] = three(&scene, &camera, 20, 15);
+        let [(fast, taken), (narrow, _), (scalar, _), (plain, all)] = four(&scene, &camera, 20, 15);
         prop_assert_eq!(&fast, &plain);
         prop_assert_eq!(&scalar, &plain);
+        prop_assert_eq!(&narrow, &plain);
         prop_assert!(taken <= all);
     }
 }
@@ -97,9 +114,10 @@ proptest! {
         let Some(camera) = camera(&v, kind, Vec3::from(a), Vec3::from(b)) else { return Ok(()) };
         let tf = ramp(&v);
         let scene = Scene::new(&v, &tf, &settings(method, step, jitter), camera.forward()).unwrap();
-        let [(fast, _), (scalar, _), (plain, _)] = three(&scene, &camera, 20, 15);
+        let [(fast, _), (narrow, _), (scalar, _), (plain, _)] = four(&scene, &camera, 20, 15);
         prop_assert_eq!(&fast, &plain);
         prop_assert_eq!(&scalar, &plain);
+        prop_assert_eq!(&narrow, &plain);
     }
 }
 
@@ -115,10 +133,19 @@ fn real_volumes_take_fewer_samples_for_the_same_pixels() {
         for method in [Method::Maximum, Method::Minimum] {
             let scene =
                 Scene::new(&v, &tf, &settings(method, 0.5, false), camera.forward()).unwrap();
-            let [(fast, taken), (scalar, _), (plain, all)] = three(&scene, &camera, 64, 48);
+            let [(fast, taken), (narrow, _), (scalar, _), (plain, all)] =
+                four(&scene, &camera, 64, 48);
             assert_eq!(fast, plain, "{name} {method:?}");
             assert_eq!(scalar, plain, "{name} {method:?}");
+            assert_eq!(narrow, plain, "{name} {method:?}");
             eprintln!("{name} {method:?}: {taken} of {all} samples");
+            // The lanes are taken (else the comparisons above are of the scalar march with
+            // itself), narrowed too.
+            let mut narrowed = scene.clone();
+            narrowed.simd = Vectors::Narrow;
+            let (wide, narrow) = instructions();
+            assert_eq!(value_lane_instructions(&scene), wide, "{name}");
+            assert_eq!(value_lane_instructions(&narrowed), narrow, "{name}");
             assert!(taken < all, "{name} {method:?}: {taken} of {all} samples");
         }
     }
@@ -152,9 +179,11 @@ fn sums_around_zero_blocks_agree() {
             let s = settings(Method::Sum, step, i == 1);
             let scene = Scene::new(&v, &tf, &s, camera.forward()).unwrap();
             assert!(scene.sum_skipping);
-            let [(fast, taken), (scalar, _), (plain, all)] = three(&scene, &camera, 31, 23);
+            let [(fast, taken), (narrow, _), (scalar, _), (plain, all)] =
+                four(&scene, &camera, 31, 23);
             assert_eq!(fast, plain, "from {from} step {step}");
             assert_eq!(scalar, plain, "from {from} step {step}");
+            assert_eq!(narrow, plain, "from {from} step {step}");
             passed |= taken < all;
         }
     }
@@ -210,19 +239,17 @@ fn extremes_agree() {
                         ..settings(method, step, false)
                     };
                     let scene = Scene::new(v, &tf, &s, camera.forward()).unwrap();
-                    let [(fast, _), (scalar, _), (plain, _)] = three(&scene, &camera, 9, 7);
+                    let [(fast, _), (narrow, _), (scalar, _), (plain, _)] =
+                        four(&scene, &camera, 9, 7);
                     assert_eq!(
                         fast,
                         plain,
                         "{:?} {method:?} step {step} from {from}",
                         v.dims()
                     );
-                    assert_eq!(
-                        scalar,
-                        plain,
-                        "{:?} {method:?} step {step} from {from}",
-                        v.dims()
-                    );
+                    let at = format!("{:?} {method:?} step {step} from {from}", v.dims());
+                    assert_eq!(narrow, plain, "{at}");
+                    assert_eq!(scalar, plain, "{at}");
                 }
             }
         }

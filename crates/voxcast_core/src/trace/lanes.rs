@@ -1,6 +1,6 @@
 //! Accumulate's hot path eight sample positions at a time, on x86-64 CPUs with AVX2 or SSE 4.1
-//! (written once over [`Simd`], `simd.rs`): the same pixels as the one-at-a-time march of
-//! `skipping.rs`, bit for bit.
+//! and on 64-bit ARM (written once over [`Simd`], `simd.rs`, with a backend for each): the
+//! same pixels as the one-at-a-time march of `skipping.rs`, bit for bit.
 //!
 //! A ray starts at its pixel's entry bound ([`crate::entry::EntryBounds`], where the render
 //! has one) and leaps over empty bricks by their distance to the nearest visible cell ahead
@@ -23,17 +23,18 @@
 //! Used where it applies exactly: Accumulate front to back with skipping, trilinear, table
 //! classification, the precomputed records (an integer volume, shading on), directional lights
 //! and a whole-number shininess (the scalar code then raises by repeated squaring, which lanes
-//! repeat step for step). Anything else, or a CPU without SSE 4.1, takes the scalar march.
+//! repeat step for step). Anything else, or a CPU with none of those vector units, takes the
+//! scalar march.
 //! `tests/lanes.rs` renders random scenes with each backend and without lanes, and compares
 //! every bit.
 
 use super::leaps::Leaps;
 #[cfg(target_arch = "aarch64")]
 use super::simd::Neon;
-use super::simd::Simd;
 #[cfg(target_arch = "x86_64")]
 use super::simd::{Avx2, Sse41};
-use super::{Accumulation, Marcher, Vectors};
+use super::simd::{Backend, Simd};
+use super::{Accumulation, Marcher};
 use crate::composite::correct_opacity_with;
 use crate::power::StepPower;
 use crate::scene::Scene;
@@ -88,36 +89,6 @@ pub(super) struct Lanes<'s> {
     /// The scene's whole-step power ([`Scene::step_power`]), for the composite.
     whole_step: Option<&'s StepPower>,
     backend: Backend,
-}
-
-/// The instruction set the lanes run on: the widest the CPU has, up to the scene's
-/// [`Vectors`].
-#[derive(Clone, Copy, Debug)]
-enum Backend {
-    #[cfg(target_arch = "x86_64")]
-    Avx2(Avx2),
-    #[cfg(target_arch = "x86_64")]
-    Sse41(Sse41),
-    #[cfg(target_arch = "aarch64")]
-    Neon(Neon),
-}
-
-impl Backend {
-    /// The backend for the widest vectors this CPU has, up to `cap` (on ARM, NEON for both
-    /// widths: it is the only one).
-    fn for_cpu(cap: Vectors) -> Option<Self> {
-        if cap == Vectors::Off {
-            return None;
-        }
-        #[cfg(target_arch = "x86_64")]
-        return match cap {
-            Vectors::Wide => Avx2::detect().map(Self::Avx2),
-            _ => None,
-        }
-        .or_else(|| Sse41::detect().map(Self::Sse41));
-        #[cfg(target_arch = "aarch64")]
-        return Neon::detect().map(Self::Neon);
-    }
 }
 
 impl<'s> Lanes<'s> {
@@ -197,14 +168,7 @@ impl<'s> Lanes<'s> {
 impl Lanes<'_> {
     /// The instruction set the lanes run on, in words.
     pub(super) fn instructions(&self) -> &'static str {
-        match self.backend {
-            #[cfg(target_arch = "x86_64")]
-            Backend::Avx2(_) => "AVX2",
-            #[cfg(target_arch = "x86_64")]
-            Backend::Sse41(_) => "SSE 4.1",
-            #[cfg(target_arch = "aarch64")]
-            Backend::Neon(_) => "NEON",
-        }
+        self.backend.name()
     }
 }
 

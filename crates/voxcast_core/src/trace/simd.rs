@@ -25,6 +25,51 @@ pub(super) use neon::Neon;
 #[cfg(target_arch = "x86_64")]
 pub(super) use sse41::Sse41;
 
+use super::Vectors;
+use crate::volume::ScalarType;
+
+/// The instruction set the lanes run on: the widest the CPU has, up to the scene's
+/// [`Vectors`] (each variant holding its token).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Backend {
+    #[cfg(target_arch = "x86_64")]
+    Avx2(Avx2),
+    #[cfg(target_arch = "x86_64")]
+    Sse41(Sse41),
+    #[cfg(target_arch = "aarch64")]
+    Neon(Neon),
+}
+
+impl Backend {
+    /// The backend for the widest vectors this CPU has, up to `cap` (on ARM, NEON for both
+    /// widths: it is the only one).
+    pub(super) fn for_cpu(cap: Vectors) -> Option<Self> {
+        if cap == Vectors::Off {
+            return None;
+        }
+        #[cfg(target_arch = "x86_64")]
+        return match cap {
+            Vectors::Wide => Avx2::detect().map(Self::Avx2),
+            _ => None,
+        }
+        .or_else(|| Sse41::detect().map(Self::Sse41));
+        #[cfg(target_arch = "aarch64")]
+        return Neon::detect().map(Self::Neon);
+    }
+
+    /// The instruction set, in words.
+    pub(super) fn name(self) -> &'static str {
+        match self {
+            #[cfg(target_arch = "x86_64")]
+            Backend::Avx2(_) => "AVX2",
+            #[cfg(target_arch = "x86_64")]
+            Backend::Sse41(_) => "SSE 4.1",
+            #[cfg(target_arch = "aarch64")]
+            Backend::Neon(_) => "NEON",
+        }
+    }
+}
+
 /// Eight lanes of `f32` and of `i32`, and what the lanes' march does with them. Every x86-64
 /// backend's CPU has SSE 4.1 (AVX2 implies it), which code beside the lanes relies on
 /// (`leaps.rs`).
@@ -83,10 +128,15 @@ pub(super) trait Simd: Copy {
     fn and_i(self, a: Self::I, b: Self::I) -> Self::I;
     fn or_i(self, a: Self::I, b: Self::I) -> Self::I;
     fn min_i(self, a: Self::I, b: Self::I) -> Self::I;
+    /// Logical: zeros shifted in.
     fn shr_i<const N: i32>(self, a: Self::I) -> Self::I;
+    /// Arithmetic: the sign shifted in.
+    fn shr_signed_i<const N: i32>(self, a: Self::I) -> Self::I;
     fn shl_i<const N: i32>(self, a: Self::I) -> Self::I;
     /// `a == b` as a mask.
     fn eq_i(self, a: Self::I, b: Self::I) -> Self::F;
+    /// `a > b` (signed) as a mask.
+    fn gt_i(self, a: Self::I, b: Self::I) -> Self::F;
     /// Rounded toward zero (`cvttps2dq`).
     fn trunc(self, a: Self::F) -> Self::I;
     fn to_f(self, a: Self::I) -> Self::F;
@@ -103,6 +153,33 @@ pub(super) trait Simd: Copy {
     /// # Safety
     /// `p` points at eight writable `i32`.
     unsafe fn store_i(self, p: *mut i32, a: Self::I);
+
+    /// Lane 0 in every lane.
+    fn broadcast_first(self, a: Self::F) -> Self::F;
+    /// Lane 0.
+    fn first(self, a: Self::F) -> f32;
+    /// The largest lane (`larger`) or the smallest, in every lane, taken by [`Simd::max`] or
+    /// [`Simd::min`] (no lane may be NaN: the order they are taken in differs by backend).
+    fn best_across(self, a: Self::F, larger: bool) -> Self::F;
+    /// `p[idx]` per lane.
+    ///
+    /// # Safety
+    /// Every lane's `idx` indexes the `f32`s at `p`.
+    unsafe fn gather(self, p: *const f32, idx: Self::I) -> Self::F;
+
+    /// Per lane, elements `at` and `at + 1` of `data` (of `kind`, 8 or 16 bits) in the low 16
+    /// or 32 bits of a 32-bit word, element `at` lowest: each lane's pair read on its own and
+    /// the eight put together — or, with `gather` where the backend has a gather worth taking
+    /// (AVX2 on CPUs with AVX-512: `avx2.rs`), gathered. The same words' pairs either way.
+    ///
+    /// # Safety
+    /// `at + 1` is an element of the data in every lane; 8-bit data has at least four bytes.
+    #[inline(always)]
+    unsafe fn pairs(self, data: *const u8, kind: ScalarType, at: Self::I, gather: bool) -> Self::I {
+        let _ = gather;
+        // SAFETY: the caller's.
+        unsafe { read_pairs(self, data, kind, at) }
+    }
 
     /// Which lanes' bit `bit & 31` is set in the 32-bit word `words[word]`, as bits 0–7.
     ///
@@ -142,4 +219,36 @@ pub(super) trait Simd: Copy {
     fn columns(self, rows: [Self::H; 8]) -> [Self::F; 4];
     /// Asks for the cache line at `p` (a hint: never a read, any address).
     fn prefetch(self, p: *const u8);
+}
+
+/// [`Simd::pairs`] lane by lane: each lane's pair read on its own, the eight put together.
+/// Cheaper than a gather where a gather of eight is some twenty micro-operations (Zen 1: the
+/// gathers were 18 % of a Maximum render).
+///
+/// # Safety
+/// As [`Simd::pairs`].
+#[inline(always)]
+pub(super) unsafe fn read_pairs<S: Simd>(
+    s: S,
+    data: *const u8,
+    kind: ScalarType,
+    at: S::I,
+) -> S::I {
+    let mut lanes = [0i32; 8];
+    // SAFETY: eight lanes into eight slots.
+    unsafe { s.store_i(lanes.as_mut_ptr(), at) };
+    let byte = kind == ScalarType::U8;
+    let mut words = [0i32; 8];
+    for (word, &at) in words.iter_mut().zip(&lanes) {
+        // SAFETY: elements `at` and `at + 1` lie in the data; unaligned reads.
+        *word = unsafe {
+            if byte {
+                (data.add(at as usize) as *const u16).read_unaligned() as i32
+            } else {
+                (data.add(at as usize * 2) as *const i32).read_unaligned()
+            }
+        };
+    }
+    // SAFETY: eight lanes.
+    unsafe { s.load_i(words.as_ptr()) }
 }

@@ -1,6 +1,7 @@
 //! [`Simd`] on AVX2: each vector one 256-bit register.
 
 use super::Simd;
+use crate::volume::ScalarType;
 use std::arch::x86_64::*;
 
 /// The AVX2 backend: exists only where the CPU has AVX2 ([`Avx2::detect`]).
@@ -152,12 +153,20 @@ impl Simd for Avx2 {
         unsafe { _mm256_srli_epi32::<N>(a) }
     }
     #[inline(always)]
+    fn shr_signed_i<const N: i32>(self, a: __m256i) -> __m256i {
+        unsafe { _mm256_srai_epi32::<N>(a) }
+    }
+    #[inline(always)]
     fn shl_i<const N: i32>(self, a: __m256i) -> __m256i {
         unsafe { _mm256_slli_epi32::<N>(a) }
     }
     #[inline(always)]
     fn eq_i(self, a: __m256i, b: __m256i) -> __m256 {
         unsafe { _mm256_castsi256_ps(_mm256_cmpeq_epi32(a, b)) }
+    }
+    #[inline(always)]
+    fn gt_i(self, a: __m256i, b: __m256i) -> __m256 {
+        unsafe { _mm256_castsi256_ps(_mm256_cmpgt_epi32(a, b)) }
     }
     #[inline(always)]
     fn trunc(self, a: __m256) -> __m256i {
@@ -182,6 +191,69 @@ impl Simd for Avx2 {
     #[inline(always)]
     unsafe fn store_i(self, p: *mut i32, a: __m256i) {
         unsafe { _mm256_storeu_si256(p as *mut __m256i, a) }
+    }
+
+    #[inline(always)]
+    fn broadcast_first(self, a: __m256) -> __m256 {
+        unsafe { _mm256_permutevar8x32_ps(a, _mm256_setzero_si256()) }
+    }
+    #[inline(always)]
+    fn first(self, a: __m256) -> f32 {
+        unsafe { _mm256_cvtss_f32(a) }
+    }
+    /// Halves against each other, then pairs, then neighbours.
+    #[inline(always)]
+    fn best_across(self, m: __m256, larger: bool) -> __m256 {
+        unsafe {
+            let halves = _mm256_permute2f128_ps::<1>(m, m);
+            let m = if larger {
+                _mm256_max_ps(m, halves)
+            } else {
+                _mm256_min_ps(m, halves)
+            };
+            let pairs = _mm256_shuffle_ps::<0b01_00_11_10>(m, m);
+            let m = if larger {
+                _mm256_max_ps(m, pairs)
+            } else {
+                _mm256_min_ps(m, pairs)
+            };
+            let next = _mm256_shuffle_ps::<0b10_11_00_01>(m, m);
+            if larger {
+                _mm256_max_ps(m, next)
+            } else {
+                _mm256_min_ps(m, next)
+            }
+        }
+    }
+    #[inline(always)]
+    unsafe fn gather(self, p: *const f32, idx: __m256i) -> __m256 {
+        unsafe { _mm256_i32gather_ps::<4>(p, idx) }
+    }
+    /// With `gather`, one gather of eight 32-bit words: for 8-bit voxels the word ends at the
+    /// pair, starting two bytes early, so it never reads past the data (a pair at 0 or 1 is
+    /// read from bytes 0 ..= 3 and shifted down). Cheaper than eight reads where a gather is a
+    /// few micro-operations (Zen 4: Maximum on brainsmall 6–16 % faster than lane by lane, in
+    /// two pairings of alternating rounds).
+    #[inline(always)]
+    unsafe fn pairs(self, data: *const u8, kind: ScalarType, at: __m256i, gather: bool) -> __m256i {
+        if !gather {
+            // SAFETY: the caller's.
+            return unsafe { super::read_pairs(self, data, kind, at) };
+        }
+        // SAFETY (both arms): every lane reads four bytes that lie in the data.
+        unsafe {
+            if kind == ScalarType::U8 {
+                let start = _mm256_max_epi32(
+                    _mm256_sub_epi32(at, _mm256_set1_epi32(2)),
+                    _mm256_setzero_si256(),
+                );
+                let word = _mm256_i32gather_epi32::<1>(data as *const i32, start);
+                // Bit offset of the pair inside the word: (at − start)·8.
+                _mm256_srlv_epi32(word, _mm256_slli_epi32::<3>(_mm256_sub_epi32(at, start)))
+            } else {
+                _mm256_i32gather_epi32::<2>(data as *const i32, at)
+            }
+        }
     }
 
     /// One gather of eight words, a variable shift, a comparison.

@@ -253,12 +253,20 @@ impl Simd for Neon {
         }
     }
     #[inline(always)]
+    fn shr_signed_i<const N: i32>(self, a: I) -> I {
+        unsafe { Pair(vshrq_n_s32::<N>(a.0), vshrq_n_s32::<N>(a.1)) }
+    }
+    #[inline(always)]
     fn shl_i<const N: i32>(self, a: I) -> I {
         unsafe { Pair(vshlq_n_s32::<N>(a.0), vshlq_n_s32::<N>(a.1)) }
     }
     #[inline(always)]
     fn eq_i(self, a: I, b: I) -> F {
         unsafe { Pair(mask(vceqq_s32(a.0, b.0)), mask(vceqq_s32(a.1, b.1))) }
+    }
+    #[inline(always)]
+    fn gt_i(self, a: I, b: I) -> F {
+        unsafe { Pair(mask(vcgtq_s32(a.0, b.0)), mask(vcgtq_s32(a.1, b.1))) }
     }
     #[inline(always)]
     fn trunc(self, a: F) -> I {
@@ -289,6 +297,51 @@ impl Simd for Neon {
             vst1q_s32(p, a.0);
             vst1q_s32(p.add(4), a.1);
         }
+    }
+
+    #[inline(always)]
+    fn broadcast_first(self, a: F) -> F {
+        let h = unsafe { vdupq_laneq_f32::<0>(a.0) };
+        Pair(h, h)
+    }
+    #[inline(always)]
+    fn first(self, a: F) -> f32 {
+        unsafe { vgetq_lane_f32::<0>(a.0) }
+    }
+    /// Halves against each other, then pairs, then neighbours, by [`Simd::max`] or
+    /// [`Simd::min`] (x86's semantics).
+    #[inline(always)]
+    fn best_across(self, m: F, larger: bool) -> F {
+        let swapped = Pair(m.1, m.0);
+        let h = if larger {
+            self.max(m, swapped)
+        } else {
+            self.min(m, swapped)
+        };
+        let pairs = unsafe { Pair(vextq_f32::<2>(h.0, h.0), vextq_f32::<2>(h.1, h.1)) };
+        let h = if larger {
+            self.max(h, pairs)
+        } else {
+            self.min(h, pairs)
+        };
+        let next = unsafe { Pair(vrev64q_f32(h.0), vrev64q_f32(h.1)) };
+        if larger {
+            self.max(h, next)
+        } else {
+            self.min(h, next)
+        }
+    }
+    /// Lane by lane.
+    #[inline(always)]
+    unsafe fn gather(self, p: *const f32, idx: I) -> F {
+        let mut at = [0i32; 8];
+        unsafe { self.store_i(at.as_mut_ptr(), idx) };
+        let mut v = [0f32; 8];
+        for (v, &at) in v.iter_mut().zip(&at) {
+            // SAFETY: the caller's bound.
+            *v = unsafe { *p.add(at as usize) };
+        }
+        unsafe { self.load(v.as_ptr()) }
     }
 
     /// Lane by lane: eight loads and shifts.

@@ -195,12 +195,21 @@ impl Simd for Sse41 {
         unsafe { Pair(_mm_srli_epi32::<N>(a.0), _mm_srli_epi32::<N>(a.1)) }
     }
     #[inline(always)]
+    fn shr_signed_i<const N: i32>(self, a: I) -> I {
+        unsafe { Pair(_mm_srai_epi32::<N>(a.0), _mm_srai_epi32::<N>(a.1)) }
+    }
+    #[inline(always)]
     fn shl_i<const N: i32>(self, a: I) -> I {
         unsafe { Pair(_mm_slli_epi32::<N>(a.0), _mm_slli_epi32::<N>(a.1)) }
     }
     #[inline(always)]
     fn eq_i(self, a: I, b: I) -> F {
         let m = halves!(_mm_cmpeq_epi32, a, b);
+        unsafe { Pair(_mm_castsi128_ps(m.0), _mm_castsi128_ps(m.1)) }
+    }
+    #[inline(always)]
+    fn gt_i(self, a: I, b: I) -> F {
+        let m = halves!(_mm_cmpgt_epi32, a, b);
         unsafe { Pair(_mm_castsi128_ps(m.0), _mm_castsi128_ps(m.1)) }
     }
     #[inline(always)]
@@ -237,6 +246,52 @@ impl Simd for Sse41 {
             _mm_storeu_si128(p as *mut __m128i, a.0);
             _mm_storeu_si128(p.add(4) as *mut __m128i, a.1);
         }
+    }
+
+    #[inline(always)]
+    fn broadcast_first(self, a: F) -> F {
+        let h = unsafe { _mm_shuffle_ps::<0>(a.0, a.0) };
+        Pair(h, h)
+    }
+    #[inline(always)]
+    fn first(self, a: F) -> f32 {
+        unsafe { _mm_cvtss_f32(a.0) }
+    }
+    /// Halves against each other, then pairs, then neighbours.
+    #[inline(always)]
+    fn best_across(self, m: F, larger: bool) -> F {
+        unsafe {
+            let h = if larger {
+                _mm_max_ps(m.0, m.1)
+            } else {
+                _mm_min_ps(m.0, m.1)
+            };
+            let pairs = _mm_shuffle_ps::<0b01_00_11_10>(h, h);
+            let h = if larger {
+                _mm_max_ps(h, pairs)
+            } else {
+                _mm_min_ps(h, pairs)
+            };
+            let next = _mm_shuffle_ps::<0b10_11_00_01>(h, h);
+            let h = if larger {
+                _mm_max_ps(h, next)
+            } else {
+                _mm_min_ps(h, next)
+            };
+            Pair(h, h)
+        }
+    }
+    /// Lane by lane (SSE has no gathers).
+    #[inline(always)]
+    unsafe fn gather(self, p: *const f32, idx: I) -> F {
+        let mut at = [0i32; 8];
+        unsafe { self.store_i(at.as_mut_ptr(), idx) };
+        let mut v = [0f32; 8];
+        for (v, &at) in v.iter_mut().zip(&at) {
+            // SAFETY: the caller's bound.
+            *v = unsafe { *p.add(at as usize) };
+        }
+        unsafe { self.load(v.as_ptr()) }
     }
 
     /// Lane by lane: eight loads and shifts (SSE has neither gathers nor variable shifts).
