@@ -583,9 +583,8 @@ pub struct CpuArgs {
     #[arg(long, conflicts_with = "narrow_lanes")]
     pub no_lanes: bool,
     /// Render as an x86-64 CPU without AVX does (most low-cost laptops' Celeron and Pentium
-    /// Silver up to 2021): Accumulate's eight lanes in two halves of four (SSE 4.1), the
-    /// projections one sample at a time — the same images, slower. (On 64-bit ARM the lanes
-    /// are NEON's, two halves of four, either way.)
+    /// Silver up to 2021): the eight lanes in two halves of four (SSE 4.1) — the same images,
+    /// a little slower. (On 64-bit ARM the lanes are NEON's, two halves of four, either way.)
     #[arg(long)]
     pub narrow_lanes: bool,
 }

@@ -432,19 +432,17 @@ fn report(
     let ghz = super::knobs::cpu_ghz();
     let scene = voxcast_core::trace::Scene::new(volume, &resolved.transfer, s, Vec3::NEG_Z);
     let path = match s.method {
-        Method::Maximum | Method::Minimum => {
-            "the projections' eight-lane values and bricks' test (AVX2)"
-        }
-        Method::Average | Method::Sum => "the projections' eight-lane values (AVX2)",
+        Method::Maximum | Method::Minimum => "the projections' eight-lane values and bricks' test",
+        Method::Average | Method::Sum => "the projections' eight-lane values",
         Method::Accumulate | Method::First => "Accumulate's eight-lane path",
     };
     let instructions = scene.as_ref().ok().and_then(|scene| match s.method {
         Method::Accumulate | Method::First => voxcast_core::trace::lane_instructions(scene),
-        _ => voxcast_core::trace::uses_value_lanes(scene).then_some("AVX2"),
+        _ => voxcast_core::trace::value_lane_instructions(scene),
     });
     let path = match instructions {
-        Some(i) if !path.ends_with(')') => format!("{path} ({i})"),
-        _ => path.to_string(),
+        Some(i) => format!("{path} ({i})"),
+        None => path.to_string(),
     };
     let lanes = instructions.is_some();
     let _ = writeln!(

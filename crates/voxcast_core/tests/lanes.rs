@@ -11,7 +11,7 @@
 mod scenes;
 
 use proptest::prelude::*;
-use scenes::{camera, volume};
+use scenes::{camera, instructions, volume};
 use voxcast_core::camera::Camera;
 use voxcast_core::composite::Method;
 use voxcast_core::glam::{UVec3, Vec3};
@@ -22,21 +22,6 @@ use voxcast_core::step::Length;
 use voxcast_core::trace::{Scene, Vectors, lane_instructions, uses_lanes};
 use voxcast_core::transfer::{ControlPoint, TransferFunction};
 use voxcast_core::{Volume, VoxelData};
-
-/// The instructions this CPU runs the lanes with, at their widest and narrowed
-/// ([`Vectors::Narrow`]); `None` where it runs none.
-fn instructions() -> (Option<&'static str>, Option<&'static str>) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let narrow = std::arch::is_x86_feature_detected!("sse4.1").then_some("SSE 4.1");
-        let wide = std::arch::is_x86_feature_detected!("avx2").then_some("AVX2");
-        (wide.or(narrow), narrow)
-    }
-    #[cfg(target_arch = "aarch64")]
-    return (Some("NEON"), Some("NEON"));
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
-    (None, None)
-}
 
 /// Renders `scene` with the widest lanes, the narrow ones and none; the images and stats.
 fn renders(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, RenderStats); 3] {

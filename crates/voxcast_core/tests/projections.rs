@@ -9,7 +9,7 @@
 mod scenes;
 
 use proptest::prelude::*;
-use scenes::{camera, volume};
+use scenes::{camera, instructions, volume};
 use voxcast_core::camera::Camera;
 use voxcast_core::composite::Method;
 use voxcast_core::glam::{UVec3, Vec3};
@@ -36,20 +36,6 @@ fn four(scene: &Scene<'_>, camera: &Camera, w: u32, h: u32) -> [(Vec<Vec3>, u64)
         let (image, stats) = render_with_threads(s, camera, w, h, 1).unwrap();
         (image.pixels, stats.samples)
     })
-}
-
-/// The instructions this CPU runs the lanes with, at their widest and narrowed.
-fn instructions() -> (Option<&'static str>, Option<&'static str>) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let narrow = std::arch::is_x86_feature_detected!("sse4.1").then_some("SSE 4.1");
-        let wide = std::arch::is_x86_feature_detected!("avx2").then_some("AVX2");
-        (wide.or(narrow), narrow)
-    }
-    #[cfg(target_arch = "aarch64")]
-    return (Some("NEON"), Some("NEON"));
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
-    (None, None)
 }
 
 fn settings(method: Method, step: f32, jitter: bool) -> RenderSettings {

@@ -1,15 +1,18 @@
-//! Eight `f32` lanes on three instruction sets: the operations the Accumulate lanes
-//! (`lanes.rs`) are written in, once, over [`Simd`], with one backend per instruction set —
+//! Eight `f32` lanes on three instruction sets: the operations the lanes (Accumulate's,
+//! `lanes.rs`, and the projections', `value_lanes.rs`) are written in, once, over [`Simd`],
+//! with one backend per instruction set —
 //! [`Avx2`] (one 256-bit register a vector), [`Sse41`] (two 128-bit halves: the x86-64 CPUs
 //! without AVX, as in most low-cost laptops: Intel's Celeron and Pentium Silver up to 2021) and
 //! `Neon` (two 128-bit halves: every 64-bit ARM CPU, Apple's among them).
 //!
-//! Every operation is lane-wise IEEE arithmetic, or moves bits, so both backends give the same
+//! Every operation is lane-wise IEEE arithmetic, or moves bits, so the backends give the same
 //! numbers bit for bit. A backend is a zero-sized token that exists only where its CPU
-//! features were detected ([`Avx2::detect`], [`Sse41::detect`]): holding one is the proof that
-//! makes its operations safe to call. They are `#[inline(always)]` and carry no target
-//! feature of their own; the lanes' march is instantiated per backend inside a function that
-//! enables it (`Lanes::march_avx2` and its siblings), where the intrinsics inline.
+//! features were detected (`detect`): holding one is the proof that makes its operations safe
+//! to call. They are `#[inline(always)]` and carry no target feature of their own; each march
+//! is instantiated per backend inside a function that enables it (`Lanes::march_avx2`,
+//! `ValueLanes::job_avx2` and their siblings), where the intrinsics inline. No closures in
+//! that code: a closure is compiled without the backend's instructions, and one left out of
+//! line makes every intrinsic in it a call (seen in the disassembly).
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
@@ -68,6 +71,33 @@ impl Backend {
             Backend::Neon(_) => "NEON",
         }
     }
+}
+
+/// Two halves of four lanes: lanes 0–3, lanes 4–7 (the SSE 4.1 and NEON backends' vectors).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Pair<T>(T, T);
+
+/// Per set of four lanes (a bit each), the byte shuffle that packs them to the front, the
+/// rest of the sixteen bytes `fill` (a byte both backends' shuffles turn into zero).
+const fn pack4(fill: u8) -> [[u8; 16]; 16] {
+    let mut table = [[fill; 16]; 16];
+    let mut mask = 0;
+    while mask < 16 {
+        let (mut lane, mut n) = (0, 0);
+        while lane < 4 {
+            if mask & (1 << lane) != 0 {
+                let mut byte = 0;
+                while byte < 4 {
+                    table[mask][4 * n + byte] = (4 * lane + byte) as u8;
+                    byte += 1;
+                }
+                n += 1;
+            }
+            lane += 1;
+        }
+        mask += 1;
+    }
+    table
 }
 
 /// Eight lanes of `f32` and of `i32`, and what the lanes' march does with them. Every x86-64
@@ -161,11 +191,23 @@ pub(super) trait Simd: Copy {
     /// The largest lane (`larger`) or the smallest, in every lane, taken by [`Simd::max`] or
     /// [`Simd::min`] (no lane may be NaN: the order they are taken in differs by backend).
     fn best_across(self, a: Self::F, larger: bool) -> Self::F;
-    /// `p[idx]` per lane.
+    /// `p[idx]` per lane: lane by lane, but where the backend has a gather (AVX2).
     ///
     /// # Safety
     /// Every lane's `idx` indexes the `f32`s at `p`.
-    unsafe fn gather(self, p: *const f32, idx: Self::I) -> Self::F;
+    #[inline(always)]
+    unsafe fn gather(self, p: *const f32, idx: Self::I) -> Self::F {
+        let mut at = [0i32; 8];
+        // SAFETY: eight lanes into eight slots.
+        unsafe { self.store_i(at.as_mut_ptr(), idx) };
+        let mut v = [0f32; 8];
+        for (v, &at) in v.iter_mut().zip(&at) {
+            // SAFETY: the caller's bound.
+            *v = unsafe { *p.add(at as usize) };
+        }
+        // SAFETY: eight lanes.
+        unsafe { self.load(v.as_ptr()) }
+    }
 
     /// Per lane, elements `at` and `at + 1` of `data` (of `kind`, 8 or 16 bits) in the low 16
     /// or 32 bits of a 32-bit word, element `at` lowest: each lane's pair read on its own and
@@ -181,11 +223,28 @@ pub(super) trait Simd: Copy {
         unsafe { read_pairs(self, data, kind, at) }
     }
 
-    /// Which lanes' bit `bit & 31` is set in the 32-bit word `words[word]`, as bits 0–7.
+    /// Which lanes' bit `bit & 31` is set in the 32-bit word `words[word]`, as bits 0–7: lane
+    /// by lane, eight loads and shifts, but where the backend has a gather and variable shifts
+    /// (AVX2).
     ///
     /// # Safety
     /// Every lane's `word` indexes `words`.
-    unsafe fn bit_set(self, words: *const i32, word: Self::I, bit: Self::I) -> u32;
+    #[inline(always)]
+    unsafe fn bit_set(self, words: *const i32, word: Self::I, bit: Self::I) -> u32 {
+        let (mut w, mut b) = ([0i32; 8], [0i32; 8]);
+        // SAFETY: eight lanes into eight slots each.
+        unsafe {
+            self.store_i(w.as_mut_ptr(), word);
+            self.store_i(b.as_mut_ptr(), bit);
+        }
+        let mut set = 0;
+        for lane in 0..8 {
+            // SAFETY: the caller's bound.
+            let x = unsafe { *words.add(w[lane] as usize) } as u32;
+            set |= ((x >> (b[lane] & 31)) & 1) << lane;
+        }
+        set
+    }
 
     /// The permutation that moves the lanes set in `mask` (bits 0–7) to the front, in order.
     fn order(self, mask: u32) -> Self::Order;

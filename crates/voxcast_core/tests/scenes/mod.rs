@@ -96,3 +96,18 @@ pub fn camera(v: &Volume, kind: u8, a: Vec3, b: Vec3) -> Option<Camera> {
         }
     }
 }
+
+/// The instructions this CPU runs the lanes with, at their widest and narrowed
+/// (`Vectors::Narrow`); `None` where it runs none.
+pub fn instructions() -> (Option<&'static str>, Option<&'static str>) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let narrow = std::arch::is_x86_feature_detected!("sse4.1").then_some("SSE 4.1");
+        let wide = std::arch::is_x86_feature_detected!("avx2").then_some("AVX2");
+        (wide.or(narrow), narrow)
+    }
+    #[cfg(target_arch = "aarch64")]
+    return (Some("NEON"), Some("NEON"));
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    (None, None)
+}

@@ -4,7 +4,7 @@
 //! is gathered by shifts and an add across. `trunc` saturates where `cvttps2dq` gives
 //! `i32::MIN`; the lanes truncate only clamped, finite values, where the two agree.
 
-use super::Simd;
+use super::{Pair, Simd};
 use std::arch::aarch64::*;
 
 /// The NEON backend: every 64-bit ARM CPU has it ([`Neon::detect`] asks all the same).
@@ -18,10 +18,6 @@ impl Neon {
     }
 }
 
-/// Two halves: lanes 0–3, lanes 4–7.
-#[derive(Clone, Copy, Debug)]
-pub(in crate::trace) struct Pair<T>(T, T);
-
 /// How [`Simd::pack`] moves a vector's chosen lanes: each half's byte table, and how many
 /// lanes the low half keeps.
 #[derive(Clone, Copy, Debug)]
@@ -31,28 +27,9 @@ pub(in crate::trace) struct Order {
     kept_lo: usize,
 }
 
-/// Per set of four lanes (a bit each), the byte table that packs them to the front (the rest
-/// out of range: zero).
-const PACK4: [[u8; 16]; 16] = {
-    let mut table = [[0xFFu8; 16]; 16];
-    let mut mask = 0;
-    while mask < 16 {
-        let (mut lane, mut n) = (0, 0);
-        while lane < 4 {
-            if mask & (1 << lane) != 0 {
-                let mut byte = 0;
-                while byte < 4 {
-                    table[mask][4 * n + byte] = (4 * lane + byte) as u8;
-                    byte += 1;
-                }
-                n += 1;
-            }
-            lane += 1;
-        }
-        mask += 1;
-    }
-    table
-};
+/// [`super::pack4`]'s table, the rest of each row 0xFF (out of range: `tbl` zeroes such a
+/// byte).
+const PACK4: [[u8; 16]; 16] = super::pack4(0xFF);
 
 /// Each lane's weight in a mask's bits.
 const WEIGHTS: [u32; 4] = [1, 2, 4, 8];
@@ -331,36 +308,6 @@ impl Simd for Neon {
             self.min(h, next)
         }
     }
-    /// Lane by lane.
-    #[inline(always)]
-    unsafe fn gather(self, p: *const f32, idx: I) -> F {
-        let mut at = [0i32; 8];
-        unsafe { self.store_i(at.as_mut_ptr(), idx) };
-        let mut v = [0f32; 8];
-        for (v, &at) in v.iter_mut().zip(&at) {
-            // SAFETY: the caller's bound.
-            *v = unsafe { *p.add(at as usize) };
-        }
-        unsafe { self.load(v.as_ptr()) }
-    }
-
-    /// Lane by lane: eight loads and shifts.
-    #[inline(always)]
-    unsafe fn bit_set(self, words: *const i32, word: I, bit: I) -> u32 {
-        let (mut w, mut b) = ([0i32; 8], [0i32; 8]);
-        unsafe {
-            self.store_i(w.as_mut_ptr(), word);
-            self.store_i(b.as_mut_ptr(), bit);
-        }
-        let mut set = 0;
-        for lane in 0..8 {
-            // SAFETY: the caller's bound.
-            let x = unsafe { *words.add(w[lane] as usize) } as u32;
-            set |= ((x >> (b[lane] & 31)) & 1) << lane;
-        }
-        set
-    }
-
     #[inline(always)]
     fn order(self, mask: u32) -> Order {
         let (lo, hi) = (mask as usize & 0xF, (mask as usize >> 4) & 0xF);
@@ -438,7 +385,11 @@ impl Simd for Neon {
     fn prefetch(self, p: *const u8) {
         // SAFETY: a hint: it reads nothing, writes nothing and never faults.
         unsafe {
-            std::arch::asm!("prfm pldl1keep, [{0}]", in(reg) p, options(nostack, preserves_flags, readonly));
+            std::arch::asm!(
+                "prfm pldl1keep, [{0}]",
+                in(reg) p,
+                options(nostack, preserves_flags, readonly)
+            );
         }
     }
 }

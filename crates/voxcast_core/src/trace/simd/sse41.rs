@@ -2,7 +2,7 @@
 //! lane permutation across halves: the visibility bits are read lane by lane, and the packing
 //! shuffles each half by a table of sixteen.
 
-use super::Simd;
+use super::{Pair, Simd};
 use std::arch::x86_64::*;
 
 /// The SSE 4.1 backend: exists only where the CPU has SSE 4.1 ([`Sse41::detect`]).
@@ -16,10 +16,6 @@ impl Sse41 {
     }
 }
 
-/// Two halves: lanes 0–3, lanes 4–7.
-#[derive(Clone, Copy, Debug)]
-pub(in crate::trace) struct Pair<T>(T, T);
-
 /// How [`Simd::pack`] moves a vector's chosen lanes: each half's byte shuffle, and how many
 /// lanes the low half keeps.
 #[derive(Clone, Copy, Debug)]
@@ -29,28 +25,9 @@ pub(in crate::trace) struct Order {
     kept_lo: usize,
 }
 
-/// Per set of four lanes (a bit each), the byte shuffle that packs them to the front (the
-/// rest zeroed).
-const PACK4: [[u8; 16]; 16] = {
-    let mut table = [[0x80u8; 16]; 16];
-    let mut mask = 0;
-    while mask < 16 {
-        let (mut lane, mut n) = (0, 0);
-        while lane < 4 {
-            if mask & (1 << lane) != 0 {
-                let mut byte = 0;
-                while byte < 4 {
-                    table[mask][4 * n + byte] = (4 * lane + byte) as u8;
-                    byte += 1;
-                }
-                n += 1;
-            }
-            lane += 1;
-        }
-        mask += 1;
-    }
-    table
-};
+/// [`super::pack4`]'s table, the rest of each row 0x80 (its top bit set: `pshufb` zeroes such
+/// a byte).
+const PACK4: [[u8; 16]; 16] = super::pack4(0x80);
 
 /// Applies a two-argument intrinsic to both halves.
 macro_rules! halves {
@@ -281,36 +258,6 @@ impl Simd for Sse41 {
             Pair(h, h)
         }
     }
-    /// Lane by lane (SSE has no gathers).
-    #[inline(always)]
-    unsafe fn gather(self, p: *const f32, idx: I) -> F {
-        let mut at = [0i32; 8];
-        unsafe { self.store_i(at.as_mut_ptr(), idx) };
-        let mut v = [0f32; 8];
-        for (v, &at) in v.iter_mut().zip(&at) {
-            // SAFETY: the caller's bound.
-            *v = unsafe { *p.add(at as usize) };
-        }
-        unsafe { self.load(v.as_ptr()) }
-    }
-
-    /// Lane by lane: eight loads and shifts (SSE has neither gathers nor variable shifts).
-    #[inline(always)]
-    unsafe fn bit_set(self, words: *const i32, word: I, bit: I) -> u32 {
-        let (mut w, mut b) = ([0i32; 8], [0i32; 8]);
-        unsafe {
-            self.store_i(w.as_mut_ptr(), word);
-            self.store_i(b.as_mut_ptr(), bit);
-        }
-        let mut set = 0;
-        for lane in 0..8 {
-            // SAFETY: the caller's bound.
-            let x = unsafe { *words.add(w[lane] as usize) } as u32;
-            set |= ((x >> (b[lane] & 31)) & 1) << lane;
-        }
-        set
-    }
-
     #[inline(always)]
     fn order(self, mask: u32) -> Order {
         let (lo, hi) = (mask as usize & 0xF, (mask as usize >> 4) & 0xF);
