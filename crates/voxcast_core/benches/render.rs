@@ -8,7 +8,9 @@
 //!
 //! * `peer_scenes`: the four shared volumes as `voxcast bench --peer` renders them beside VTK
 //!   (the peer's camera, the volume's own preset, 512×512, step 0.5 voxel, all cores) — the
-//!   scenes issue 13's ratios are measured on; those absent are left out with a note.
+//!   scenes issue 13's ratios are measured on; those absent are left out with a note. Each
+//!   with the widest lanes this CPU has, with the narrow ones (`_narrow`: SSE 4.1, as an x86-64
+//!   without AVX; NEON on ARM) and with none (`_one_at_a_time`).
 //!
 //! ct_cranium is read from `$VOXCAST_DATA` or `../shared/data`; without it the embedded
 //! brainsmall volume stands in (and the benchmark names say so).
@@ -25,7 +27,7 @@ use voxcast_core::preset;
 use voxcast_core::render::render;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
-use voxcast_core::trace::{Scene, trace_ray};
+use voxcast_core::trace::{Scene, Vectors, trace_ray};
 use voxcast_core::transfer::TransferFunction;
 
 struct Inputs {
@@ -156,13 +158,21 @@ fn peer_scenes(c: &mut Criterion) {
         let p = preset::for_volume(volume.name()).unwrap();
         let mut settings = p.settings_over(&RenderSettings::default()).unwrap();
         settings.step = Length::Voxels(0.5);
-        let scene = Scene::new(&volume, &p.transfer, &settings, camera.forward()).unwrap();
+        let mut scene = Scene::new(&volume, &p.transfer, &settings, camera.forward()).unwrap();
         let cancel = AtomicBool::new(false);
         let (_, stats) = render(&scene, &camera, 512, 512, &|_, _| {}, &cancel).unwrap();
         g.throughput(Throughput::Elements(stats.samples));
-        g.bench_function(format!("{name}_{}", settings.method.name()), |b| {
-            b.iter(|| render(&scene, &camera, 512, 512, &|_, _| {}, &cancel).unwrap())
-        });
+        for (vectors, suffix) in [
+            (Vectors::Wide, ""),
+            (Vectors::Narrow, "_narrow"),
+            (Vectors::Off, "_one_at_a_time"),
+        ] {
+            scene.simd = vectors;
+            let id = format!("{name}_{}{suffix}", settings.method.name());
+            g.bench_function(id, |b| {
+                b.iter(|| render(&scene, &camera, 512, 512, &|_, _| {}, &cancel).unwrap())
+            });
+        }
     }
     g.finish();
 }
