@@ -5,7 +5,7 @@
 //! A ray starts at its pixel's entry bound ([`crate::entry::EntryBounds`], where the render
 //! has one) and leaps over empty bricks by their distance to the nearest visible cell ahead
 //! ([`VisibleCells::forward_distances`]; the look at the next brick and the leap, three axes in
-//! one vector, are in `leaps.rs`). Elsewhere its sample positions are located eight at
+//! one vector, are in `leaps.rs`; on ARM the scalar ones, `leaps_scalar.rs`). Elsewhere its sample positions are located eight at
 //! a time — `t`, the voxel position, the cell and the cell's visibility bit
 //! ([`crate::skip::VisibleCells`]), each lane computing exactly what `sample_t`,
 //! `crate::sample::cell` and `VisibleCells::lookup` compute for one position. The positions in
@@ -24,8 +24,7 @@
 //! classification, the precomputed records (an integer volume, shading on), directional lights
 //! and a whole-number shininess (the scalar code then raises by repeated squaring, which lanes
 //! repeat step for step). Anything else, or a CPU with none of those vector units, takes the
-//! scalar march.
-//! `tests/lanes.rs` renders random scenes with each backend and without lanes, and compares
+//! scalar march. `tests/lanes.rs` renders random scenes with each backend and without lanes, and compares
 //! every bit.
 
 use super::leaps::Leaps;
@@ -44,7 +43,7 @@ use crate::step::{StepPlan, first_index_from, sample_t, segment_length};
 use crate::volume::{Grid, Voxel};
 use glam::Vec3;
 
-/// Lanes per batch (eight `f32`: one AVX2 vector, two SSE ones).
+/// Lanes per batch (eight `f32`: one AVX2 vector, two SSE or NEON ones).
 const LANES: usize = 8;
 
 /// What every ray of a render shares on the fast path, where it applies.

@@ -37,7 +37,7 @@ pub(super) struct Look {
 }
 
 impl Leaps {
-    /// SSE 4.1 and below (so every backend of the lanes, `simd.rs`).
+    /// SSE 4.1 and below (so every x86-64 backend of the lanes, `simd.rs`).
     #[target_feature(enable = "sse4.1")]
     pub(super) fn new(
         cells: &VisibleCells,
