@@ -28,11 +28,7 @@
 //! every bit.
 
 use super::leaps::Leaps;
-#[cfg(target_arch = "aarch64")]
-use super::simd::Neon;
-#[cfg(target_arch = "x86_64")]
-use super::simd::{Avx2, Sse41};
-use super::simd::{Backend, Simd};
+use super::simd::{Backend, Kernel, Simd};
 use super::{Accumulation, Marcher};
 use crate::composite::correct_opacity_with;
 use crate::power::StepPower;
@@ -250,60 +246,32 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             lights: rl,
             stop_at,
         };
-        // SAFETY: each token exists only where the CPU has its instruction set.
-        Some(unsafe {
-            match lanes.backend {
-                #[cfg(target_arch = "x86_64")]
-                Backend::Avx2(s) => lanes.march_avx2(s, cells, &ray, acc),
-                #[cfg(target_arch = "x86_64")]
-                Backend::Sse41(s) => lanes.march_sse41(s, cells, &ray, acc),
-                #[cfg(target_arch = "aarch64")]
-                Backend::Neon(s) => lanes.march_neon(s, cells, &ray, acc),
-            }
-        })
+        Some(lanes.backend.run(March {
+            lanes,
+            cells,
+            ray: &ray,
+            acc,
+        }))
+    }
+}
+
+/// One ray's [`Lanes::march`], to run with the backend's vectors.
+struct March<'a, 'l> {
+    lanes: &'a Lanes<'l>,
+    cells: &'a VisibleCells,
+    ray: &'a Ray<'a>,
+    acc: &'a mut Accumulation,
+}
+
+impl Kernel for March<'_, '_> {
+    type Output = Option<u32>;
+    #[inline(always)]
+    fn run<S: Simd>(self, s: S) -> Option<u32> {
+        self.lanes.march(s, self.cells, self.ray, self.acc)
     }
 }
 
 impl Lanes<'_> {
-    /// [`Lanes::march`] with AVX2's vectors, compiled for AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn march_avx2(
-        &self,
-        s: Avx2,
-        cells: &VisibleCells,
-        ray: &Ray<'_>,
-        acc: &mut Accumulation,
-    ) -> Option<u32> {
-        self.march(s, cells, ray, acc)
-    }
-
-    /// [`Lanes::march`] with SSE 4.1's vectors, compiled for SSE 4.1.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "sse4.1")]
-    fn march_sse41(
-        &self,
-        s: Sse41,
-        cells: &VisibleCells,
-        ray: &Ray<'_>,
-        acc: &mut Accumulation,
-    ) -> Option<u32> {
-        self.march(s, cells, ray, acc)
-    }
-
-    /// [`Lanes::march`] with NEON's vectors.
-    #[cfg(target_arch = "aarch64")]
-    #[target_feature(enable = "neon")]
-    fn march_neon(
-        &self,
-        s: Neon,
-        cells: &VisibleCells,
-        ray: &Ray<'_>,
-        acc: &mut Accumulation,
-    ) -> Option<u32> {
-        self.march(s, cells, ray, acc)
-    }
-
     /// The positions of the ray from `t = from` on (its pixel's entry bound) located eight at
     /// a time, the visible samples evaluated eight at a time; where the next position lies in
     /// an empty brick, the ray first leaps over the empty bricks ahead of it

@@ -9,8 +9,8 @@
 //! numbers bit for bit. A backend is a zero-sized token that exists only where its CPU
 //! features were detected (`detect`): holding one is the proof that makes its operations safe
 //! to call. They are `#[inline(always)]` and carry no target feature of their own; each march
-//! is instantiated per backend inside a function that enables it (`Lanes::march_avx2`,
-//! `ValueLanes::job_avx2` and their siblings), where the intrinsics inline. No closures in
+//! is a [`Kernel`], which [`Backend::run`] instantiates per backend inside a function that
+//! enables its instructions (`run_avx2` and its siblings), where the intrinsics inline. No closures in
 //! that code: a closure is compiled without the backend's instructions, and one left out of
 //! line makes every intrinsic in it a call (seen in the disassembly).
 
@@ -60,6 +60,22 @@ impl Backend {
         return Neon::detect().map(Self::Neon);
     }
 
+    /// Runs `kernel` with this backend's vectors, in a function compiled for them.
+    #[inline]
+    pub(super) fn run<K: Kernel>(self, kernel: K) -> K::Output {
+        // SAFETY: each token exists only where its instructions do.
+        unsafe {
+            match self {
+                #[cfg(target_arch = "x86_64")]
+                Backend::Avx2(s) => run_avx2(s, kernel),
+                #[cfg(target_arch = "x86_64")]
+                Backend::Sse41(s) => run_sse41(s, kernel),
+                #[cfg(target_arch = "aarch64")]
+                Backend::Neon(s) => run_neon(s, kernel),
+            }
+        }
+    }
+
     /// The instruction set, in words.
     pub(super) fn name(self) -> &'static str {
         match self {
@@ -71,6 +87,35 @@ impl Backend {
             Backend::Neon(_) => "NEON",
         }
     }
+}
+
+/// Work written once over any backend: [`Backend::run`] calls `run` inside a function compiled
+/// for the backend's instructions. Implementations mark `run` `#[inline(always)]`, so that the
+/// work (and every operation in it) inlines there.
+pub(super) trait Kernel {
+    type Output;
+    fn run<S: Simd>(self, s: S) -> Self::Output;
+}
+
+/// [`Kernel::run`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn run_avx2<K: Kernel>(s: Avx2, kernel: K) -> K::Output {
+    kernel.run(s)
+}
+
+/// [`Kernel::run`] compiled for SSE 4.1.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "sse4.1")]
+fn run_sse41<K: Kernel>(s: Sse41, kernel: K) -> K::Output {
+    kernel.run(s)
+}
+
+/// [`Kernel::run`] compiled for NEON.
+#[cfg(target_arch = "aarch64")]
+#[target_feature(enable = "neon")]
+fn run_neon<K: Kernel>(s: Neon, kernel: K) -> K::Output {
+    kernel.run(s)
 }
 
 /// Two halves of four lanes: lanes 0–3, lanes 4–7 (the SSE 4.1 and NEON backends' vectors).

@@ -16,11 +16,7 @@
 
 use super::Vectors;
 use super::positions::{Cells, cells};
-#[cfg(target_arch = "aarch64")]
-use super::simd::Neon;
-#[cfg(target_arch = "x86_64")]
-use super::simd::{Avx2, Sse41};
-use super::simd::{Backend, Simd};
+use super::simd::{Backend, Kernel, Simd};
 use crate::composite::ValueStats;
 use crate::step::StepPlan;
 use crate::volume::{ScalarType, Voxel};
@@ -65,6 +61,23 @@ enum Job<'a> {
     Add((f32, f32), &'a mut ValueStats),
     /// [`ValueLanes::extreme`]: the direction, the best so far and the bricks.
     Extreme((bool, f32), Option<(&'a [f32], [i32; 2])>),
+}
+
+/// A [`Job`] on a [`Run`], to run with the backend's vectors. Made only by
+/// [`ValueLanes::dispatch`], whose caller vouches for the lanes, the grid and the bricks.
+struct Stretch<'a, 'g> {
+    lanes: &'a ValueLanes<'g>,
+    run: &'a Run<'a>,
+    job: Job<'a>,
+}
+
+impl Kernel for Stretch<'_, '_> {
+    type Output = (f32, u32);
+    #[inline(always)]
+    fn run<S: Simd>(self, s: S) -> (f32, u32) {
+        // SAFETY: `dispatch`'s caller's.
+        unsafe { self.lanes.job(s, self.run, self.job) }
+    }
 }
 
 impl<'g> ValueLanes<'g> {
@@ -160,41 +173,11 @@ impl<'g> ValueLanes<'g> {
     /// # Safety
     /// As [`ValueLanes::extreme`].
     unsafe fn dispatch(&self, run: &Run<'_>, job: Job<'_>) -> (f32, u32) {
-        // SAFETY: each token exists only where its instructions do; the rest is the caller's.
-        unsafe {
-            match self.backend {
-                #[cfg(target_arch = "x86_64")]
-                Backend::Avx2(s) => self.job_avx2(s, run, job),
-                #[cfg(target_arch = "x86_64")]
-                Backend::Sse41(s) => self.job_sse41(s, run, job),
-                #[cfg(target_arch = "aarch64")]
-                Backend::Neon(s) => self.job_neon(s, run, job),
-            }
-        }
-    }
-
-    /// [`ValueLanes::job`] compiled for AVX2.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn job_avx2(&self, s: Avx2, run: &Run<'_>, job: Job<'_>) -> (f32, u32) {
-        // SAFETY: the caller's.
-        unsafe { self.job(s, run, job) }
-    }
-
-    /// [`ValueLanes::job`] compiled for SSE 4.1.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "sse4.1")]
-    unsafe fn job_sse41(&self, s: Sse41, run: &Run<'_>, job: Job<'_>) -> (f32, u32) {
-        // SAFETY: the caller's.
-        unsafe { self.job(s, run, job) }
-    }
-
-    /// [`ValueLanes::job`] compiled for NEON.
-    #[cfg(target_arch = "aarch64")]
-    #[target_feature(enable = "neon")]
-    unsafe fn job_neon(&self, s: Neon, run: &Run<'_>, job: Job<'_>) -> (f32, u32) {
-        // SAFETY: the caller's.
-        unsafe { self.job(s, run, job) }
+        self.backend.run(Stretch {
+            lanes: self,
+            run,
+            job,
+        })
     }
 
     /// # Safety
@@ -225,13 +208,7 @@ impl<'g> ValueLanes<'g> {
         (slope, intercept): (f32, f32),
         stats: &mut ValueStats,
     ) {
-        let Run {
-            plan,
-            o_v,
-            d_v,
-            k0,
-            k1,
-        } = *run;
+        let (k0, k1) = (run.k0, run.k1);
         let lane = s.iota();
         let mut hi = s.splat(stats.max);
         let mut lo = s.splat(stats.min);
@@ -239,7 +216,7 @@ impl<'g> ValueLanes<'g> {
         let mut out = [0f32; 8];
         let mut k = k0;
         while k < k1 {
-            let c = cells(s, plan, k, (o_v, d_v), (self.last, self.max_lo));
+            let c = self.locate(s, run, k);
             // SAFETY: the cells are clamped into the lattice, this grid's.
             let raw = unsafe { self.values(s, &c) };
             let v = s.add(s.mul(raw, s.splat(slope)), s.splat(intercept));
@@ -280,13 +257,7 @@ impl<'g> ValueLanes<'g> {
         (larger, prior): (bool, f32),
         bricks: Option<(&[f32], [i32; 2])>,
     ) -> (f32, u32) {
-        let Run {
-            plan,
-            o_v,
-            d_v,
-            k0,
-            k1,
-        } = *run;
+        let (k0, k1) = (run.k0, run.k1);
         let worst = if larger {
             f32::NEG_INFINITY
         } else {
@@ -300,7 +271,7 @@ impl<'g> ValueLanes<'g> {
         while k < k1 {
             // Positions past k1 belong to other stretches: left out.
             let inside = s.gt_i(s.splat_i((k1 - k) as i32), lane);
-            let c = cells(s, plan, k, (o_v, d_v), (self.last, self.max_lo));
+            let c = self.locate(s, run, k);
             let mut wanted = inside;
             if let Some((bound, [bx, by])) = bricks {
                 let [ix, iy, iz] = c.i;
@@ -332,6 +303,12 @@ impl<'g> ValueLanes<'g> {
             k += 8;
         }
         (s.first(best), taken)
+    }
+
+    /// Positions `k .. k + 8` of the run's ray located in this lattice.
+    #[inline(always)]
+    fn locate<S: Simd>(&self, s: S, run: &Run<'_>, k: u32) -> Cells<S> {
+        cells(s, run.plan, k, (run.o_v, run.d_v), (self.last, self.max_lo))
     }
 
     /// The raw trilinear values at eight located positions.
@@ -404,6 +381,7 @@ fn lerp<S: Simd>(s: S, a: S::F, b: S::F, t: S::F) -> S::F {
 #[cfg(all(test, target_arch = "x86_64"))]
 mod tests {
     use super::*;
+    use crate::trace::simd::Avx2;
 
     /// Both ways of reading a cell's pairs give the same words' pairs, for every element of
     /// small volumes of each integer type (the first and last pairs included).
