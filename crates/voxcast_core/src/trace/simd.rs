@@ -161,7 +161,8 @@ pub(super) trait Simd: Copy {
     type Order: Copy;
     /// Four `f32`: one lane's four channels.
     type H: Copy;
-    /// Sixteen bytes: two records side by side (eight `i16`).
+    /// Two records side by side (eight `i16`): the sixteen bytes, or where they are (SSE 4.1
+    /// widens each half straight from memory).
     type R: Copy;
 
     fn splat(self, x: f32) -> Self::F;
@@ -306,11 +307,14 @@ pub(super) trait Simd: Copy {
     unsafe fn pack_i(self, dst: *mut i32, a: Self::I, order: Self::Order);
 
     /// # Safety
-    /// `p` points at sixteen readable bytes.
+    /// `p` points at sixteen readable bytes, which stay unchanged until the pair is widened.
     unsafe fn load_pair(self, p: *const u8) -> Self::R;
     /// Two pairs of records `a = [a0 | a1]` and `b = [b0 | b1]` (four `i16` each) as eight
     /// `f32`: `[a0 | b0]` and `[a1 | b1]`.
-    fn widen_pairs(self, a: Self::R, b: Self::R) -> (Self::F, Self::F);
+    ///
+    /// # Safety
+    /// `a` and `b` are from [`Simd::load_pair`], whose contract still holds.
+    unsafe fn widen_pairs(self, a: Self::R, b: Self::R) -> (Self::F, Self::F);
     /// Lanes 0–3 and 4–7.
     fn halves(self, a: Self::F) -> (Self::H, Self::H);
     /// `a + (b − a)·t` in four lanes.

@@ -294,7 +294,7 @@ impl Simd for Avx2 {
     }
     /// Regrouped as 64-bit halves, then widened: nothing crosses the 256-bit vector's halves.
     #[inline(always)]
-    fn widen_pairs(self, a: __m128i, b: __m128i) -> (__m256, __m256) {
+    unsafe fn widen_pairs(self, a: __m128i, b: __m128i) -> (__m256, __m256) {
         unsafe {
             let lo = _mm256_cvtepi16_epi32(_mm_unpacklo_epi64(a, b));
             let hi = _mm256_cvtepi16_epi32(_mm_unpackhi_epi64(a, b));

@@ -344,7 +344,7 @@ impl Simd for Neon {
     }
     /// Each half from one of the pairs: `[a0 | b0]` is `a`'s low four and `b`'s low four.
     #[inline(always)]
-    fn widen_pairs(self, a: int16x8_t, b: int16x8_t) -> (F, F) {
+    unsafe fn widen_pairs(self, a: int16x8_t, b: int16x8_t) -> (F, F) {
         unsafe {
             let (a0, b0) = (vmovl_s16(vget_low_s16(a)), vmovl_s16(vget_low_s16(b)));
             let (a1, b1) = (vmovl_high_s16(a), vmovl_high_s16(b));

@@ -54,7 +54,7 @@ impl Simd for Sse41 {
     type I = I;
     type Order = Order;
     type H = __m128;
-    type R = __m128i;
+    type R = *const u8;
 
     #[inline(always)]
     fn splat(self, x: f32) -> F {
@@ -290,21 +290,20 @@ impl Simd for Sse41 {
         }
     }
 
+    /// Only where the pair is: [`Simd::widen_pairs`] reads each half as it widens it.
     #[inline(always)]
-    unsafe fn load_pair(self, p: *const u8) -> __m128i {
-        unsafe { _mm_loadu_si128(p as *const __m128i) }
+    unsafe fn load_pair(self, p: *const u8) -> *const u8 {
+        p
     }
-    /// Each half from one of the pairs: `[a0 | b0]` is `a`'s low four and `b`'s low four.
+    /// Each half from one of the pairs: `[a0 | b0]` is `a`'s low four and `b`'s low four, each
+    /// four read as it is widened (`pmovsxwd` from memory: no load, no shift of its own).
     #[inline(always)]
-    fn widen_pairs(self, a: __m128i, b: __m128i) -> (F, F) {
+    unsafe fn widen_pairs(self, a: *const u8, b: *const u8) -> (F, F) {
+        // SAFETY: sixteen readable bytes at each (the caller's): two halves of eight.
         unsafe {
-            let (a1, b1) = (_mm_srli_si128::<8>(a), _mm_srli_si128::<8>(b));
-            let (a0, b0) = (_mm_cvtepi16_epi32(a), _mm_cvtepi16_epi32(b));
-            let (a1, b1) = (_mm_cvtepi16_epi32(a1), _mm_cvtepi16_epi32(b1));
-            (
-                Pair(_mm_cvtepi32_ps(a0), _mm_cvtepi32_ps(b0)),
-                Pair(_mm_cvtepi32_ps(a1), _mm_cvtepi32_ps(b1)),
-            )
+            let (a0, b0) = (widen4(a), widen4(b));
+            let (a1, b1) = (widen4(a.add(8)), widen4(b.add(8)));
+            (Pair(a0, b0), Pair(a1, b1))
         }
     }
     #[inline(always)]
@@ -356,4 +355,13 @@ fn transpose(r0: __m128, r1: __m128, r2: __m128, r3: __m128) -> [__m128; 4] {
             _mm_movehl_ps(t3, t1),
         ]
     }
+}
+
+/// Four `i16` at `p` as four `f32`.
+///
+/// # Safety
+/// Eight readable bytes at `p`; SSE 4.1 (only ever inlined into a function compiled for it).
+#[inline(always)]
+unsafe fn widen4(p: *const u8) -> __m128 {
+    unsafe { _mm_cvtepi32_ps(_mm_cvtepi16_epi32(_mm_loadl_epi64(p as *const __m128i))) }
 }
