@@ -14,24 +14,15 @@
 # ${XDG_CACHE_HOME:-~/.cache}/voxcast the first time (never committed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PEER=$(realpath "${1:-../shared/tools/peer}")
-DATA=$(realpath "${2:-../shared/data}")
-THREADS=${THREADS:-2}
-# Without the peer's venv every table would be rewritten with "VTK peer: not measured".
-if [ ! -x "$PEER/venv/bin/python" ]; then
-    echo "no $PEER/venv/bin/python: run $PEER/setup_env.sh first (the tables are left as they are)" >&2
-    exit 1
-fi
-cargo build --release --quiet
+# shellcheck source=benches/peer.sh
+source benches/peer.sh "$@"
 run() { # scene file steps [camera [extra arguments]]
     local v=$1 file=$2 steps=$3 camera=${4:-$PEER/cams/$1.json}
     shift 4 2>/dev/null || shift $#
-    ${CARGO_TARGET_DIR:-./target}/release/voxcast bench --volume "$file" --camera "$camera" \
+    "$bin" bench --volume "$file" --camera "$camera" \
         --peer "$PEER" --threads "$THREADS" --repeat 3 --peer-rounds 5 --steps "$steps" \
         --report BENCHMARKS.md --section "$v" --plot "docs/bench/${v}_speed_accuracy.png" "$@"
 }
-# shellcheck source=benches/ch2.sh
-source benches/ch2.sh
 run ct_cranium "$DATA/ct_cranium.nrrd" 4,2,1,0.5,0.25,0.125
 run mri_mni152 "$DATA/mri_mni152.nii.gz" 2,1,0.5,0.25
 run mri_brainsmall "$DATA/mri_brainsmall.nrrd" 2,1,0.5,0.25

@@ -1,5 +1,6 @@
-# Sourced by benches/bench.sh and benches/projections.sh: ch2(), the path of ch2.nii.gz (the
-# Colin27 T1 from Debian's mricron-data, BSD-3), fetched with apt-get download the first time.
+# Sourced by benches/peer.sh (for bench.sh, lanes.sh and projections.sh): ch2(), the path of
+# ch2.nii.gz (the Colin27 T1 from Debian's mricron-data, BSD-3), fetched with apt-get download
+# the first time.
 
 ch2() {
     local cache=${XDG_CACHE_HOME:-$HOME/.cache}/voxcast

@@ -10,17 +10,8 @@
 # As benches/bench.sh: PEER_DIR needs the peer's venv (its setup_env.sh), ch2 is fetched once.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PEER=$(realpath "${1:-../shared/tools/peer}")
-DATA=$(realpath "${2:-../shared/data}")
-THREADS=${THREADS:-2}
-if [ ! -x "$PEER/venv/bin/python" ]; then
-    echo "no $PEER/venv/bin/python: run $PEER/setup_env.sh first (the table is left as it is)" >&2
-    exit 1
-fi
-# shellcheck source=benches/ch2.sh
-source benches/ch2.sh
-cargo build --release --quiet
-bin=${CARGO_TARGET_DIR:-./target}/release/voxcast
+# shellcheck source=benches/peer.sh
+source benches/peer.sh "$@"
 lines=$(mktemp)
 trap 'rm -f "$lines"' EXIT
 

@@ -8,17 +8,13 @@
 # As benches/bench.sh: PEER_DIR needs the peer's venv (its setup_env.sh), ch2 is fetched once.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PEER=$(realpath "${1:-../shared/tools/peer}")
-DATA=$(realpath "${2:-../shared/data}")
-THREADS=${THREADS:-2}
-# shellcheck source=benches/ch2.sh
-source benches/ch2.sh
-cargo build --release --quiet
+# shellcheck source=benches/peer.sh
+source benches/peer.sh "$@"
 for method in maximum minimum; do
     while read -r v file tf camera; do
         [ -n "$v" ] || continue
         camera=${camera:-$PEER/cams/$v.json}
-        ${CARGO_TARGET_DIR:-./target}/release/voxcast bench --volume "$file" --camera "$camera" \
+        "$bin" bench --volume "$file" --camera "$camera" \
             --method "$method" --tf "$PEER/tf/$tf.json" --peer "$PEER" --threads "$THREADS" \
             --repeat 3 --steps 0.5 --reference 0.125 --peer-rounds 3 \
             --report BENCHMARKS.md --section "${method}_$v"
