@@ -386,7 +386,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         color: Vec3,
         (pv, cell): (Vec3, Option<&Cell>),
         grad: Option<Vec3>,
-        view: &Viewing,
+        view: &Viewing<'_>,
     ) -> (Vec3, Option<Vec3>, Option<ShadeTerms>) {
         if !self.s.settings.shading {
             return (color, grad, None);
@@ -555,7 +555,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     #[inline(always)]
     fn accumulate_sample<R: Recorder>(
         &self,
-        viewing: &Viewing,
+        viewing: &Viewing<'_>,
         plan: &StepPlan,
         k: u32,
         t: f32,
@@ -578,7 +578,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         &self,
         pv: Vec3,
         cell: Option<&Cell>,
-        viewing: &Viewing,
+        viewing: &Viewing<'_>,
         full: bool,
     ) -> (Evaluated, Option<ShadeTerms>) {
         // In a located cell the value and its gradient come from one read of the corners'

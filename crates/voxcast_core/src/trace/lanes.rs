@@ -205,7 +205,8 @@ struct Ray<'p> {
     o_v: Vec3,
     d_v: Vec3,
     from: f32,
-    lights: RayLights,
+    /// Borrowed: a `RayLights` moved in was copied by a call to `memcpy` a ray.
+    lights: &'p RayLights,
     stop_at: f32,
 }
 
@@ -221,7 +222,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         plan: &StepPlan,
         (o_v, d_v): (Vec3, Vec3),
         from: f32,
-        viewing: &Viewing,
+        viewing: &Viewing<'_>,
         stop_at: f32,
         acc: &mut Accumulation,
     ) -> Option<Option<u32>> {
@@ -243,7 +244,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
             o_v,
             d_v,
             from,
-            lights: rl,
+            lights: &rl,
             stop_at,
         };
         Some(lanes.backend.run(March {
@@ -332,7 +333,7 @@ impl Lanes<'_> {
                 }
                 if pending.n >= LANES {
                     // SAFETY: every pending base is a cell of the lattice.
-                    let e = unsafe { self.evaluate(s, &pending, &ray.lights, Some(plan)) };
+                    let e = unsafe { self.evaluate(s, &pending, ray.lights, Some(plan)) };
                     let stop = self.composite(plan, &pending, LANES, &e, ray.stop_at, acc);
                     if stop.is_some() {
                         return stop;
@@ -347,7 +348,7 @@ impl Lanes<'_> {
             let n = pending.n;
             pending.base[n..LANES].fill(0);
             // SAFETY: as above.
-            let e = unsafe { self.evaluate(s, &pending, &ray.lights, None) };
+            let e = unsafe { self.evaluate(s, &pending, ray.lights, None) };
             return self.composite(plan, &pending, n, &e, ray.stop_at, acc);
         }
         None

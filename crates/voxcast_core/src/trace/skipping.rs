@@ -31,7 +31,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         plan: &StepPlan,
         (o_v, d_v): (Vec3, Vec3),
         from: f32,
-        viewing: &Viewing,
+        viewing: &Viewing<'_>,
         stop_at: f32,
         acc: &mut Accumulation,
     ) -> Option<u32> {
