@@ -203,17 +203,20 @@ fn result_view(
     }
     let s = &result.stats;
     let (size, live) = (result.snapshot.size, result.snapshot.live);
-    let rate = s.samples as f64 / result.seconds.max(1e-9);
+    // Millions a second of each count (positions: as BENCHMARKS.md's samples/s, comparable
+    // across ray casters; interpolated: what this one reconstructed).
+    let per_second = |n: u64| sig64(n as f64 / result.seconds.max(1e-9) / 1e6);
     ui.label(format!(
         "{}×{} on the CPU in {} s: {} rays, {} sample positions, {} interpolated ({} million \
-         samples a second)",
+         positions and {} million interpolated a second)",
         size.x,
         size.y,
         sig64(result.seconds),
         s.rays,
         s.positions,
         s.samples,
-        sig64(rate / 1e6)
+        per_second(s.positions),
+        per_second(s.samples)
     ));
     if let Some(warning) = s.cap_warning(result.snapshot.settings.max_samples) {
         ui.colored_label(egui::Color32::YELLOW, warning);
