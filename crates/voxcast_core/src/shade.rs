@@ -365,7 +365,7 @@ fn serialize_lights<S: serde::Serializer>(
 /// What shading needs about one ray: the direction to the viewer, the lights, and (for each
 /// directional light) the Blinn half vector, which is the same for every sample of the ray.
 /// Built for every ray, so it borrows the lights rather than copying them (a copy was a call
-/// to `memcpy` a ray: 2 % of the bunny's render).
+/// to `memcpy` a ray: about 2 % of the bunny's render).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Viewing<'l> {
     /// Unit vector towards the viewer (minus the ray direction).

@@ -304,8 +304,9 @@ impl Lanes<'_> {
         // (`leaps_scalar.rs`, on ARM, needs nothing).
         let leaps = unsafe { Leaps::new(cells, (o_v, d_v, inv_d), (self.last, self.max_lo)) };
         // Whether to look for an empty brick before locating the next eight: not right after
-        // a visible cell, whose brick is visible (a leap is rare there, and a look costs
-        // nearly what locating does). Leaps skip only empty cells, so the image is the same.
+        // a visible cell, whose brick is visible and most likely the next position's too (a
+        // look costs nearly what locating eight does). Leaps skip only empty cells, so the
+        // image is the same either way.
         let mut look_first = true;
         while k < end {
             // In an empty brick the ray leaps before it locates anything.
