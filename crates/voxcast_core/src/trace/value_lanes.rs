@@ -130,15 +130,8 @@ impl<'g> ValueLanes<'g> {
         rescale: (f32, f32),
         stats: &mut ValueStats,
     ) {
-        let run = Run {
-            plan,
-            o_v,
-            d_v,
-            k0,
-            k1,
-        };
         // SAFETY: the caller's.
-        unsafe { self.dispatch(&run, Job::Add(rescale, stats)) };
+        unsafe { self.dispatch(plan, (o_v, d_v), (k0, k1), Job::Add(rescale, stats)) };
     }
 
     /// The largest (`larger`) or smallest of `prior` and the raw values of the ray's samples
@@ -157,6 +150,22 @@ impl<'g> ValueLanes<'g> {
         best: (bool, f32),
         bricks: Option<(&[f32], [i32; 2])>,
     ) -> (f32, u32) {
+        // SAFETY: the caller's.
+        unsafe { self.dispatch(plan, (o_v, d_v), (k0, k1), Job::Extreme(best, bricks)) }
+    }
+
+    /// Runs `job` on the ray's samples `k0..k1` with the backend's vectors, in a function
+    /// compiled for them.
+    ///
+    /// # Safety
+    /// As [`ValueLanes::extreme`].
+    unsafe fn dispatch(
+        &self,
+        plan: &StepPlan,
+        (o_v, d_v): (Vec3, Vec3),
+        (k0, k1): (u32, u32),
+        job: Job<'_>,
+    ) -> (f32, u32) {
         let run = Run {
             plan,
             o_v,
@@ -164,18 +173,9 @@ impl<'g> ValueLanes<'g> {
             k0,
             k1,
         };
-        // SAFETY: the caller's.
-        unsafe { self.dispatch(&run, Job::Extreme(best, bricks)) }
-    }
-
-    /// Runs `job` with the backend's vectors, in a function compiled for them.
-    ///
-    /// # Safety
-    /// As [`ValueLanes::extreme`].
-    unsafe fn dispatch(&self, run: &Run<'_>, job: Job<'_>) -> (f32, u32) {
         self.backend.run(Stretch {
             lanes: self,
-            run,
+            run: &run,
             job,
         })
     }
