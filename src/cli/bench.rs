@@ -19,7 +19,7 @@ use voxcast_core::error::io_words;
 use voxcast_core::glam::Vec3;
 use voxcast_core::image_out::{LinearImage, save_rgb8_atomic};
 use voxcast_core::step::Length;
-use voxcast_core::trace::Scene;
+use voxcast_core::trace::{Scene, Vectors};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -454,18 +454,17 @@ fn report(
         super::knobs::cpu_model(),
         threads,
         ghz.map_or(String::new(), |g| format!(", {g:.2} GHz nominal")),
-        if voxcast_core::trace::vectors() == voxcast_core::trace::Vectors::Off {
-            "turned off (`--no-lanes`: as a CPU without their vector instructions renders)"
-        } else if voxcast_core::trace::vectors() == voxcast_core::trace::Vectors::Narrow {
-            if lanes {
-                "on, in two halves of four (`--narrow-lanes`: as a CPU without AVX renders)"
-            } else {
-                "turned off (`--narrow-lanes`: as a CPU without AVX renders)"
+        match (voxcast_core::trace::vectors(), lanes) {
+            (Vectors::Off, _) => {
+                "turned off (`--no-lanes`: as a CPU without their vector instructions renders)"
             }
-        } else if lanes {
-            "on"
-        } else {
-            "not used"
+            (Vectors::Narrow, true) => {
+                "on, in two halves of four (`--narrow-lanes`: as a CPU without AVX renders)"
+            }
+            (Vectors::Narrow, false) =>
+                "turned off (`--narrow-lanes`: as a CPU without AVX renders)",
+            (Vectors::Wide, true) => "on",
+            (Vectors::Wide, false) => "not used",
         },
     );
     let _ = writeln!(
