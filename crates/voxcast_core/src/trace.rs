@@ -213,18 +213,20 @@ pub fn value_lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
         fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Option<&'static str> {
             let m = Marcher::new(self.0, grid);
             #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
-            return m.values.map(|v| v.instructions()).filter(|_| {
-                matches!(
-                    self.0.settings.method,
-                    Method::Maximum | Method::Minimum | Method::Average | Method::Sum
-                )
-            });
+            return m.values.map(|v| v.instructions());
             #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
             {
                 let _ = m;
                 None
             }
         }
+    }
+    let projection = matches!(
+        scene.settings.method,
+        Method::Maximum | Method::Minimum | Method::Average | Method::Sum
+    );
+    if !projection {
+        return None;
     }
     scene.volume.visit(Probe(scene))
 }
