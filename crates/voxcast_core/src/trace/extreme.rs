@@ -270,8 +270,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
         if let Some(lanes) = &self.values {
             let (o_d, range) = ((ray.o_v, ray.d_v), (k0, k1));
-            // SAFETY: `ValueLanes` built from this grid;
-            // the bricks are this volume's.
+            // SAFETY: `ValueLanes` built from this grid; the bricks are this volume's.
             return unsafe { lanes.extreme(ray.plan, o_d, range, (larger, prior), ray.bricks) };
         }
         let mut raw = prior;
