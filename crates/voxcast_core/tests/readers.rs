@@ -665,3 +665,61 @@ fn load_error_names_the_file_in_its_message() {
     let msg = e.to_string();
     assert!(msg.starts_with("/no/such/volume.nii.gz: "), "{msg}");
 }
+
+/// Files held in memory, as a browser hands them to the page: every reader reads them as it
+/// reads the disk (the same volume, the same error naming the file), a detached header and a
+/// `.hdr` find their data among them by name, and a data file not given is named.
+#[test]
+fn files_in_memory_read_as_files_on_disk() {
+    use voxcast_core::io::{InMemory, load_from};
+    let on_disk = |name: &str, bytes: &[u8]| load(&write(name, bytes));
+    let in_memory = |files: &[(&str, &[u8])], name: &str| {
+        let files = InMemory {
+            files: files
+                .iter()
+                .map(|(n, b)| (n.to_string(), b.to_vec()))
+                .collect(),
+        };
+        load_from(&files, Path::new(name))
+    };
+    // Attached NRRD, gzip-compressed.
+    let mut attached = nrrd(&["type: uint8", "dimension: 3", "sizes: 2 2 2", "encoding: gzip"]);
+    attached.extend(gzip(&[0, 1, 2, 3, 4, 5, 6, 7]));
+    let disk = on_disk("memory.nrrd", &attached).unwrap();
+    let memory = in_memory(&[("memory.nrrd", &attached)], "memory.nrrd").unwrap();
+    assert_eq!(memory.volume.data(), disk.volume.data());
+    assert_eq!(memory.volume.name(), disk.volume.name());
+    // A detached header with its data file beside it, and without.
+    let header = [
+        "NRRD0004",
+        "type: uint8",
+        "dimension: 3",
+        "sizes: 2 2 1",
+        "encoding: raw",
+        "data file: data.raw",
+    ]
+    .join("\n");
+    let pair: [(&str, &[u8]); 2] = [("h.nhdr", header.as_bytes()), ("data.raw", &[1, 2, 3, 4])];
+    assert_eq!(
+        in_memory(&pair, "h.nhdr").unwrap().volume.data(),
+        &VoxelData::U8(vec![1, 2, 3, 4])
+    );
+    let alone = in_memory(&pair[..1], "h.nhdr").unwrap_err().to_string();
+    assert!(alone.contains("data.raw") && alone.contains("h.nhdr"), "{alone}");
+    // NIfTI: a .hdr and its .img.
+    let hdr = nifti_header(&[2, 2, 1], 2, 8, [1.0; 3], 0.0, 0.0, 0.0, false);
+    let img: &[u8] = &[5, 6, 7, 8];
+    let nifti = in_memory(&[("scan.hdr", &hdr), ("scan.img", img)], "scan.hdr").unwrap();
+    assert_eq!(nifti.volume.data(), &VoxelData::U8(vec![5, 6, 7, 8]));
+    // Raw, named the Open SciVis way.
+    let raw = in_memory(&[("r_2x1x1_uint8.raw", &[9, 10])], "r_2x1x1_uint8.raw").unwrap();
+    assert_eq!(raw.volume.data(), &VoxelData::U8(vec![9, 10]));
+    // A damaged file: the same words on disk and in memory, naming the file.
+    let broken = &attached[..attached.len() - 6];
+    let disk = on_disk("broken.nrrd", broken).unwrap_err().to_string();
+    let memory = in_memory(&[("broken.nrrd", broken)], "broken.nrrd")
+        .unwrap_err()
+        .to_string();
+    assert!(memory.starts_with("broken.nrrd"), "{memory}");
+    assert!(disk.ends_with(&memory), "disk: {disk}\nmemory: {memory}");
+}

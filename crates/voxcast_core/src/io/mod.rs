@@ -10,6 +10,10 @@
 //!    hard limit of one byte more than claimed, so a lying header is caught either way.
 //! 3. Every failure is a [`LoadError`] naming the file and the problem.
 //!
+//! Every reader opens its files through [`Files`]: the disk, or files held in memory (what a
+//! browser hands the page when a student picks or drops them, [`InMemory`]), where a detached
+//! header finds its data file by name among the others.
+//!
 //! Types other than the four Voxcast holds natively are widened exactly where possible
 //! (`int8` → `int16`) and otherwise converted to `float32` (`int32`, `uint32`, `float64`), with
 //! a note in [`Loaded::notes`].
@@ -20,7 +24,7 @@ pub mod raw;
 
 use crate::error::{LoadError, LoadProblem};
 use crate::volume::{Volume, VoxelData};
-use std::io::Read;
+use std::io::{BufRead, Read, Seek};
 use std::path::Path;
 
 /// A loaded volume and anything the user should know about how it was read.
@@ -34,19 +38,94 @@ pub struct Loaded {
 /// Reads a volume file, choosing the reader by its name: `.nrrd`/`.nhdr` → NRRD,
 /// `.nii`/`.nii.gz`/`.hdr` → NIfTI-1, `.raw` with dimensions and type in the name → raw.
 pub fn load(path: &Path) -> Result<Loaded, LoadError> {
+    load_from(&Disk, path)
+}
+
+/// [`load`], opening `path` (and a detached header's data file) in `files`.
+pub fn load_from(files: &dyn Files, path: &Path) -> Result<Loaded, LoadError> {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     if name.ends_with(".nrrd") || name.ends_with(".nhdr") {
-        nrrd::load(path)
+        nrrd::load_from(files, path)
     } else if name.ends_with(".nii") || name.ends_with(".nii.gz") || name.ends_with(".hdr") {
-        nifti::load(path)
+        nifti::load_from(files, path)
     } else if name.ends_with(".raw") {
         let spec = raw::RawSpec::from_file_name(path).map_err(|p| LoadError::new(path, p))?;
-        raw::load(path, &spec)
+        raw::load_from(files, path, &spec)
     } else {
         Err(LoadError::new(path, LoadProblem::UnknownFormat))
+    }
+}
+
+/// Whether `name` is a volume file the readers know by its name (the file types a picker
+/// offers).
+pub fn is_volume_name(name: &str) -> bool {
+    let name = name.to_ascii_lowercase();
+    VOLUME_SUFFIXES.iter().any(|s| name.ends_with(s))
+}
+
+/// The endings of the files [`load`] reads (a detached header's data file may end otherwise).
+pub const VOLUME_SUFFIXES: [&str; 6] = [".nrrd", ".nhdr", ".nii", ".nii.gz", ".hdr", ".raw"];
+
+/// A file opened for reading: buffered, and able to seek.
+pub trait Opened: BufRead + Seek {}
+impl<T: BufRead + Seek> Opened for T {}
+
+/// Where the readers find files.
+pub trait Files {
+    /// Opens `path`: a reader at its start, and its length in bytes.
+    fn open(&self, path: &Path) -> std::io::Result<(Box<dyn Opened + '_>, u64)>;
+    /// Whether `path` can be opened.
+    fn exists(&self, path: &Path) -> bool;
+}
+
+/// The file system.
+pub struct Disk;
+
+impl Files for Disk {
+    fn open(&self, path: &Path) -> std::io::Result<(Box<dyn Opened + '_>, u64)> {
+        let file = std::fs::File::open(path)?;
+        let len = file.metadata()?.len();
+        Ok((Box::new(std::io::BufReader::new(file)), len))
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        path.exists()
+    }
+}
+
+/// Files held in memory, found by their names alone (a browser gives a page a file's name and
+/// bytes, never its folder): a detached header's data file is the one of that name among them.
+#[derive(Clone, Debug, Default)]
+pub struct InMemory {
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+impl InMemory {
+    fn find(&self, path: &Path) -> Option<&[u8]> {
+        let name = path.file_name()?.to_string_lossy();
+        self.files
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, b)| b.as_slice())
+    }
+}
+
+impl Files for InMemory {
+    fn open(&self, path: &Path) -> std::io::Result<(Box<dyn Opened + '_>, u64)> {
+        let bytes = self.find(path).ok_or_else(|| {
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                "not among the files given (choose or drop it together with the header)",
+            )
+        })?;
+        Ok((Box::new(std::io::Cursor::new(bytes)), bytes.len() as u64))
+    }
+
+    fn exists(&self, path: &Path) -> bool {
+        self.find(path).is_some()
     }
 }
 

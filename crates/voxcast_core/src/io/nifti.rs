@@ -7,12 +7,13 @@
 //! is exact because interpolation is linear. The orientation (qform/sform) is not applied; voxel
 //! (0,0,0) sits at the world origin. A 4-D file gives its first 3-D volume.
 
-use super::{Endian, FileType, Loaded, MAX_DEFLATE_RATIO, decode, display_name, read_payload};
+use super::{
+    Disk, Endian, FileType, Files, Loaded, MAX_DEFLATE_RATIO, decode, display_name, read_payload,
+};
 use crate::error::{LoadError, LoadProblem};
 use crate::volume::{Volume, checked_voxel_count};
 use glam::{UVec3, Vec3};
-use std::fs::File;
-use std::io::{BufReader, Read};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Size of a NIfTI-1 header.
@@ -20,18 +21,21 @@ const HEADER_BYTES: u64 = 348;
 
 /// Reads a NIfTI-1 file.
 pub fn load(path: &Path) -> Result<Loaded, LoadError> {
-    load_inner(path).map_err(|p| LoadError::new(path, p))
+    load_from(&Disk, path)
+}
+
+/// Reads a NIfTI-1 file of `files` (a `.hdr`'s `.img` among them too).
+pub fn load_from(files: &dyn Files, path: &Path) -> Result<Loaded, LoadError> {
+    load_inner(files, path).map_err(|p| LoadError::new(path, p))
 }
 
 fn is_gz(path: &Path) -> bool {
     path.to_string_lossy().to_ascii_lowercase().ends_with(".gz")
 }
 
-/// A file, decompressed if its name ends in `.gz`, with its on-disk length.
-fn open(path: &Path) -> Result<(Box<dyn Read>, u64), LoadProblem> {
-    let file = File::open(path)?;
-    let len = file.metadata()?.len();
-    let reader = BufReader::new(file);
+/// A file, decompressed if its name ends in `.gz`, with its stored length.
+fn open<'f>(files: &'f dyn Files, path: &Path) -> Result<(Box<dyn Read + 'f>, u64), LoadProblem> {
+    let (reader, len) = files.open(path)?;
     Ok(if is_gz(path) {
         (Box::new(flate2::bufread::MultiGzDecoder::new(reader)), len)
     } else {
@@ -43,9 +47,9 @@ fn bad(msg: impl Into<String>) -> LoadProblem {
     LoadProblem::Header(msg.into())
 }
 
-fn load_inner(path: &Path) -> Result<Loaded, LoadProblem> {
+fn load_inner(files: &dyn Files, path: &Path) -> Result<Loaded, LoadProblem> {
     let mut notes = Vec::new();
-    let (mut stream, file_len) = open(path)?;
+    let (mut stream, file_len) = open(files, path)?;
     let header = nifti::NiftiHeader::from_reader(&mut stream).map_err(|e| match e {
         nifti::NiftiError::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
             bad("file ends inside the 348-byte header")
@@ -108,8 +112,8 @@ fn load_inner(path: &Path) -> Result<Loaded, LoadProblem> {
         skip(&mut stream, vox_offset - HEADER_BYTES)?;
         read_volume(stream, expected, is_3d_only, file_len)?
     } else {
-        let img = image_path(path)?;
-        let (mut data, img_len) = open(&img).map_err(|e| {
+        let img = image_path(files, path)?;
+        let (mut data, img_len) = open(files, &img).map_err(|e| {
             bad(format!(
                 "cannot open the image file '{}': {e}",
                 img.display()
@@ -183,13 +187,13 @@ fn file_type(code: i16) -> Result<FileType, LoadProblem> {
 }
 
 /// The `.img` (or `.img.gz`) beside a `.hdr`.
-fn image_path(hdr: &Path) -> Result<PathBuf, LoadProblem> {
+fn image_path(files: &dyn Files, hdr: &Path) -> Result<PathBuf, LoadProblem> {
     let plain = hdr.with_extension("img");
-    if plain.exists() {
+    if files.exists(&plain) {
         return Ok(plain);
     }
     let gz = hdr.with_extension("img.gz");
-    if gz.exists() {
+    if files.exists(&gz) {
         return Ok(gz);
     }
     Err(bad(format!(
@@ -230,7 +234,7 @@ fn skip(stream: &mut dyn Read, n: u64) -> Result<(), LoadProblem> {
 
 /// Reads one volume's bytes; for a 3-D file, trailing data is an error.
 fn read_volume(
-    stream: Box<dyn Read>,
+    stream: Box<dyn Read + '_>,
     expected: u64,
     strict: bool,
     file_len: u64,

@@ -7,12 +7,13 @@
 //! Three-dimensional data is read as is; two-dimensional data as a single slice; four-dimensional
 //! data whose first axis has size 1 drops that axis.
 
-use super::{Endian, FileType, Loaded, MAX_DEFLATE_RATIO, decode, display_name, read_payload};
+use super::{
+    Disk, Endian, FileType, Files, Loaded, MAX_DEFLATE_RATIO, decode, display_name, read_payload,
+};
 use crate::error::{LoadError, LoadProblem};
 use crate::volume::{Volume, checked_voxel_count};
 use glam::{UVec3, Vec3};
-use std::fs::File;
-use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
+use std::io::{BufRead, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 /// A header longer than this is not a NRRD header (protects against reading binary as text).
@@ -35,14 +36,18 @@ struct Header {
 
 /// Reads a `.nrrd` or `.nhdr` file.
 pub fn load(path: &Path) -> Result<Loaded, LoadError> {
-    load_inner(path).map_err(|p| LoadError::new(path, p))
+    load_from(&Disk, path)
 }
 
-fn load_inner(path: &Path) -> Result<Loaded, LoadProblem> {
-    let file = File::open(path)?;
-    let len = file.metadata()?.len();
+/// Reads a `.nrrd` or `.nhdr` file of `files` (a detached header's data file among them too).
+pub fn load_from(files: &dyn Files, path: &Path) -> Result<Loaded, LoadError> {
+    load_inner(files, path).map_err(|p| LoadError::new(path, p))
+}
+
+fn load_inner(files: &dyn Files, path: &Path) -> Result<Loaded, LoadProblem> {
+    let (reader, len) = files.open(path)?;
     let name = display_name(path);
-    parse(BufReader::new(file), len, Some(path), name)
+    parse(reader, len, Some((files, path)), name)
 }
 
 /// Reads an attached-header NRRD held in memory (the embedded datasets).
@@ -56,12 +61,12 @@ pub fn load_bytes(name: &str, bytes: &[u8]) -> Result<Loaded, LoadError> {
     .map_err(|p| LoadError::new(format!("builtin:{name}"), p))
 }
 
-/// Parses a NRRD from `reader` (`len` bytes in all). `path` locates detached data files; without
-/// it (in memory) the data must be attached.
+/// Parses a NRRD from `reader` (`len` bytes in all). `path` (the header's, in its files)
+/// locates detached data files; without it the data must be attached.
 fn parse<R: BufRead + Seek>(
     mut reader: R,
     len: u64,
-    path: Option<&Path>,
+    path: Option<(&dyn Files, &Path)>,
     name: String,
 ) -> Result<Loaded, LoadProblem> {
     let header = parse_header(&mut reader)?;
@@ -123,21 +128,16 @@ fn parse<R: BufRead + Seek>(
     // The data: after the header in this file, or in the detached data file.
     let bytes = match (&header.data_file, path) {
         (None, _) => read_data(reader, len, &encoding, ty, expected, &header)?,
-        (Some(file_name), Some(path)) => {
+        (Some(file_name), Some((files, path))) => {
             let data_path = detached_path(path, file_name)?;
-            let open = || -> std::io::Result<(File, u64)> {
-                let f = File::open(&data_path)?;
-                let len = f.metadata()?.len();
-                Ok((f, len))
-            };
-            let (file, data_len) = open().map_err(|e| {
+            let (file, data_len) = files.open(&data_path).map_err(|e| {
                 LoadProblem::Header(format!(
                     "cannot open data file '{}': {e}",
                     data_path.display()
                 ))
             })?;
             read_data(
-                BufReader::new(file),
+                file,
                 data_len,
                 &encoding,
                 ty,

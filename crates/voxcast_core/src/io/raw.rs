@@ -4,12 +4,11 @@
 //! The file must hold exactly `nx·ny·nz` values (after an optional header skip); x varies
 //! fastest. Endianness defaults to little (every Open SciVis file is little-endian).
 
-use super::{Endian, FileType, Loaded, decode, display_name, read_payload};
+use super::{Disk, Endian, FileType, Files, Loaded, decode, display_name, read_payload};
 use crate::error::{LoadError, LoadProblem};
 use crate::volume::{Volume, checked_voxel_count};
 use glam::{UVec3, Vec3};
-use std::fs::File;
-use std::io::{BufReader, Seek, SeekFrom};
+use std::io::{Seek, SeekFrom};
 use std::path::Path;
 
 /// How to read a raw file.
@@ -60,15 +59,19 @@ pub fn parse_dims(s: &str) -> Option<[u64; 3]> {
 
 /// Reads a raw file as `spec` describes.
 pub fn load(path: &Path, spec: &RawSpec) -> Result<Loaded, LoadError> {
-    load_inner(path, spec).map_err(|p| LoadError::new(path, p))
+    load_from(&Disk, path, spec)
 }
 
-fn load_inner(path: &Path, spec: &RawSpec) -> Result<Loaded, LoadProblem> {
+/// Reads a raw file of `files` as `spec` describes.
+pub fn load_from(files: &dyn Files, path: &Path, spec: &RawSpec) -> Result<Loaded, LoadError> {
+    load_inner(files, path, spec).map_err(|p| LoadError::new(path, p))
+}
+
+fn load_inner(files: &dyn Files, path: &Path, spec: &RawSpec) -> Result<Loaded, LoadProblem> {
     let [nx, ny, nz] = spec.dims;
     let count = checked_voxel_count(nx, ny, nz)?;
     let expected = count * spec.ty.bytes();
-    let file = File::open(path)?;
-    let len = file.metadata()?.len();
+    let (mut reader, len) = files.open(path)?;
     let available = len.saturating_sub(spec.header_bytes);
     if available < expected {
         return Err(LoadProblem::Truncated {
@@ -82,7 +85,6 @@ fn load_inner(path: &Path, spec: &RawSpec) -> Result<Loaded, LoadProblem> {
             found: available,
         });
     }
-    let mut reader = BufReader::new(file);
     reader.seek(SeekFrom::Start(spec.header_bytes))?;
     let bytes = read_payload(reader, expected, expected)?;
     let mut notes = Vec::new();
