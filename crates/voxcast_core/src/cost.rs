@@ -14,7 +14,8 @@
 use crate::camera::Camera;
 use crate::colormap::inferno;
 use crate::image_out::LinearImage;
-use crate::render::{Cancelled, Job, RenderStats};
+use crate::render::{Cancelled, Job, RenderStats, TileSlices};
+use crate::slices::{Deadline, Step};
 use crate::trace::{Scene, StopReason};
 use glam::{Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
@@ -158,24 +159,47 @@ pub fn scale_words(full: u32, busiest: u32) -> String {
 pub fn render_cost(
     scene: &Scene<'_>,
     camera: &Camera,
-    (width, height): (u32, u32),
+    size: (u32, u32),
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<CostMap, Cancelled> {
+    let job = Job::plain(scene, camera, size, progress, cancel);
+    render_cost_in(&job, &mut TileSlices::default(), Deadline::NONE).map(Step::whole)
+}
+
+/// [`render_cost`] of `job` (its occluders and surface left out) in slices, as
+/// [`crate::render::render_in`].
+pub fn render_cost_in(
+    job: &Job<'_, '_>,
+    slices: &mut TileSlices,
+    deadline: Deadline,
+) -> Result<Step<CostMap>, Cancelled> {
     /// Missed rays are counted in the last channel in units of this (above any ray count).
     const MISSED: f32 = 1024.0;
-    let job = Job::plain(scene, camera, (width, height), progress, cancel);
-    let (pixels, stats) = job.run_on_volume(|out, _, _| {
-        let early = matches!(out.stop, StopReason::Cutoff | StopReason::FirstHit);
-        let capped = out.stop == StopReason::SampleCap;
-        let missed = matches!(out.stop, StopReason::Missed | StopReason::CutAway);
-        Vec4::new(
-            out.samples as f32,
-            out.positions as f32,
-            f32::from(u8::from(early)),
-            f32::from(u8::from(capped)) + MISSED * f32::from(u8::from(missed)),
-        )
-    })?;
+    let job = Job {
+        occluders: &[],
+        surface: None,
+        ..*job
+    };
+    let (scene, width, height) = (job.scene, job.width, job.height);
+    let step = job.run_on_volume(
+        |out, _, _| {
+            let early = matches!(out.stop, StopReason::Cutoff | StopReason::FirstHit);
+            let capped = out.stop == StopReason::SampleCap;
+            let missed = matches!(out.stop, StopReason::Missed | StopReason::CutAway);
+            Vec4::new(
+                out.samples as f32,
+                out.positions as f32,
+                f32::from(u8::from(early)),
+                f32::from(u8::from(capped)) + MISSED * f32::from(u8::from(missed)),
+            )
+        },
+        slices,
+        deadline,
+    )?;
+    let Step::Done((pixels, stats)) = step else {
+        return Ok(Step::Paused);
+    };
     // The job averages over a pixel's rays; multiplied back, every count is a whole number
     // again (they stay far below 2^24, where f32 holds integers exactly).
     let n = scene.settings.supersampling.max(1);
@@ -194,14 +218,14 @@ pub fn render_cost(
         .longest_ray_samples(scene.volume)
         .ceil()
         .min(f64::from(scene.settings.max_samples)) as u32;
-    Ok(CostMap {
+    Ok(Step::Done(CostMap {
         width,
         height,
         rays_per_pixel: n * n,
         pixels,
         stats,
         full_scale: longest.max(1) * n * n,
-    })
+    }))
 }
 
 #[cfg(test)]

@@ -538,17 +538,25 @@ impl Progress {
                     path.display()
                 )),
             ),
-            Ok(text) => match serde_json::from_str(&text) {
-                Ok(p) => (p, None),
-                Err(e) => (
-                    Self::default(),
-                    Some(format!(
-                        "{} is damaged ({e}); starting afresh",
-                        path.display()
-                    )),
-                ),
-            },
+            Ok(text) => Self::from_text(&text, &path.display().to_string()),
         }
+    }
+
+    /// Reads progress from the text kept in `place` (a file, the browser's storage): a damaged
+    /// text is a fresh start, with a message that names `place`.
+    pub fn from_text(text: &str, place: &str) -> (Self, Option<String>) {
+        match serde_json::from_str(text) {
+            Ok(p) => (p, None),
+            Err(e) => (
+                Self::default(),
+                Some(format!("{place} is damaged ({e}); starting afresh")),
+            ),
+        }
+    }
+
+    /// The progress as the text [`Progress::from_text`] reads.
+    pub fn to_text(&self) -> String {
+        serde_json::to_string_pretty(self).expect("progress is plain data")
     }
 
     /// Writes progress atomically: to a temporary file beside it, then renamed over it.
@@ -557,8 +565,7 @@ impl Progress {
             std::fs::create_dir_all(dir)?;
         }
         let tmp = path.with_extension("json.tmp");
-        let text = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
-        std::fs::write(&tmp, text)?;
+        std::fs::write(&tmp, self.to_text())?;
         std::fs::rename(&tmp, path)
     }
 

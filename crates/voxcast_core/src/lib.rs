@@ -68,6 +68,7 @@ pub mod scene;
 pub mod settings;
 pub mod shade;
 pub mod skip;
+pub mod slices;
 pub mod step;
 pub mod trace;
 pub mod trade;

@@ -12,11 +12,16 @@
 //! tile a progress callback reports `(tiles done, tiles total)`, and before each tile the cancel
 //! flag is read, so a cancelled render stops within one tile's time. The march is
 //! [`crate::trace`]'s, run with [`NoRecord`].
+//!
+//! A render can also be done in slices ([`crate::slices`]: a browser's one thread draws the page
+//! between them): [`render_in`], [`render_layer_in`] and `cost::render_cost_in` take a
+//! [`TileSlices`] that keeps the finished tiles, and stop taking tiles at a deadline.
 
 use crate::camera::Camera;
 use crate::entry::EntryBounds;
 use crate::error::SettingsError;
 use crate::image_out::LinearImage;
+use crate::slices::{Deadline, Step};
 use crate::trace::{Marcher, NoRecord, Scene, StopReason};
 use crate::volume::{Grid, GridVisitor, Voxel};
 use glam::{Vec3, Vec4};
@@ -83,35 +88,54 @@ pub fn render(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<(LinearImage, RenderStats), Cancelled> {
-    struct Visit<'x, 'a> {
-        scene: &'x Scene<'a>,
-        camera: &'x Camera,
-        width: u32,
-        height: u32,
-        progress: &'x (dyn Fn(usize, usize) + Sync),
-        cancel: &'x AtomicBool,
+    let job = Job::plain(scene, camera, (width, height), progress, cancel);
+    render_in(&job, &mut TileSlices::default(), Deadline::NONE).map(Step::whole)
+}
+
+/// [`render`] of `job` (its occluders and surface left out) in slices: the tiles up to
+/// `deadline`, kept in `slices`; the picture once every tile is done.
+pub fn render_in(
+    job: &Job<'_, '_>,
+    slices: &mut TileSlices,
+    deadline: Deadline,
+) -> Result<Step<(LinearImage, RenderStats)>, Cancelled> {
+    struct Visit<'x, 'a, 's> {
+        job: Job<'x, 'a>,
+        slices: &'s mut TileSlices,
+        deadline: Deadline,
     }
-    impl GridVisitor for Visit<'_, '_> {
-        type Output = Result<(LinearImage, RenderStats), Cancelled>;
+    impl GridVisitor for Visit<'_, '_, '_> {
+        type Output = Result<Step<(LinearImage, RenderStats)>, Cancelled>;
         fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
-            render_typed(
-                self.scene,
+            let (width, height) = (self.job.width, self.job.height);
+            let step = self.job.run(
                 grid,
-                self.camera,
-                self.width,
-                self.height,
-                self.progress,
-                self.cancel,
-            )
+                |out, background, _| Vec4::from((out.pixel(background), 1.0)),
+                self.slices,
+                self.deadline,
+            )?;
+            Ok(match step {
+                Step::Paused => Step::Paused,
+                Step::Done((pixels, stats)) => {
+                    let image = LinearImage {
+                        width,
+                        height,
+                        pixels: pixels.into_par_iter().map(Vec4::truncate).collect(),
+                    };
+                    Step::Done((image, stats))
+                }
+            })
         }
     }
-    scene.volume.visit(Visit {
-        scene,
-        camera,
-        width,
-        height,
-        progress,
-        cancel,
+    let plain = Job {
+        occluders: &[],
+        surface: None,
+        ..*job
+    };
+    job.scene.volume.visit(Visit {
+        job: plain,
+        slices,
+        deadline,
     })
 }
 
@@ -218,18 +242,34 @@ pub fn render_layer_with(
         surface,
         ..Job::plain(scene, camera, (width, height), progress, cancel)
     };
-    let (pixels, stats) = job.run_on_volume(|out, _, behind| match behind {
-        Some(c) => Vec4::from((out.color + c * (1.0 - out.opacity), 1.0)),
-        None => Vec4::from((out.color, out.opacity)),
-    })?;
-    Ok((
-        LayerImage {
-            width,
-            height,
-            pixels,
+    render_layer_in(&job, &mut TileSlices::default(), Deadline::NONE).map(Step::whole)
+}
+
+/// [`render_layer_with`] of `job` in slices (see [`render_in`]).
+pub fn render_layer_in(
+    job: &Job<'_, '_>,
+    slices: &mut TileSlices,
+    deadline: Deadline,
+) -> Result<Step<(LayerImage, RenderStats)>, Cancelled> {
+    let step = job.run_on_volume(
+        |out, _, behind| match behind {
+            Some(c) => Vec4::from((out.color + c * (1.0 - out.opacity), 1.0)),
+            None => Vec4::from((out.color, out.opacity)),
         },
-        stats,
-    ))
+        slices,
+        deadline,
+    )?;
+    Ok(match step {
+        Step::Paused => Step::Paused,
+        Step::Done((pixels, stats)) => Step::Done((
+            LayerImage {
+                width: job.width,
+                height: job.height,
+                pixels,
+            },
+            stats,
+        )),
+    })
 }
 
 /// As [`render`], on a dedicated pool of `threads` threads (for measurements and tests).
@@ -260,26 +300,45 @@ pub fn render_with_threads(
 /// passed, and the rays the sample cap cut short.
 type TileResult = (u32, u32, Vec<Vec4>, u64, u64, u64);
 
+/// A render's work kept between slices ([`crate::slices`]): the tiles finished so far, and
+/// where each pixel's rays can first meet a visible cell (found once, by the first slice).
+/// One `TileSlices` serves one render: its job must not change between the slices.
+#[derive(Clone, Debug, Default)]
+pub struct TileSlices {
+    tiles: Vec<Option<TileResult>>,
+    entry: Option<Option<EntryBounds>>,
+}
+
+impl TileSlices {
+    /// The share of the tiles finished.
+    pub fn fraction(&self) -> f32 {
+        let done = self.tiles.iter().filter(|t| t.is_some()).count();
+        done as f32 / self.tiles.len().max(1) as f32
+    }
+}
+
 /// Opaque geometry a ray may stop at: for a ray (volume coordinates, unit direction), the
 /// distance to the nearest surface ahead and the colour shown there.
 pub type Surface<'x> = &'x (dyn Fn(&crate::ray::Ray) -> Option<(f32, Vec3)> + Sync);
 
-/// One render's inputs, for either output.
-pub(crate) struct Job<'x, 'a> {
-    pub(crate) scene: &'x Scene<'a>,
-    pub(crate) camera: &'x Camera,
-    pub(crate) width: u32,
-    pub(crate) height: u32,
-    pub(crate) occluders: &'x [Occluder],
+/// One render's inputs, for any of its outputs (the picture, the layer, the cost map).
+#[derive(Clone, Copy)]
+pub struct Job<'x, 'a> {
+    pub scene: &'x Scene<'a>,
+    pub camera: &'x Camera,
+    pub width: u32,
+    pub height: u32,
+    /// Spheres the rays stop at (the layer's; the picture leaves them out).
+    pub occluders: &'x [Occluder],
     /// Opaque geometry besides the occluders (a triangle scene), tested on every ray.
-    pub(crate) surface: Option<Surface<'x>>,
-    pub(crate) progress: &'x (dyn Fn(usize, usize) + Sync),
-    pub(crate) cancel: &'x AtomicBool,
+    pub surface: Option<Surface<'x>>,
+    pub progress: &'x (dyn Fn(usize, usize) + Sync),
+    pub cancel: &'x AtomicBool,
 }
 
 impl<'x, 'a> Job<'x, 'a> {
     /// A job without occluders: the plain image of `camera`'s view.
-    pub(crate) fn plain(
+    pub fn plain(
         scene: &'x Scene<'a>,
         camera: &'x Camera,
         (width, height): (u32, u32),
@@ -304,31 +363,43 @@ impl Job<'_, '_> {
     pub(crate) fn run_on_volume(
         &self,
         value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
-    ) -> Result<(Vec<Vec4>, RenderStats), Cancelled> {
-        struct Visit<'j, 'x, 'a, F> {
+        slices: &mut TileSlices,
+        deadline: Deadline,
+    ) -> Result<Step<(Vec<Vec4>, RenderStats)>, Cancelled> {
+        struct Visit<'j, 'x, 'a, 's, F> {
             job: &'j Job<'x, 'a>,
             value: F,
+            slices: &'s mut TileSlices,
+            deadline: Deadline,
         }
-        impl<F> GridVisitor for Visit<'_, '_, '_, F>
+        impl<F> GridVisitor for Visit<'_, '_, '_, '_, F>
         where
             F: Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
         {
-            type Output = Result<(Vec<Vec4>, RenderStats), Cancelled>;
+            type Output = Result<Step<(Vec<Vec4>, RenderStats)>, Cancelled>;
             fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
-                self.job.run(grid, self.value)
+                self.job.run(grid, self.value, self.slices, self.deadline)
             }
         }
-        self.scene.volume.visit(Visit { job: self, value })
+        self.scene.volume.visit(Visit {
+            job: self,
+            value,
+            slices,
+            deadline,
+        })
     }
 
     /// Every pixel's rays through `grid`, each ray's outcome turned into a value by `value`
     /// (given the background and the colour of the occluder that stopped it, if one did) and
-    /// averaged over the supersamples; row by row.
+    /// averaged over the supersamples; row by row. The tiles `slices` holds are not done again,
+    /// and no tile is begun once `deadline` has passed (but the first of each call).
     pub(crate) fn run<T: Voxel>(
         &self,
         grid: Grid<'_, T>,
         value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
-    ) -> Result<(Vec<Vec4>, RenderStats), Cancelled> {
+        slices: &mut TileSlices,
+        deadline: Deadline,
+    ) -> Result<Step<(Vec<Vec4>, RenderStats)>, Cancelled> {
         let (scene, width, height) = (self.scene, self.width, self.height);
         let spacing = grid.spacing;
         let marcher = Marcher::new(scene, grid);
@@ -342,21 +413,33 @@ impl Job<'_, '_> {
         let tiles_x = width.div_ceil(TILE);
         let tiles_y = height.div_ceil(TILE);
         let total = (tiles_x * tiles_y) as usize;
-        let done = AtomicUsize::new(0);
         let n = scene.settings.supersampling.max(1);
         let rays = self.camera.rays(width, height);
         // Where each pixel's rays can first meet a visible cell, for the march that uses it.
-        let entry = match &scene.empty {
+        let entry = slices.entry.get_or_insert_with(|| match &scene.empty {
             Some((_, cells)) if marcher.reads_entry_bounds() => {
                 EntryBounds::new(cells, spacing, &rays, (width, height))
             }
             _ => None,
-        };
+        });
+        if slices.tiles.len() != total {
+            slices.tiles = vec![None; total];
+        }
+        let todo: Vec<u32> = (0..total as u32)
+            .filter(|&t| slices.tiles[t as usize].is_none())
+            .collect();
+        let done = AtomicUsize::new(total - todo.len());
+        // Tiles begun by this call: the first is taken whatever the deadline, so every call
+        // moves the render on.
+        let begun = AtomicUsize::new(0);
+        let entry = &*entry;
 
-        let tiles: Vec<Option<TileResult>> = (0..total as u32)
-            .into_par_iter()
-            .map(|tile| {
-                if self.cancel.load(Ordering::Relaxed) {
+        let finished: Vec<Option<TileResult>> = todo
+            .par_iter()
+            .map(|&tile| {
+                if self.cancel.load(Ordering::Relaxed)
+                    || (begun.fetch_add(1, Ordering::Relaxed) > 0 && deadline.passed())
+                {
                     return None;
                 }
                 let x0 = (tile % tiles_x) * TILE;
@@ -378,11 +461,25 @@ impl Job<'_, '_> {
                     .map(|(o, _)| o)
                     .collect();
                 let (pixels, samples, positions, capped) =
-                    self.tile_rays(&marcher, &rays, &entry, [x0, y0, x1, y1], &near, &value);
+                    self.tile_rays(&marcher, &rays, entry, [x0, y0, x1, y1], &near, &value);
                 let d = done.fetch_add(1, Ordering::Relaxed) + 1;
                 (self.progress)(d, total);
                 Some((x0, y0, pixels, samples, positions, capped))
             })
+            .collect();
+        for (tile, result) in todo.into_iter().zip(finished) {
+            slices.tiles[tile as usize] = result;
+        }
+        if slices.tiles.iter().any(Option::is_none) {
+            return if self.cancel.load(Ordering::Relaxed) {
+                Err(Cancelled)
+            } else {
+                Ok(Step::Paused)
+            };
+        }
+        let tiles: Vec<TileResult> = std::mem::take(&mut slices.tiles)
+            .into_iter()
+            .flatten()
             .collect();
 
         let mut stats = RenderStats {
@@ -391,10 +488,6 @@ impl Job<'_, '_> {
             positions: 0,
             capped: 0,
         };
-        let tiles = tiles
-            .into_iter()
-            .collect::<Option<Vec<TileResult>>>()
-            .ok_or(Cancelled)?;
         for &(_, _, _, samples, positions, capped) in &tiles {
             stats.samples += samples;
             stats.positions += positions;
@@ -414,7 +507,7 @@ impl Job<'_, '_> {
                     }
                 }
             });
-        Ok((image, stats))
+        Ok(Step::Done((image, stats)))
     }
 
     /// The pixels of the tile `[x0, y0, x1, y1)` (row by row), and its samples, positions and
@@ -474,25 +567,4 @@ impl Job<'_, '_> {
         }
         (pixels, samples, positions, capped)
     }
-}
-
-fn render_typed<T: Voxel>(
-    scene: &Scene<'_>,
-    grid: Grid<'_, T>,
-    camera: &Camera,
-    width: u32,
-    height: u32,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    cancel: &AtomicBool,
-) -> Result<(LinearImage, RenderStats), Cancelled> {
-    let job = Job::plain(scene, camera, (width, height), progress, cancel);
-    let (pixels, stats) = job.run(grid, |out, background, _| {
-        Vec4::from((out.pixel(background), 1.0))
-    })?;
-    let image = LinearImage {
-        width,
-        height,
-        pixels: pixels.into_par_iter().map(Vec4::truncate).collect(),
-    };
-    Ok((image, stats))
 }

@@ -7,14 +7,16 @@
 
 use crate::camera::Camera;
 use crate::error::SettingsError;
-use crate::knob::{Knob, Try};
+use crate::image_out::LinearImage;
+use crate::knob::Knob;
 use crate::prepared::Prepared;
-use crate::render::{Cancelled, render};
+use crate::render::{Cancelled, Job, TileSlices, render_in};
 use crate::scene::Scene;
 use crate::settings::RenderSettings;
+use crate::slices::{Deadline, Step};
 use crate::transfer::TransferFunction;
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
+use web_time::Instant;
 
 /// The steps (voxels) the sampling level measures, besides the player's own.
 pub const STEPS: [f32; 4] = [2.0, 1.0, 0.5, 0.25];
@@ -99,11 +101,58 @@ pub fn trade(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Trade, TradeError> {
+    let job = TradeJob {
+        view,
+        settings,
+        knob,
+        steps,
+        progress,
+        cancel,
+    };
+    trade_in(&job, &mut TradeSlices::default(), Deadline::NONE).map(Step::whole)
+}
+
+/// What a trade measures, and who watches it: [`trade`]'s arguments.
+#[derive(Clone, Copy)]
+pub struct TradeJob<'x, 'a> {
+    pub view: &'x View<'a>,
+    pub settings: &'x RenderSettings,
+    pub knob: Knob,
+    pub steps: &'x [f32],
+    pub progress: &'x (dyn Fn(usize, usize) + Sync),
+    pub cancel: &'x AtomicBool,
+}
+
+/// A trade's work kept between slices ([`crate::slices`]): the renders finished (the
+/// reference first) with their samples and seconds, and the one under way with the seconds it
+/// has taken so far (a row's time is its slices' time, not the frames drawn between them).
+#[derive(Clone, Debug, Default)]
+pub struct TradeSlices {
+    finished: Vec<(LinearImage, u64, f64)>,
+    current: TileSlices,
+    seconds: f64,
+}
+
+/// [`trade`] in slices: its renders' tiles up to `deadline`, kept in `slices`.
+pub fn trade_in(
+    job: &TradeJob<'_, '_>,
+    slices: &mut TradeSlices,
+    deadline: Deadline,
+) -> Result<Step<Trade>, TradeError> {
+    let (view, settings, knob) = (job.view, job.settings, job.knob);
     let voxel = view.volume.spacing().min_element();
-    let tries = knob.tries(settings, voxel, steps);
+    let tries = knob.tries(settings, voxel, job.steps);
+    let reference_try = knob.reference(settings);
     let total = tries.len() + 1;
     let (w, h) = view.size;
-    let timed = |t: &Try| -> Result<_, TradeError> {
+    while slices.finished.len() < total {
+        let i = slices.finished.len();
+        (job.progress)(i, total);
+        let t = if i == 0 {
+            &reference_try
+        } else {
+            &tries[i - 1]
+        };
         let scene = Scene::new(
             view.volume,
             view.transfer,
@@ -115,40 +164,49 @@ pub fn trade(
             ((h as f32 * t.scale).round() as u32).max(1),
         );
         let start = Instant::now();
-        let (image, stats) = render(&scene, view.camera, sw, sh, &|_, _| {}, cancel)?;
+        let render = Job::plain(&scene, view.camera, (sw, sh), &|_, _| {}, job.cancel);
+        let step = render_in(&render, &mut slices.current, deadline)?;
+        slices.seconds += start.elapsed().as_secs_f64();
+        let Step::Done((image, stats)) = step else {
+            return Ok(Step::Paused);
+        };
         let image = if (sw, sh) == (w, h) {
             image
         } else {
             image.resized_bilinear(w, h)
         };
-        Ok((image, stats.samples, start.elapsed().as_secs_f64()))
-    };
-    progress(0, total);
-    let reference_try = knob.reference(settings);
-    let (reference, reference_samples, reference_seconds) = timed(&reference_try)?;
-    let mut rows = Vec::with_capacity(tries.len());
-    for (i, t) in tries.iter().enumerate() {
-        progress(i + 1, total);
-        let (image, samples, seconds) = timed(t)?;
-        let diff = image.diff(&reference).expect("the same size");
-        rows.push(TradeRow {
-            label: t.label.clone(),
-            step_voxels: t.settings.step.voxels(voxel),
-            seconds,
-            samples,
-            max_error: diff.max_abs,
-            rmse: diff.rmse as f32,
-        });
+        let seconds = std::mem::take(&mut slices.seconds);
+        slices.finished.push((image, stats.samples, seconds));
+        slices.current = TileSlices::default();
+        if deadline.passed() {
+            return Ok(Step::Paused);
+        }
     }
-    progress(total, total);
-    Ok(Trade {
+    (job.progress)(total, total);
+    let (reference, reference_samples, reference_seconds) = &slices.finished[0];
+    let rows = tries
+        .iter()
+        .zip(&slices.finished[1..])
+        .map(|(t, (image, samples, seconds))| {
+            let diff = image.diff(reference).expect("the same size");
+            TradeRow {
+                label: t.label.clone(),
+                step_voxels: t.settings.step.voxels(voxel),
+                seconds: *seconds,
+                samples: *samples,
+                max_error: diff.max_abs,
+                rmse: diff.rmse as f32,
+            }
+        })
+        .collect();
+    Ok(Step::Done(Trade {
         knob,
         reference: reference_try.label,
         reference_voxels: reference_try.settings.step.voxels(voxel),
-        reference_seconds,
-        reference_samples,
+        reference_seconds: *reference_seconds,
+        reference_samples: *reference_samples,
         rows,
-    })
+    }))
 }
 
 #[cfg(test)]
@@ -297,5 +355,46 @@ mod tests {
                 .iter()
                 .all(|r| r.samples < adaptive.reference_samples)
         );
+    }
+
+    /// In slices, one tile a call, the trade has the same rows but their times.
+    #[test]
+    fn a_trade_in_slices_is_the_trade() {
+        let v = crate::Prepared::from(bucky());
+        let p = crate::preset::for_volume("bucky").unwrap();
+        let s = p.settings_over(&RenderSettings::default()).unwrap();
+        let (lo, hi) = v.bounds();
+        let cam = Camera::framing(lo, hi, glam::Vec3::new(1.0, 0.8, 1.4), glam::Vec3::Y).unwrap();
+        let view = View {
+            volume: &v,
+            transfer: &p.transfer,
+            camera: &cam,
+            size: (20, 20),
+        };
+        let stop = AtomicBool::new(false);
+        let job = TradeJob {
+            view: &view,
+            settings: &s,
+            knob: Knob::Supersampling,
+            steps: &STEPS,
+            progress: &|_, _| {},
+            cancel: &stop,
+        };
+        let whole = trade_in(&job, &mut TradeSlices::default(), Deadline::NONE)
+            .unwrap()
+            .whole();
+        let mut state = TradeSlices::default();
+        let (sliced, calls) = crate::slices::until_done(crate::slices::Duration::ZERO, |d| {
+            trade_in(&job, &mut state, d)
+        })
+        .unwrap();
+        assert!(calls > 5 * 4, "{calls} calls: a tile at a time");
+        let untimed = |t: &Trade| {
+            let mut t = t.clone();
+            t.reference_seconds = 0.0;
+            t.rows.iter_mut().for_each(|r| r.seconds = 0.0);
+            t
+        };
+        assert_eq!(untimed(&sliced), untimed(&whole));
     }
 }

@@ -683,7 +683,12 @@ fn files_in_memory_read_as_files_on_disk() {
         load_from(&files, Path::new(name))
     };
     // Attached NRRD, gzip-compressed.
-    let mut attached = nrrd(&["type: uint8", "dimension: 3", "sizes: 2 2 2", "encoding: gzip"]);
+    let mut attached = nrrd(&[
+        "type: uint8",
+        "dimension: 3",
+        "sizes: 2 2 2",
+        "encoding: gzip",
+    ]);
     attached.extend(gzip(&[0, 1, 2, 3, 4, 5, 6, 7]));
     let disk = on_disk("memory.nrrd", &attached).unwrap();
     let memory = in_memory(&[("memory.nrrd", &attached)], "memory.nrrd").unwrap();
@@ -705,7 +710,10 @@ fn files_in_memory_read_as_files_on_disk() {
         &VoxelData::U8(vec![1, 2, 3, 4])
     );
     let alone = in_memory(&pair[..1], "h.nhdr").unwrap_err().to_string();
-    assert!(alone.contains("data.raw") && alone.contains("h.nhdr"), "{alone}");
+    assert!(
+        alone.contains("data.raw") && alone.contains("h.nhdr"),
+        "{alone}"
+    );
     // NIfTI: a .hdr and its .img.
     let hdr = nifti_header(&[2, 2, 1], 2, 8, [1.0; 3], 0.0, 0.0, 0.0, false);
     let img: &[u8] = &[5, 6, 7, 8];

@@ -136,14 +136,7 @@ fn parse<R: BufRead + Seek>(
                     data_path.display()
                 ))
             })?;
-            read_data(
-                file,
-                data_len,
-                &encoding,
-                ty,
-                expected,
-                &header,
-            )?
+            read_data(file, data_len, &encoding, ty, expected, &header)?
         }
         (Some(_), None) => return Err(bad("a detached header needs its data file on disk")),
     };

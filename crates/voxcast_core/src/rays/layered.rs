@@ -12,7 +12,8 @@
 use super::mesh::{Hit, TriangleScene};
 use crate::camera::Camera;
 use crate::image_out::LinearImage;
-use crate::render::{Cancelled, Job, RenderStats};
+use crate::render::{Cancelled, Job, RenderStats, TileSlices};
+use crate::slices::Deadline;
 use crate::trace::Scene;
 use glam::{Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
@@ -152,10 +153,16 @@ impl DensityView<'_, '_> {
             cancel,
         );
         job.surface = Some(&surface);
-        let (pixels, stats) = job.run_on_volume(|out, background, behind| {
-            let under = behind.unwrap_or(background);
-            Vec4::from((out.color + under * (1.0 - out.opacity), 1.0))
-        })?;
+        let (pixels, stats) = job
+            .run_on_volume(
+                |out, background, behind| {
+                    let under = behind.unwrap_or(background);
+                    Vec4::from((out.color + under * (1.0 - out.opacity), 1.0))
+                },
+                &mut TileSlices::default(),
+                Deadline::NONE,
+            )?
+            .whole();
         let mut image = LinearImage::new(width, height);
         for (i, p) in pixels.into_iter().enumerate() {
             image.set(i as u32 % width, i as u32 / width, p.truncate());
