@@ -46,7 +46,12 @@ fn no_data_at(p_voxel: vec3<f32>) -> bool {
     let c = cell(p_voxel);
     var any_missing = false;
     for (var i = 0u; i < 8u; i++) {
-        let corner = select(c.lo, c.hi, vec3((i & 1u) != 0u, (i & 2u) != 0u, (i & 4u) != 0u));
+        // Component by component: WebGL2's GLSL has no select (mix) of integer vectors.
+        let corner = vec3(
+            select(c.lo.x, c.hi.x, (i & 1u) != 0u),
+            select(c.lo.y, c.hi.y, (i & 2u) != 0u),
+            select(c.lo.z, c.hi.z, (i & 4u) != 0u),
+        );
         any_missing = any_missing || is_no_data(load_raw(corner));
     }
     return any_missing;

@@ -3,14 +3,18 @@
 //! Without a subcommand this opens the sandbox (`sandbox`: Bevy, the live GPU preview, the
 //! settings panel). The subcommands are the command line over the pure core
 //! (`crates/voxcast_core`): render an image, trace one ray step by step, describe a volume,
-//! measure speed against accuracy.
+//! measure speed against accuracy. In a browser (wasm32) there is no command line: the page
+//! opens the sandbox with the options its address gives (`sandbox::web`).
 
 mod cli;
 mod sandbox;
 
+#[cfg(not(target_arch = "wasm32"))]
 use clap::{Parser, Subcommand};
+#[cfg(not(target_arch = "wasm32"))]
 use cli::{bench, info, rays, render, trace};
 
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Parser, Debug)]
 #[command(
     name = "voxcast",
@@ -26,6 +30,7 @@ struct Cli {
     sandbox: sandbox::SandboxArgs,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Render a volume with the exact CPU ray caster and write a PNG.
@@ -42,6 +47,12 @@ enum Command {
     List,
 }
 
+#[cfg(target_arch = "wasm32")]
+fn main() {
+    sandbox::web::main();
+}
+
+#[cfg(not(target_arch = "wasm32"))]
 fn main() {
     restore_sigpipe();
     sandbox::platform::ensure_runtime_dir();
@@ -66,6 +77,7 @@ fn main() {
 
 /// Lets a closed pipe end the program quietly, as it ends `cat` (`voxcast trace … | head`):
 /// Rust ignores SIGPIPE, which turns every later `println!` into a panic.
+#[cfg(not(target_arch = "wasm32"))]
 fn restore_sigpipe() {
     #[cfg(unix)]
     // SAFETY: called first in `main`, before any thread starts; SIG_DFL is always valid.
@@ -74,6 +86,7 @@ fn restore_sigpipe() {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn list() {
     println!("embedded datasets (--volume builtin:NAME):");
     for (name, what) in voxcast_core::builtin::DATASETS {

@@ -707,6 +707,27 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// A web page's query string as command-line options: `?a=1&b` → `["--a", "1", "--b"]`, each part decoded by `decode` (`+` is a space, as forms
+/// write it).
+#[cfg(any(test, target_arch = "wasm32"))]
+pub fn query_to_args(search: &str, decode: impl Fn(&str) -> String) -> Vec<String> {
+    let mut args = Vec::new();
+    for part in search.trim_start_matches('?').split('&') {
+        if part.is_empty() {
+            continue;
+        }
+        let (key, value) = match part.split_once('=') {
+            Some((k, v)) => (k, Some(v)),
+            None => (part, None),
+        };
+        args.push(format!("--{}", decode(&key.replace('+', " "))));
+        if let Some(v) = value {
+            args.push(decode(&v.replace('+', " ")));
+        }
+    }
+    args
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -748,5 +769,17 @@ mod tests {
         }
         assert!(parse_vec3("1,nan,2").is_err());
         assert!(parse_light("dir:0,0,0").is_err());
+    }
+
+    #[test]
+    fn a_query_is_the_command_lines_options() {
+        let same = |s: &str| s.to_owned();
+        assert_eq!(
+            query_to_args("?volume=builtin:head&no-rays&rays=8", same),
+            ["--volume", "builtin:head", "--no-rays", "--rays", "8"]
+        );
+        assert_eq!(query_to_args("?tf=a+b", same), ["--tf", "a b"]);
+        assert!(query_to_args("", same).is_empty());
+        assert!(query_to_args("?", same).is_empty());
     }
 }

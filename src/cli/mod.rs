@@ -1,14 +1,24 @@
-//! The `voxcast` command line: render, trace, info, bench and rays over the core.
+//! The `voxcast` command line: render, trace, info, bench and rays over the core. In a
+//! browser only the sandbox's options are read (from the page's address).
 
 pub mod args;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod bench;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod info;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod knobs;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod plot;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod progress;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod rays;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod rays_render;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod render;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod trace;
 
 use voxcast_core::{LoadError, SettingsError};
@@ -39,6 +49,7 @@ impl CliError {
         Self::Failed(msg.into())
     }
 
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn exit_code(&self) -> i32 {
         match self {
             Self::Usage(_) | Self::Settings(_) => 2,

@@ -9,6 +9,7 @@
 use super::preview::{FullQuality, PreviewTarget};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::camera::CameraUpdateSystems;
+use bevy::platform::time::Instant;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
@@ -16,7 +17,6 @@ use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::cost::CostMap;
 use voxcast_core::image_out::{ImageDiff, LinearImage};
@@ -206,8 +206,10 @@ pub fn save_pngs(result: &Compared, path: &str) -> Result<Vec<PathBuf>, String> 
     };
     let mut written = vec![];
     let mut write = |img: &LinearImage, p: PathBuf| -> Result<(), String> {
-        img.save_png(&p)
+        let bytes = img
+            .png_bytes()
             .map_err(|e| format!("cannot save {}: {e}", p.display()))?;
+        super::files::save(&p, &bytes, "image/png")?;
         written.push(p);
         Ok(())
     };

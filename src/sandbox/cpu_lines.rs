@@ -8,11 +8,11 @@
 
 use super::preview::{Motion, PreviewSettings, Viewport};
 use super::state::{MainCamera, View};
+use bevy::platform::time::Instant;
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::rays::raster::{LineImage, Lines, draw_lines};
 

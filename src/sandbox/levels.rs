@@ -2,8 +2,8 @@
 //! window sends (start a level, Next, free play), the scene each mode sets up, and the check of
 //! the current step's objective — the core's `Objective::met` against what the player did.
 //! The mode itself is the [`Mode`] state; what a level spawned leaves with it. Progress is saved
-//! to the config directory after every step (atomically); a damaged file starts afresh with a
-//! message.
+//! after every step, to the config directory (atomically) or, in a browser, to its local
+//! storage; a damaged file or entry starts afresh with a message.
 
 use crate::sandbox::breakdown::BreakdownState;
 use crate::sandbox::compare::Comparison;
@@ -26,8 +26,8 @@ pub struct Lessons {
     /// The step being played in the current level (the level is the [`Mode`]).
     pub step: usize,
     pub progress: Progress,
-    /// Where progress is saved (`None`: not saved, as in tests).
-    path: Option<PathBuf>,
+    /// Where progress is kept.
+    store: ProgressStore,
     pub message: Option<String>,
     /// What the player typed as a prediction.
     pub prediction: String,
@@ -59,18 +59,15 @@ pub enum LevelCommand {
 }
 
 impl Lessons {
-    /// The embedded levels with progress from `path` (or none).
-    pub fn new(path: Option<PathBuf>) -> Self {
-        let (progress, message) = match &path {
-            Some(p) => Progress::load(p),
-            None => (Progress::default(), None),
-        };
+    /// The embedded levels with the progress kept in `store`.
+    pub fn new(store: ProgressStore) -> Self {
+        let (progress, message) = store.load();
         Self {
             met_for: None,
             levels: Level::all(),
             step: 0,
             progress,
-            path,
+            store,
             message,
             prediction: String::new(),
             named_effect: None,
@@ -101,22 +98,71 @@ impl Lessons {
     fn record(&mut self, l: usize) {
         let id = self.levels[l].id.clone();
         self.progress.record(&id, self.step + 1);
-        if let Some(path) = &self.path
-            && let Err(e) = self.progress.save(path)
-        {
+        if let Err(e) = self.store.save(&self.progress) {
             self.message = Some(format!("progress not saved: {e}"));
         }
     }
 }
 
-/// `$XDG_CONFIG_HOME/voxcast/progress.json` (else `~/.config/…`); `VOXCAST_CONFIG_DIR`
-/// overrides the folder.
-pub fn progress_path() -> Option<PathBuf> {
-    let dir = std::env::var_os("VOXCAST_CONFIG_DIR")
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("XDG_CONFIG_HOME").map(|d| PathBuf::from(d).join("voxcast")))
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config/voxcast")))?;
-    Some(dir.join("progress.json"))
+/// Where the levels' progress is kept.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ProgressStore {
+    /// Not kept (tests).
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
+    Nowhere,
+    /// A JSON file, written atomically (the desktop).
+    File(PathBuf),
+    /// The browser's local storage of the page's origin, under this key.
+    #[cfg(target_arch = "wasm32")]
+    Browser(&'static str),
+}
+
+impl ProgressStore {
+    /// The player's own: `$XDG_CONFIG_HOME/voxcast/progress.json` (else `~/.config/…`;
+    /// `VOXCAST_CONFIG_DIR` overrides the folder), or in a browser its local storage.
+    pub fn players() -> Self {
+        #[cfg(target_arch = "wasm32")]
+        return Self::Browser("voxcast-progress");
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let dir = std::env::var_os("VOXCAST_CONFIG_DIR")
+                .map(PathBuf::from)
+                .or_else(|| {
+                    std::env::var_os("XDG_CONFIG_HOME").map(|d| PathBuf::from(d).join("voxcast"))
+                })
+                .or_else(|| {
+                    std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config/voxcast"))
+                });
+            dir.map_or(Self::Nowhere, |d| Self::File(d.join("progress.json")))
+        }
+    }
+
+    /// The progress kept here: a fresh start where there is none, and with a message where
+    /// what is kept is damaged or cannot be read.
+    pub fn load(&self) -> (Progress, Option<String>) {
+        match self {
+            Self::Nowhere => (Progress::default(), None),
+            Self::File(path) => Progress::load(path),
+            #[cfg(target_arch = "wasm32")]
+            Self::Browser(key) => match super::web::stored(key) {
+                None => (Progress::default(), None),
+                Some(text) => Progress::from_text(
+                    &text,
+                    &format!("The progress kept in this browser (\"{key}\")"),
+                ),
+            },
+        }
+    }
+
+    /// Keeps `progress` here.
+    pub fn save(&self, progress: &Progress) -> Result<(), String> {
+        match self {
+            Self::Nowhere => Ok(()),
+            Self::File(path) => progress.save(path).map_err(|e| e.to_string()),
+            #[cfg(target_arch = "wasm32")]
+            Self::Browser(key) => super::web::store(key, &progress.to_text()),
+        }
+    }
 }
 
 /// The logic, without the window: commands, scene set-up and the objective check.
@@ -473,7 +519,7 @@ mod tests {
             .init_resource::<PreviewSettings>()
             .init_resource::<BreakdownState>()
             .init_resource::<Comparison>()
-            .insert_resource(Lessons::new(Some(progress)))
+            .insert_resource(Lessons::new(ProgressStore::File(progress)))
             .add_plugins((
                 crate::sandbox::mode::plugin,
                 crate::sandbox::loading::plugin,

@@ -20,11 +20,11 @@ use super::inspect::SampleSphere;
 use super::light::LightMarker;
 use super::preview::{PreviewSettings, Viewport};
 use super::state::{MainCamera, RenderState, View, VolumeState};
+use bevy::platform::time::Instant;
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::cost::{CostView, render_cost};
 use voxcast_core::image_out::{LinearImage, to_u8};
@@ -259,18 +259,68 @@ pub(super) fn plugin(app: &mut App) {
         );
 }
 
+/// The GPU could not run the preview (a shader it cannot compile, a pipeline it refuses): why.
+#[derive(Resource, Clone, Debug)]
+pub struct GpuFailed(pub String);
+
+/// What the window does with a rendering error, where Bevy's own handler would quit: a shader
+/// or pipeline the device refuses (a validation or internal error: the volume material on a
+/// browser's WebGL2, a driver's bug) leaves the volume to the CPU live view, and the window
+/// goes on; running out of memory or losing the device still ends it.
+pub fn render_error_handler() -> bevy::render::error_handler::RenderErrorHandler {
+    use bevy::render::error_handler::{ErrorType, RenderErrorPolicy};
+    bevy::render::error_handler::RenderErrorHandler(|error, main, _| match error.ty {
+        ErrorType::Validation | ErrorType::Internal => {
+            if !main.contains_resource::<GpuFailed>() {
+                // The line that says what failed, not the nesting around it.
+                let what = error
+                    .description
+                    .lines()
+                    .map(|l| l.trim().trim_matches('\0'))
+                    .rfind(|l| !l.is_empty())
+                    .unwrap_or("an error");
+                main.insert_resource(GpuFailed(what.to_string()));
+            }
+            RenderErrorPolicy::Ignore
+        }
+        _ => {
+            error!("the GPU failed ({:?}): {}", error.ty, error.description);
+            main.write_message(AppExit::error());
+            RenderErrorPolicy::StopRendering
+        }
+    })
+}
+
 /// Once the renderer is known: the CPU live view on a software rasterizer, unless the backend
-/// was chosen on the command line.
+/// was chosen on the command line; and whenever the GPU cannot run the preview.
 fn choose_backend(
     adapter: Option<Res<bevy::render::renderer::RenderAdapterInfo>>,
+    failed: Option<Res<GpuFailed>>,
     mut settings: ResMut<PreviewSettings>,
     mut done: Local<bool>,
 ) {
+    if let Some(failed) = failed
+        && settings.backend == Backend::Gpu
+    {
+        warn!(
+            "the GPU cannot run the preview ({}): the CPU draws it",
+            failed.0
+        );
+        settings.backend = Backend::Cpu;
+        #[cfg(target_arch = "wasm32")]
+        super::web::set_notice(&format!(
+            "This browser's graphics could not run the GPU preview ({}): Voxcast's CPU core \
+             draws the volume instead.",
+            failed.0
+        ));
+    }
     if *done {
         return;
     }
     let Some(adapter) = adapter else { return };
     *done = true;
+    #[cfg(target_arch = "wasm32")]
+    super::web::publish(|s| s.adapter = adapter.name.clone());
     if settings.backend_chosen {
         return;
     }
@@ -286,6 +336,13 @@ fn choose_backend(
             adapter.name
         );
         settings.backend = backend;
+        #[cfg(target_arch = "wasm32")]
+        if backend == Backend::Cpu {
+            super::web::set_notice(
+                "This browser draws without a graphics card (in software), so Voxcast's CPU \
+                 core ray casts the volume; Preview (slow hardware) can switch to the GPU.",
+            );
+        }
     }
 }
 
@@ -463,9 +520,26 @@ pub fn quick_size(full: UVec2, rate: Option<f64>) -> UVec2 {
         .clamp(UVec2::ONE, full)
 }
 
+/// Runs `draw` on the live view's threads: [`resting_pool`] for a refinement, else
+/// [`moving_pool`]; in a browser, which gives the page one thread, on that one.
+fn on_pool<R: Send>(refine: bool, draw: impl FnOnce() -> R + Send) -> R {
+    #[cfg(target_arch = "wasm32")]
+    return {
+        let _ = refine;
+        draw()
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    if refine {
+        resting_pool().install(draw)
+    } else {
+        moving_pool().install(draw)
+    }
+}
+
 /// The live view's threads while the view moves: one core fewer than the machine has (at
 /// least one), so the window's thread and the rasterizer keep a core for the next frame. At
 /// rest the refinement takes more than every core ([`resting_pool`]): the exact render sooner.
+#[cfg(not(target_arch = "wasm32"))]
 fn moving_pool() -> &'static rayon::ThreadPool {
     static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
     POOL.get_or_init(|| {
@@ -483,6 +557,7 @@ fn moving_pool() -> &'static rayon::ThreadPool {
 /// little slower for the moment it takes. (With one thread a core the window's frames took
 /// one of two cores and the bunny's exact 1280×720 frame came 320–410 ms after the camera
 /// stopped; with two, 235–310 ms: BENCHMARKS.md.)
+#[cfg(not(target_arch = "wasm32"))]
 fn resting_pool() -> &'static rayon::ThreadPool {
     static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
     POOL.get_or_init(|| {
@@ -546,11 +621,7 @@ fn start(
                 }
             }
         };
-        let (image, cost_scale) = if refine {
-            resting_pool().install(draw)
-        } else {
-            moving_pool().install(draw)
-        }?;
+        let (image, cost_scale) = on_pool(refine, draw)?;
         let rgb = image.pixels.iter().map(|p| to_u8(*p)).collect();
         Some(LiveFrame {
             key: job_key,

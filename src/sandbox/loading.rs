@@ -9,14 +9,15 @@
 //! progress, and Cancel stops the computation itself; what it was computed from (the data
 //! set, its rays, the sparse grid) goes to [`super::raydata::RayScene`] for RayVis's views.
 
+use super::files::{FilesChosen, Purpose, volume_entry};
 use super::raydata::{Before, Computed, RayScene};
 use super::state::{RenderState, VolumeState};
+use bevy::platform::time::Instant;
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use bevy::window::FileDragAndDrop;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::Instant;
 use voxcast_core::builtin::load_source;
 use voxcast_core::io::Loaded;
 use voxcast_core::preset;
@@ -146,10 +147,11 @@ impl Loading {
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<Loading>()
         .init_resource::<RayScene>()
+        .add_message::<FilesChosen>()
         .add_systems(
             Update,
             (
-                load_dropped_files,
+                (load_dropped_files, load_chosen_files),
                 finish_loading.in_set(super::SwapsVolume),
             )
                 .chain()
@@ -162,6 +164,28 @@ fn load_dropped_files(mut drops: MessageReader<FileDragAndDrop>, mut loading: Re
         if let FileDragAndDrop::DroppedFile { path_buf, .. } = drop {
             loading.start_keeping_choices(path_buf.display().to_string());
         }
+    }
+}
+
+/// Volumes a browser handed the page (picked or dropped): read from memory, as a file on disk
+/// is read, with the same errors.
+fn load_chosen_files(mut chosen: MessageReader<FilesChosen>, mut loading: ResMut<Loading>) {
+    for FilesChosen { purpose, files } in chosen.read() {
+        if *purpose != Purpose::Volume {
+            continue;
+        }
+        let Some(entry) = volume_entry(files).map(str::to_owned) else {
+            continue;
+        };
+        let files = voxcast_core::io::InMemory {
+            files: files.clone(),
+        };
+        let path = std::path::PathBuf::from(&entry);
+        loading.run(entry, true, move |_, _| {
+            voxcast_core::io::load_from(&files, &path)
+                .map(|loaded| Outcome { loaded, rays: None })
+                .map_err(|e| e.to_string())
+        });
     }
 }
 
@@ -302,6 +326,42 @@ mod tests {
             "a ramp over the new range"
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Files a browser hands over load from memory: a damaged one says what the desktop says
+    /// of it and leaves the volume; a good one with its detached header replaces it.
+    #[test]
+    fn chosen_files_load_from_memory() {
+        let mut app = app();
+        let before = app.world().resource::<VolumeState>().volume.value_range();
+        let header = b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n".to_vec();
+        let mut damaged = header.clone();
+        damaged.extend(b"\n\x01\x02");
+        app.world_mut().write_message(FilesChosen {
+            purpose: Purpose::Volume,
+            files: vec![("damaged.nrrd".into(), damaged)],
+        });
+        run_until_idle(&mut app);
+        let error = app.world().resource::<Loading>().error.clone().unwrap();
+        assert!(error.starts_with("damaged.nrrd"), "{error}");
+        assert_eq!(
+            app.world().resource::<VolumeState>().volume.value_range(),
+            before
+        );
+
+        let mut detached = header;
+        detached.extend(b"data file: d.raw\n\n");
+        app.world_mut().write_message(FilesChosen {
+            purpose: Purpose::Volume,
+            files: vec![
+                ("d.raw".into(), (0..8).map(|i| i * 10).collect()),
+                ("h.nhdr".into(), detached),
+            ],
+        });
+        run_until_idle(&mut app);
+        let state = app.world().resource::<VolumeState>();
+        assert_eq!(state.source, "h.nhdr");
+        assert_eq!(state.volume.value_range(), (0.0, 70.0));
     }
 
     /// A volume the player loads keeps their method and step, and says so; a level's load

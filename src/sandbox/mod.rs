@@ -10,6 +10,7 @@ mod compare;
 mod compare_cli;
 mod cpu_lines;
 mod cut;
+mod files;
 mod fit;
 mod inspect;
 mod lattice;
@@ -37,6 +38,8 @@ mod trade;
 mod ui;
 pub mod uniform;
 mod virtual_camera;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
 
 use crate::cli::CliError;
 use crate::cli::args::{CameraArgs, SettingsArgs, VolumeArgs, parse_size};
@@ -316,24 +319,35 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         Some(Window {
             title: "Voxcast".into(),
             resolution: WindowResolution::new(window_size.0, window_size.1),
+            // In a browser: the page's canvas, as large as the page gives it, keeping the
+            // page's own handling of keys and the wheel away from it.
+            #[cfg(target_arch = "wasm32")]
+            canvas: Some(web::CANVAS.into()),
+            #[cfg(target_arch = "wasm32")]
+            fit_canvas_to_parent: true,
+            #[cfg(target_arch = "wasm32")]
+            prevent_default_event_handling: true,
             ..default()
         }),
         args.play_levels.is_some(),
     );
-    if args.size.is_none() {
+    if args.size.is_none() && cfg!(not(target_arch = "wasm32")) {
         app.add_plugins(fit::plugin);
     }
+    #[cfg(target_arch = "wasm32")]
+    app.add_plugins(web::plugin);
     let free_play = mode::FreePlay(mode::Stage {
         rays: Some(args.rays),
         rays_shown: !args.no_rays,
         ..default()
     });
-    app.add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
+    app.insert_resource(live::render_error_handler())
+        .add_plugins((EguiPlugin::default(), FrameTimeDiagnosticsPlugin::default()))
         .insert_resource(bevy_egui::EguiGlobalSettings {
             auto_create_primary_context: false,
             ..default()
         })
-        .insert_resource(levels::Lessons::new(levels::progress_path()))
+        .insert_resource(levels::Lessons::new(levels::ProgressStore::players()))
         .add_plugins((
             (preview::plugin, pipelines::window_plugin),
             ui::plugin,
@@ -368,7 +382,9 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;
         app.insert_resource(bevy::winit::WinitSettings::continuous())
-            .insert_resource(levels::Lessons::new(Some(dir.join("progress.json"))))
+            .insert_resource(levels::Lessons::new(levels::ProgressStore::File(
+                dir.join("progress.json"),
+            )))
             .insert_resource(script::PlayLevels(dir.clone()))
             .add_plugins(script::plugin);
     }

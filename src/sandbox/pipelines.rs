@@ -4,13 +4,13 @@
 //! pass draws nothing until it is ready. Captures wait for it instead of counting frames; the
 //! window keeps showing the last picture and says it is compiling.
 
+use bevy::platform::time::Instant;
 use bevy::prelude::*;
 use bevy::render::render_resource::PipelineCache;
 use bevy::render::{Render, RenderApp, RenderSystems};
 use bevy_egui::egui;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 
 /// Set by the render world after each frame's pipeline work: true while any pipeline is queued
 /// or being compiled. Read by the main world a frame later.

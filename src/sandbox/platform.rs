@@ -1,13 +1,15 @@
 //! What the sandbox needs from the machine before Bevy starts: a display to open a window on
 //! (or a clear error that says how to work without one), a runtime directory for the window
-//! system's client libraries, and a log that carries colour codes only to a terminal.
+//! system's client libraries, and a log that carries colour codes only to a terminal. In a
+//! browser there is none of this: the page is the window and the console the log.
 
 use crate::cli::CliError;
 use bevy::log::LogPlugin;
-use std::io::IsTerminal;
+#[cfg(target_os = "linux")]
 use std::path::{Path, PathBuf};
 
 /// The error when no window can be opened, with what to do instead.
+#[cfg(target_os = "linux")]
 pub fn no_display(why: &str) -> CliError {
     CliError::failed(format!(
         "{why}: the sandbox needs a window. Run it on a desktop, or under a virtual display \
@@ -21,9 +23,13 @@ pub fn no_display(why: &str) -> CliError {
 /// socket, or X11's (local displays by their socket file; a remote `host:N` is left to the
 /// X library).
 pub fn check_display() -> Result<(), CliError> {
-    if cfg!(not(target_os = "linux")) {
-        return Ok(());
-    }
+    #[cfg(target_os = "linux")]
+    check_linux_display()?;
+    Ok(())
+}
+
+#[cfg(target_os = "linux")]
+fn check_linux_display() -> Result<(), CliError> {
     let runtime = std::env::var_os("XDG_RUNTIME_DIR").map(PathBuf::from);
     if let (Some(name), Some(dir)) = (std::env::var_os("WAYLAND_DISPLAY"), &runtime) {
         let socket = Path::new(&name);
@@ -49,6 +55,7 @@ pub fn check_display() -> Result<(), CliError> {
 }
 
 /// The socket file of a local X display (`:1`, `:1.0`, `unix:1`), `None` for a remote one.
+#[cfg(target_os = "linux")]
 fn local_x_socket(display: &str) -> Option<PathBuf> {
     let (host, rest) = display.rsplit_once(':')?;
     if !(host.is_empty() || host == "unix") {
@@ -62,10 +69,14 @@ fn local_x_socket(display: &str) -> Option<PathBuf> {
 /// Gives the window system's client libraries a private runtime directory when the
 /// environment has none (they print "XDG_RUNTIME_DIR is invalid or not set" otherwise).
 /// Called first thing in `main`, before any thread starts.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn ensure_runtime_dir() {
-    if cfg!(not(target_os = "linux")) {
-        return;
-    }
+    #[cfg(target_os = "linux")]
+    ensure_linux_runtime_dir();
+}
+
+#[cfg(target_os = "linux")]
+fn ensure_linux_runtime_dir() {
     let ok = std::env::var_os("XDG_RUNTIME_DIR")
         .map(PathBuf::from)
         .is_some_and(|d| d.is_dir());
@@ -88,10 +99,14 @@ pub fn ensure_runtime_dir() {
 }
 
 /// Bevy's log, with colour codes only when standard error is a terminal (and `NO_COLOR`
-/// unset), so a log saved to a file reads as plain text.
+/// unset), so a log saved to a file reads as plain text; in a browser, its console.
 pub fn log_plugin() -> LogPlugin {
+    #[cfg(target_arch = "wasm32")]
+    return LogPlugin::default();
+    #[cfg(not(target_arch = "wasm32"))]
     LogPlugin {
         fmt_layer: |_| {
+            use std::io::IsTerminal;
             let colour = std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none();
             Some(Box::new(
                 bevy::log::tracing_subscriber::fmt::Layer::default()
@@ -103,7 +118,7 @@ pub fn log_plugin() -> LogPlugin {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, target_os = "linux"))]
 mod tests {
     use super::*;
 

@@ -35,6 +35,13 @@ pub struct PreviewSettings {
     pub cost_view: Option<voxcast_core::cost::CostView>,
 }
 
+/// Whether the GPU preview can read the depth prepass. WebGL2 cannot read a depth texture in a
+/// shader (its GLSL has no fetch from one), so there the main camera has no depth prepass, the
+/// preview is compiled without `DEPTH_PREPASS` (the shader def that turns the reading off) and
+/// its rays pass through the scene's meshes, which are drawn over it; the CPU live view and
+/// Render image still stop at them.
+pub const GPU_READS_DEPTH: bool = !cfg!(all(target_arch = "wasm32", feature = "webgl2"));
+
 impl Default for PreviewSettings {
     fn default() -> Self {
         Self {
@@ -420,11 +427,12 @@ fn camera_for_backend(
             camera.is_active = sharp_active;
         }
     }
+    let wants = !cpu && GPU_READS_DEPTH;
     for (entity, has) in &prepass {
-        if has == cpu {
-            match cpu {
-                true => commands.entity(entity).remove::<DepthPrepass>(),
-                false => commands.entity(entity).insert(DepthPrepass),
+        if has != wants {
+            match wants {
+                false => commands.entity(entity).remove::<DepthPrepass>(),
+                true => commands.entity(entity).insert(DepthPrepass),
             };
         }
     }

@@ -47,9 +47,9 @@ struct Run {
     report: Vec<String>,
     failed: bool,
     /// When the run started (the report gives each level's seconds).
-    started: Option<std::time::Instant>,
+    started: Option<bevy::platform::time::Instant>,
     /// When the current level was asked for (the report gives how long its scene took).
-    asked: Option<std::time::Instant>,
+    asked: Option<bevy::platform::time::Instant>,
     /// The frame a done step's screenshot was asked for (Next waits for it).
     step_shot: Option<u32>,
     /// The frame the current step was first seen met.
@@ -157,9 +157,10 @@ fn drive(
     let level = lessons.levels[run.level].clone();
     match run.phase {
         Phase::Start => {
-            run.started.get_or_insert_with(std::time::Instant::now);
+            run.started
+                .get_or_insert_with(bevy::platform::time::Instant::now);
             send.write(LevelCommand::Start(run.level));
-            run.asked = Some(std::time::Instant::now());
+            run.asked = Some(bevy::platform::time::Instant::now());
             (run.phase, run.frames) = (Phase::Settle, 0);
         }
         Phase::Settle => {
@@ -201,7 +202,7 @@ fn drive(
             if *mode.get() != Mode::Level(run.level) {
                 let seconds = run
                     .started
-                    .get_or_insert_with(std::time::Instant::now)
+                    .get_or_insert_with(bevy::platform::time::Instant::now)
                     .elapsed();
                 run.report.push(format!(
                     "{}: done at {:.1} s",

@@ -88,6 +88,14 @@ impl LinearImage {
         save_rgb8_atomic(&self.to_rgb8(), path)
     }
 
+    /// The image as the bytes of an 8-bit PNG file (what [`LinearImage::save_png`] writes).
+    pub fn png_bytes(&self) -> Result<Vec<u8>, image::ImageError> {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        self.to_rgb8()
+            .write_to(&mut bytes, image::ImageFormat::Png)?;
+        Ok(bytes.into_inner())
+    }
+
     /// Per-channel differences to `other`; `None` if the sizes differ.
     pub fn diff(&self, other: &Self) -> Option<ImageDiff> {
         if (self.width, self.height) != (other.width, other.height) {
@@ -156,6 +164,16 @@ pub fn save_rgb8_atomic(img: &image::RgbImage, path: &Path) -> Result<(), image:
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn png_bytes_are_the_saved_file() {
+        let mut a = LinearImage::new(3, 2);
+        a.set(2, 1, Vec3::new(1.0, 0.5, 0.25));
+        let path = std::env::temp_dir().join(format!("voxcast-png-{}.png", std::process::id()));
+        a.save_png(&path).unwrap();
+        assert_eq!(a.png_bytes().unwrap(), std::fs::read(&path).unwrap());
+        std::fs::remove_file(&path).unwrap();
+    }
 
     #[test]
     fn quantisation_and_diff() {

@@ -185,7 +185,7 @@ pub fn lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
             return lanes::Lanes::new(self.0, &grid).map(|l| l.instructions());
             #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
             {
-                let _ = grid;
+                let _ = (self.0, grid);
                 None
             }
         }

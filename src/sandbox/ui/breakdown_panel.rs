@@ -358,29 +358,18 @@ fn export(
     }
 }
 
-/// Writes the breakdown (through a temporary file and a rename).
+/// Writes the breakdown (through a temporary file and a rename; in a browser, a download).
 fn save(t: &RayTrace, path: &str, ext: &str) -> Result<String, String> {
     let base = std::path::Path::new(path.trim());
     if base.file_name().is_none() {
         return Err("give a file name".into());
     }
-    let file = base.with_extension(ext);
-    let text = if ext == "json" {
-        breakdown::to_json(t)
+    let (text, mime) = if ext == "json" {
+        (breakdown::to_json(t), "application/json")
     } else {
-        breakdown::to_csv(t)
+        (breakdown::to_csv(t), "text/csv")
     };
-    let tmp = file.with_extension(format!("{ext}.tmp"));
-    std::fs::write(&tmp, text)
-        .and_then(|_| std::fs::rename(&tmp, &file))
-        .map_err(|e| {
-            format!(
-                "cannot save {}: {}",
-                file.display(),
-                voxcast_core::error::io_words(&e)
-            )
-        })?;
-    Ok(format!("saved {}", file.display()))
+    crate::sandbox::files::save(&base.with_extension(ext), text.as_bytes(), mime)
 }
 
 #[cfg(test)]

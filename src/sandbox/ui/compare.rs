@@ -279,7 +279,15 @@ fn result_view(
         if ui.button("Save PNG").clicked() {
             window.saved = Some(save_pngs(result, &window.path).map(|written| {
                 let names: Vec<_> = written.iter().map(|p| p.display().to_string()).collect();
-                format!("saved {}", names.join(", "))
+                format!(
+                    "{} {}",
+                    if crate::sandbox::files::PICKS_FILES {
+                        "downloaded"
+                    } else {
+                        "saved"
+                    },
+                    names.join(", ")
+                )
             }));
         }
     });

@@ -108,8 +108,8 @@ fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
             .unwrap_or(0);
         let total = level.steps.len();
         let mark = if done >= total { "✔" } else { " " };
-        if ui
-            .button(format!("{mark} {}. {}", i + 1, level.title))
+        let button = ui.button(format!("{mark} {}. {}", i + 1, level.title));
+        if super::target(button, &format!("level {}", i + 1))
             .on_hover_text(format!(
                 "{} ({} of {} steps done)",
                 level.concept,
@@ -200,10 +200,10 @@ fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<Leve
     let mut command = None;
     ui.horizontal(|ui| {
         let label = if reading { "Next" } else { "Next ✔" };
-        if ui.add_enabled(met, egui::Button::new(label)).clicked() {
+        if super::target(ui.add_enabled(met, egui::Button::new(label)), "next").clicked() {
             command = Some(LevelCommand::Next);
         }
-        if ui.button("Free play").clicked() {
+        if super::target(ui.button("Free play"), "free play").clicked() {
             command = Some(LevelCommand::FreePlay);
         }
     });
@@ -342,6 +342,7 @@ fn composite_table(ui: &mut egui::Ui, rows: &[voxcast_core::worked::WorkedPoint]
 #[cfg(all(test, debug_assertions))]
 mod tests {
     use super::*;
+    use crate::sandbox::levels::ProgressStore;
     use egui::{Pos2, Rect, vec2};
 
     /// Drives the window's contents with the pointer events a player's clicks make.
@@ -413,7 +414,7 @@ mod tests {
     #[test]
     fn clicks_on_the_window_send_the_levels_commands() {
         let h = Harness::new();
-        let mut lessons = Lessons::new(None);
+        let mut lessons = Lessons::new(ProgressStore::Nowhere);
         lessons.progress.record("sampling", 2);
         let title = format!("  2. {}", lessons.levels[1].title);
         h.frame(&mut lessons, Mode::FreePlay, vec![]);
@@ -452,7 +453,7 @@ mod tests {
     #[test]
     fn every_levels_text_can_be_drawn() {
         let h = Harness::new();
-        let mut lessons = Lessons::new(None);
+        let mut lessons = Lessons::new(ProgressStore::Nowhere);
         h.frame(&mut lessons, Mode::FreePlay, vec![]);
         let font = egui::FontId::proportional(14.0);
         let mut missing = Vec::new();
@@ -595,7 +596,7 @@ mod tests {
     #[test]
     fn a_prediction_is_typed_into_the_field() {
         let h = Harness::new();
-        let mut lessons = Lessons::new(None);
+        let mut lessons = Lessons::new(ProgressStore::Nowhere);
         let l = lessons
             .levels
             .iter()

@@ -8,6 +8,8 @@ mod cost_view;
 mod cut;
 mod levels_window;
 mod light;
+#[cfg(target_arch = "wasm32")]
+mod page;
 mod ray_data;
 mod ray_overlay;
 mod rays_panel;
@@ -58,9 +60,36 @@ impl Dock {
     }
 }
 
-/// A new frame: the whole window is free again.
-fn begin_dock(mut dock: ResMut<Dock>) {
+/// A new frame: the whole window is free again, and no control has been drawn yet.
+fn begin_dock(mut dock: ResMut<Dock>, mut contexts: EguiContexts) {
     dock.0 = None;
+    if let Ok(ctx) = contexts.ctx_mut() {
+        ctx.data_mut(|d| d.remove_temp::<Targets>(egui::Id::new(TARGETS)));
+    }
+}
+
+/// Where this frame drew the controls a script clicks by name (in egui points): what the
+/// page reports to its test (`voxcast_status()`), as a screen reader would find them by name.
+#[derive(Clone, Default)]
+pub(super) struct Targets(pub Vec<(String, egui::Rect)>);
+
+const TARGETS: &str = "voxcast-click-targets";
+
+/// Notes `response`'s control under `name`; gives the response back.
+pub(super) fn target(response: egui::Response, name: &str) -> egui::Response {
+    response.ctx.data_mut(|d| {
+        d.get_temp_mut_or_default::<Targets>(egui::Id::new(TARGETS))
+            .0
+            .push((name.to_owned(), response.rect))
+    });
+    response
+}
+
+/// The controls noted this frame.
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
+pub(super) fn targets(ctx: &egui::Context) -> Targets {
+    ctx.data(|d| d.get_temp::<Targets>(egui::Id::new(TARGETS)))
+        .unwrap_or_default()
 }
 
 /// What the panel keeps between frames.
@@ -94,7 +123,33 @@ pub(super) fn plugin(app: &mut App) {
                     .before(super::preview::paint_preview),
                 ray_overlay::ray_overlay.after(super::preview::paint_preview),
             ),
-        );
+        )
+        .add_message::<super::files::FilesChosen>()
+        .add_systems(Update, take_chosen_transfer.in_set(super::Frame::Rules));
+    #[cfg(target_arch = "wasm32")]
+    app.add_systems(
+        EguiPrimaryContextPass,
+        page::publish_status.after(record_viewport),
+    );
+}
+
+/// A transfer function the browser handed over (Open… in the editor).
+fn take_chosen_transfer(
+    mut chosen: MessageReader<super::files::FilesChosen>,
+    mut panel: ResMut<PanelState>,
+    mut render: ResMut<super::state::RenderState>,
+) {
+    for c in chosen.read() {
+        if c.purpose != super::files::Purpose::Transfer {
+            continue;
+        }
+        if let Some((name, bytes)) = c.files.first() {
+            let mut tf = render.transfer.clone();
+            if panel.editor.receive(name, bytes, &mut tf) {
+                render.transfer = tf;
+            }
+        }
+    }
 }
 
 /// Records the rectangle the panels left free for the scene, after they are laid out.
@@ -232,16 +287,30 @@ fn dataset_section(
                 }
             }
         });
-    ui.horizontal(|ui| {
-        ui.text_edit_singleline(&mut panel.path).on_hover_text(
-            "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); or a \
-             ray density: density:FILE.rayvis or density:builtin:cornell, optionally followed \
-             by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
-        );
-        if ui.button("Load").clicked() {
-            load = Some(panel.path.clone());
+    if crate::sandbox::files::PICKS_FILES {
+        // A page reads no paths: the browser's picker (or a file dropped on the page).
+        if ui
+            .button("Open a volume file…")
+            .on_hover_text(
+                "A .nrrd, .nii, .nii.gz or .raw file from this computer (or drop one on the \
+                 page); a detached .nhdr or a .hdr with its data file: choose both together",
+            )
+            .clicked()
+        {
+            crate::sandbox::files::pick(crate::sandbox::files::Purpose::Volume);
         }
-    });
+    } else {
+        ui.horizontal(|ui| {
+            ui.text_edit_singleline(&mut panel.path).on_hover_text(
+                "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); \
+                 or a ray density: density:FILE.rayvis or density:builtin:cornell, optionally \
+                 followed by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
+            );
+            if ui.button("Load").clicked() {
+                load = Some(panel.path.clone());
+            }
+        });
+    }
     if let Some((what, seconds)) = loading.under_way() {
         let mut cancel = false;
         ui.horizontal(|ui| {
@@ -583,9 +652,15 @@ fn preview_section(
     if q != *preview {
         *preview = q;
     }
-    ui.checkbox(depth, "Stop rays at scene geometry").on_hover_text(
-        "Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume",
-    );
+    let tip = if super::preview::GPU_READS_DEPTH {
+        "Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume"
+    } else {
+        "Preview rays end where an opaque mesh stands inside the volume: in the CPU live view and \
+         Render image. In this browser (WebGL2) the GPU preview cannot read the depth prepass: \
+         its rays pass through the meshes, drawn over it (WebGPU can)"
+    };
+    ui.checkbox(depth, "Stop rays at scene geometry")
+        .on_hover_text(tip);
 }
 
 /// A slider for a tunable, with its documentation as tooltip.
@@ -684,7 +759,7 @@ fn settings_panel(
                         fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
                     ));
                     let clicked = marked(ui, spot, Control::RenderImage, |ui| {
-                        ui.button("Render image…")
+                        target(ui.button("Render image…"), "render image")
                             .on_hover_text(
                                 "Render this view exactly on the CPU and compare it with \
                                      the preview",

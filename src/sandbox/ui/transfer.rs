@@ -6,6 +6,7 @@
 //! Every edit goes through the core's `TransferFunction::with_point_*`, so the editor can only
 //! produce a valid function.
 
+use crate::sandbox::files;
 use bevy_egui::egui::{self, Color32, Pos2, Rect, Sense, Stroke, pos2, vec2};
 use voxcast_core::error::io_words;
 use voxcast_core::histogram::{Histogram, HistogramScale};
@@ -296,14 +297,17 @@ impl TransferEditor {
             if ui.button("Save").clicked() {
                 self.message = Some(save(tf, &self.path));
             }
-            if ui.button("Load").clicked() {
+            if files::PICKS_FILES {
+                if ui
+                    .button("Open…")
+                    .on_hover_text("A transfer-function JSON file from this computer")
+                    .clicked()
+                {
+                    files::pick(files::Purpose::Transfer);
+                }
+            } else if ui.button("Load").clicked() {
                 match load(&self.path) {
-                    Ok(t) => {
-                        *tf = t;
-                        self.selected = None;
-                        changed = true;
-                        self.message = Some(Ok(format!("loaded {}", self.path)));
-                    }
+                    Ok(t) => changed |= self.take(t, &self.path.clone(), tf),
                     Err(e) => self.message = Some(Err(e)),
                 }
             }
@@ -321,17 +325,39 @@ impl TransferEditor {
     }
 }
 
-/// Writes `tf` as JSON through a temporary file and a rename (a failed write loses nothing).
+/// Writes `tf` as JSON (through a temporary file and a rename, so a failed write loses
+/// nothing; in a browser, a download).
 fn save(tf: &TransferFunction, path: &str) -> Result<String, String> {
-    let path = std::path::Path::new(path.trim());
-    if path.file_name().is_none() {
-        return Err("give a file name".into());
+    files::save(
+        std::path::Path::new(path.trim()),
+        tf.to_json().as_bytes(),
+        "application/json",
+    )
+}
+
+impl TransferEditor {
+    /// Makes `t` (read from `name`) the transfer function.
+    fn take(&mut self, t: TransferFunction, name: &str, tf: &mut TransferFunction) -> bool {
+        *tf = t;
+        self.selected = None;
+        self.message = Some(Ok(format!("loaded {name}")));
+        true
     }
-    let tmp = path.with_extension("json.tmp");
-    std::fs::write(&tmp, tf.to_json())
-        .and_then(|_| std::fs::rename(&tmp, path))
-        .map_err(|e| format!("cannot save {}: {}", path.display(), io_words(&e)))?;
-    Ok(format!("saved {}", path.display()))
+
+    /// A transfer function the browser handed over as `name`'s `bytes`: taken when it reads,
+    /// else the reason shown. Whether `tf` changed.
+    pub(super) fn receive(&mut self, name: &str, bytes: &[u8], tf: &mut TransferFunction) -> bool {
+        let read = std::str::from_utf8(bytes)
+            .map_err(|_| format!("{name}: not a text file"))
+            .and_then(|text| TransferFunction::from_json(text).map_err(|e| format!("{name}: {e}")));
+        match read {
+            Ok(t) => self.take(t, name, tf),
+            Err(e) => {
+                self.message = Some(Err(e));
+                false
+            }
+        }
+    }
 }
 
 fn load(path: &str) -> Result<TransferFunction, String> {

@@ -1,0 +1,77 @@
+//! In a browser: what the page reports of the sandbox each frame (`voxcast_status()`, read by
+//! the page's test and by `#voxcast-step`, which a screen reader speaks): the mode, the level's
+//! step, where the named controls and the scene are, the volume, Render image's state.
+
+use crate::sandbox::compare::Comparison;
+use crate::sandbox::levels::Lessons;
+use crate::sandbox::live::Backend;
+use crate::sandbox::loading::Loading;
+use crate::sandbox::mode::Mode;
+use crate::sandbox::preview::{PreviewSettings, Viewport};
+use crate::sandbox::state::VolumeState;
+use crate::sandbox::web::publish;
+use bevy::prelude::*;
+use bevy_egui::EguiContexts;
+
+/// Publishes this frame's state for the page.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn publish_status(
+    mut contexts: EguiContexts,
+    mode: Res<State<Mode>>,
+    lessons: Res<Lessons>,
+    volume: Res<VolumeState>,
+    loading: Res<Loading>,
+    comparison: Res<Comparison>,
+    preview: Res<PreviewSettings>,
+    viewport: Option<Res<Viewport>>,
+) -> Result {
+    let ctx = contexts.ctx_mut()?;
+    let rect = |r: bevy_egui::egui::Rect| [r.min.x, r.min.y, r.width(), r.height()];
+    let screen = ctx.content_rect();
+    let targets = super::targets(ctx);
+    let step = lessons.step_in(*mode.get()).map(|s| s.text.clone());
+    publish(|s| {
+        s.mode = match mode.get() {
+            Mode::FreePlay => "free play".into(),
+            Mode::Level(l) => format!("level {}", l + 1),
+        };
+        if step.as_deref() != Some(s.step_text.as_str()) {
+            s.step_text = step.clone().unwrap_or_default();
+            set_step(&s.step_text);
+        }
+        s.targets = targets
+            .0
+            .iter()
+            .map(|(n, r)| (n.clone(), rect(*r)))
+            .collect();
+        s.scene = rect(Viewport::rect(viewport.as_deref(), ctx));
+        s.canvas = [screen.width(), screen.height()];
+        s.volume = volume.source.clone();
+        s.load_error = loading.error.clone().unwrap_or_default();
+        s.loading = loading.under_way().is_some();
+        s.render = if comparison.busy() {
+            "rendering".into()
+        } else if let Some(r) = &comparison.result {
+            format!("done in {:.3} s", r.seconds)
+        } else {
+            String::new()
+        };
+        s.backend = match (preview.enabled, preview.backend) {
+            (false, _) => "off",
+            (true, Backend::Gpu) => "gpu",
+            (true, Backend::Cpu) => "cpu",
+        }
+        .into();
+    });
+    Ok(())
+}
+
+/// The step's text in the page, for a screen reader.
+fn set_step(text: &str) {
+    if let Some(element) = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id("voxcast-step"))
+    {
+        element.set_text_content(Some(text));
+    }
+}

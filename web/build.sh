@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Builds Voxcast's web page into a static folder (default: dist/) that any static file server
+# can host: index.html, the loader voxcast.js, and the sandbox twice, webgl2/ and webgpu/ (each
+# its .wasm and the JS glue wasm-bindgen writes for it); the page loads the one the browser can
+# run. Usage: bash web/build.sh [OUT] [webgl2|webgpu …]
+#
+# Needs cargo with rustup (the wasm32-unknown-unknown target is added here) and installs the
+# wasm-bindgen CLI of the version Cargo.lock holds (the glue and the module must match) into
+# $VOXCAST_TOOLS (default ~/.cache/voxcast-tools), once.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+OUT=${1:-dist}
+shift || true
+GRAPHICS=("$@")
+if [ ${#GRAPHICS[@]} -eq 0 ]; then GRAPHICS=(webgl2 webgpu); fi
+
+TARGET=wasm32-unknown-unknown
+if command -v rustup > /dev/null && ! rustup target list --installed | grep -qx "$TARGET"; then
+    rustup target add "$TARGET"
+fi
+
+VERSION=$(grep -A1 '^name = "wasm-bindgen"$' Cargo.lock | sed -n 's/^version = "\(.*\)"$/\1/p')
+TOOLS=${VOXCAST_TOOLS:-$HOME/.cache/voxcast-tools}
+BINDGEN="$TOOLS/bin/wasm-bindgen"
+if ! "$BINDGEN" --version 2> /dev/null | grep -qF "$VERSION"; then
+    echo "== installing wasm-bindgen-cli $VERSION into $TOOLS"
+    cargo install wasm-bindgen-cli --version "=$VERSION" --root "$TOOLS" --force
+fi
+
+TARGET_DIR=${CARGO_TARGET_DIR:-target}
+mkdir -p "$OUT"
+for gpu in "${GRAPHICS[@]}"; do
+    echo "== building the page for $gpu"
+    cargo build --locked --release --target "$TARGET" --features "$gpu" --bin voxcast
+    rm -rf "${OUT:?}/$gpu"
+    "$BINDGEN" --target web --no-typescript --remove-name-section --remove-producers-section \
+        --out-dir "$OUT/$gpu" "$TARGET_DIR/$TARGET/release/voxcast.wasm"
+done
+cp web/index.html web/voxcast.js "$OUT/"
+echo "== the page is in $OUT/ ($(du -sh "$OUT" | cut -f1)): serve it with"
+echo "   python3 -m http.server 8000 --bind 127.0.0.1 --directory $OUT"
