@@ -707,8 +707,12 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// A web page's query string as command-line options: `?a=1&b` → `["--a", "1", "--b"]`, each part decoded by `decode` (`+` is a space, as forms
-/// write it).
+/// The page's own options, which its loader reads (`gpu`: which build to start).
+#[cfg(any(test, target_arch = "wasm32"))]
+const PAGE_ONLY: [&str; 1] = ["gpu"];
+
+/// A web page's query string as command-line options: `?a=1&b` → `["--a", "1", "--b"]`, each
+/// part decoded by `decode` (`+` is a space, as forms write it); the page's own left out.
 #[cfg(any(test, target_arch = "wasm32"))]
 pub fn query_to_args(search: &str, decode: impl Fn(&str) -> String) -> Vec<String> {
     let mut args = Vec::new();
@@ -720,6 +724,9 @@ pub fn query_to_args(search: &str, decode: impl Fn(&str) -> String) -> Vec<Strin
             Some((k, v)) => (k, Some(v)),
             None => (part, None),
         };
+        if PAGE_ONLY.contains(&key) {
+            continue;
+        }
         args.push(format!("--{}", decode(&key.replace('+', " "))));
         if let Some(v) = value {
             args.push(decode(&v.replace('+', " ")));
@@ -779,6 +786,7 @@ mod tests {
             ["--volume", "builtin:head", "--no-rays", "--rays", "8"]
         );
         assert_eq!(query_to_args("?tf=a+b", same), ["--tf", "a b"]);
+        assert_eq!(query_to_args("?gpu=webgl2&no-rays", same), ["--no-rays"]);
         assert!(query_to_args("", same).is_empty());
         assert!(query_to_args("?", same).is_empty());
     }

@@ -8,8 +8,8 @@
 
 use super::preview::{FullQuality, PreviewTarget};
 use super::state::{MainCamera, RenderState, View, VolumeState};
+use super::tasks::in_slices;
 use bevy::camera::CameraUpdateSystems;
-use bevy::platform::time::Instant;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
@@ -20,7 +20,7 @@ use std::sync::{Arc, Mutex};
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::cost::CostMap;
 use voxcast_core::image_out::{ImageDiff, LinearImage};
-use voxcast_core::render::{RenderStats, render};
+use voxcast_core::render::{self, RenderStats, TileSlices};
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
@@ -295,8 +295,11 @@ fn start_capture(
     if !full.0 {
         full.0 = true;
     }
-    if compiling.now() {
-        return; // the preview for these settings is not drawn until its pipeline is ready
+    let cpu_live = preview.as_ref().is_some_and(|p| p.cpu_live());
+    if compiling.now() && !cpu_live {
+        // The GPU preview for these settings is not drawn until its pipeline is ready (the
+        // CPU live view's capture is rendered by the job itself).
+        return;
     }
     if left > 0 {
         comparison.settling = Some(left - 1);
@@ -305,7 +308,6 @@ fn start_capture(
     // A GPU preview drawn in strips is captured once a full-quality pass has finished, from
     // that pass's image: the window goes on answering meanwhile (settling stays at zero until
     // then).
-    let cpu_live = preview.as_ref().is_some_and(|p| p.cpu_live());
     let strips = progressive.as_deref().filter(|p| !cpu_live && p.active());
     if strips.is_some_and(|p| p.finished_full_image().is_none()) {
         return;
@@ -393,39 +395,40 @@ fn start_capture(
             let s = &snapshot;
             let scene = Scene::new(&volume, &s.transfer, &s.settings, s.camera.forward())
                 .map_err(|e| e.to_string())?;
-            let started = Instant::now();
             let report = |done: usize, total: usize| {
                 progress.0.store(done, Ordering::Relaxed);
                 progress.1.store(total, Ordering::Relaxed);
             };
-            let (image, stats) = render(&scene, &s.camera, s.size.x, s.size.y, &report, &cancel)
-                .map_err(|_| "cancelled".to_string())?;
+            let cancelled = |_| "cancelled".to_string();
+            let size = (s.size.x, s.size.y);
+            let job = render::Job::plain(&scene, &s.camera, size, &report, &cancel);
+            let mut tiles = TileSlices::default();
+            let ((image, stats), mut seconds) =
+                in_slices(|d| render::render_in(&job, &mut tiles, d))
+                    .await
+                    .map_err(cancelled)?;
+            let quiet = render::Job {
+                progress: &|_, _| {},
+                ..job
+            };
             if cpu_live {
-                let no_report = |_, _| {};
-                let (layer, _) = voxcast_core::render::render_layer(
-                    &scene,
-                    &s.camera,
-                    (s.size.x, s.size.y),
-                    &[],
-                    &no_report,
-                    &cancel,
-                )
-                .map_err(|_| "cancelled".to_string())?;
+                let mut tiles = TileSlices::default();
+                let ((layer, _), layer_seconds) =
+                    in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
+                        .await
+                        .map_err(cancelled)?;
+                seconds += layer_seconds;
                 let live = layer.over(s.settings.background);
                 if let Ok(mut slot) = live_slot.lock() {
                     *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));
                 }
             }
-            let seconds = started.elapsed().as_secs_f64();
             // The cost view's counts, from the same march (not in the time above).
-            let cost = voxcast_core::cost::render_cost(
-                &scene,
-                &s.camera,
-                (s.size.x, s.size.y),
-                &|_, _| {},
-                &cancel,
-            )
-            .map_err(|_| "cancelled".to_string())?;
+            let mut tiles = TileSlices::default();
+            let (cost, _) =
+                in_slices(|d| voxcast_core::cost::render_cost_in(&quiet, &mut tiles, d))
+                    .await
+                    .map_err(cancelled)?;
             Ok(Rendered {
                 image,
                 stats,

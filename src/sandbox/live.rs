@@ -20,17 +20,18 @@ use super::inspect::SampleSphere;
 use super::light::LightMarker;
 use super::preview::{PreviewSettings, Viewport};
 use super::state::{MainCamera, RenderState, View, VolumeState};
+use super::tasks::in_slices;
 use bevy::platform::time::Instant;
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use voxcast_core::camera::Camera as CoreCamera;
-use voxcast_core::cost::{CostView, render_cost};
-use voxcast_core::image_out::{LinearImage, to_u8};
+use voxcast_core::cost::{CostView, render_cost_in};
+use voxcast_core::image_out::to_u8;
 use voxcast_core::marker::{LIGHT_MARKER_COLOR, light_marker_radius};
 use voxcast_core::rays::layered::SceneSurface;
-use voxcast_core::render::{Occluder, Surface, render_layer_with};
+use voxcast_core::render::{Job, Occluder, Surface, TileSlices, render_layer_in};
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
@@ -339,8 +340,8 @@ fn choose_backend(
         #[cfg(target_arch = "wasm32")]
         if backend == Backend::Cpu {
             super::web::set_notice(
-                "This browser draws without a graphics card (in software), so Voxcast's CPU \
-                 core ray casts the volume; Preview (slow hardware) can switch to the GPU.",
+                "No graphics card here (the browser draws in software): Voxcast's CPU core \
+                 draws the volume.",
             );
         }
     }
@@ -591,43 +592,45 @@ fn start(
             job_key.camera.forward(),
         )
         .ok()?;
-        let draw = || -> Option<(LinearImage, Option<(u32, u32)>)> {
-            match job_key.cost_view {
-                None => {
-                    let triangles = job_key.surface.as_ref().map(|s| SceneSurface {
-                        triangles: &s.shown.computed.data.scene,
-                        origin: s.shown.computed.origin,
-                        shading: s.shading,
-                    });
-                    let hit = |ray: &voxcast_core::ray::Ray| triangles.and_then(|t| t.hit(ray));
-                    let (layer, _) = render_layer_with(
-                        &scene,
-                        &job_key.camera,
-                        (size.x, size.y),
-                        if spheres { &job_key.occluders } else { &[] },
-                        triangles.is_some().then_some(&hit as Surface),
-                        &|_, _| {},
-                        &flag,
-                    )
-                    .ok()?;
-                    Some((layer.over(job_key.settings.background), None))
-                }
-                // The volume's rays only: the scene's spheres are no work of the march.
-                Some(view) => {
-                    let map =
-                        render_cost(&scene, &job_key.camera, (size.x, size.y), &|_, _| {}, &flag)
-                            .ok()?;
-                    Some((map.image(view), Some((map.full_scale, map.max(view)))))
-                }
+        let triangles = job_key.surface.as_ref().map(|s| SceneSurface {
+            triangles: &s.shown.computed.data.scene,
+            origin: s.shown.computed.origin,
+            shading: s.shading,
+        });
+        let hit = |ray: &voxcast_core::ray::Ray| triangles.and_then(|t| t.hit(ray));
+        let job = Job {
+            occluders: if spheres { &job_key.occluders } else { &[] },
+            surface: triangles.is_some().then_some(&hit as Surface),
+            ..Job::plain(&scene, &job_key.camera, (size.x, size.y), &|_, _| {}, &flag)
+        };
+        let set_up = started.elapsed().as_secs_f64();
+        let mut tiles = TileSlices::default();
+        let ((image, cost_scale), busy) = match job_key.cost_view {
+            None => {
+                let ((layer, _), busy) =
+                    in_slices(|d| on_pool(refine, || render_layer_in(&job, &mut tiles, d)))
+                        .await
+                        .ok()?;
+                ((layer.over(job_key.settings.background), None), busy)
+            }
+            // The volume's rays only: the scene's spheres are no work of the march.
+            Some(view) => {
+                let (map, busy) =
+                    in_slices(|d| on_pool(refine, || render_cost_in(&job, &mut tiles, d)))
+                        .await
+                        .ok()?;
+                (
+                    (map.image(view), Some((map.full_scale, map.max(view)))),
+                    busy,
+                )
             }
         };
-        let (image, cost_scale) = on_pool(refine, draw)?;
         let rgb = image.pixels.iter().map(|p| to_u8(*p)).collect();
         Some(LiveFrame {
             key: job_key,
             size,
             rgb,
-            seconds: started.elapsed().as_secs_f64(),
+            seconds: set_up + busy,
             cost_scale,
         })
     });

@@ -34,6 +34,7 @@ mod script;
 mod shaders;
 mod sharp;
 mod state;
+mod tasks;
 mod trade;
 mod ui;
 pub mod uniform;

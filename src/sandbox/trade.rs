@@ -4,6 +4,7 @@
 //! remembers what it measured, so the panel can say when it no longer matches.
 
 use super::state::{MainCamera, RenderState, View, VolumeState};
+use super::tasks::in_slices;
 use bevy::prelude::*;
 use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
@@ -12,7 +13,9 @@ use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::knob::Knob;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
-use voxcast_core::trade::{STEPS, Trade, TradeError, View as TradeView};
+use voxcast_core::trade::{
+    STEPS, Trade, TradeError, TradeJob, TradeSlices, View as TradeView, trade_in,
+};
 
 /// The measured image's size: small, so the five renders and the reference take moments.
 pub const TRADE_SIZE: (u32, u32) = (192, 108);
@@ -132,7 +135,18 @@ fn start(
                 camera: &camera,
                 size: TRADE_SIZE,
             };
-            voxcast_core::trade::trade(&view, &s, knob, &steps, &report, &cancel)
+            let job = TradeJob {
+                view: &view,
+                settings: &s,
+                knob,
+                steps: &steps,
+                progress: &report,
+                cancel: &cancel,
+            };
+            let mut slices = TradeSlices::default();
+            in_slices(|d| trade_in(&job, &mut slices, d))
+                .await
+                .map(|(trade, _)| trade)
         })
     };
     trade.error = None;

@@ -146,8 +146,13 @@ pub struct PageStatus {
     pub render: String,
     /// The browser's graphics adapter, as it names itself.
     pub adapter: String,
-    /// Who draws the volume: "gpu" or "cpu".
+    /// Who draws the volume: "gpu", "cpu" or "off".
     pub backend: String,
+    /// What the CPU live view shows, in words (its frame's size and time).
+    pub live: String,
+    /// The volume is drawn at full quality for the view (the CPU's exact render, the GPU's
+    /// whole frame), not a coarse frame or a refinement under way.
+    pub settled: bool,
 }
 
 thread_local! {

@@ -6,6 +6,7 @@
 #[path = "../../crates/voxcast_core/tests/support/harness.rs"]
 mod harness;
 pub use harness::*;
+pub mod webdriver;
 
 /// Whether `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it) makes a missing device a failure.
 pub fn gpu_required() -> bool {

@@ -38,7 +38,7 @@ pub(super) fn breakdown_panel(
     (mut state, mut export_state): (ResMut<BreakdownState>, ResMut<ExportState>),
     mut selection: ResMut<RaySelection>,
     lessons: Res<crate::sandbox::levels::Lessons>,
-    mut dock: ResMut<super::Dock>,
+    (mut dock, layout): (ResMut<super::Dock>, Res<super::layout::Layout>),
 ) -> Result {
     let Some(pixel) = selection.selected else {
         return Ok(());
@@ -54,15 +54,19 @@ pub(super) fn breakdown_panel(
     let state = &mut *state;
     // Docked below the scene, across the window; it scrolls, with its bars always shown.
     let ctx = ctx.clone();
-    let height = ctx.viewport_rect().height() * 0.4;
+    let most = layout.shares.breakdown_max;
     dock.show(&ctx, "breakdown", |dock_ui| {
         egui::Panel::bottom("breakdown")
             .resizable(true)
-            .default_size(height)
-            .min_size(120.0)
+            .default_size(most)
+            .max_size(most)
+            .min_size(120.0f32.min(most))
             .show(dock_ui, |ui| {
                 ui.horizontal(|ui| {
-                    ui.heading(format!("Ray through pixel ({}, {})", pixel.x, pixel.y));
+                    super::target(
+                        ui.heading(format!("Ray through pixel ({}, {})", pixel.x, pixel.y)),
+                        "breakdown",
+                    );
                     if ui
                         .button("Close")
                         .on_hover_text("Close the breakdown (the ray is deselected)")

@@ -48,7 +48,12 @@ pub(super) fn compare_window(
     render: Res<RenderState>,
     volume: Res<VolumeState>,
     viewport: Option<Res<crate::sandbox::preview::Viewport>>,
+    mode: Res<State<crate::sandbox::mode::Mode>>,
 ) -> Result {
+    // A new level (or free play) brings its own scene: the last render is of another.
+    if mode.is_changed() && !mode.is_added() {
+        window.open = false;
+    }
     if !window.open {
         return Ok(());
     }
@@ -56,17 +61,26 @@ pub(super) fn compare_window(
     let mut open = window.open;
     // Over the scene, below the level's text.
     let scene = crate::sandbox::preview::Viewport::rect(viewport.as_deref(), &ctx);
-    egui::Window::new("Render image")
+    // Inside the scene's part of the window, which it never leaves, movable and shrinkable.
+    let window_frame = egui::Window::new("Render image")
         .open(&mut open)
+        .constrain_to(scene)
         .default_pos(scene.min + egui::vec2(8.0, 8.0))
-        .default_width(scene.width().clamp(320.0, 720.0))
-        .show(&ctx, |ui| {
-            let current = comparison
-                .result
-                .as_ref()
-                .is_none_or(|r| r.snapshot.is_current(views.single().ok(), &render, &volume));
-            contents(ui, &mut window, &mut comparison, current)
-        });
+        .default_width((scene.width() - 16.0).clamp(160.0, 720.0))
+        .max_width(scene.width() - 8.0)
+        .max_height(scene.height() - 8.0)
+        .resizable(true)
+        .scroll([false, true]);
+    let shown = window_frame.show(&ctx, |ui| {
+        let current = comparison
+            .result
+            .as_ref()
+            .is_none_or(|r| r.snapshot.is_current(views.single().ok(), &render, &volume));
+        contents(ui, &mut window, &mut comparison, current)
+    });
+    if let Some(shown) = shown {
+        super::target(shown.response, "render image window");
+    }
     window.open = open;
     Ok(())
 }
@@ -97,13 +111,14 @@ fn contents(
             } else {
                 done as f32 / total as f32
             };
+            // Cancel first: the bar takes the rest of the row, however narrow the window.
+            if ui.button("Cancel").clicked() {
+                comparison.cancel();
+            }
             ui.add(egui::ProgressBar::new(fraction).text(format!(
                 "Rendering… {}",
                 voxcast_core::numbers::percent(fraction)
             )));
-            if ui.button("Cancel").clicked() {
-                comparison.cancel();
-            }
         }
     });
     if let Some(message) = &comparison.message {

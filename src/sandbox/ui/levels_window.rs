@@ -52,45 +52,84 @@ pub(super) fn levels_window(
     mut lessons: ResMut<Lessons>,
     mode: Res<State<Mode>>,
     mut commands: MessageWriter<LevelCommand>,
-    mut dock: ResMut<super::Dock>,
+    (mut dock, mut layout): (ResMut<super::Dock>, ResMut<super::layout::Layout>),
 ) -> Result {
     let ctx = contexts.ctx_mut()?.clone();
     let mut command = None;
+    // Folded to a line where the window is low, unless the student unfolded it (or folded it).
+    let mut folded = layout
+        .level_text
+        .map_or(layout.shares.fold_level_text, |open| !open);
+    let was = folded;
     // Docked at the top: nothing covers the step's text, and Next is always in view.
     dock.show(&ctx, "levels", |dock_ui| {
         egui::Panel::top("levels")
             .resizable(false)
             .show(dock_ui, |ui| {
-                command = levels_ui(ui, &mut lessons, *mode.get())
+                command = levels_ui(ui, &mut lessons, *mode.get(), &mut folded)
             });
     });
+    if folded != was {
+        layout.level_text = Some(!folded);
+    }
     if let Some(c) = command {
         commands.write(c);
     }
     Ok(())
 }
 
-/// The window's contents; returns what the player asked for.
+/// The window's contents, `folded` to a line (the list in a menu, the step's text to its first
+/// line) or whole, with a toggle between; returns what the player asked for.
 pub(super) fn levels_ui(
     ui: &mut egui::Ui,
     lessons: &mut Lessons,
     mode: Mode,
+    folded: &mut bool,
 ) -> Option<LevelCommand> {
     if let Some(m) = &lessons.message {
         ui.colored_label(egui::Color32::YELLOW, m);
     }
     match mode {
-        Mode::FreePlay => level_list(ui, lessons),
-        Mode::Level(l) => level_step(ui, lessons, l),
+        Mode::FreePlay => level_list(ui, lessons, folded),
+        Mode::Level(l) => level_step(ui, lessons, l, folded),
     }
 }
 
-fn level_list(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
-    ui.label(
-        "Levels: one concept each (free play, everything on, is where you are now). \
-         Choose one to start:",
-    );
+/// The button that folds the panel's text to a line or shows it whole.
+fn fold_toggle(ui: &mut egui::Ui, folded: &mut bool) {
+    let (label, tip) = if *folded {
+        ("more", "Show all of it")
+    } else {
+        ("less", "Fold it to one line, for more of the scene")
+    };
+    if super::target(ui.small_button(label), "fold")
+        .on_hover_text(tip)
+        .clicked()
+    {
+        *folded = !*folded;
+    }
+}
+
+fn level_list(ui: &mut egui::Ui, lessons: &Lessons, folded: &mut bool) -> Option<LevelCommand> {
     let mut chosen = None;
+    if *folded {
+        ui.horizontal(|ui| {
+            ui.label("Levels: one concept each (you are in free play).");
+            let menu = ui.menu_button("Choose a level", |ui| {
+                chosen = level_buttons(ui, lessons);
+            });
+            super::target(menu.response, "levels menu");
+            fold_toggle(ui, folded);
+        });
+        return chosen;
+    }
+    ui.horizontal(|ui| {
+        ui.label(
+            "Levels: one concept each (free play, everything on, is where you are now). \
+             Choose one to start:",
+        );
+        fold_toggle(ui, folded);
+    });
     ui.horizontal_wrapped(|ui| {
         chosen = level_buttons(ui, lessons);
     });
@@ -124,19 +163,39 @@ fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
     chosen
 }
 
-fn level_step(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize) -> Option<LevelCommand> {
+fn level_step(
+    ui: &mut egui::Ui,
+    lessons: &mut Lessons,
+    l: usize,
+    folded: &mut bool,
+) -> Option<LevelCommand> {
     let step = lessons.step_in(Mode::Level(l))?.clone();
     let level = &lessons.levels[l];
-    ui.horizontal_wrapped(|ui| {
-        ui.strong(&level.title);
-        ui.label(egui::RichText::new(&level.concept).italics());
-        ui.label(format!(
-            "· step {} of {}",
-            lessons.step + 1,
-            level.steps.len()
-        ));
-    });
-    ui.label(egui::RichText::new(&step.text).size(15.0));
+    let text = egui::RichText::new(&step.text).size(15.0);
+    if *folded {
+        ui.horizontal(|ui| {
+            ui.strong(&level.title);
+            ui.label(format!(
+                "· step {} of {}",
+                lessons.step + 1,
+                level.steps.len()
+            ));
+            fold_toggle(ui, folded);
+        });
+        ui.add(egui::Label::new(text).truncate());
+    } else {
+        ui.horizontal_wrapped(|ui| {
+            ui.strong(&level.title);
+            ui.label(egui::RichText::new(&level.concept).italics());
+            ui.label(format!(
+                "· step {} of {}",
+                lessons.step + 1,
+                level.steps.len()
+            ));
+            fold_toggle(ui, folded);
+        });
+        ui.label(text);
+    }
     if let Some(c) = step.control {
         ui.colored_label(
             egui::Color32::LIGHT_BLUE,
@@ -371,7 +430,9 @@ mod tests {
             };
             let mut command = None;
             self.ctx
-                .run_ui(input, |ui| command = levels_ui(ui, lessons, mode))
+                .run_ui(input, |ui| {
+                    command = levels_ui(ui, lessons, mode, &mut false)
+                })
                 .drop_without_applying_deltas();
             command
         }

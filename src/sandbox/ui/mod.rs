@@ -6,6 +6,7 @@ mod classify;
 pub(crate) mod compare;
 mod cost_view;
 mod cut;
+mod layout;
 mod levels_window;
 mod light;
 #[cfg(target_arch = "wasm32")]
@@ -103,6 +104,7 @@ struct PanelState {
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<PanelState>()
         .init_resource::<Dock>()
+        .init_resource::<layout::Layout>()
         .init_resource::<compare::CompareWindow>()
         .init_resource::<breakdown_panel::ExportState>()
         .add_systems(
@@ -114,6 +116,7 @@ pub(super) fn plugin(app: &mut App) {
                     begin_dock,
                     levels_window::levels_window,
                     breakdown_panel::breakdown_panel,
+                    layout::layout_strip,
                     settings_panel,
                     rays_panel::rays_panel,
                     compare::compare_window,
@@ -694,9 +697,6 @@ fn checkbox(ui: &mut egui::Ui, value: &mut bool, tunable: &Tunable) -> bool {
         .changed()
 }
 
-/// The settings panel's width, in points.
-const PANEL_WIDTH: f32 = 340.0;
-
 /// What the Ray data section reads and edits.
 type RayParams<'w> = (
     ResMut<'w, super::raydata::RayChoices>,
@@ -728,6 +728,7 @@ fn settings_panel(
     ),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
     (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
+    layout: Res<layout::Layout>,
 ) -> Result {
     let (mut ray_choices, ray_scene, estimator, ray_report, mut range_fit) = rays;
     let ctx = contexts.ctx_mut()?;
@@ -743,11 +744,15 @@ fn settings_panel(
         .is_some();
     let voxel = volume.volume.spacing().min_element();
     let ctx = ctx.clone();
+    if !layout.settings {
+        return Ok(());
+    }
     dock.show(&ctx, "settings", |dock_ui| {
         egui::Panel::left("settings")
             .resizable(true)
-            .default_size(PANEL_WIDTH + 16.0)
-            .min_size(200.0)
+            .default_size(layout::SETTINGS_WIDTH.min(layout.shares.side_max))
+            .max_size(layout.shares.side_max)
+            .min_size(layout::SIDE_MIN.min(layout.shares.side_max))
             .show(dock_ui, |ui| {
                 // The frame time and Render image stay at the top; the sections scroll.
                 let fps = diagnostics

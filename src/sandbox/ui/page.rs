@@ -4,7 +4,7 @@
 
 use crate::sandbox::compare::Comparison;
 use crate::sandbox::levels::Lessons;
-use crate::sandbox::live::Backend;
+use crate::sandbox::live::{Backend, LiveView};
 use crate::sandbox::loading::Loading;
 use crate::sandbox::mode::Mode;
 use crate::sandbox::preview::{PreviewSettings, Viewport};
@@ -24,7 +24,23 @@ pub(super) fn publish_status(
     comparison: Res<Comparison>,
     preview: Res<PreviewSettings>,
     viewport: Option<Res<Viewport>>,
+    (live, progressive): (
+        Option<Res<LiveView>>,
+        Option<Res<crate::sandbox::progressive::Progressive>>,
+    ),
+    mut render_started: Local<Option<bevy::platform::time::Instant>>,
+    mut render_wall: Local<Option<f64>>,
 ) -> Result {
+    // Render image's time on the wall clock, from the click to the result (the slices and the
+    // frames drawn between them).
+    match (comparison.busy(), *render_started) {
+        (true, None) => *render_started = Some(bevy::platform::time::Instant::now()),
+        (false, Some(t)) => {
+            *render_wall = Some(t.elapsed().as_secs_f64());
+            *render_started = None;
+        }
+        _ => {}
+    }
     let ctx = contexts.ctx_mut()?;
     let rect = |r: bevy_egui::egui::Rect| [r.min.x, r.min.y, r.width(), r.height()];
     let screen = ctx.content_rect();
@@ -52,9 +68,18 @@ pub(super) fn publish_status(
         s.render = if comparison.busy() {
             "rendering".into()
         } else if let Some(r) = &comparison.result {
-            format!("done in {:.3} s", r.seconds)
+            format!(
+                "done in {:.3} s of work, {:.3} s on the clock",
+                r.seconds,
+                render_wall.unwrap_or(0.0)
+            )
         } else {
             String::new()
+        };
+        s.live = live.as_ref().map(|l| l.status()).unwrap_or_default();
+        s.settled = match preview.backend {
+            Backend::Cpu => live.as_ref().is_some_and(|l| l.showing_exact()),
+            Backend::Gpu => !progressive.as_ref().is_some_and(|p| p.active()),
         };
         s.backend = match (preview.enabled, preview.backend) {
             (false, _) => "off",

@@ -19,10 +19,11 @@ pub(super) fn rays_panel(
     mut settings: ResMut<InspectSettings>,
     (mut animation, lessons): (ResMut<RayAnimation>, Res<crate::sandbox::levels::Lessons>),
     cameras: Query<&VirtualCamera>,
-    mut dock: ResMut<super::Dock>,
+    (mut dock, layout): (ResMut<super::Dock>, Res<super::layout::Layout>),
 ) -> Result {
-    // No virtual camera shown (a level without one, or turned off in the panel): no window.
-    if !cameras.single().is_ok_and(|c| c.shown) {
+    // No virtual camera shown (a level without one, or turned off in the panel), or the panel
+    // hidden: no panel.
+    if !cameras.single().is_ok_and(|c| c.shown) || !layout.rays {
         return Ok(());
     }
     let spot = lessons.spot;
@@ -33,7 +34,8 @@ pub(super) fn rays_panel(
     dock.show(&ctx, "rays", |dock_ui| {
         egui::Panel::right("rays")
             .resizable(true)
-            .default_size(240.0)
+            .default_size(super::layout::RAYS_WIDTH.min(layout.shares.side_max))
+            .max_size(layout.shares.side_max)
             .show(dock_ui, |ui| {
                 ui.heading("Rays");
                 egui::ScrollArea::vertical().show(ui, |ui| {
@@ -150,6 +152,7 @@ fn pixel_grid(ui: &mut egui::Ui, inspection: &Inspection, selection: &mut RaySel
     let cell = (ui.available_width().clamp(64.0, 256.0) / w.max(h) as f32).max(3.0);
     let (response, painter) =
         ui.allocate_painter(vec2(cell * w as f32, cell * h as f32), Sense::click());
+    let response = super::target(response, "pixel grid");
     let origin = response.rect.min;
     let at = |x: u32, y: u32| {
         egui::Rect::from_min_size(origin + vec2(x as f32, y as f32) * cell, vec2(cell, cell))

@@ -1,0 +1,54 @@
+//! Background work, one code for the desktop and the browser. On the desktop a task runs on
+//! Bevy's `AsyncComputeTaskPool`, on threads of its own, and the core's work in it runs whole.
+//! A browser gives the page one thread, which also draws its frames: there a task's core work
+//! runs in slices of [`SLICE`] ([`voxcast_core::slices`]), and between two slices the task
+//! yields to the page, which draws a frame and answers the student, so the page never freezes
+//! (Render image's progress and Cancel work as on the desktop).
+
+use bevy::platform::time::Instant;
+use voxcast_core::slices::{Deadline, Step};
+
+/// How long a slice of work runs in a browser before the page may draw a frame: short enough
+/// that the page answers a click within a frame or two, long enough that the frames between
+/// slices cost the work little.
+pub const SLICE: std::time::Duration = std::time::Duration::from_millis(20);
+
+/// The deadline of the next slice: none on the desktop.
+pub fn deadline() -> Deadline {
+    if cfg!(target_arch = "wasm32") {
+        Deadline::after(SLICE)
+    } else {
+        Deadline::NONE
+    }
+}
+
+/// Lets the page draw a frame before the task goes on (a new task of the browser's event
+/// loop, after its frames; on the desktop, nothing).
+pub async fn yield_to_page() {
+    #[cfg(target_arch = "wasm32")]
+    {
+        let promise = js_sys::Promise::new(&mut |resolve, _| {
+            if let Some(window) = web_sys::window() {
+                let _ = window.set_timeout_with_callback(&resolve);
+            }
+        });
+        let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
+    }
+}
+
+/// Runs `slice` until it is done, yielding to the page between slices; gives the result and
+/// the time the slices themselves took (not the frames drawn between them).
+pub async fn in_slices<T, E>(
+    mut slice: impl FnMut(Deadline) -> Result<Step<T>, E>,
+) -> Result<(T, f64), E> {
+    let mut busy = 0.0;
+    loop {
+        let started = Instant::now();
+        let step = slice(deadline())?;
+        busy += started.elapsed().as_secs_f64();
+        match step {
+            Step::Done(t) => return Ok((t, busy)),
+            Step::Paused => yield_to_page().await,
+        }
+    }
+}

@@ -1,0 +1,481 @@
+//! The web page in a real browser: Debian's headless `chromium`, driven over WebDriver by
+//! `chromedriver`, against the page `web/build.sh` built (`dist/`, or `$VOXCAST_WEB_DIR`)
+//! served on 127.0.0.1. Once with WebGL2 (what every browser has; here SwiftShader) and once
+//! with WebGPU (SwiftShader's Vulkan through Dawn). Each run waits for the first frame, checks
+//! that the bunny is drawn where the desktop's `--screenshot` draws it, orbits with a drag,
+//! renders the exact image while the page keeps drawing, opens a dropped NRRD file (and a
+//! damaged one, which leaves it), starts level 1 with a click and reads its first step, checks
+//! that the scene keeps at least half the page in every layout at 1024×576, and fails on any
+//! error in the browser's console. Where chromium, chromedriver or the built page is missing
+//! the test is reported as ignored with the reason, unless `VOXCAST_REQUIRE_BROWSER=1` (as
+//! `.ci/run` sets it).
+
+mod support;
+
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use support::webdriver::{Browser, CHROMEDRIVER, CHROMIUM, serve};
+use support::{Completion, Outcome};
+
+fn main() {
+    support::run(&[
+        ("the_page_works_in_chromium_with_webgl2", || page("webgl2")),
+        ("the_page_works_in_chromium_with_webgpu", || page("webgpu")),
+    ])
+}
+
+/// Whether `VOXCAST_REQUIRE_BROWSER=1` makes a missing browser or page a failure.
+fn browser_required() -> bool {
+    std::env::var_os("VOXCAST_REQUIRE_BROWSER").is_some_and(|v| v == "1")
+}
+
+/// The built page, if there is one.
+fn page_dir() -> PathBuf {
+    std::env::var_os("VOXCAST_WEB_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("dist"))
+}
+
+fn out_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/browser")
+}
+
+/// How long the page may take to show its first frame in headless chromium on 2 cores.
+const FIRST_FRAME: Duration = Duration::from_secs(120);
+
+/// The WebGPU run's flags: chromium offers WebGPU on SwiftShader's Vulkan only when asked.
+const WEBGPU_FLAGS: [&str; 4] = [
+    "--enable-unsafe-webgpu",
+    "--enable-features=Vulkan",
+    "--use-vulkan=swiftshader",
+    "--use-webgpu-adapter=swiftshader",
+];
+
+fn page(graphics: &str) -> Outcome {
+    let dir = page_dir();
+    let missing = [
+        (!Path::new(CHROMIUM).exists()).then(|| format!("no {CHROMIUM} (package chromium)")),
+        (!Path::new(CHROMEDRIVER).exists())
+            .then(|| format!("no {CHROMEDRIVER} (package chromium-driver)")),
+        (!dir.join(graphics).join("voxcast_bg.wasm").exists()).then(|| {
+            format!(
+                "no page built in {} (bash web/build.sh {})",
+                dir.display(),
+                dir.display()
+            )
+        }),
+    ];
+    if let Some(why) = missing.into_iter().flatten().next() {
+        assert!(!browser_required(), "{why}");
+        return Ok(Completion::ignored_with(format!(
+            "{why}; VOXCAST_REQUIRE_BROWSER=1 makes this a failure"
+        )));
+    }
+    let out = out_dir().join(graphics);
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    let port = serve(&dir);
+    let flags: &[&str] = if graphics == "webgpu" {
+        &WEBGPU_FLAGS
+    } else {
+        &[]
+    };
+    let browser = Browser::start(flags).map_err(|e| format!("chromium: {e}"))?;
+    let page = Page {
+        browser: &browser,
+        out: &out,
+    };
+    browser.set_viewport(1280, 720)?;
+
+    // The first frame, and the graphics the page chose.
+    let started = Instant::now();
+    browser.open(&format!("http://127.0.0.1:{port}/?gpu={graphics}&no-rays"))?;
+    browser
+        .wait_for(
+            "return window.voxcastStatus && window.voxcastStatus().frames >= 2",
+            FIRST_FRAME,
+        )
+        .map_err(|e| format!("{e}\nthe browser's log: {:#?}", browser.log()))?;
+    let first_frame = started.elapsed();
+    let chosen = browser.run("return window.voxcastGraphics", json!([]))?;
+    assert_eq!(chosen, json!(graphics), "the page runs the build asked for");
+
+    // The bunny, where the desktop draws it.
+    let bunny = page.wait_for_picture("bunny", |s| s.drawn > 0.05)?;
+    println!(
+        "{graphics}: first frame after {:.1} s; the volume drawn by the {} ({}, {}); {:.0} % \
+         of the scene differs from the background",
+        first_frame.as_secs_f64(),
+        page.status()?["backend"],
+        page.status()?["live"],
+        page.status()?["adapter"],
+        100.0 * bunny.drawn
+    );
+    if let Some(desktop) = desktop_silhouette(&bunny, &out)? {
+        let overlap = bunny.overlap(&desktop);
+        println!("{graphics}: the silhouette overlaps the desktop's by {overlap:.3} (IoU)");
+        // The page also draws the volume's box in thin lines, which the desktop's capture of
+        // the preview alone has not: a few per cent of the bunny's area.
+        assert!(
+            overlap > 0.9,
+            "the bunny is not where the desktop draws it: IoU {overlap}"
+        );
+    }
+
+    // Orbit: a drag across the scene turns the view.
+    let scene = page.scene_css()?;
+    let (cx, cy) = (scene[0] + scene[2] / 2.0, scene[1] + scene[3] / 2.0);
+    browser.drag((cx, cy), &[(cx + 60.0, cy + 10.0), (cx + 160.0, cy + 20.0)])?;
+    let turned = page.wait_for_picture("orbited", |s| s.differs_from(&bunny) > 0.05)?;
+    println!(
+        "{graphics}: the drag changed {:.0} % of the scene",
+        100.0 * turned.differs_from(&bunny)
+    );
+
+    // Render image: the exact render, while the page keeps drawing frames.
+    page.click("render image")?;
+    let frames_before = page.status()?["frames"].as_u64().unwrap_or(0);
+    let rendered = browser.wait_for(
+        "const s = window.voxcastStatus(); return s.render.startsWith('done') && s.render",
+        Duration::from_secs(300),
+    )?;
+    let frames_after = page.status()?["frames"].as_u64().unwrap_or(0);
+    println!(
+        "{graphics}: Render image {}, {} frames drawn meanwhile",
+        rendered.as_str().unwrap_or_default(),
+        frames_after - frames_before
+    );
+    assert!(
+        frames_after > frames_before + 2,
+        "the page froze while rendering"
+    );
+    page.save_screenshot("render_image")?;
+
+    // A dropped NRRD opens; a damaged one says why and leaves it.
+    let tiny = b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n\
+                \x00\x10\x20\x30\x40\x50\x60\x70";
+    page.drop_file("tiny.nrrd", tiny)?;
+    browser.wait_for(
+        "const s = window.voxcastStatus(); return !s.loading && s.volume == 'tiny.nrrd'",
+        Duration::from_secs(60),
+    )?;
+    page.drop_file("damaged.nrrd", &tiny[..tiny.len() - 3])?;
+    let error = browser.wait_for(
+        "const s = window.voxcastStatus(); return (!s.loading && s.load_error) || null",
+        Duration::from_secs(60),
+    )?;
+    let error = error.as_str().unwrap_or_default().to_string();
+    assert!(error.starts_with("damaged.nrrd"), "{error}");
+    assert_eq!(
+        page.status()?["volume"],
+        "tiny.nrrd",
+        "the damaged file left the volume"
+    );
+    page.save_screenshot("dropped")?;
+
+    // Level 1, started with a click (from the levels menu where the list is folded), shows its
+    // first step.
+    if !page.has("level 1")? {
+        page.click("levels menu")?;
+        page.settle(3)?;
+    }
+    page.click("level 1")?;
+    let first_step = &voxcast_core::level::Level::all()[0].steps[0].text;
+    browser.wait_for(
+        "const s = window.voxcastStatus(); return (s.mode == 'level 1' && s.step_text) || null",
+        Duration::from_secs(60),
+    )?;
+    assert_eq!(&page.status()?["step_text"], first_step);
+    let spoken = browser.run(
+        "return document.getElementById('voxcast-step').textContent",
+        json!([]),
+    )?;
+    assert_eq!(&spoken, first_step, "what a screen reader speaks");
+    page.save_screenshot("level_1")?;
+
+    // On a small laptop's tab the scene keeps at least half the page in every layout, and
+    // Render image opens inside it.
+    browser.set_viewport(1024, 576)?;
+    page.settle(10)?;
+    page.check_layout("a level's step")?;
+    page.save_screenshot("level_1_1024x576")?;
+    if !page.has("pixel grid")? {
+        page.click("rays panel")?;
+        page.settle(3)?;
+    }
+    page.click("pixel grid")?;
+    browser.wait_for(
+        "return window.voxcastStatus().targets.some(t => t[0] == 'breakdown')",
+        Duration::from_secs(60),
+    )?;
+    page.settle(3)?;
+    page.save_screenshot("breakdown_1024x576")?;
+    page.check_layout("the breakdown open")?;
+    page.click("free play")?;
+    page.settle(10)?;
+    page.check_layout("free play, the levels list")?;
+    if !page.has("render image")? {
+        page.click("settings panel")?;
+        page.settle(3)?;
+    }
+    page.click("render image")?;
+    page.settle(5)?;
+    page.save_screenshot("render_image_1024x576")?;
+    page.check_layout("Render image open")?;
+    let window = page.target("render image window")?;
+    let scene = page.status()?["scene"].clone();
+    let f = |v: &Value, i: usize| v[i].as_f64().unwrap_or(0.0);
+    assert!(
+        f(&window, 0) >= f(&scene, 0) - 1.0
+            && f(&window, 1) >= f(&scene, 1) - 1.0
+            && f(&window, 0) + f(&window, 2) <= f(&scene, 0) + f(&scene, 2) + 1.0
+            && f(&window, 1) + f(&window, 3) <= f(&scene, 1) + f(&scene, 3) + 1.0,
+        "Render image {window} lies outside the scene {scene}"
+    );
+
+    // Nothing went wrong in the console.
+    let errors = browser.run("return window.voxcastErrors", json!([]))?;
+    assert_eq!(errors, json!([]), "errors in the page");
+    let severe: Vec<String> = browser
+        .log()?
+        .into_iter()
+        .filter(|(level, m)| level == "SEVERE" || m.contains("%cERROR") || m.contains("panicked"))
+        .map(|(_, m)| m)
+        .collect();
+    assert!(severe.is_empty(), "the console says: {severe:#?}");
+    Ok(Completion::Completed)
+}
+
+/// The page under test, and where its screenshots go.
+struct Page<'b> {
+    browser: &'b Browser,
+    out: &'b Path,
+}
+
+/// The scene's part of a screenshot: which pixels differ from the background.
+struct Picture {
+    width: u32,
+    height: u32,
+    /// Per pixel: not the background (any channel more than 10/255 away).
+    mask: Vec<bool>,
+    rgb: Vec<[u8; 3]>,
+    /// The share of pixels not the background.
+    drawn: f64,
+}
+
+impl Picture {
+    fn new(image: &image::RgbImage, background: [u8; 3]) -> Self {
+        let rgb: Vec<[u8; 3]> = image.pixels().map(|p| p.0).collect();
+        let mask: Vec<bool> = rgb
+            .iter()
+            .map(|p| (0..3).any(|c| p[c].abs_diff(background[c]) > 10))
+            .collect();
+        let drawn = mask.iter().filter(|m| **m).count() as f64 / mask.len().max(1) as f64;
+        Self {
+            width: image.width(),
+            height: image.height(),
+            mask,
+            rgb,
+            drawn,
+        }
+    }
+
+    /// Intersection over union of the two silhouettes.
+    fn overlap(&self, other: &Picture) -> f64 {
+        let both = self
+            .mask
+            .iter()
+            .zip(&other.mask)
+            .filter(|(a, b)| **a && **b);
+        let either = self
+            .mask
+            .iter()
+            .zip(&other.mask)
+            .filter(|(a, b)| **a || **b);
+        both.count() as f64 / either.count().max(1) as f64
+    }
+
+    /// The share of pixels that changed by more than 10/255 in a channel.
+    fn differs_from(&self, other: &Picture) -> f64 {
+        if (self.width, self.height) != (other.width, other.height) {
+            return 1.0;
+        }
+        let changed = self
+            .rgb
+            .iter()
+            .zip(&other.rgb)
+            .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 10))
+            .count();
+        changed as f64 / self.rgb.len().max(1) as f64
+    }
+}
+
+impl Page<'_> {
+    fn status(&self) -> Result<Value, String> {
+        self.browser.run("return window.voxcastStatus()", json!([]))
+    }
+
+    /// CSS pixels per UI point, and the canvas's top-left corner in the page.
+    fn scale(&self) -> Result<(f64, f64, f64), String> {
+        let v = self.browser.run(
+            "const r = document.getElementById('voxcast-canvas').getBoundingClientRect(); \
+             return [r.left, r.top, r.width, window.voxcastStatus().canvas[0]]",
+            json!([]),
+        )?;
+        let f = |i: usize| v[i].as_f64().unwrap_or(0.0);
+        Ok((f(2) / f(3).max(1.0), f(0), f(1)))
+    }
+
+    /// A rectangle of the status (UI points) in CSS pixels of the page.
+    fn css(&self, r: &Value) -> Result<[f64; 4], String> {
+        let (k, left, top) = self.scale()?;
+        let f = |i: usize| r[i].as_f64().unwrap_or(0.0);
+        Ok([left + f(0) * k, top + f(1) * k, f(2) * k, f(3) * k])
+    }
+
+    fn scene_css(&self) -> Result<[f64; 4], String> {
+        self.css(&self.status()?["scene"])
+    }
+
+    /// Whether the page shows the control named `name`.
+    fn has(&self, name: &str) -> Result<bool, String> {
+        let status = self.status()?;
+        Ok(status["targets"]
+            .as_array()
+            .is_some_and(|t| t.iter().any(|t| t[0] == name)))
+    }
+
+    /// The rectangle (UI points) of the control the page names `name`.
+    fn target(&self, name: &str) -> Result<Value, String> {
+        let status = self.status()?;
+        status["targets"]
+            .as_array()
+            .and_then(|t| t.iter().find(|t| t[0] == name))
+            .map(|t| t[1].clone())
+            .ok_or_else(|| format!("no control '{name}' on the page: {}", status["targets"]))
+    }
+
+    /// Clicks the control the page names `name`.
+    fn click(&self, name: &str) -> Result<(), String> {
+        let r = self.css(&self.target(name)?)?;
+        self.browser
+            .drag((r[0] + r[2] / 2.0, r[1] + r[3] / 2.0), &[])
+    }
+
+    /// Waits for `frames` more frames.
+    fn settle(&self, frames: u64) -> Result<(), String> {
+        let now = self.status()?["frames"].as_u64().unwrap_or(0);
+        self.browser.wait_for(
+            &format!("return window.voxcastStatus().frames >= {}", now + frames),
+            Duration::from_secs(120),
+        )?;
+        Ok(())
+    }
+
+    fn save_screenshot(&self, name: &str) -> Result<image::RgbImage, String> {
+        let png = self.browser.screenshot()?;
+        std::fs::write(self.out.join(format!("{name}.png")), &png).map_err(|e| e.to_string())?;
+        image::load_from_memory(&png)
+            .map(|i| i.to_rgb8())
+            .map_err(|e| e.to_string())
+    }
+
+    /// The scene's part of a screenshot.
+    fn scene_picture(&self, name: &str) -> Result<Picture, String> {
+        let shot = self.save_screenshot(name)?;
+        let [x, y, w, h] = self.scene_css()?;
+        let crop = image::imageops::crop_imm(
+            &shot,
+            x.round() as u32,
+            y.round() as u32,
+            w.round() as u32,
+            h.round() as u32,
+        )
+        .to_image();
+        crop.save(self.out.join(format!("{name}_scene.png")))
+            .map_err(|e| e.to_string())?;
+        Ok(Picture::new(&crop, [0, 0, 0]))
+    }
+
+    /// Screenshots until the scene shows what `done` asks for (a minute at most).
+    fn wait_for_picture(
+        &self,
+        name: &str,
+        done: impl Fn(&Picture) -> bool,
+    ) -> Result<Picture, String> {
+        let started = Instant::now();
+        loop {
+            let p = self.scene_picture(name)?;
+            if done(&p) {
+                return Ok(p);
+            }
+            if started.elapsed() > Duration::from_secs(60) {
+                return Err(format!(
+                    "the scene never showed '{name}' (tests/out/browser)"
+                ));
+            }
+            std::thread::sleep(Duration::from_millis(500));
+        }
+    }
+
+    /// Drops a file named `name` holding `bytes` on the page, as a student drags one onto it.
+    fn drop_file(&self, name: &str, bytes: &[u8]) -> Result<(), String> {
+        self.browser
+            .run(
+                "const [name, bytes] = arguments; \
+                 const file = new File([new Uint8Array(bytes)], name); \
+                 const data = new DataTransfer(); data.items.add(file); \
+                 const canvas = document.getElementById('voxcast-canvas'); \
+                 for (const type of ['dragenter', 'dragover', 'drop']) { \
+                   canvas.dispatchEvent(new DragEvent(type, \
+                     {dataTransfer: data, bubbles: true, cancelable: true})); }",
+                json!([name, bytes]),
+            )
+            .map(drop)
+    }
+
+    /// The scene keeps at least half the page's width and most of its height.
+    fn check_layout(&self, layout: &str) -> Result<(), String> {
+        let s = self.status()?;
+        let f = |v: &Value, i: usize| v[i].as_f64().unwrap_or(0.0);
+        let (w, h) = (f(&s["canvas"], 0), f(&s["canvas"], 1));
+        let (sw, sh) = (f(&s["scene"], 2), f(&s["scene"], 3));
+        println!(
+            "{layout}: the scene {sw:.0}×{sh:.0} of the page's {w:.0}×{h:.0} points ({:.0} % × {:.0} %)",
+            100.0 * sw / w,
+            100.0 * sh / h
+        );
+        if sw < 0.5 * w || sh < 0.6 * h {
+            return Err(format!(
+                "{layout}: the scene is {sw:.0}×{sh:.0} of {w:.0}×{h:.0}: less than half the \
+                 width or 60 % of the height"
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The silhouette the desktop's `--screenshot` draws of the same view at the scene's size, if
+/// this machine can run it (a Vulkan device).
+fn desktop_silhouette(page: &Picture, out: &Path) -> Result<Option<Picture>, String> {
+    let path = out.join("desktop.png");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        .args(["--volume", "builtin:bunny", "--no-rays"])
+        .args(["--size", &format!("{}x{}", page.width, page.height)])
+        .arg("--screenshot")
+        .arg(&path)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .map_err(|e| e.to_string())?;
+    if !output.status.success() {
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        if support::skipped_for_want_of_a_gpu(&stderr).is_some() {
+            println!("no Vulkan device: the silhouette is not compared with the desktop's");
+            return Ok(None);
+        }
+        return Err(format!("voxcast --screenshot: {stderr}"));
+    }
+    let image = image::open(&path).map_err(|e| e.to_string())?.to_rgb8();
+    Ok(Some(Picture::new(&image, [0, 0, 0])))
+}
