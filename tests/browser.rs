@@ -234,6 +234,27 @@ fn page(graphics: &str) -> Outcome {
         "Render image {window} lies outside the scene {scene}"
     );
 
+    // The page's frame times at 1280×720, orbiting and resting (`--measure-frames`, as the
+    // desktop's `benches/frames.sh` measures them): printed for BENCHMARKS.md, not judged.
+    browser.set_viewport(1280, 720)?;
+    for (what, query) in [
+        ("orbiting", "measure-frames=40&auto-orbit=5"),
+        ("resting", "measure-frames=40"),
+    ] {
+        browser.open(&format!(
+            "http://127.0.0.1:{port}/?gpu={graphics}&no-rays&{query}"
+        ))?;
+        let measured = browser.wait_for(
+            "const s = window.voxcastStatus && window.voxcastStatus(); \
+             return (s && s.measured) || null",
+            Duration::from_secs(300),
+        )?;
+        println!(
+            "{graphics}: {what}: {}",
+            measured.as_str().unwrap_or_default()
+        );
+    }
+
     // Nothing went wrong in the console.
     let errors = browser.run("return window.voxcastErrors", json!([]))?;
     assert_eq!(errors, json!([]), "errors in the page");
@@ -398,24 +419,43 @@ impl Page<'_> {
         Ok(Picture::new(&crop, [0, 0, 0]))
     }
 
-    /// Screenshots until the scene shows what `done` asks for (a minute at most).
+    /// Screenshots until the scene shows what `done` asks for and has settled: drawn at full
+    /// quality (the GPU's whole frame, or the CPU's exact render at the scene's size, the same
+    /// frame before and after the screenshot), as a second before. Two minutes at most.
     fn wait_for_picture(
         &self,
         name: &str,
         done: impl Fn(&Picture) -> bool,
     ) -> Result<Picture, String> {
         let started = Instant::now();
+        let mut last: Option<Picture> = None;
+        let settled = |page: &Self| -> Result<Option<String>, String> {
+            let s = page.status()?;
+            let size = format!(
+                "{:.0}×{:.0} ",
+                s["scene"][2].as_f64().unwrap_or(0.0),
+                s["scene"][3].as_f64().unwrap_or(0.0)
+            );
+            let live = s["live"].as_str().unwrap_or_default().to_string();
+            let exact =
+                s["backend"] != "cpu" || (live.starts_with(&size) && live.contains("exact"));
+            Ok((s["settled"] == json!(true) && exact).then_some(live))
+        };
         loop {
+            let before = settled(self)?;
             let p = self.scene_picture(name)?;
-            if done(&p) {
+            let same = last.as_ref().is_some_and(|l| p.differs_from(l) == 0.0);
+            if before.is_some() && settled(self)? == before && done(&p) && same {
                 return Ok(p);
             }
-            if started.elapsed() > Duration::from_secs(60) {
+            last = Some(p);
+            if started.elapsed() > Duration::from_secs(120) {
                 return Err(format!(
-                    "the scene never showed '{name}' (tests/out/browser)"
+                    "the scene never showed '{name}' (tests/out/browser): {}",
+                    self.status()?
                 ));
             }
-            std::thread::sleep(Duration::from_millis(500));
+            std::thread::sleep(Duration::from_millis(1000));
         }
     }
 

@@ -734,7 +734,7 @@ mod tests {
         let volume = app.world().resource::<VolumeState>().volume.clone();
         let scene =
             Scene::new(&volume, &key.transfer, &key.settings, key.camera.forward()).unwrap();
-        let map = render_cost(
+        let map = voxcast_core::cost::render_cost(
             &scene,
             &key.camera,
             (64, 48),

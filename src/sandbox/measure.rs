@@ -47,6 +47,9 @@ struct Measured {
     /// The same for the CPU's pictures of the lines.
     lines_start: Option<(u64, f64)>,
     stopped: Option<Stopped>,
+    /// The figures were given (a page reports them once and goes on).
+    #[cfg(target_arch = "wasm32")]
+    reported: bool,
 }
 
 /// The preview's settings, the CPU live view (and its lines) and the GPU's progressive pass,
@@ -178,12 +181,27 @@ fn measure_frames(
         ),
         None => String::new(),
     };
-    println!(
+    let text = format!(
         "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} \
              frames{live_text}{lines_text}",
         request.label,
         1000.0 / median,
         sorted.len()
     );
-    exit.write(AppExit::Success);
+    // A page has no standard output and goes on: the figures go to its console and status
+    // (`voxcast_status().measured`), once.
+    #[cfg(target_arch = "wasm32")]
+    {
+        let _ = &mut exit;
+        if !m.reported {
+            m.reported = true;
+            info!("{text}");
+            super::web::publish(|s| s.measured = text);
+        }
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        println!("{text}");
+        exit.write(AppExit::Success);
+    }
 }

@@ -144,6 +144,8 @@ pub struct PageStatus {
     pub load_error: String,
     /// Render image's state: "open", "rendering", "done in … s".
     pub render: String,
+    /// `--measure-frames`' figures, once measured.
+    pub measured: String,
     /// The browser's graphics adapter, as it names itself.
     pub adapter: String,
     /// Who draws the volume: "gpu", "cpu" or "off".

@@ -45,8 +45,7 @@ pub(super) fn compare_window(
     mut window: ResMut<CompareWindow>,
     mut comparison: ResMut<Comparison>,
     views: Query<&View, With<MainCamera>>,
-    render: Res<RenderState>,
-    volume: Res<VolumeState>,
+    (render, volume): (Res<RenderState>, Res<VolumeState>),
     viewport: Option<Res<crate::sandbox::preview::Viewport>>,
     mode: Res<State<crate::sandbox::mode::Mode>>,
 ) -> Result {

@@ -727,8 +727,11 @@ fn settings_panel(
         RayParams,
     ),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
-    (mut virtual_cameras, main_views): (Query<&mut VirtualCamera>, Query<&View, With<MainCamera>>),
-    layout: Res<layout::Layout>,
+    (mut virtual_cameras, main_views, layout): (
+        Query<&mut VirtualCamera>,
+        Query<&View, With<MainCamera>>,
+        Res<layout::Layout>,
+    ),
 ) -> Result {
     let (mut ray_choices, ray_scene, estimator, ray_report, mut range_fit) = rays;
     let ctx = contexts.ctx_mut()?;

@@ -79,7 +79,7 @@ pub(super) fn publish_status(
         s.live = live.as_ref().map(|l| l.status()).unwrap_or_default();
         s.settled = match preview.backend {
             Backend::Cpu => live.as_ref().is_some_and(|l| l.showing_exact()),
-            Backend::Gpu => !progressive.as_ref().is_some_and(|p| p.active()),
+            Backend::Gpu => progressive.as_ref().is_none_or(|p| p.full_quality_shown()),
         };
         s.backend = match (preview.enabled, preview.backend) {
             (false, _) => "off",
