@@ -59,24 +59,50 @@ impl Default for Layout {
 pub struct Shares {
     /// Both side panels at the widths they ask for leave the scene its share.
     pub both_fit: bool,
-    /// The most a side panel may take (both open: each; one open: that one).
-    pub side_max: f32,
+    /// The width the side panels may take together.
+    sides: f32,
+    /// Both side panels are open.
+    both_open: bool,
     pub breakdown_max: f32,
     /// A level's text starts folded.
     pub fold_level_text: bool,
 }
 
 impl Shares {
+    /// The shares of a window of `size` points with `open` side panels.
     pub fn of(size: Vec2, open: usize) -> Self {
-        let for_panels = (size.x * (1.0 - SCENE_WIDTH) - STRIP).max(0.0);
-        let both_fit = SETTINGS_WIDTH + RAYS_WIDTH <= for_panels;
-        let side_max = (for_panels / open.max(1) as f32).max(SIDE_MIN);
+        let sides = (size.x * (1.0 - SCENE_WIDTH) - STRIP).max(0.0);
         Self {
-            both_fit,
-            side_max,
+            both_fit: SETTINGS_WIDTH + RAYS_WIDTH <= sides,
+            sides,
+            both_open: open >= 2,
             breakdown_max: size.y * BREAKDOWN_HEIGHT,
             fold_level_text: size.y < LOW,
         }
+    }
+
+    /// The most `side` may take: all the sides' width when it is open alone, else its part
+    /// of it in proportion to the widths the two ask for (never below [`SIDE_MIN`]).
+    pub fn side_max(&self, side: Side) -> f32 {
+        let want = match side {
+            Side::Settings => SETTINGS_WIDTH,
+            Side::Rays => RAYS_WIDTH,
+        };
+        let share = if self.both_open {
+            self.sides * want / (SETTINGS_WIDTH + RAYS_WIDTH)
+        } else {
+            self.sides
+        };
+        share.max(SIDE_MIN)
+    }
+
+    /// The width `side` opens at.
+    pub fn side_width(&self, side: Side) -> f32 {
+        let want = match side {
+            Side::Settings => SETTINGS_WIDTH,
+            Side::Rays => RAYS_WIDTH,
+        };
+        want.min(self.side_max(side))
     }
 }
 
@@ -227,12 +253,14 @@ mod tests {
                         ..default()
                     };
                     let open = usize::from(settings) + usize::from(rays);
+                    layout.fit(&Shares::of(size, open));
+                    let open = usize::from(layout.settings) + usize::from(layout.rays);
                     let shares = Shares::of(size, open);
-                    layout.fit(&shares);
-                    let sides = [(layout.settings, SETTINGS_WIDTH), (layout.rays, RAYS_WIDTH)]
+                    // The panels as wide as the student may drag them.
+                    let sides = [(layout.settings, Side::Settings), (layout.rays, Side::Rays)]
                         .iter()
                         .filter(|(o, _)| *o)
-                        .map(|(_, want)| want.min(shares.side_max))
+                        .map(|(_, side)| shares.side_max(*side))
                         .sum::<f32>();
                     let scene = w as f32 - STRIP - sides;
                     assert!(scene >= 0.5 * w as f32, "{w}×{h} {layout:?}: scene {scene}");

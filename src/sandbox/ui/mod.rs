@@ -753,9 +753,9 @@ fn settings_panel(
     dock.show(&ctx, "settings", |dock_ui| {
         egui::Panel::left("settings")
             .resizable(true)
-            .default_size(layout::SETTINGS_WIDTH.min(layout.shares.side_max))
-            .max_size(layout.shares.side_max)
-            .min_size(layout::SIDE_MIN.min(layout.shares.side_max))
+            .default_size(layout.shares.side_width(layout::Side::Settings))
+            .max_size(layout.shares.side_max(layout::Side::Settings))
+            .min_size(layout::SIDE_MIN)
             .show(dock_ui, |ui| {
                 // The frame time and Render image stay at the top; the sections scroll.
                 let fps = diagnostics

@@ -34,8 +34,8 @@ pub(super) fn rays_panel(
     dock.show(&ctx, "rays", |dock_ui| {
         egui::Panel::right("rays")
             .resizable(true)
-            .default_size(super::layout::RAYS_WIDTH.min(layout.shares.side_max))
-            .max_size(layout.shares.side_max)
+            .default_size(layout.shares.side_width(super::layout::Side::Rays))
+            .max_size(layout.shares.side_max(super::layout::Side::Rays))
             .show(dock_ui, |ui| {
                 ui.heading("Rays");
                 egui::ScrollArea::vertical().show(ui, |ui| {
