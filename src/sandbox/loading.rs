@@ -86,9 +86,10 @@ impl Loading {
 
     fn begin(&mut self, source: String, keep_choices: bool) {
         let spec = source.clone();
-        self.run(source, keep_choices, move |progress, cancel| {
-            let progress = |done, total| progress.set(done, total);
-            match super::raydata::compute_source(&spec, &progress, cancel) {
+        self.run_async(source, keep_choices, move |progress, cancel| async move {
+            let report = |done, total| progress.set(done, total);
+            // A density is computed in slices (a page's frames go on between them).
+            match super::raydata::compute_source_in_slices(&spec, &report, &cancel).await {
                 Some(outcome) => outcome,
                 None => load_source(&spec)
                     .map(|loaded| Outcome { loaded, rays: None })
@@ -105,11 +106,22 @@ impl Loading {
         keep_choices: bool,
         work: impl FnOnce(&Progress, &AtomicBool) -> Result<Outcome, String> + Send + 'static,
     ) {
+        self.run_async(label, keep_choices, move |p, c| async move { work(&p, &c) });
+    }
+
+    /// [`Loading::run`] for work that yields to the page between slices (`super::tasks`).
+    pub fn run_async<F>(
+        &mut self,
+        label: String,
+        keep_choices: bool,
+        work: impl FnOnce(Arc<Progress>, Arc<AtomicBool>) -> F,
+    ) where
+        F: std::future::Future<Output = Result<Outcome, String>> + Send + 'static,
+    {
         self.cancel();
         let progress = Arc::new(Progress::default());
         let cancel = Arc::new(AtomicBool::new(false));
-        let (p, c) = (progress.clone(), cancel.clone());
-        let task = AsyncComputeTaskPool::get().spawn(async move { work(&p, &c) });
+        let task = AsyncComputeTaskPool::get().spawn(work(progress.clone(), cancel.clone()));
         self.job = Some(Job {
             source: label,
             keep_choices,

@@ -13,8 +13,8 @@ use std::sync::Arc;
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::io::Loaded;
 use voxcast_core::level::RayDensityFacts;
-use voxcast_core::rays::as_volume::{DensitySpec, RayDensity, compute_set, is_density};
-use voxcast_core::rays::density::{Density, DensityParams};
+use voxcast_core::rays::as_volume::{DensitySpec, RayDensity, finish_set, grid_for, is_density};
+use voxcast_core::rays::density::{Density, DensityParams, DensitySlices, density_in};
 use voxcast_core::rays::field::ArrowScale;
 use voxcast_core::rays::layered::SceneShading;
 use voxcast_core::rays::mesh::TriangleScene;
@@ -87,6 +87,36 @@ pub fn compute_source(
         })()
         .map_err(|e: String| format!("{source}: {e}")),
     )
+}
+
+/// [`compute_source`] in slices, yielding to the page between them (`super::tasks`).
+pub async fn compute_source_in_slices(
+    source: &str,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Option<Result<Outcome, String>> {
+    let parsed = voxcast_core::rays::as_volume::parse(source)?;
+    let computed = async {
+        let spec = parsed?;
+        let mut slices = voxcast_core::rays::as_volume::SpecSlices::default();
+        let (d, _) = super::tasks::in_slices(|deadline| {
+            voxcast_core::rays::as_volume::compute_spec_in(
+                &spec,
+                &mut slices,
+                progress,
+                cancel,
+                deadline,
+            )
+        })
+        .await?;
+        let facts = RayDensityFacts {
+            source: spec.source.clone(),
+            trace: spec.trace,
+            side: 0,
+        };
+        Ok(Computed::outcome(d, None, facts))
+    };
+    Some(computed.await.map_err(|e: String| format!("{source}: {e}")))
 }
 
 /// A density on show: what it came from, and its volume (the one [`VolumeState`] holds).
@@ -321,7 +351,7 @@ impl RayChoices {
             params.cell = through.spacing().min_element();
         }
         let label = format!("the virtual camera's {w} × {h} rays");
-        loading.run(label.clone(), false, move |progress, cancel| {
+        loading.run_async(label.clone(), false, move |progress, cancel| async move {
             let scene = Scene::plain(
                 &through,
                 &settings.transfer,
@@ -335,14 +365,16 @@ impl RayChoices {
                 scene: TriangleScene::default(),
                 traces: vec![set.clone()],
             };
-            let d = compute_set(
-                data,
-                set,
-                &label,
-                params,
-                &|done, total| progress.set(done, total),
-                cancel,
-            )?;
+            // The counts in slices (a page's frames go on between them).
+            let params = grid_for(&data, &set, params)?;
+            let mut slices = DensitySlices::within(voxcast_core::rays::density::MAX_BYTES, &params);
+            let report = |done, total| progress.set(done, total);
+            let (density, _) = super::tasks::in_slices(|deadline| {
+                density_in(&set, &params, &mut slices, &report, &cancel, deadline)
+            })
+            .await
+            .map_err(|_| "cancelled".to_string())?;
+            let d = finish_set(data, set, &label, params, density)?;
             let facts = RayDensityFacts {
                 source: "camera".into(),
                 trace: None,

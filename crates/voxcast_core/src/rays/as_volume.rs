@@ -11,10 +11,12 @@
 //! voxel `(0, 0, 0)` is the first cell's centre, so its coordinates are the world's shifted by
 //! that point (the loader's note says where it is).
 
-use super::density::{DensityParams, MAX_BYTES, compute, estimate_within};
+use super::density::{Density, DensityParams, DensitySlices, MAX_BYTES, density_in};
+use super::effects::TraceSlices;
 use super::grid::DenseDensity;
 use super::set::{Filter, RaySet};
 use super::source::RayData;
+use crate::slices::{Deadline, Step};
 use crate::volume::Volume;
 use glam::Vec3;
 use std::sync::atomic::AtomicBool;
@@ -157,13 +159,53 @@ pub fn compute_spec(
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<RayDensity, String> {
-    let data = super::source::load(&spec.source).map_err(|e| e.to_string())?;
-    let set = select(&data, spec)?;
+    let mut slices = SpecSlices::default();
+    compute_spec_in(spec, &mut slices, progress, cancel, Deadline::NONE).map(Step::whole)
+}
+
+/// A density's work from its spec, kept between slices ([`crate::slices`]): the rays traced
+/// (a builtin's), then the grid's counts.
+#[derive(Default)]
+pub struct SpecSlices {
+    trace: TraceSlices,
+    rays: Option<(RayData, RaySet, DensityParams, DensitySlices)>,
+}
+
+/// [`compute_spec`] in slices up to `deadline`: the builtin's tracing and the density a block
+/// at a time (a file's rays are read whole, and the volume is made in one piece at the end).
+pub fn compute_spec_in(
+    spec: &DensitySpec,
+    slices: &mut SpecSlices,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+    deadline: Deadline,
+) -> Result<Step<RayDensity>, String> {
+    if slices.rays.is_none() {
+        let step = super::source::load_in(&spec.source, &mut slices.trace, deadline)
+            .map_err(|e| e.to_string())?;
+        let Step::Done(data) = step else {
+            return Ok(Step::Paused);
+        };
+        let set = select(&data, spec)?;
+        let params = grid_for(&data, &set, spec.params)?;
+        let density = DensitySlices::within(MAX_BYTES, &params);
+        slices.rays = Some((data, set, params, density));
+        if deadline.passed() {
+            return Ok(Step::Paused);
+        }
+    }
+    let (_, set, params, density) = slices.rays.as_mut().expect("traced");
+    let step = density_in(set, params, density, progress, cancel, deadline)
+        .map_err(|_| "cancelled".to_string())?;
+    let Step::Done(density) = step else {
+        return Ok(Step::Paused);
+    };
+    let (data, set, params, _) = slices.rays.take().expect("traced");
     let what = match spec.trace {
         Some(id) => format!("{} (trace {id})", spec.source),
         None => spec.source.clone(),
     };
-    compute_set(data, set, &what, spec.params, progress, cancel)
+    finish_set(data, set, &what, params, density).map(Step::Done)
 }
 
 /// The density of `set` (rays of `data`, described as `what`) through the grid of `params`
@@ -172,23 +214,47 @@ pub fn compute_set(
     data: RayData,
     set: RaySet,
     what: &str,
-    mut params: DensityParams,
+    params: DensityParams,
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<RayDensity, String> {
+    let params = grid_for(&data, &set, params)?;
+    let mut slices = DensitySlices::within(MAX_BYTES, &params);
+    let density = density_in(&set, &params, &mut slices, progress, cancel, Deadline::NONE)
+        .map_err(|_| "cancelled".to_string())?
+        .whole();
+    finish_set(data, set, what, params, density)
+}
+
+/// `params` with the cell chosen from the scene where it is 0, checked.
+pub fn grid_for(
+    data: &RayData,
+    set: &RaySet,
+    mut params: DensityParams,
+) -> Result<DensityParams, String> {
     if params.cell == 0.0 {
-        params.cell = default_cell(&data, &set);
+        params.cell = default_cell(data, set);
     }
     params.check()?;
-    let fits = estimate_within(&set, &params, MAX_BYTES).is_some_and(|e| e.bytes <= MAX_BYTES);
-    if !fits {
-        return Err(format!(
+    Ok(params)
+}
+
+/// The density of `set` (what [`density_in`] computed under `params`, `None`: more than
+/// [`MAX_BYTES`]) as a volume, with what was done in words.
+pub fn finish_set(
+    data: RayData,
+    set: RaySet,
+    what: &str,
+    params: DensityParams,
+    density: Option<Density>,
+) -> Result<RayDensity, String> {
+    let density = density.ok_or_else(|| {
+        format!(
             "these rays through cells of {} would take more than {} MiB: choose a larger cell",
             crate::numbers::sig(params.cell),
             MAX_BYTES >> 20
-        ));
-    }
-    let density = compute(&set, &params, progress, cancel).map_err(|_| "cancelled".to_string())?;
+        )
+    })?;
     let dense = DenseDensity::new(&density)?
         .ok_or_else(|| "no ray passed the filter: the density is empty".to_string())?;
     let volume = dense
@@ -251,6 +317,25 @@ pub fn default_cell(data: &RayData, set: &RaySet) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rays::density::compute;
+
+    /// From its spec in slices (the tracing and the counts a block at a time), the density
+    /// is the one computed whole.
+    #[test]
+    fn a_spec_in_slices_gives_the_same_density() {
+        let spec = parse("density:builtin:cornell@trace=2").unwrap().unwrap();
+        let never = AtomicBool::new(false);
+        let whole = compute_spec(&spec, &|_, _| {}, &never).unwrap();
+        let mut slices = SpecSlices::default();
+        let (sliced, calls) = crate::slices::until_done(crate::slices::Duration::ZERO, |d| {
+            compute_spec_in(&spec, &mut slices, &|_, _| {}, &never, d)
+        })
+        .unwrap();
+        assert!(calls > 10, "{calls} slices");
+        assert!(sliced.density == whole.density);
+        assert_eq!(sliced.volume.data(), whole.volume.data());
+        assert_eq!(sliced.words, whole.words);
+    }
 
     #[test]
     fn specs_parse_and_bad_ones_say_why() {

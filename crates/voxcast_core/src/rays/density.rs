@@ -33,8 +33,12 @@
 //! steps, bit for bit); a walk stops once it has passed its slab, and a ray that cannot reach a
 //! slab is not walked for it.
 
+mod sliced;
+pub use sliced::{DensitySlices, density_in};
+
 use super::set::{Filter, RayRecord, RaySet};
 use crate::render::Cancelled;
+use crate::slices::Deadline;
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 use std::collections::{BTreeMap, HashMap};
@@ -423,39 +427,53 @@ fn chunks_touched_within(
     p: &DensityParams,
     limit: usize,
 ) -> Option<Vec<(IVec3Key, u32)>> {
-    let edge = p.cell * p.chunk as f32;
-    let max = p.max_cells_per_ray / p.chunk + 2;
     let rays: Vec<&RayRecord> = set.selected(p.filter, p.tolerance, p.stride).collect();
     let over = AtomicBool::new(false);
     let maps: Vec<KeyMap<u32>> = rays
         .par_chunks(RAYS_PER_BLOCK)
-        .map(|block| {
-            let mut chunks = KeyMap::default();
-            for r in block {
-                if over.load(Ordering::Relaxed) {
-                    break;
-                }
-                if let Ok(t) = walkable(r, p) {
-                    walk_cells(r.origin, r.direction, t, edge, max, |c| {
-                        *chunks.entry(c.to_array()).or_insert(0u32) += 1;
-                    });
-                }
-                if chunks.len() > limit {
-                    over.store(true, Ordering::Relaxed);
-                }
-            }
-            chunks
-        })
+        .map(|block| touched_by(block, p, limit, &over))
         .collect();
     if over.load(Ordering::Relaxed) {
         return None;
     }
+    Some(merge_touched(maps))
+}
+
+/// The chunks one block of rays passes through, with how many of its rays cross each; `over`
+/// is set (and the walk stops) once they are more than `limit`.
+fn touched_by(
+    block: &[&RayRecord],
+    p: &DensityParams,
+    limit: usize,
+    over: &AtomicBool,
+) -> KeyMap<u32> {
+    let edge = p.cell * p.chunk as f32;
+    let max = p.max_cells_per_ray / p.chunk + 2;
+    let mut chunks = KeyMap::default();
+    for r in block {
+        if over.load(Ordering::Relaxed) {
+            break;
+        }
+        if let Ok(t) = walkable(r, p) {
+            walk_cells(r.origin, r.direction, t, edge, max, |c| {
+                *chunks.entry(c.to_array()).or_insert(0u32) += 1;
+            });
+        }
+        if chunks.len() > limit {
+            over.store(true, Ordering::Relaxed);
+        }
+    }
+    chunks
+}
+
+/// The blocks' chunks as one sorted list, their crossings summed.
+fn merge_touched(maps: Vec<KeyMap<u32>>) -> Vec<(IVec3Key, u32)> {
     let mut all: BTreeMap<IVec3Key, u32> = BTreeMap::new();
     for (k, n) in maps.into_iter().flatten() {
         let e = all.entry(k).or_insert(0);
         *e = e.saturating_add(n);
     }
-    Some(all.into_iter().collect())
+    all.into_iter().collect()
 }
 
 /// Computes the density of `set` (see the module's text); `progress(done, total)` in rays, and
@@ -568,99 +586,147 @@ fn count_slab(
     first: bool,
     tick: &(dyn Fn(usize) -> bool + Sync),
 ) -> Result<SlabCount, Cancelled> {
-    let n = p.chunk as i32;
-    let per_chunk = (p.chunk as usize).pow(3);
-    let keys = &keys[slab.keys.clone()];
-    let index: KeyMap<usize> = keys.iter().enumerate().map(|(i, k)| (*k, i)).collect();
-    let mut chunks: Vec<Chunk> = keys.iter().map(|_| Chunk::new(per_chunk)).collect();
-    let mut stray = Vec::new();
-    let mut report = Report::default();
-    // The chunk of the last visit: its lowest cell and where its cells start.
-    let mut cached: Option<(IVec3, u32)> = None;
-    let mut pending = Vec::with_capacity(PENDING_VISITS);
-    for block in rays.chunks(RAYS_PER_BLOCK) {
-        if !tick(block.len()) {
-            return Err(Cancelled);
-        }
-        for ray in block {
-            let t = match walkable(ray, p) {
-                Ok(t) => t,
-                Err(skip) => {
-                    if first {
-                        match skip {
-                            Skip::Malformed => report.malformed += 1,
-                            Skip::OutOfRange => report.out_of_range += 1,
-                        }
-                    }
-                    continue;
-                }
-            };
-            report.rays += usize::from(first);
-            if !slab.may_reach(ray, t, p.cell) {
-                continue;
-            }
-            let u = ray.direction.normalize() * DIRECTION_SCALE;
-            let unit = [u.x as i32, u.y as i32, u.z as i32];
-            let dx = ray.direction.x;
-            let (mut visits, mut last_mine) = (0u64, false);
-            let walk = walk_cells_while(
-                ray.origin,
-                ray.direction,
-                t,
-                p.cell,
-                p.max_cells_per_ray,
-                |c| {
-                    let x = i64::from(c.x);
-                    last_mine = slab.lo <= x && x < slab.hi;
-                    if !last_mine {
-                        // Past the slab: the walk only moves further away.
-                        return !((dx > 0.0 && x >= slab.hi) || (dx < 0.0 && x < slab.lo));
-                    }
-                    visits += 1;
-                    // Within the last visit's chunk (the usual case): no division, no lookup.
-                    // (Cells lie within ±2³¹ of each other, so a wrapped difference is in
-                    // 0..n only when the true one is.)
-                    let inside = |(lo, i): (IVec3, u32)| {
-                        let l = c.wrapping_sub(lo);
-                        (l.cmpge(IVec3::ZERO) & l.cmplt(IVec3::splat(n)))
-                            .all()
-                            .then(|| (i, (l.x + n * (l.y + n * l.z)) as u32))
-                    };
-                    let at = match cached.and_then(inside) {
-                        Some(at) => at,
-                        None => {
-                            let (chunk, local) = locate(c, n);
-                            match index.get(&chunk.to_array()) {
-                                Some(&i) => {
-                                    cached = Some((chunk * n, i as u32));
-                                    (i as u32, local as u32)
-                                }
-                                None => {
-                                    stray.push((c, unit));
-                                    return true;
-                                }
-                            }
-                        }
-                    };
-                    pending.push(at);
-                    if pending.len() == PENDING_VISITS {
-                        add_visits(&mut chunks, &mut pending, unit);
-                    }
-                    true
-                },
-            );
-            add_visits(&mut chunks, &mut pending, unit);
-            report.visits += visits;
-            // The cap is counted by the slab holding the last cell the cap allowed.
-            report.capped += usize::from(walk.capped && last_mine);
+    let mut walk = SlabWalk::new(p, slab, keys);
+    walk.walk(rays, p, slab, first, tick, Deadline::NONE)?;
+    Ok(walk.finish(&keys[slab.keys.clone()]))
+}
+
+/// One slab's walk so far: its cells, the visits to chunks the chunk pass did not find, its
+/// part of the report, and the next block of rays (a walk done in slices resumes there).
+#[derive(Clone, Debug)]
+struct SlabWalk {
+    index: KeyMap<usize>,
+    chunks: Vec<Chunk>,
+    stray: Vec<(IVec3, [i32; 3])>,
+    report: Report,
+    /// The chunk of the last visit: its lowest cell and where its cells start.
+    cached: Option<(IVec3, u32)>,
+    next_block: usize,
+}
+
+impl SlabWalk {
+    fn new(p: &DensityParams, slab: &Slab, keys: &[IVec3Key]) -> Self {
+        let per_chunk = (p.chunk as usize).pow(3);
+        let keys = &keys[slab.keys.clone()];
+        Self {
+            index: keys.iter().enumerate().map(|(i, k)| (*k, i)).collect(),
+            chunks: keys.iter().map(|_| Chunk::new(per_chunk)).collect(),
+            stray: Vec::new(),
+            report: Report::default(),
+            cached: None,
+            next_block: 0,
         }
     }
-    let chunks = keys.iter().copied().zip(chunks).collect();
-    Ok(SlabCount {
-        chunks,
-        stray,
-        report,
-    })
+
+    /// Walks the blocks of `rays` from the next on, until every block is walked (true) or
+    /// `deadline` passes (false; at least one block is walked a call).
+    fn walk(
+        &mut self,
+        rays: &[&RayRecord],
+        p: &DensityParams,
+        slab: &Slab,
+        first: bool,
+        tick: &(dyn Fn(usize) -> bool + Sync),
+        deadline: Deadline,
+    ) -> Result<bool, Cancelled> {
+        let n = p.chunk as i32;
+        let mut pending = Vec::with_capacity(PENDING_VISITS);
+        let mut walked = 0;
+        while self.next_block * RAYS_PER_BLOCK < rays.len() {
+            if walked > 0 && deadline.passed() {
+                return Ok(false);
+            }
+            walked += 1;
+            let at = self.next_block * RAYS_PER_BLOCK;
+            let block = &rays[at..(at + RAYS_PER_BLOCK).min(rays.len())];
+            self.next_block += 1;
+            if !tick(block.len()) {
+                return Err(Cancelled);
+            }
+            for ray in block {
+                let t = match walkable(ray, p) {
+                    Ok(t) => t,
+                    Err(skip) => {
+                        if first {
+                            match skip {
+                                Skip::Malformed => self.report.malformed += 1,
+                                Skip::OutOfRange => self.report.out_of_range += 1,
+                            }
+                        }
+                        continue;
+                    }
+                };
+                self.report.rays += usize::from(first);
+                if !slab.may_reach(ray, t, p.cell) {
+                    continue;
+                }
+                let u = ray.direction.normalize() * DIRECTION_SCALE;
+                let unit = [u.x as i32, u.y as i32, u.z as i32];
+                let dx = ray.direction.x;
+                let (mut visits, mut last_mine) = (0u64, false);
+                let walk = walk_cells_while(
+                    ray.origin,
+                    ray.direction,
+                    t,
+                    p.cell,
+                    p.max_cells_per_ray,
+                    |c| {
+                        let x = i64::from(c.x);
+                        last_mine = slab.lo <= x && x < slab.hi;
+                        if !last_mine {
+                            // Past the slab: the walk only moves further away.
+                            return !((dx > 0.0 && x >= slab.hi) || (dx < 0.0 && x < slab.lo));
+                        }
+                        visits += 1;
+                        // Within the last visit's chunk (the usual case): no division, no lookup.
+                        // (Cells lie within ±2³¹ of each other, so a wrapped difference is in
+                        // 0..n only when the true one is.)
+                        let inside = |(lo, i): (IVec3, u32)| {
+                            let l = c.wrapping_sub(lo);
+                            (l.cmpge(IVec3::ZERO) & l.cmplt(IVec3::splat(n)))
+                                .all()
+                                .then(|| (i, (l.x + n * (l.y + n * l.z)) as u32))
+                        };
+                        let at = match self.cached.and_then(inside) {
+                            Some(at) => at,
+                            None => {
+                                let (chunk, local) = locate(c, n);
+                                match self.index.get(&chunk.to_array()) {
+                                    Some(&i) => {
+                                        self.cached = Some((chunk * n, i as u32));
+                                        (i as u32, local as u32)
+                                    }
+                                    None => {
+                                        self.stray.push((c, unit));
+                                        return true;
+                                    }
+                                }
+                            }
+                        };
+                        pending.push(at);
+                        if pending.len() == PENDING_VISITS {
+                            add_visits(&mut self.chunks, &mut pending, unit);
+                        }
+                        true
+                    },
+                );
+                add_visits(&mut self.chunks, &mut pending, unit);
+                self.report.visits += visits;
+                // The cap is counted by the slab holding the last cell the cap allowed.
+                self.report.capped += usize::from(walk.capped && last_mine);
+            }
+        }
+        Ok(true)
+    }
+
+    /// The slab's count, its chunks keyed by `keys` (the slab's own).
+    fn finish(self, keys: &[IVec3Key]) -> SlabCount {
+        SlabCount {
+            chunks: keys.iter().copied().zip(self.chunks).collect(),
+            stray: self.stray,
+            report: self.report,
+        }
+    }
 }
 
 /// Adds a ray's `pending` visits (chunk, cell in it) to the chunks and empties the list: a loop
@@ -683,7 +749,6 @@ fn compute_in(
     cancel: &AtomicBool,
 ) -> Result<Density, Cancelled> {
     let n = p.chunk as i32;
-    let per_chunk = (p.chunk as usize).pow(3);
     let rays: Vec<&RayRecord> = set.selected(p.filter, p.tolerance, p.stride).collect();
     let total = rays.len();
     let slabs = slabs(&touched, n, rayon::current_num_threads());
@@ -700,11 +765,18 @@ fn compute_in(
         .enumerate()
         .map(|(i, slab)| count_slab(&rays, p, slab, &keys, i == 0, &tick))
         .collect();
+    let counted = counted.into_iter().collect::<Result<Vec<_>, _>>()?;
+    Ok(assemble(p, counted))
+}
+
+/// The density from its slabs' counts: their chunks, and the stray visits added one by one.
+fn assemble(p: &DensityParams, counted: Vec<SlabCount>) -> Density {
+    let n = p.chunk as i32;
+    let per_chunk = (p.chunk as usize).pow(3);
     let mut chunks = BTreeMap::new();
     let mut report = Report::default();
     let mut stray_visits = Vec::new();
     for c in counted {
-        let c = c?;
         chunks.extend(c.chunks);
         stray_visits.extend(c.stray);
         report.add(&c.report);
@@ -716,11 +788,11 @@ fn compute_in(
             .or_insert_with(|| Chunk::new(per_chunk));
         ch.cells[i].add(unit);
     }
-    Ok(Density {
+    Density {
         params: *p,
         chunks,
         report,
-    })
+    }
 }
 
 #[cfg(test)]
@@ -1005,6 +1077,50 @@ mod tests {
         let half: Vec<(IVec3Key, u32)> = chunks_touched(&set, &p).into_iter().step_by(2).collect();
         let some = compute_in(&set, &p, half, &|_, _| {}, &cancel).unwrap();
         assert!(all == some, "half found beforehand");
+    }
+
+    /// In slices, a block of rays a call, the density is the one computed whole on every
+    /// core, and a limit too small for its chunks refuses it as the whole does.
+    #[test]
+    fn a_density_in_slices_is_the_density() {
+        use crate::slices::{Duration, until_done};
+        let set = random_set(20_000, 5);
+        let p = DensityParams {
+            cell: 0.5,
+            chunk: 4,
+            ..Default::default()
+        };
+        let cancel = AtomicBool::new(false);
+        let whole = compute(&set, &p, &|_, _| {}, &cancel).unwrap();
+        let mut slices = DensitySlices::within(MAX_BYTES, &p);
+        let (sliced, calls) = until_done(Duration::ZERO, |d| {
+            density_in(&set, &p, &mut slices, &|_, _| {}, &cancel, d)
+        })
+        .unwrap();
+        assert!(sliced.as_ref() == Some(&whole), "the same density");
+        let blocks = 20_000usize.div_ceil(RAYS_PER_BLOCK);
+        // A block of the chunk pass a call, then a block of the count (the last call of the
+        // pass walks the first block of the count too).
+        assert_eq!(calls, 2 * blocks - 1, "{blocks} blocks");
+        let mut tight = DensitySlices::within(p.chunk_bytes(), &p);
+        let (refused, _) = until_done(Duration::ZERO, |d| {
+            density_in(&set, &p, &mut tight, &|_, _| {}, &cancel, d)
+        })
+        .unwrap();
+        assert!(refused.is_none(), "more chunks than allowed");
+        let stop = AtomicBool::new(true);
+        let mut slices = DensitySlices::within(MAX_BYTES, &p);
+        assert!(
+            density_in(
+                &set,
+                &p,
+                &mut slices,
+                &|_, _| {},
+                &stop,
+                crate::slices::Deadline::after(Duration::ZERO)
+            )
+            .is_err()
+        );
     }
 
     #[test]

@@ -14,6 +14,7 @@ use super::mesh::{Hit, TriangleScene};
 use super::set::{RayRecord, RaySet};
 use crate::camera::{Camera, Projection};
 use crate::hash::pcg_hash;
+use crate::slices::{Deadline, Step};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -92,7 +93,7 @@ struct Leaving {
 }
 
 /// One primary ray's records: the primary ray, then its secondaries by effect.
-#[derive(Default)]
+#[derive(Clone, Debug, Default)]
 struct PixelRays {
     sets: [Vec<RayRecord>; 4],
 }
@@ -138,6 +139,33 @@ pub fn camera(
 
 /// Traces the four sets (in [`Effect::ALL`]'s order) through `scene` from `camera`.
 pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) -> Vec<RaySet> {
+    trace_effects_in(
+        scene,
+        camera,
+        p,
+        &mut TraceSlices::default(),
+        Deadline::NONE,
+    )
+    .whole()
+}
+
+/// The pixels traced so far by [`trace_effects_in`] (work in slices, [`crate::slices`]).
+#[derive(Clone, Debug, Default)]
+pub struct TraceSlices {
+    pixels: Vec<PixelRays>,
+}
+
+/// Pixels traced between two looks at the deadline.
+const PIXELS_PER_LOOK: u32 = 512;
+
+/// [`trace_effects`] in slices: the pixels in order, a block at a time, until `deadline`.
+pub fn trace_effects_in(
+    scene: &TriangleScene,
+    camera: &Camera,
+    p: &TraceParams,
+    slices: &mut TraceSlices,
+    deadline: Deadline,
+) -> Step<Vec<RaySet>> {
     let (lo, hi) = scene.bounds().map_or((camera.eye, camera.eye), |(lo, hi)| {
         (lo.min(camera.eye), hi.max(camera.eye))
     });
@@ -147,39 +175,53 @@ pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) ->
     let offset = SURFACE_OFFSET * size;
     let to_light = -p.light.normalize_or_zero();
     let rays = camera.rays(p.width.max(1), p.height.max(1));
-    let pixels: Vec<PixelRays> = (0..p.width * p.height)
-        .into_par_iter()
-        .map(|i| {
-            let (px, py) = (i % p.width, i / p.width);
-            let ray = rays.ray(px as f32 + 0.5, py as f32 + 0.5);
-            let mut out = PixelRays::default();
-            let (primary, hit) = traced(scene, ray.origin, ray.dir, far(ray.origin, ray.dir));
-            out.sets[0].push(primary);
-            let Some(hit) = hit else { return out };
-            let at = ray.origin + ray.dir * hit.t;
-            let leave = Leaving {
-                origin: at + hit.normal * offset,
-                normal: hit.normal,
-            };
-            // A surface facing away from the light is dark without a ray.
-            if to_light != Vec3::ZERO && leave.normal.dot(to_light) > 0.0 {
-                let t_max = far(leave.origin, to_light);
-                out.sets[1].push(traced(scene, leave.origin, to_light, t_max).0);
-            }
-            let mirror = ray.dir - 2.0 * ray.dir.dot(leave.normal) * leave.normal;
-            let mirror = mirror.normalize();
-            let t_max = far(leave.origin, mirror);
-            out.sets[2].push(traced(scene, leave.origin, mirror, t_max).0);
-            for k in 0..p.ao_rays {
-                let u1 = uniform([p.seed, i, k, 1]);
-                let u2 = uniform([p.seed, i, k, 2]);
-                let d = cosine_direction(leave.normal, u1, u2);
-                let t_max = p.ao_radius.min(far(leave.origin, d));
-                out.sets[3].push(traced(scene, leave.origin, d, t_max).0);
-            }
-            out
-        })
-        .collect();
+    let total = p.width * p.height;
+    let trace_pixel = |i: u32| {
+        let (px, py) = (i % p.width, i / p.width);
+        let ray = rays.ray(px as f32 + 0.5, py as f32 + 0.5);
+        let mut out = PixelRays::default();
+        let (primary, hit) = traced(scene, ray.origin, ray.dir, far(ray.origin, ray.dir));
+        out.sets[0].push(primary);
+        let Some(hit) = hit else { return out };
+        let at = ray.origin + ray.dir * hit.t;
+        let leave = Leaving {
+            origin: at + hit.normal * offset,
+            normal: hit.normal,
+        };
+        // A surface facing away from the light is dark without a ray.
+        if to_light != Vec3::ZERO && leave.normal.dot(to_light) > 0.0 {
+            let t_max = far(leave.origin, to_light);
+            out.sets[1].push(traced(scene, leave.origin, to_light, t_max).0);
+        }
+        let mirror = ray.dir - 2.0 * ray.dir.dot(leave.normal) * leave.normal;
+        let mirror = mirror.normalize();
+        let t_max = far(leave.origin, mirror);
+        out.sets[2].push(traced(scene, leave.origin, mirror, t_max).0);
+        for k in 0..p.ao_rays {
+            let u1 = uniform([p.seed, i, k, 1]);
+            let u2 = uniform([p.seed, i, k, 2]);
+            let d = cosine_direction(leave.normal, u1, u2);
+            let t_max = p.ao_radius.min(far(leave.origin, d));
+            out.sets[3].push(traced(scene, leave.origin, d, t_max).0);
+        }
+        out
+    };
+    let mut first = true;
+    while (slices.pixels.len() as u32) < total {
+        if !first && deadline.passed() {
+            return Step::Paused;
+        }
+        first = false;
+        let start = slices.pixels.len() as u32;
+        // Without a deadline, every pixel at once (on every core).
+        let end = if deadline == Deadline::NONE {
+            total
+        } else {
+            (start + PIXELS_PER_LOOK).min(total)
+        };
+        let block: Vec<PixelRays> = (start..end).into_par_iter().map(trace_pixel).collect();
+        slices.pixels.extend(block);
+    }
     let mut sets: Vec<RaySet> = Effect::ALL
         .iter()
         .map(|e| RaySet {
@@ -187,7 +229,7 @@ pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) ->
             rays: Vec::new(),
         })
         .collect();
-    for pixel in pixels {
+    for pixel in std::mem::take(&mut slices.pixels) {
         for (set, rays) in sets.iter_mut().zip(pixel.sets) {
             set.rays.extend(rays);
         }
@@ -197,7 +239,7 @@ pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) ->
             r.id = id as u32;
         }
     }
-    sets
+    Step::Done(sets)
 }
 
 #[cfg(test)]
@@ -224,6 +266,26 @@ mod tests {
         )
         .unwrap();
         trace_effects(&cornell::scene(), &cam, &params(width, height, seed))
+    }
+
+    /// Traced in slices, a block of pixels a call, the sets are the ones traced whole.
+    #[test]
+    fn tracing_in_slices_gives_the_same_rays() {
+        let cam = camera(
+            cornell::CAMERA_EYE,
+            cornell::CAMERA_TARGET,
+            cornell::CAMERA_FOV_Y_DEG,
+        )
+        .unwrap();
+        let (scene, p) = (cornell::scene(), params(40, 30, 9));
+        let whole = trace_effects(&scene, &cam, &p);
+        let mut slices = TraceSlices::default();
+        let (sliced, calls) = crate::slices::until_done(crate::slices::Duration::ZERO, |d| {
+            Ok::<_, ()>(trace_effects_in(&scene, &cam, &p, &mut slices, d))
+        })
+        .unwrap();
+        assert_eq!(calls, (40 * 30usize).div_ceil(PIXELS_PER_LOOK as usize));
+        assert_eq!(sliced, whole);
     }
 
     #[test]

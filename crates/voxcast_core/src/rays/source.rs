@@ -4,9 +4,10 @@
 //! rays, the scale RayVis's study drew).
 
 use super::cornell;
-use super::effects::{Effect, TraceParams, camera, trace_effects};
+use super::effects::{Effect, TraceParams, TraceSlices, camera, trace_effects_in};
 use super::mesh::TriangleScene;
 use super::set::RaySet;
+use crate::slices::{Deadline, Step};
 
 /// A scene and the traces cast through it.
 #[derive(Clone, Debug, PartialEq)]
@@ -80,15 +81,26 @@ pub enum SourceError {
 
 /// The ray data named `name`: `builtin:NAME` or a `.rayvis` file's path.
 pub fn load(name: &str) -> Result<RayData, SourceError> {
+    load_in(name, &mut TraceSlices::default(), Deadline::NONE).map(Step::whole)
+}
+
+/// [`load`] in slices ([`crate::slices`]): a builtin's rays traced a block of pixels at a time
+/// until `deadline`; a file is read whole.
+pub fn load_in(
+    name: &str,
+    slices: &mut TraceSlices,
+    deadline: Deadline,
+) -> Result<Step<RayData>, SourceError> {
     let Some(builtin) = name.strip_prefix("builtin:") else {
         let bytes = std::fs::read(name)
             .map_err(|e| SourceError::File(name.into(), crate::error::io_words(&e)))?;
         return super::rayvis::read(&bytes, name)
+            .map(Step::Done)
             .map_err(|e| SourceError::File(name.into(), e.to_string()));
     };
     match builtin {
-        "cornell" => Ok(cornell_with(&CORNELL)),
-        "cornell-1m" => Ok(cornell_with(&CORNELL_1M)),
+        "cornell" => Ok(cornell_with(&CORNELL, slices, deadline)),
+        "cornell-1m" => Ok(cornell_with(&CORNELL_1M, slices, deadline)),
         other => Err(SourceError::UnknownBuiltin(
             other.into(),
             BUILTIN
@@ -100,8 +112,8 @@ pub fn load(name: &str) -> Result<RayData, SourceError> {
     }
 }
 
-/// The Cornell box with its four effect sets traced at `p`.
-fn cornell_with(p: &TraceParams) -> RayData {
+/// The Cornell box with its four effect sets traced at `p` (in slices).
+fn cornell_with(p: &TraceParams, slices: &mut TraceSlices, deadline: Deadline) -> Step<RayData> {
     let scene = cornell::scene();
     let cam = camera(
         cornell::CAMERA_EYE,
@@ -109,8 +121,10 @@ fn cornell_with(p: &TraceParams) -> RayData {
         cornell::CAMERA_FOV_Y_DEG,
     )
     .expect("the Cornell box's camera is valid");
-    let traces = trace_effects(&scene, &cam, p);
-    RayData {
+    let Step::Done(traces) = trace_effects_in(&scene, &cam, p, slices, deadline) else {
+        return Step::Paused;
+    };
+    Step::Done(RayData {
         description: format!(
             "the Cornell box, {}×{} primary rays from its published camera, a directional \
              light through the open front, {} ambient-occlusion rays of {} mm per hit, seed {}",
@@ -118,7 +132,7 @@ fn cornell_with(p: &TraceParams) -> RayData {
         ),
         scene,
         traces,
-    }
+    })
 }
 
 /// The effect a trace of `builtin:cornell` holds.
