@@ -403,7 +403,9 @@ fn start_capture(
             let size = (s.size.x, s.size.y);
             let job = render::Job::plain(&scene, &s.camera, size, &report, &cancel);
             let mut tiles = TileSlices::default();
-            let ((image, stats), mut seconds) =
+            // The render's own time (what its samples a second divide by): not the CPU live
+            // view's capture below, which the rate once wrongly counted in.
+            let ((image, stats), seconds) =
                 in_slices(|d| render::render_in(&job, &mut tiles, d))
                     .await
                     .map_err(cancelled)?;
@@ -413,11 +415,10 @@ fn start_capture(
             };
             if cpu_live {
                 let mut tiles = TileSlices::default();
-                let ((layer, _), layer_seconds) =
+                let ((layer, _), _) =
                     in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
                         .await
                         .map_err(cancelled)?;
-                seconds += layer_seconds;
                 let live = layer.over(s.settings.background);
                 if let Ok(mut slot) = live_slot.lock() {
                     *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));

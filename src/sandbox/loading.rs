@@ -116,7 +116,7 @@ impl Loading {
         keep_choices: bool,
         work: impl FnOnce(Arc<Progress>, Arc<AtomicBool>) -> F,
     ) where
-        F: std::future::Future<Output = Result<Outcome, String>> + Send + 'static,
+        F: bevy::tasks::ConditionalSendFuture<Output = Result<Outcome, String>> + 'static,
     {
         self.cancel();
         let progress = Arc::new(Progress::default());
