@@ -40,6 +40,10 @@ fn main() {
             preview_matches_the_cpu_render,
         ),
         (
+            "the_preview_as_webgl2_compiles_it_matches_the_cpu_render",
+            the_preview_as_webgl2_compiles_it_matches_the_cpu_render,
+        ),
+        (
             "the_preview_leaps_reads_records_and_times_its_frames",
             the_preview_leaps_reads_records_and_times_its_frames,
         ),
@@ -134,10 +138,33 @@ fn render_image_compares_the_preview_with_the_render() -> Outcome {
 }
 
 fn preview_matches_the_cpu_render() -> Outcome {
+    let names: Vec<&str> = DATASETS.iter().map(|(n, _)| *n).collect();
+    sweep_agrees(&names, &[], "")
+}
+
+/// WebGL2's preview (`src/sandbox/preview.rs`, `GPU_READS_DEPTH`): compiled without the
+/// `DEPTH_PREPASS` shader def, its rays never reading the scene's depth. The sandbox compiles
+/// the same variant on any GPU when rays pass through geometry (`--no-depth-termination`: no
+/// depth prepass), which this sweep draws on lavapipe.
+fn the_preview_as_webgl2_compiles_it_matches_the_cpu_render() -> Outcome {
+    sweep_agrees(
+        &["bunny", "head", "masked"],
+        &["--no-depth-termination"],
+        "webgl2",
+    )
+}
+
+/// The sweep of the preview of `names` (with `args`) against the CPU render, every case within
+/// [`TOLERANCE`]; its images in `tests/out/agreement/NAME[_suffix]`.
+fn sweep_agrees(names: &[&str], args: &[&str], suffix: &str) -> Outcome {
     let mut worst = 0.0f32;
     let mut failures = Vec::new();
-    for (name, _) in DATASETS {
-        let dir = out_dir().join(name);
+    for name in names {
+        let dir = out_dir().join(if suffix.is_empty() {
+            name.to_string()
+        } else {
+            format!("{name}_{suffix}")
+        });
         let _ = std::fs::remove_dir_all(&dir);
         let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
             .args([
@@ -146,8 +173,9 @@ fn preview_matches_the_cpu_render() -> Outcome {
                 "--sweep",
                 "--size",
                 &format!("{SIZE}x{SIZE}"),
-                "--screenshot",
             ])
+            .args(args)
+            .arg("--screenshot")
             .arg(&dir)
             .output()
             .expect("the binary runs");

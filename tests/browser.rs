@@ -112,7 +112,7 @@ fn page(graphics: &str) -> Outcome {
         page.status()?["adapter"],
         100.0 * bunny.drawn
     );
-    if let Some(desktop) = desktop_silhouette(&bunny, &out)? {
+    if let Some(desktop) = desktop_silhouette(&bunny, &out, &[])? {
         let overlap = bunny.overlap(&desktop);
         println!("{graphics}: the silhouette overlaps the desktop's by {overlap:.3} (IoU)");
         // The page also draws the volume's box in thin lines, which the desktop's capture of
@@ -233,6 +233,35 @@ fn page(graphics: &str) -> Outcome {
             && f(&window, 1) + f(&window, 3) <= f(&scene, 1) + f(&scene, 3) + 1.0,
         "Render image {window} lies outside the scene {scene}"
     );
+
+    // WebGL2's own GPU preview (the WebGPU run's is the default there): compiled without the
+    // depth prepass, it draws the bunny where the desktop does, for two methods.
+    if graphics == "webgl2" {
+        browser.set_viewport(1280, 720)?;
+        for method in ["accumulate", "maximum"] {
+            browser.open(&format!(
+                "http://127.0.0.1:{port}/?gpu=webgl2&no-rays&preview-backend=gpu&method={method}"
+            ))?;
+            browser.wait_for(
+                "return window.voxcastStatus && window.voxcastStatus().frames >= 2",
+                FIRST_FRAME,
+            )?;
+            let name = format!("webgl2_gpu_{method}");
+            let picture = page.wait_for_picture(&name, |s| s.drawn > 0.05)?;
+            assert_eq!(
+                page.status()?["backend"],
+                "gpu",
+                "WebGL2 runs the GPU preview"
+            );
+            if let Some(desktop) = desktop_silhouette(&picture, &out, &["--method", method])? {
+                let overlap = picture.overlap(&desktop);
+                println!(
+                    "{graphics}: the GPU preview ({method}) overlaps the desktop's by {overlap:.3}"
+                );
+                assert!(overlap > 0.9, "{method}: IoU {overlap}");
+            }
+        }
+    }
 
     // The page's frame times at 1280×720, orbiting and resting (`--measure-frames`, as the
     // desktop's `benches/frames.sh` measures them): printed for BENCHMARKS.md, not judged.
@@ -498,10 +527,15 @@ impl Page<'_> {
 
 /// The silhouette the desktop's `--screenshot` draws of the same view at the scene's size, if
 /// this machine can run it (a Vulkan device).
-fn desktop_silhouette(page: &Picture, out: &Path) -> Result<Option<Picture>, String> {
-    let path = out.join("desktop.png");
+fn desktop_silhouette(
+    page: &Picture,
+    out: &Path,
+    args: &[&str],
+) -> Result<Option<Picture>, String> {
+    let path = out.join(format!("desktop{}.png", args.join("_")));
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_voxcast"))
         .args(["--volume", "builtin:bunny", "--no-rays"])
+        .args(args)
         .args(["--size", &format!("{}x{}", page.width, page.height)])
         .arg("--screenshot")
         .arg(&path)

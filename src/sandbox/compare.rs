@@ -405,20 +405,18 @@ fn start_capture(
             let mut tiles = TileSlices::default();
             // The render's own time (what its samples a second divide by): not the CPU live
             // view's capture below, which the rate once wrongly counted in.
-            let ((image, stats), seconds) =
-                in_slices(|d| render::render_in(&job, &mut tiles, d))
-                    .await
-                    .map_err(cancelled)?;
+            let ((image, stats), seconds) = in_slices(|d| render::render_in(&job, &mut tiles, d))
+                .await
+                .map_err(cancelled)?;
             let quiet = render::Job {
                 progress: &|_, _| {},
                 ..job
             };
             if cpu_live {
                 let mut tiles = TileSlices::default();
-                let ((layer, _), _) =
-                    in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
-                        .await
-                        .map_err(cancelled)?;
+                let ((layer, _), _) = in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
+                    .await
+                    .map_err(cancelled)?;
                 let live = layer.over(s.settings.background);
                 if let Ok(mut slot) = live_slot.lock() {
                     *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));

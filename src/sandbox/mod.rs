@@ -454,7 +454,9 @@ fn parse_preview_scale(s: &str) -> Result<f32, String> {
 pub struct InitialView(pub voxcast_core::camera::Camera);
 
 /// The camera components every view of the preview uses: no tonemapping or dithering (the
-/// preview's values must equal the CPU's), no MSAA, a depth prepass for ray termination.
+/// preview's values must equal the CPU's), no MSAA. A view whose rays stop at scene geometry
+/// adds a [`DepthPrepass`] ([`with_depth`]); without one the preview is compiled without
+/// `DEPTH_PREPASS`, as WebGL2 always compiles it.
 pub fn preview_camera(view: &voxcast_core::camera::Camera) -> impl Bundle {
     let projection = match view.projection {
         voxcast_core::camera::Projection::Perspective { fov_y_deg } => {
@@ -478,7 +480,6 @@ pub fn preview_camera(view: &voxcast_core::camera::Camera) -> impl Bundle {
         Msaa::Off,
         Tonemapping::None,
         DebandDither::Disabled,
-        DepthPrepass,
         sharp::everything(),
         MainCamera,
         View(*view),
@@ -486,7 +487,16 @@ pub fn preview_camera(view: &voxcast_core::camera::Camera) -> impl Bundle {
     )
 }
 
-fn spawn_main_camera(mut commands: Commands, view: Res<InitialView>) {
+/// A depth prepass for a view of the preview whose rays stop at scene geometry (where the GPU
+/// can read it: see [`preview::GPU_READS_DEPTH`]).
+pub fn with_depth(mut camera: EntityCommands<'_>, stops_at_geometry: bool) {
+    if stops_at_geometry && preview::GPU_READS_DEPTH {
+        camera.insert(DepthPrepass);
+    }
+}
+
+fn spawn_main_camera(mut commands: Commands, view: Res<InitialView>, render: Res<RenderState>) {
     let v = view.0;
-    commands.spawn((preview_camera(&v), Orbit::looking_at(v.eye, v.target, v.up)));
+    let camera = commands.spawn((preview_camera(&v), Orbit::looking_at(v.eye, v.target, v.up)));
+    with_depth(camera, render.depth_termination);
 }

@@ -80,7 +80,16 @@ pub(super) fn plugin(app: &mut App) {
 const MAX_WAIT_S: f64 = 60.0;
 
 fn note(cache: Res<PipelineCache>, compiling: Res<Compiling>, mut started: ResMut<Started>) {
-    let waiting = cache.waiting_pipelines().next().is_some();
+    // Render pipelines only: the preview's are, and Bevy queues compute pipelines a WebGL2
+    // device cannot run (its sparse buffer updates), which stay waiting for ever.
+    let waiting = cache.waiting_pipelines().any(|id| {
+        cache.pipelines().nth(id).is_none_or(|p| {
+            matches!(
+                p.descriptor,
+                bevy::render::render_resource::PipelineDescriptor::RenderPipelineDescriptor(_)
+            )
+        })
+    });
     let waited = started.at.map_or(0.0, |at| at.elapsed().as_secs_f64());
     if waiting && waited >= MAX_WAIT_S && !started.given_up {
         warn!("a pipeline has been queued for {MAX_WAIT_S} s: no longer waiting for it");

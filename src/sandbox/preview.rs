@@ -427,7 +427,8 @@ fn camera_for_backend(
             camera.is_active = sharp_active;
         }
     }
-    let wants = !cpu && GPU_READS_DEPTH;
+    // The GPU preview reads the prepass only to stop its rays at geometry.
+    let wants = !cpu && GPU_READS_DEPTH && !through;
     for (entity, has) in &prepass {
         if has != wants {
             match wants {

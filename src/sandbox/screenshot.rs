@@ -51,15 +51,17 @@ fn spawn_image_camera(
     mut images: ResMut<Assets<Image>>,
     size: Res<ImageSize>,
     view: Res<InitialView>,
+    render: Res<super::state::RenderState>,
 ) {
     let ImageSize(w, h) = *size;
     let mut image = Image::new_target_texture(w, h, TextureFormat::Rgba8UnormSrgb, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let handle = images.add(image);
-    commands.spawn((
+    let camera = commands.spawn((
         preview_camera(&view.0),
         RenderTarget::Image(handle.clone().into()),
     ));
+    super::with_depth(camera, render.depth_termination);
     commands.insert_resource(Target(handle.clone()));
     commands.insert_resource(PreviewTarget {
         image: handle,
