@@ -144,7 +144,11 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices) {
     egui::ComboBox::from_label("Rays")
         .selected_text(c.source.words())
         .show_ui(ui, |ui| {
-            for s in SourceKind::ALL {
+            // A page reads no paths, and opening a .rayvis file there is not built yet.
+            let offered = SourceKind::ALL
+                .into_iter()
+                .filter(|s| !(crate::sandbox::files::PICKS_FILES && *s == SourceKind::File));
+            for s in offered {
                 ui.selectable_value(&mut c.source, s, s.words())
                     .on_hover_text(s.doc());
             }
