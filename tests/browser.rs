@@ -81,7 +81,9 @@ fn page(graphics: &str) -> Outcome {
     } else {
         &[]
     };
-    let browser = Browser::start(flags).map_err(|e| format!("chromium: {e}"))?;
+    let downloads = out.join("downloads");
+    std::fs::create_dir_all(&downloads).unwrap();
+    let browser = Browser::start(flags, &downloads).map_err(|e| format!("chromium: {e}"))?;
     let page = Page {
         browser: &browser,
         out: &out,
@@ -151,6 +153,31 @@ fn page(graphics: &str) -> Outcome {
         "the page froze while rendering"
     );
     page.save_screenshot("render_image")?;
+    // Saving: one download a button (a browser asks before a page downloads several files
+    // at once); each image is the scene's size (the status gives it in fractional pixels).
+    let scene = page.status()?["scene"].clone();
+    let scene = [
+        scene[2].as_f64().unwrap_or(0.0),
+        scene[3].as_f64().unwrap_or(0.0),
+    ];
+    for (button, file) in [
+        ("save render png", "voxcast_render.png"),
+        ("save preview png", "voxcast_render_preview.png"),
+        ("save difference png", "voxcast_render_diff.png"),
+    ] {
+        page.click(button)?;
+        let saved = downloads.join(file);
+        let started = Instant::now();
+        while !saved.exists() && started.elapsed() < Duration::from_secs(30) {
+            std::thread::sleep(Duration::from_millis(200));
+        }
+        let png = image::open(&saved).map_err(|e| format!("{}: {e}", saved.display()))?;
+        let size = [png.width() as f64, png.height() as f64];
+        assert!(
+            (0..2).all(|i| (size[i] - scene[i]).abs() <= 1.0),
+            "{file} is {size:?}, the scene {scene:?}"
+        );
+    }
 
     // A dropped NRRD opens; a damaged one says why and leaves it.
     let tiny = b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n\
@@ -193,6 +220,13 @@ fn page(graphics: &str) -> Outcome {
     )?;
     assert_eq!(&spoken, first_step, "what a screen reader speaks");
     page.save_screenshot("level_1")?;
+    // Its step done, the progress is kept in the browser's local storage.
+    page.click("next")?;
+    browser.wait_for(
+        "const kept = JSON.parse(localStorage.getItem('voxcast-progress') || '{}'); \
+         return Object.values(kept.completed || {}).some(n => n >= 1) || null",
+        Duration::from_secs(30),
+    )?;
 
     // On a small laptop's tab the scene keeps at least half the page in every layout, and
     // Render image opens inside it.
@@ -233,6 +267,26 @@ fn page(graphics: &str) -> Outcome {
             && f(&window, 1) + f(&window, 3) <= f(&scene, 1) + f(&scene, 3) + 1.0,
         "Render image {window} lies outside the scene {scene}"
     );
+
+    // Progress damaged in the browser's storage: the page starts afresh and says so.
+    if graphics == "webgl2" {
+        browser.run(
+            "localStorage.setItem('voxcast-progress', '{\"completed\": {damaged')",
+            json!([]),
+        )?;
+        browser.open(&format!("http://127.0.0.1:{port}/?gpu=webgl2&no-rays"))?;
+        let said = browser.wait_for(
+            "const s = window.voxcastStatus && window.voxcastStatus(); \
+             return (s && s.frames >= 2 && s.levels_message) || null",
+            FIRST_FRAME,
+        )?;
+        let said = said.as_str().unwrap_or_default();
+        assert!(
+            said.contains("is damaged") && said.contains("starting afresh"),
+            "{said}"
+        );
+        page.save_screenshot("progress_damaged")?;
+    }
 
     // WebGL2's own GPU preview (the WebGPU run's is the default there): compiled without the
     // depth prepass, it draws the bunny where the desktop does, for two methods.

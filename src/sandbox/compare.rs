@@ -192,9 +192,36 @@ fn sibling(path: &Path, suffix: &str) -> PathBuf {
     path.with_file_name(format!("{stem}_{suffix}.png"))
 }
 
-/// Writes the render to `path` (`.png` added when it has no extension) and the capture and the
-/// heat-map beside it as `NAME_preview.png` and `NAME_diff.png`; returns what was written.
-pub fn save_pngs(result: &Compared, path: &str) -> Result<Vec<PathBuf>, String> {
+/// One of the three images a comparison can save.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// The exact CPU render, saved as `NAME.png`.
+    Render,
+    /// The preview's capture, saved beside it as `NAME_preview.png`.
+    Preview,
+    /// The difference heat-map, saved beside it as `NAME_diff.png`.
+    Difference,
+}
+
+impl Part {
+    /// All three, in the order they are saved.
+    pub const ALL: [Part; 3] = [Part::Preview, Part::Difference, Part::Render];
+
+    /// What a button that saves this part says.
+    pub fn label(self) -> &'static str {
+        match self {
+            Part::Render => "Save render PNG",
+            Part::Preview => "Save preview PNG",
+            Part::Difference => "Save difference PNG",
+        }
+    }
+}
+
+/// Writes one `part` of the comparison: the render to `path` (`.png` added when it has no
+/// extension), the capture and the heat-map beside it as `NAME_preview.png` and
+/// `NAME_diff.png`. Gives the file written, or `None` where the comparison has no such image
+/// (the preview failed).
+pub fn save_png(result: &Compared, path: &str, part: Part) -> Result<Option<PathBuf>, String> {
     let path = PathBuf::from(path.trim());
     if path.file_name().is_none() {
         return Err("give a file name ending in .png".into());
@@ -204,22 +231,30 @@ pub fn save_pngs(result: &Compared, path: &str) -> Result<Vec<PathBuf>, String> 
     } else {
         path
     };
-    let mut written = vec![];
-    let mut write = |img: &LinearImage, p: PathBuf| -> Result<(), String> {
-        let bytes = img
-            .png_bytes()
-            .map_err(|e| format!("cannot save {}: {e}", p.display()))?;
-        super::files::save(&p, &bytes, "image/png")?;
-        written.push(p);
-        Ok(())
+    let (image, path) = match part {
+        Part::Render => (Some(&result.cpu), path),
+        Part::Preview => (result.gpu.as_ref().ok(), sibling(&path, "preview")),
+        Part::Difference => (
+            result.diff.as_ref().map(|(_, heat)| heat),
+            sibling(&path, "diff"),
+        ),
     };
-    if let Ok(gpu) = &result.gpu {
-        write(gpu, sibling(&path, "preview"))?;
+    let Some(image) = image else {
+        return Ok(None);
+    };
+    let bytes = image
+        .png_bytes()
+        .map_err(|e| format!("cannot save {}: {e}", path.display()))?;
+    super::files::save(&path, &bytes, "image/png")?;
+    Ok(Some(path))
+}
+
+/// Writes every part the comparison has (see [`save_png`]); returns what was written.
+pub fn save_pngs(result: &Compared, path: &str) -> Result<Vec<PathBuf>, String> {
+    let mut written = vec![];
+    for part in Part::ALL {
+        written.extend(save_png(result, path, part)?);
     }
-    if let Some((_, heat)) = &result.diff {
-        write(heat, sibling(&path, "diff"))?;
-    }
-    write(&result.cpu, path)?;
     Ok(written)
 }
 
@@ -617,6 +652,18 @@ pub(crate) mod tests {
         let err = save_pngs(&c, dir.join("missing/r.png").to_str().unwrap()).unwrap_err();
         assert!(err.contains("missing"), "{err}");
         assert!(save_pngs(&c, "  ").is_err());
+        // One part at a time (the page's buttons); a failed preview has no image to save.
+        let one = save_png(&c, dir.join("one").to_str().unwrap(), Part::Difference).unwrap();
+        assert_eq!(one, Some(dir.join("one_diff.png")));
+        let failed = Compared::new(
+            rendered(image(4, 3, 0.5)),
+            Err("no preview".into()),
+            snapshot(),
+            1,
+        );
+        let none = save_png(&failed, dir.join("two").to_str().unwrap(), Part::Preview).unwrap();
+        assert_eq!(none, None);
+        assert!(!dir.join("two_preview.png").exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

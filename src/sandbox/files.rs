@@ -72,12 +72,10 @@ pub fn save(path: &Path, bytes: &[u8], mime: &str) -> Result<String, String> {
         return Err("give a file name".into());
     };
     #[cfg(target_arch = "wasm32")]
-    {
-        let _ = name;
+    return {
         let name = name.to_string_lossy();
-        super::web::download(&name, bytes, mime)?;
-        Ok(format!("downloaded {name}"))
-    }
+        super::web::download(&name, bytes, mime).map(|()| format!("downloaded {name}"))
+    };
     #[cfg(not(target_arch = "wasm32"))]
     {
         let _ = (name, mime);

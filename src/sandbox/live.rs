@@ -847,6 +847,33 @@ mod tests {
         );
     }
 
+    /// A browser's SwiftShader is a software rasterizer too; and a GPU that refuses the
+    /// preview's pipeline hands the volume to the CPU, even where the GPU was asked for.
+    #[test]
+    fn a_gpu_that_cannot_run_the_preview_hands_it_to_the_cpu() {
+        let swiftshader = "ANGLE (Google, Vulkan 1.3.0 (SwiftShader Device (Subzero) \
+                           (0x0000C0DE)), SwiftShader driver)";
+        assert_eq!(Backend::for_adapter(swiftshader, "Other"), Backend::Cpu);
+        let mut app = App::new();
+        app.insert_resource(PreviewSettings {
+            backend: Backend::Gpu,
+            backend_chosen: true,
+            ..default()
+        })
+        .add_systems(Update, choose_backend);
+        app.update();
+        assert_eq!(
+            app.world().resource::<PreviewSettings>().backend,
+            Backend::Gpu
+        );
+        app.insert_resource(GpuFailed("WGSL `textureLoad` from depth textures".into()));
+        app.update();
+        assert_eq!(
+            app.world().resource::<PreviewSettings>().backend,
+            Backend::Cpu
+        );
+    }
+
     #[test]
     fn a_quick_frame_fits_the_budget() {
         let full = UVec2::new(1280, 720);

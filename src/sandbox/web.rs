@@ -100,7 +100,12 @@ pub fn download(name: &str, bytes: &[u8], mime: &str) -> Result<(), String> {
     link.set_href(&url);
     link.set_download(name);
     link.click();
-    let _ = web_sys::Url::revoke_object_url(&url);
+    // The download reads the address after this returns: let it go a minute later.
+    let revoke = Closure::once_into_js(move || {
+        let _ = web_sys::Url::revoke_object_url(&url);
+    });
+    let _ = window
+        .set_timeout_with_callback_and_timeout_and_arguments_0(revoke.unchecked_ref(), 60_000);
     Ok(())
 }
 
@@ -131,6 +136,8 @@ pub struct PageStatus {
     pub mode: String,
     /// The current step's text, when a level is played.
     pub step_text: String,
+    /// What the levels say about the progress kept (damaged, not saved), if anything.
+    pub levels_message: String,
     /// Where the named controls a test clicks are: x, y, width, height in the UI's points
     /// (the canvas is `canvas` points across).
     pub targets: Vec<(String, [f32; 4])>,

@@ -91,8 +91,9 @@ pub struct Browser {
 }
 
 impl Browser {
-    /// Starts chromium (headless, its own empty profile) with `flags` besides the usual ones.
-    pub fn start(flags: &[&str]) -> Result<Self, String> {
+    /// Starts chromium (headless, its own empty profile, downloads into `downloads`) with
+    /// `flags` besides the usual ones.
+    pub fn start(flags: &[&str], downloads: &Path) -> Result<Self, String> {
         let port = free_port();
         let driver = Command::new(CHROMEDRIVER)
             .arg(format!("--port={port}"))
@@ -128,7 +129,10 @@ impl Browser {
         args.push(format!("--user-data-dir={}", profile.display()));
         args.extend(flags.iter().map(|s| s.to_string()));
         let capabilities = json!({"capabilities": {"alwaysMatch": {
-            "goog:chromeOptions": {"binary": CHROMIUM, "args": args},
+            "goog:chromeOptions": {"binary": CHROMIUM, "args": args, "prefs": {
+                "download.default_directory": downloads,
+                "download.prompt_for_download": false,
+            }},
             "goog:loggingPrefs": {"browser": "ALL"},
         }}});
         let mut browser = Self {

@@ -99,43 +99,26 @@ pub fn render_in(
     slices: &mut TileSlices,
     deadline: Deadline,
 ) -> Result<Step<(LinearImage, RenderStats)>, Cancelled> {
-    struct Visit<'x, 'a, 's> {
-        job: Job<'x, 'a>,
-        slices: &'s mut TileSlices,
-        deadline: Deadline,
-    }
-    impl GridVisitor for Visit<'_, '_, '_> {
-        type Output = Result<Step<(LinearImage, RenderStats)>, Cancelled>;
-        fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
-            let (width, height) = (self.job.width, self.job.height);
-            let step = self.job.run(
-                grid,
-                |out, background, _| Vec4::from((out.pixel(background), 1.0)),
-                self.slices,
-                self.deadline,
-            )?;
-            Ok(match step {
-                Step::Paused => Step::Paused,
-                Step::Done((pixels, stats)) => {
-                    let image = LinearImage {
-                        width,
-                        height,
-                        pixels: pixels.into_par_iter().map(Vec4::truncate).collect(),
-                    };
-                    Step::Done((image, stats))
-                }
-            })
-        }
-    }
     let plain = Job {
         occluders: &[],
         surface: None,
         ..*job
     };
-    job.scene.volume.visit(Visit {
-        job: plain,
+    let step = plain.run_on_volume(
+        |out, background, _| Vec4::from((out.pixel(background), 1.0)),
         slices,
         deadline,
+    )?;
+    Ok(match step {
+        Step::Paused => Step::Paused,
+        Step::Done((pixels, stats)) => Step::Done((
+            LinearImage {
+                width: job.width,
+                height: job.height,
+                pixels: pixels.into_par_iter().map(Vec4::truncate).collect(),
+            },
+            stats,
+        )),
     })
 }
 

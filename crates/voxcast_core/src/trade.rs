@@ -220,15 +220,11 @@ mod tests {
     }
 
     fn trade_with(steps: &[f32], interpolation: Interpolation) -> Trade {
-        let v = crate::Prepared::from(bucky());
-        let p = crate::preset::for_volume("bucky").unwrap();
-        let mut s = p.settings_over(&RenderSettings::default()).unwrap();
+        let (v, transfer, mut s, cam) = bucky_scene();
         s.interpolation = interpolation;
-        let (lo, hi) = v.bounds();
-        let cam = Camera::framing(lo, hi, glam::Vec3::new(1.0, 0.8, 1.4), glam::Vec3::Y).unwrap();
         step_trade(
             &v,
-            &p.transfer,
+            &transfer,
             &s,
             &cam,
             (48, 48),
@@ -303,16 +299,22 @@ mod tests {
 
     /// Every other knob: its reference against itself has no error where it is one of its
     /// tries; the cheaper setting errs more.
-    #[test]
-    fn every_knob_is_measured_against_its_own_exact_setting() {
+    /// The bucky cage with its preset, seen from above one side.
+    fn bucky_scene() -> (crate::Prepared, TransferFunction, RenderSettings, Camera) {
         let v = crate::Prepared::from(bucky());
         let p = crate::preset::for_volume("bucky").unwrap();
         let s = p.settings_over(&RenderSettings::default()).unwrap();
         let (lo, hi) = v.bounds();
         let cam = Camera::framing(lo, hi, glam::Vec3::new(1.0, 0.8, 1.4), glam::Vec3::Y).unwrap();
+        (v, p.transfer, s, cam)
+    }
+
+    #[test]
+    fn every_knob_is_measured_against_its_own_exact_setting() {
+        let (v, transfer, s, cam) = bucky_scene();
         let view = View {
             volume: &v,
-            transfer: &p.transfer,
+            transfer: &transfer,
             camera: &cam,
             size: (40, 40),
         };
@@ -360,14 +362,10 @@ mod tests {
     /// In slices, one tile a call, the trade has the same rows but their times.
     #[test]
     fn a_trade_in_slices_is_the_trade() {
-        let v = crate::Prepared::from(bucky());
-        let p = crate::preset::for_volume("bucky").unwrap();
-        let s = p.settings_over(&RenderSettings::default()).unwrap();
-        let (lo, hi) = v.bounds();
-        let cam = Camera::framing(lo, hi, glam::Vec3::new(1.0, 0.8, 1.4), glam::Vec3::Y).unwrap();
+        let (v, transfer, s, cam) = bucky_scene();
         let view = View {
             volume: &v,
-            transfer: &p.transfer,
+            transfer: &transfer,
             camera: &cam,
             size: (20, 20),
         };

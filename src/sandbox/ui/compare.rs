@@ -2,7 +2,8 @@
 //! progress with Cancel, then the preview's capture, the render and their difference heat-map
 //! side by side with the figures, and saves them as PNGs.
 
-use crate::sandbox::compare::{Compared, Comparison, HEAT_FULL_SCALE, save_pngs};
+use crate::sandbox::compare::{Compared, Comparison, HEAT_FULL_SCALE, Part, save_png, save_pngs};
+use crate::sandbox::files::PICKS_FILES;
 use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
@@ -290,18 +291,24 @@ fn result_view(
             "The render's PNG; the preview and the heat-map are saved beside it as \
              NAME_preview.png and NAME_diff.png",
         );
-        if ui.button("Save PNG").clicked() {
+        if PICKS_FILES {
+            // A browser asks before a page downloads several files at once: one button each.
+            for part in [Part::Render, Part::Preview, Part::Difference] {
+                let target = part.label().to_lowercase();
+                if super::target(ui.button(part.label()), &target).clicked() {
+                    window.saved =
+                        Some(
+                            save_png(result, &window.path, part).map(|written| match written {
+                                Some(p) => format!("downloaded {}", p.display()),
+                                None => "this comparison has no such image".into(),
+                            }),
+                        );
+                }
+            }
+        } else if super::target(ui.button("Save PNG"), "save png").clicked() {
             window.saved = Some(save_pngs(result, &window.path).map(|written| {
                 let names: Vec<_> = written.iter().map(|p| p.display().to_string()).collect();
-                format!(
-                    "{} {}",
-                    if crate::sandbox::files::PICKS_FILES {
-                        "downloaded"
-                    } else {
-                        "saved"
-                    },
-                    names.join(", ")
-                )
+                format!("saved {}", names.join(", "))
             }));
         }
     });

@@ -196,11 +196,11 @@ fn level_step(
         });
         ui.label(text);
     }
-    if let Some(c) = step.control {
-        ui.colored_label(
-            egui::Color32::LIGHT_BLUE,
-            format!("Look at: {} (framed in yellow)", control_name(c)),
-        );
+    let look_at = step
+        .control
+        .map(|c| format!("Look at: {} (framed in yellow)", control_name(c)));
+    if !*folded && let Some(look_at) = &look_at {
+        ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
     }
     let met = lessons.met;
     let reading = step.objective == Objective::Read;
@@ -253,17 +253,21 @@ fn level_step(
     if let Objective::NameEffect { trace } = step.objective {
         name_effect(ui, lessons, trace, met);
     }
-    if !reading {
-        ui.label(if met { "✔ done" } else { "… not yet" });
-    }
+    // One row: the buttons, whether the step is done and, folded, where to look.
     let mut command = None;
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         let label = if reading { "Next" } else { "Next ✔" };
         if super::target(ui.add_enabled(met, egui::Button::new(label)), "next").clicked() {
             command = Some(LevelCommand::Next);
         }
         if super::target(ui.button("Free play"), "free play").clicked() {
             command = Some(LevelCommand::FreePlay);
+        }
+        if !reading {
+            ui.label(if met { "✔ done" } else { "… not yet" });
+        }
+        if *folded && let Some(look_at) = &look_at {
+            ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
         }
     });
     command

@@ -55,6 +55,7 @@ pub(super) fn publish_status(
             s.step_text = step.clone().unwrap_or_default();
             set_step(&s.step_text);
         }
+        s.levels_message = lessons.message.clone().unwrap_or_default();
         s.targets = targets
             .0
             .iter()
