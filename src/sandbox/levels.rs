@@ -269,18 +269,21 @@ fn set_up_scene(
     }
 }
 
-/// The level's own preset over its volume's defaults, where its scene names one.
+/// The level's own preset over its volume's defaults, where its scene names one, and the
+/// lecture's ray's settings where it shoots that ray.
 fn apply_level_preset(scene: &voxcast_core::level::LevelScene, render: &mut RenderState) {
-    let Some(p) = scene
+    if let Some(p) = scene
         .preset
         .as_deref()
         .and_then(voxcast_core::preset::by_name)
-    else {
-        return;
-    };
-    render.transfer = p.transfer.clone();
-    if let Ok(s) = p.settings_over(&render.settings) {
-        render.settings = s;
+    {
+        render.transfer = p.transfer.clone();
+        if let Ok(s) = p.settings_over(&render.settings) {
+            render.settings = s;
+        }
+    }
+    if scene.lecture_ray {
+        render.settings = voxcast_core::worked::lecture_ray_settings(&render.settings);
     }
 }
 
@@ -605,6 +608,36 @@ mod tests {
         assert_eq!(vcs.len(), 1);
         let vc = *app.world().get::<VirtualCamera>(vcs[0]).unwrap();
         assert_eq!((vc.width, vc.height), (1, 1));
+        // It shoots the lecture's ray under the level's settings: one sample on each of P3,
+        // P2 and P1 and, composited back to front, the lecture's colour (0.540, 0.397, 0.375)
+        // and opacity 0.813.
+        assert_eq!(vc.view, voxcast_core::worked::lecture_ray());
+        let mut render = app.world().resource::<RenderState>().clone();
+        render.settings.order = voxcast_core::composite::Order::BackToFront;
+        let volume = app.world().resource::<VolumeState>().volume.clone();
+        let ray = vc.view.ray(0.5, 0.5, 1, 1);
+        let scene =
+            voxcast_core::trace::Scene::new(&volume, &render.transfer, &render.settings, ray.dir)
+                .unwrap();
+        let traced = voxcast_core::trace::trace_ray(&scene, &ray, [0, 0]);
+        // Back to front visits them from the far end: P1, P2, P3.
+        let at: Vec<Vec3> = traced
+            .samples
+            .iter()
+            .map(|s| Vec3::from(s.p_voxel))
+            .collect();
+        let lecture = voxcast_core::worked::LECTURE_POINTS.map(Vec3::from_array);
+        assert_eq!(at.len(), 3, "{at:?}");
+        assert!(at.iter().zip(lecture).all(|(a, p)| a.distance(p) < 1e-5));
+        let got = [
+            traced.color[0],
+            traced.color[1],
+            traced.color[2],
+            traced.opacity,
+        ];
+        for (g, quoted) in got.iter().zip([0.540, 0.397, 0.375, 0.813]) {
+            assert!((g - quoted).abs() < 2e-3, "{got:?}");
+        }
         assert!(entities::<LightMarker>(&mut app).is_empty());
         assert!(!app.world().resource::<PreviewSettings>().enabled);
         assert_eq!(app.world().resource::<Inspection>().size, UVec2::ONE);

@@ -25,6 +25,8 @@ pub struct Stage {
     pub light_marker: bool,
     /// Whether the live GPU preview is drawn.
     pub preview: bool,
+    /// Whether the virtual camera shoots the lecture's worked ray (one pixel, from P3 to P1).
+    pub lecture_ray: bool,
 }
 
 impl Default for Stage {
@@ -35,6 +37,7 @@ impl Default for Stage {
             rays_shown: true,
             light_marker: true,
             preview: true,
+            lecture_ray: false,
         }
     }
 }
@@ -47,6 +50,7 @@ impl Stage {
             rays_shown: true,
             light_marker: s.light,
             preview: s.preview,
+            lecture_ray: s.lecture_ray,
         }
     }
 }

@@ -118,6 +118,9 @@ pub(crate) fn stage_camera(
     let Some(mut framed) = VirtualCamera::framing(&volume, main.as_ref()) else {
         return;
     };
+    if stage.lecture_ray {
+        framed.view = voxcast_core::worked::lecture_ray();
+    }
     if let Ok(mut vc) = cameras.single_mut()
         && !mode.is_changed()
     {

@@ -58,6 +58,11 @@ pub struct LevelScene {
     /// function that shows every method the level teaches.
     #[serde(default)]
     pub preset: Option<String>,
+    /// The virtual camera shoots the lecture's worked ray ([`crate::worked::lecture_ray`]: one
+    /// pixel, its eye at P3 looking towards P1) under the settings that put one sample on each
+    /// point ([`crate::worked::lecture_ray_settings`]).
+    #[serde(default)]
+    pub lecture_ray: bool,
     /// The preview resolution the level starts at (a level about it starts from a known one);
     /// `None` keeps the player's.
     #[serde(default)]

@@ -4,15 +4,55 @@
 //! with `C ← C·(1 − α) + c·α`, `O ← O·(1 − α) + α`, starting from `(0, 0, 0, 0)` — one sample a
 //! point, without opacity correction or shading, as on the slide.
 //!
+//! The lecture's ray runs from P1, the far end, where its colour is still (0, 0, 0, 0), to P3,
+//! where it leaves towards the eye: the eye looks from beyond P3 towards P1. [`lecture_ray`]
+//! places a one-pixel virtual camera there, and [`lecture_ray_settings`] makes its samples
+//! fall on P3, P2 and P1 exactly.
+//!
 //! The lecture numbers the corners of its unit voxel f1 … f8 (f1 at the origin, f2 along x, f3
 //! along x and y, f4 along y, then the same one unit along z); the core numbers them
 //! `a + 2b + 4c` (0 … 7): [`lecture_corner`] translates.
 
+use crate::camera::{Camera, Projection};
 use crate::composite::accumulate_back_to_front;
 use crate::sample::{Interpolation, detail_at};
+use crate::settings::RenderSettings;
+use crate::step::Length;
 use crate::transfer::TransferFunction;
 use crate::volume::Volume;
 use glam::Vec3;
+
+/// The volume that holds the lecture's voxel.
+pub const LECTURE_VOXEL: &str = "builtin:voxel";
+
+/// The lecture's three points on its ray, P1 (the far end) to P3 (nearest the eye), in voxel
+/// coordinates of its unit voxel (`builtin:voxel`, where they are also world coordinates).
+pub const LECTURE_POINTS: [[f32; 3]; 3] = [[0.2, 0.3, 0.8], [0.5, 0.5, 0.5], [0.8, 0.7, 0.2]];
+
+/// The virtual camera that shoots the lecture's ray through its one pixel: its eye at P3,
+/// looking towards P1. Inside the voxel, the ray's first sample is the eye itself.
+pub fn lecture_ray() -> Camera {
+    let [p1, _, p3] = LECTURE_POINTS.map(Vec3::from_array);
+    Camera::new(p3, p1, Vec3::Y, Projection::Perspective { fov_y_deg: 30.0 })
+        .expect("P1 and P3 differ and the ray is not along y")
+}
+
+/// `base` with what puts one sample on each of the lecture's points and composites them as
+/// the slide does: the step |P2 − P3| along the ray, no opacity correction, no shading, no
+/// jitter, trilinear, one ray a pixel. The order (front to back or back to front) is kept:
+/// both give the slide's colour, and the breakdown lists the running composite in either.
+pub fn lecture_ray_settings(base: &RenderSettings) -> RenderSettings {
+    let [_, p2, p3] = LECTURE_POINTS.map(Vec3::from_array);
+    RenderSettings {
+        step: Length::World(p2.distance(p3)),
+        opacity_correction: false,
+        shading: false,
+        jitter: false,
+        interpolation: Interpolation::Trilinear,
+        supersampling: 1,
+        ..base.clone()
+    }
+}
 
 /// The lecture's number (1 … 8, for f1 … f8) of the core's corner `a + 2b + 4c`.
 pub fn lecture_corner(corner: usize) -> u8 {

@@ -8,7 +8,6 @@ use voxcast_core::composite::{Method, Order};
 use voxcast_core::glam::Vec3;
 use voxcast_core::step::Length;
 use voxcast_core::trace::StopReason;
-use voxcast_core::transfer::{ControlPoint, TransferFunction};
 
 /// Constant density with a constant transfer function: with opacity correction the ray's
 /// opacity is 1 − (1 − α)^(L/Δs_ref) = 1 − e^(−σL) whatever the step; without it, 1 − (1 − α)^N.
@@ -260,15 +259,20 @@ fn the_head_phantoms_isovalue_picks_skin_or_skull() {
     }
 }
 
-/// The lecture's worked example: one unit voxel with corner values f1..f8, a ray sampled at
-/// P1(0.2,0.3,0.8), P2(0.5,0.5,0.5), P3(0.8,0.7,0.2), composited back to front.
+/// The lecture's worked example, read one way everywhere: one unit voxel with corner values
+/// f1..f8, a ray sampled at P1(0.2,0.3,0.8), P2(0.5,0.5,0.5), P3(0.8,0.7,0.2). The ray's colour
+/// is (0,0,0,0) "before it hits P1" and asked "after it leaves P3", composited back to front:
+/// P1 is the far end and the eye looks from beyond P3 towards it. With level 09's ramp (the
+/// `voxel` preset) that gives C = (0.540, 0.397, 0.375), O = 0.813 — the numbers level 09 and
+/// the breakdown show; the opposite reading would give red 0.472.
 #[test]
 fn lecture_worked_example() {
     // The slides number the corners f1 (0,0,0), f2 (1,0,0), f3 (1,1,0), f4 (0,1,0),
     // f5 (0,0,1), f6 (1,0,1), f7 (1,1,1), f8 (0,1,1).
     let f = [5.0f64, 5.1, 5.2, 4.6, 4.9, 5.1, 5.3, 4.7];
     // The embedded `builtin:voxel` holds exactly these corners (the tutorial's volume).
-    let v = voxcast_core::Prepared::from(voxcast_core::builtin::worked_voxel());
+    let voxel = voxcast_core::builtin::worked_voxel();
+    let v = voxcast_core::Prepared::from(voxel.clone());
     // The slides' formula, in f64.
     let formula = |p: f64, q: f64, r: f64| {
         f[0] * (1.0 - p) * (1.0 - q) * (1.0 - r)
@@ -280,39 +284,51 @@ fn lecture_worked_example() {
             + f[6] * p * q * r
             + f[7] * (1.0 - p) * q * r
     };
+    // P1 (far) … P3 (near the eye).
     let points = [
         Vec3::new(0.2, 0.3, 0.8),
         Vec3::new(0.5, 0.5, 0.5),
         Vec3::new(0.8, 0.7, 0.2),
     ];
-    // A transfer function for the exercise: grey level and opacity rising with the value.
-    let tf = TransferFunction::new(
-        "lecture",
-        vec![
-            ControlPoint::new(4.5, [0.0; 3], 0.0),
-            ControlPoint::new(5.5, [1.0; 3], 0.8),
-        ],
-    )
-    .unwrap();
-    let step = points[1] - points[0];
-    let mut s = plain(1.0);
-    s.step = Length::World(step.length());
-    s.opacity_correction = false;
-    s.order = Order::BackToFront;
-    // The camera sits at P1 inside the voxel, so sample 0 is P1, then P2, then P3.
-    let t = trace(&v, &tf, &s, points[0], step);
-    assert_eq!(t.samples.len(), 3);
-    let mut c = 0.0f64;
-    let mut o = 0.0f64;
-    // Back to front, by hand: C ← C(1 − α) + c·α, O ← O(1 − α) + α, from P3 to P1.
-    for p in points.iter().rev() {
-        let value = formula(p.x as f64, p.y as f64, p.z as f64);
-        let x = ((value - 4.5) / 1.0).clamp(0.0, 1.0);
-        let (grey, alpha) = (x, 0.8 * x);
-        c = c * (1.0 - alpha) + grey * alpha;
+    // Level 09's ramp: blue (0.1, 0.3, 0.9) at opacity 0.2 for 4.6, orange (1, 0.6, 0.2) at
+    // opacity 0.6 for 5.3, straight lines between.
+    let tf = voxcast_core::preset::for_volume("voxel").unwrap().transfer;
+    let ramp = |value: f64| {
+        let x = ((value - 4.6) / 0.7).clamp(0.0, 1.0);
+        let mix = |a: f64, b: f64| a + (b - a) * x;
+        ([mix(0.1, 1.0), mix(0.3, 0.6), mix(0.9, 0.2)], mix(0.2, 0.6))
+    };
+    // By hand, back to front: C ← C(1 − α) + c·α, O ← O(1 − α) + α, from P1 to P3.
+    let (mut c, mut o) = ([0.0f64; 3], 0.0f64);
+    for p in points {
+        let (rgb, alpha) = ramp(formula(p.x as f64, p.y as f64, p.z as f64));
+        for k in 0..3 {
+            c[k] = c[k] * (1.0 - alpha) + rgb[k] * alpha;
+        }
         o = o * (1.0 - alpha) + alpha;
     }
-    for (rec, p) in t.samples.iter().rev().zip(points) {
+    // The lecture's answer, to the three places it is quoted with.
+    for (got, quoted) in c.iter().chain([&o]).zip([0.540, 0.397, 0.375, 0.813]) {
+        assert!((got - quoted).abs() < 5e-4, "{got} is not {quoted}");
+    }
+
+    // The renderer: the lecture's ray (its virtual camera's one pixel, the eye at P3 looking
+    // towards P1) under its settings, back to front; its samples, visited from the far end as
+    // back to front does, are P1, P2, P3.
+    let camera = voxcast_core::worked::lecture_ray();
+    let ray = camera.ray(0.5, 0.5, 1, 1);
+    close(ray.origin.distance(points[2]), 0.0, 1e-6, "the eye is P3");
+    close(
+        ray.dir.dot((points[0] - points[2]).normalize()),
+        1.0,
+        1e-6,
+        "the ray runs towards P1",
+    );
+    let mut s = voxcast_core::worked::lecture_ray_settings(&plain(1.0));
+    s.order = Order::BackToFront;
+    let t = trace(&v, &tf, &s, ray.origin, ray.dir);
+    assert_eq!(t.samples.len(), 3);
+    for (rec, p) in t.samples.iter().zip(points) {
         close(
             Vec3::from(rec.p_voxel).distance(p),
             0.0,
@@ -324,8 +340,24 @@ fn lecture_worked_example() {
         let w: f32 = rec.reconstruction.weights.iter().sum();
         close(w, 1.0, 1e-6, "weights sum to one");
     }
-    close(t.color[0], c as f32, 1e-4, "composited colour");
-    close(t.opacity, o as f32, 1e-4, "composited opacity");
+    // The baked table is within a few thousandths of the ramp.
+    for (got, hand) in t.color.iter().zip(c) {
+        close(*got, hand as f32, 2e-3, "composited colour");
+    }
+    close(t.opacity, o as f32, 2e-3, "composited opacity");
+
+    // Level 09's worked composite (`worked::back_to_front`, P1 first) is the same reading.
+    let rows = voxcast_core::worked::back_to_front(&voxel, &tf, &points.map(|p| p.to_array()));
+    let last = rows.last().unwrap().after;
+    for (level, render) in last.iter().zip(t.color) {
+        close(*level, render, 1e-5, "the level's colour is the render's");
+    }
+    close(
+        last[3],
+        t.opacity,
+        1e-5,
+        "the level's opacity is the render's",
+    );
 }
 
 /// Sum of a constant volume is the value times the path length in voxels, whatever the step

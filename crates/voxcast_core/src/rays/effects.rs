@@ -1,6 +1,7 @@
 //! Ray sets Voxcast traces itself through a triangle scene, one per effect of RayVis's study:
 //! primary rays of a pinhole camera, and from every primary hit a shadow ray towards a
-//! directional light, a mirror reflection ray and a few short ambient-occlusion rays
+//! directional light (where the surface faces it: one turned away is dark without a ray), a
+//! mirror reflection ray and a few short ambient-occlusion rays
 //! (cosine-distributed over the hemisphere of the surface's normal). Seeded and reproducible:
 //! every random number is a hash of the seed, the primary ray and the secondary ray's index,
 //! so any thread count gives the same sets.

@@ -54,7 +54,7 @@ pub fn read(file: &[u8], name: &str) -> Result<RayData, RdfError> {
     }
     Ok(RayData {
         description: format!(
-            "{name}: {} trace{}, {} scene chunk{}",
+            "a RayVis file: {} trace{}, {} scene chunk{}",
             traces.len(),
             if traces.len() == 1 { "" } else { "s" },
             scenes,

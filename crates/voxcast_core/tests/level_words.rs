@@ -1,0 +1,218 @@
+//! Level sentences that say what the code does, each read against the code: the words are
+//! quoted from the level, and the test makes the code show them true (as the equation checker
+//! does for formulas). A change to either side that parts them fails here.
+
+mod common;
+
+use common::*;
+use voxcast_core::builtin::load_builtin;
+use voxcast_core::camera::Camera;
+use voxcast_core::classify::iso_contour_alpha;
+use voxcast_core::glam::Vec3;
+use voxcast_core::level::Level;
+use voxcast_core::rays::{camera::virtual_camera_rays, cornell, effects};
+use voxcast_core::settings::RenderSettings;
+use voxcast_core::trace::Scene;
+
+/// Step `k` (from 1) of level `id`, the way the player reads it.
+fn words(id: &str, k: usize) -> String {
+    let level = Level::all().into_iter().find(|l| l.id == id).unwrap();
+    level.steps[k - 1].text.clone()
+}
+
+#[track_caller]
+fn says(text: &str, phrase: &str) {
+    assert!(
+        text.contains(phrase),
+        "the level no longer says \"{phrase}\": {text}"
+    );
+}
+
+/// Level 17, step 4: the ray mesh draws each of the virtual camera's rays "from where it enters
+/// the volume" (its segment starts at `t_min`, on the volume's box for a camera outside it).
+#[test]
+fn the_ray_mesh_starts_where_a_ray_enters_the_volume() {
+    says(
+        &words("ray-density", 4),
+        "a line from where it enters the volume to where it stopped",
+    );
+    let bunny = load_builtin("bunny").unwrap().volume;
+    let p = voxcast_core::preset::for_volume(bunny.name()).unwrap();
+    let v = voxcast_core::Prepared::from(bunny);
+    let s = p.settings_over(&RenderSettings::default()).unwrap();
+    let (lo, hi) = v.bounds();
+    let cam = Camera::framing(lo, hi, Vec3::new(1.0, 0.3, 1.2), Vec3::Y).unwrap();
+    let scene = Scene::new(&v, &p.transfer, &s, cam.forward()).unwrap();
+    let set = virtual_camera_rays(&scene, &cam, 16, 16);
+    let size = (hi - lo).length();
+    let mut entered = 0;
+    for r in set.rays.iter().filter(|r| r.t_max > r.t_min) {
+        let start = r.at(r.t_min);
+        let on_a_face = (0..3).any(|a| {
+            (start[a] - lo[a]).abs() < 1e-4 * size || (start[a] - hi[a]).abs() < 1e-4 * size
+        });
+        assert!(r.t_min > 0.0 && on_a_face, "ray {} starts at {start}", r.id);
+        entered += 1;
+    }
+    assert!(entered > 100, "{entered} rays entered");
+}
+
+/// Level 18, step 1: shadow rays leave "every visible point that faces" the light; a surface
+/// turned away from it casts none.
+#[test]
+fn shadow_rays_leave_only_the_points_that_face_the_light() {
+    says(
+        &words("which-effect", 1),
+        "Shadow rays run towards the light from every visible point that faces it",
+    );
+    let cam = effects::camera(
+        cornell::CAMERA_EYE,
+        cornell::CAMERA_TARGET,
+        cornell::CAMERA_FOV_Y_DEG,
+    )
+    .unwrap();
+    let scene = cornell::scene();
+    let p = effects::TraceParams {
+        width: 40,
+        height: 40,
+        light: cornell::light_direction(),
+        ao_rays: 0,
+        ao_radius: 50.0,
+        seed: 1,
+    };
+    let sets = effects::trace_effects(&scene, &cam, &p);
+    let to_light = -cornell::light_direction().normalize();
+    let facing = sets[0]
+        .rays
+        .iter()
+        .filter(|r| r.is_hit(0.0))
+        .filter(|r| {
+            let hit = scene
+                .intersect(r.origin, r.direction, 0.0, r.t_max)
+                .unwrap();
+            hit.normal.dot(to_light) > 0.0
+        })
+        .count();
+    assert_eq!(sets[1].rays.len(), facing);
+    // Turned the other way, the light faces other walls: the count follows the surfaces.
+    let away = effects::TraceParams {
+        light: -cornell::light_direction(),
+        ..p
+    };
+    let facing_away = effects::trace_effects(&scene, &cam, &away)[1].rays.len();
+    let hits = sets[0].hits_and_misses(0.0).0;
+    assert!(
+        facing < hits || facing_away < hits,
+        "some visible point faces away from one of the two lights"
+    );
+}
+
+/// Level 06, step 1: at each isovalue the opacity is "the transfer function's opacity there"
+/// (not full), falling linearly to 0 at r gradient steps.
+#[test]
+fn an_isovalue_has_the_tables_opacity() {
+    let text = words("levoy", 1);
+    says(
+        &text,
+        "the opacity is the transfer function's opacity there",
+    );
+    says(
+        &text,
+        "reaching 0 at {r} voxel".replace("{r}", "1").as_str(),
+    );
+    for alpha in [0.3f32, 0.8, 1.0] {
+        for (g, r) in [(2.0f32, 1.0f32), (0.5, 3.0)] {
+            let f_v = 10.0;
+            close(
+                iso_contour_alpha(f_v, g, f_v, alpha, r),
+                alpha,
+                1e-6,
+                "at f_v",
+            );
+            close(
+                iso_contour_alpha(f_v + 0.5 * r * g, g, f_v, alpha, r),
+                0.5 * alpha,
+                1e-5,
+                "half way",
+            );
+            close(
+                iso_contour_alpha(f_v + r * g, g, f_v, alpha, r),
+                0.0,
+                1e-5,
+                "at r",
+            );
+        }
+    }
+}
+
+/// Level 02, step 3: "halving the step doubles the samples and shrinks the error" — the time is
+/// not promised (one short run's time is noise on a busy laptop), the samples are counted.
+#[test]
+fn halving_the_step_doubles_the_samples() {
+    let text = words("sampling", 3);
+    says(
+        &text,
+        "Halving the step doubles the samples and shrinks the error",
+    );
+    assert!(!text.contains("roughly the time"), "{text}");
+    let v = voxcast_core::Prepared::from(load_builtin("bucky").unwrap().volume);
+    let p = voxcast_core::preset::for_volume("bucky").unwrap();
+    let s = p.settings_over(&RenderSettings::default()).unwrap();
+    let (lo, hi) = v.bounds();
+    let cam = Camera::framing(lo, hi, Vec3::new(1.0, 0.8, 1.4), Vec3::Y).unwrap();
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let trade = voxcast_core::trade::step_trade(
+        &v,
+        &p.transfer,
+        &s,
+        &cam,
+        (32, 32),
+        &[2.0, 1.0, 0.5, 0.25],
+        &|_, _| {},
+        &cancel,
+    )
+    .unwrap();
+    for pair in trade.rows.windows(2) {
+        let ratio = pair[1].samples as f64 / pair[0].samples as f64;
+        assert!((1.8..2.2).contains(&ratio), "×{ratio} samples");
+        assert!(pair[1].rmse < pair[0].rmse, "{pair:?}");
+    }
+}
+
+/// Level 16, step 1: Voxcast's shading is a shortened form of the lecture's model (the level
+/// names what it leaves out), each light adds its own terms, and the ambient term ka·c is
+/// added once, however many lights there are.
+#[test]
+fn each_light_adds_its_terms_and_the_ambient_is_counted_once() {
+    use voxcast_core::shade::{Light, LightSource, Phong, Viewing, shade};
+    let text = words("lights", 1);
+    says(
+        &text,
+        "a shortened form of the lecture's illumination model",
+    );
+    says(&text, "which Voxcast leaves out");
+    says(&text, "the ambient term ka·c is added once");
+    // Dark enough that no sum reaches 1, where the colour is clamped.
+    let c = Vec3::new(0.3, 0.2, 0.1);
+    let view = Vec3::new(0.0, 0.0, -1.0);
+    let a = LightSource::new(Light::Directional(Vec3::new(0.3, -0.4, 1.0)));
+    let b = LightSource::new(Light::Directional(Vec3::new(-0.6, -0.2, 0.8)));
+    let with = |lights: Vec<LightSource>| {
+        let k = Phong {
+            lights,
+            ..Phong::default()
+        };
+        let resolved = k.resolve(view);
+        let v = Viewing::new(view, &resolved);
+        // A surface facing the camera and both lights (its gradient points away from them).
+        shade(c, Vec3::new(0.1, 0.2, 1.0), Vec3::ZERO, &v, &k).0
+    };
+    let ambient = Phong::default().ka * c;
+    let (one, other, both) = (with(vec![a]), with(vec![b]), with(vec![a, b]));
+    assert!(one != ambient && other != ambient, "both lights reach it");
+    assert!(
+        both.abs_diff_eq(one + other - ambient, 1e-5),
+        "{both} vs {one} + {other}"
+    );
+    assert!(with(vec![]).abs_diff_eq(ambient, 1e-6));
+}
