@@ -106,6 +106,59 @@ fn every_method_renders_every_builtin() {
     }
 }
 
+/// `render --method first --depth FILE.png`: the depth image beside the colour one, its raw
+/// distances as a NRRD the volume readers open, the scale in words; without First, or with a
+/// name that is not a PNG, a usage error before any work.
+#[test]
+fn render_writes_firsts_depth_image() {
+    let dir = out_dir();
+    let (png, depth) = (dir.join("first.png"), dir.join("first_depth.png"));
+    let o = voxcast(&[
+        "render",
+        "--volume",
+        "builtin:bunny",
+        "--method",
+        "first",
+        "--size",
+        "48x40",
+        "--out",
+        png.to_str().unwrap(),
+        "--depth",
+        depth.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("Distance from the eye"), "{}", text(&o));
+    let image = image::open(&depth).unwrap().to_rgb8();
+    assert_eq!(image.dimensions(), (48, 40));
+    let colour = image::open(&png).unwrap().to_rgb8();
+    // Hits are grey, and where the colour image shows the bunny the depth image has a hit.
+    let background = *colour.get_pixel(0, 0);
+    let mut hits = 0;
+    for (x, y, p) in colour.enumerate_pixels() {
+        let d = image.get_pixel(x, y);
+        if *p != background {
+            assert!(
+                d[0] == d[1] && d[1] == d[2] && d[0] > 30,
+                "({x}, {y}): {d:?}"
+            );
+            hits += 1;
+        }
+    }
+    assert!(hits > 100, "{hits} hits");
+    // The raw distances open as a volume one voxel deep.
+    let raw = depth.with_extension("nrrd");
+    let o = voxcast(&["info", raw.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("48 × 40 × 1"), "{}", text(&o));
+
+    let o = voxcast(&["render", "--depth", depth.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("choose the method First"), "{}", text(&o));
+    let o = voxcast(&["render", "--method", "first", "--depth", "x.nrrd"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("ending in .png"), "{}", text(&o));
+}
+
 #[test]
 fn trace_prints_json_csv_and_a_table() {
     let args = [
@@ -579,6 +632,13 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
     let out = text(&o);
     assert!(
         out.contains("30 triangles") && out.contains("trace 0: 65536 rays, 61204 hits"),
+        "{out}"
+    );
+    // The file is named once, at the start of its line.
+    let name = file.to_str().unwrap();
+    assert_eq!(out.matches(name).count(), 1, "{out}");
+    assert!(
+        out.starts_with(&format!("{name}: a RayVis file: 4 traces")),
         "{out}"
     );
     let garbage = out_dir().join("garbage.rayvis");

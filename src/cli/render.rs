@@ -39,6 +39,11 @@ pub struct RenderArgs {
     /// or stops (how the rays stopped).
     #[arg(long, value_parser = ["samples", "skipped", "stops"])]
     pub cost: Option<String>,
+    /// With the method First, also write its depth image: each pixel's distance from the eye
+    /// to where First found the target (white nearest, dark grey farthest, misses in the
+    /// background), and the raw distances beside it as a 2-D NRRD of floats (`.nrrd`).
+    #[arg(long, value_name = "FILE.png")]
+    pub depth: Option<PathBuf>,
 }
 
 /// One timed render's outcome.
@@ -125,6 +130,25 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         eprintln!("note: {note}");
     }
     let camera = a.camera.camera(&loaded, resolved.preset.as_ref())?;
+    if let Some(path) = &a.depth {
+        let method = resolved.settings.method;
+        if method != voxcast_core::composite::Method::First {
+            return Err(CliError::usage(
+                voxcast_core::depth::DepthError::NotFirst(method.name()).to_string(),
+            ));
+        }
+        if path
+            .extension()
+            .is_none_or(|e| !e.eq_ignore_ascii_case("png"))
+        {
+            return Err(CliError::usage(format!(
+                "{}: give the depth image a name ending in .png (its raw distances go \
+                 beside it as .nrrd)",
+                path.display()
+            )));
+        }
+        super::rays::check_folders([path])?;
+    }
     let t_prep = Instant::now();
     let scene = Scene::new(
         &loaded.volume,
@@ -170,6 +194,44 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     if let Some(view) = a.cost.as_deref().and_then(CostView::parse) {
         write_cost(&scene, &camera, a, view)?;
     }
+    if let Some(path) = &a.depth {
+        write_depth(&scene, &camera, a, path)?;
+    }
+    Ok(())
+}
+
+/// Writes First's depth image to `path` and its raw distances beside it (`.nrrd`).
+fn write_depth(
+    scene: &Scene<'_>,
+    camera: &voxcast_core::camera::Camera,
+    a: &RenderArgs,
+    path: &std::path::Path,
+) -> Result<(), CliError> {
+    let progress = Progress::new("depth");
+    let cancel = AtomicBool::new(false);
+    let map = voxcast_core::cost::render_depth(
+        scene,
+        camera,
+        a.size,
+        &|d, t| progress.update(d, t),
+        &cancel,
+    )
+    .map_err(|e| CliError::failed(e.to_string()))?;
+    progress.finish();
+    let cannot = |p: &std::path::Path, e: &dyn std::fmt::Display| {
+        CliError::failed(format!("cannot write {}: {e}", p.display()))
+    };
+    map.image(scene.settings.background)
+        .save_png(path)
+        .map_err(|e| cannot(path, &e))?;
+    let raw = path.with_extension("nrrd");
+    std::fs::write(&raw, map.nrrd()).map_err(|e| cannot(&raw, &e))?;
+    println!(
+        "depth → {} (raw distances → {}): {}.",
+        path.display(),
+        raw.display(),
+        map.scale_words()
+    );
     Ok(())
 }
 

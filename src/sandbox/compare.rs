@@ -533,6 +533,8 @@ pub(crate) mod tests {
             pixels: vec![[3, 9, 1, 0, 1]; 12],
             stats: done.stats,
             full_scale: 16,
+            depth: None,
+            background: Vec3::ZERO,
         });
         Compared::new(done, gpu, snapshot(), 1)
     }

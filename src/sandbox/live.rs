@@ -121,8 +121,8 @@ pub struct LiveFrame {
     /// background).
     pub rgb: Vec<[u8; 3]>,
     pub seconds: f64,
-    /// For a cost view: the count drawn pale yellow and the busiest pixel's count.
-    pub cost_scale: Option<(u32, u32)>,
+    /// For a cost view: its scale in words (the counts' or the depth's), for the legend.
+    pub legend: Option<String>,
 }
 
 impl LiveFrame {
@@ -165,7 +165,9 @@ impl LiveView {
             return "rendering the first frame…".into();
         };
         let what = if f.full() && self.job.is_none() {
-            if f.key.cost_view.is_some() {
+            if f.key.cost_view == Some(CostView::Depth) {
+                "the exact depth"
+            } else if f.key.cost_view.is_some() {
                 "the exact counts"
             } else {
                 "the exact render"
@@ -605,7 +607,7 @@ fn start(
         };
         let set_up = started.elapsed().as_secs_f64();
         let mut tiles = TileSlices::default();
-        let ((image, cost_scale), busy) = match job_key.cost_view {
+        let ((image, legend), busy) = match job_key.cost_view {
             None => {
                 let ((layer, _), busy) =
                     in_slices(|d| on_pool(refine, || render_layer_in(&job, &mut tiles, d)))
@@ -619,10 +621,15 @@ fn start(
                     in_slices(|d| on_pool(refine, || render_cost_in(&job, &mut tiles, d)))
                         .await
                         .ok()?;
-                (
-                    (map.image(view), Some((map.full_scale, map.max(view)))),
-                    busy,
-                )
+                let legend = match view {
+                    CostView::Stops => None,
+                    CostView::Depth => map.depth.as_ref().map(|d| d.scale_words()),
+                    _ => Some(voxcast_core::cost::scale_words(
+                        map.full_scale,
+                        map.max(view),
+                    )),
+                };
+                ((map.image(view), legend), busy)
             }
         };
         let rgb = image.pixels.iter().map(|p| to_u8(*p)).collect();
@@ -631,7 +638,7 @@ fn start(
             size,
             rgb,
             seconds: set_up + busy,
-            cost_scale,
+            legend,
         })
     });
     LiveJob {
@@ -753,15 +760,55 @@ mod tests {
             "the live cost view differs from the core's map"
         );
         assert_eq!(
-            frame.cost_scale,
-            Some((map.full_scale, map.max(CostView::Samples)))
+            frame.legend,
+            Some(voxcast_core::cost::scale_words(
+                map.full_scale,
+                map.max(CostView::Samples)
+            ))
         );
         assert!(live.status().contains("exact counts"), "{}", live.status());
         app.world_mut().resource_mut::<PreviewSettings>().cost_view = None;
         app.world_mut().resource_mut::<PreviewSettings>().backend = Backend::Cpu;
         until_exact(&mut app);
         let live = app.world().resource::<LiveView>();
-        assert_eq!(live.shown.as_ref().unwrap().cost_scale, None);
+        assert_eq!(live.shown.as_ref().unwrap().legend, None);
+    }
+
+    /// With First, the depth view: each pixel the core's depth image, and the scale in words.
+    #[test]
+    fn the_depth_view_is_firsts_depth_image() {
+        let mut app = app();
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .method = voxcast_core::composite::Method::First;
+        app.world_mut().resource_mut::<PreviewSettings>().cost_view = Some(CostView::Depth);
+        until_exact(&mut app);
+        let frame = app.world().resource::<LiveView>().shown.as_ref().unwrap();
+        let key = &frame.key;
+        let volume = app.world().resource::<VolumeState>().volume.clone();
+        let scene =
+            Scene::new(&volume, &key.transfer, &key.settings, key.camera.forward()).unwrap();
+        let depth = voxcast_core::cost::render_depth(
+            &scene,
+            &key.camera,
+            (64, 48),
+            &|_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        let expect: Vec<[u8; 3]> = depth
+            .image(key.settings.background)
+            .pixels
+            .iter()
+            .map(|p| to_u8(*p))
+            .collect();
+        assert!(
+            frame.rgb == expect,
+            "the live depth differs from the core's"
+        );
+        assert!(depth.range().is_some(), "the bunny is hit");
+        assert_eq!(frame.legend, Some(depth.scale_words()));
     }
 
     /// A changed view leaves the old frame out of date and brings a new one for the new view.

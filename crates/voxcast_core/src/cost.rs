@@ -10,9 +10,14 @@
 //! yellow is every position of the longest ray through the volume ([`CostMap::full_scale`]), so
 //! two maps of the same view compare by colour — turning early termination or skipping off and rendering again shows the
 //! cost rise, pixel by pixel, where the work they save lies.
+//!
+//! With the method First the same march also keeps each ray's hit distance: the depth image,
+//! "distance to the first voxel" ([`crate::depth`]), is one more view of the map.
 
 use crate::camera::Camera;
 use crate::colormap::inferno;
+use crate::composite::Method;
+use crate::depth::{DepthError, DepthMap, depth_scale};
 use crate::image_out::LinearImage;
 use crate::render::{Cancelled, Job, RenderStats, TileSlices};
 use crate::slices::{Deadline, Step};
@@ -29,10 +34,17 @@ pub enum CostView {
     Skipped,
     /// How the rays stopped: ran through, stopped early, cut short by the cap, or missed.
     Stops,
+    /// First's depth: how far from the eye each pixel's rays found the target value.
+    Depth,
 }
 
 impl CostView {
-    pub const ALL: [CostView; 3] = [CostView::Samples, CostView::Skipped, CostView::Stops];
+    pub const ALL: [CostView; 4] = [
+        CostView::Samples,
+        CostView::Skipped,
+        CostView::Stops,
+        CostView::Depth,
+    ];
 
     /// The view's name in the UI and on the command line.
     pub const fn name(self) -> &'static str {
@@ -40,7 +52,13 @@ impl CostView {
             CostView::Samples => "samples",
             CostView::Skipped => "skipped",
             CostView::Stops => "stops",
+            CostView::Depth => "depth",
         }
+    }
+
+    /// Whether the view shows anything for `method`: the depth only for First.
+    pub fn shows_for(self, method: Method) -> bool {
+        self != CostView::Depth || method == Method::First
     }
 
     /// What the view shows, in words (the legend).
@@ -59,6 +77,11 @@ impl CostView {
                 "How each pixel's rays stopped: blue, they left the volume; orange, early \
                  termination or a First hit stopped them; red, the sample cap; black, they missed \
                  the volume or the cut left nothing."
+            }
+            CostView::Depth => {
+                "Distance to the first voxel (method First): how far from the eye each pixel's \
+                 ray found the target value, white nearest to dark grey farthest on a scale \
+                 fixed by the volume's box; the background where no ray found it."
             }
         }
     }
@@ -88,6 +111,10 @@ pub struct CostMap {
     /// The count drawn pale yellow: a pixel's rays each taking every position of the longest
     /// ray through the volume at this step (its diagonal; at most the sample cap).
     pub full_scale: u32,
+    /// With the method First, each pixel's hit distance (else `None`).
+    pub depth: Option<DepthMap>,
+    /// The render's background, where the depth view shows no hit.
+    pub background: Vec3,
 }
 
 impl CostMap {
@@ -96,7 +123,7 @@ impl CostMap {
         match view {
             CostView::Samples => p[0],
             CostView::Skipped => p[1] - p[0],
-            CostView::Stops => 0,
+            CostView::Stops | CostView::Depth => 0,
         }
     }
 
@@ -112,6 +139,16 @@ impl CostMap {
     /// The view as an image: counts through inferno, 0 to [`CostMap::full_scale`]; or the
     /// stops' colours, blended by the share of the pixel's rays that stopped each way.
     pub fn image(&self, view: CostView) -> LinearImage {
+        if view == CostView::Depth {
+            return match &self.depth {
+                Some(depth) => depth.image(self.background),
+                None => LinearImage {
+                    width: self.width,
+                    height: self.height,
+                    pixels: vec![self.background; (self.width * self.height) as usize],
+                },
+            };
+        }
         let mut image = LinearImage::new(self.width, self.height);
         let rays = self.rays_per_pixel.max(1) as f32;
         for (i, p) in self.pixels.iter().enumerate() {
@@ -167,6 +204,23 @@ pub fn render_cost(
     render_cost_in(&job, &mut TileSlices::default(), Deadline::NONE).map(Step::whole)
 }
 
+/// First's depth image of `camera`'s view of `scene` ([`crate::depth`]): the cost map's march,
+/// its depth kept. Progress and cancel as [`crate::render::render`].
+pub fn render_depth(
+    scene: &Scene<'_>,
+    camera: &Camera,
+    size: (u32, u32),
+    progress: &(dyn Fn(usize, usize) + Sync),
+    cancel: &AtomicBool,
+) -> Result<DepthMap, DepthError> {
+    let method = scene.settings.method;
+    if method != Method::First {
+        return Err(DepthError::NotFirst(method.name()));
+    }
+    let map = render_cost(scene, camera, size, progress, cancel)?;
+    Ok(map.depth.expect("First keeps its depth"))
+}
+
 /// [`render_cost`] of `job` (its occluders and surface left out) in slices, as
 /// [`crate::render::render_in`].
 pub fn render_cost_in(
@@ -174,8 +228,10 @@ pub fn render_cost_in(
     slices: &mut TileSlices,
     deadline: Deadline,
 ) -> Result<Step<CostMap>, Cancelled> {
-    /// Missed rays are counted in the last channel in units of this (above any ray count).
-    const MISSED: f32 = 1024.0;
+    /// The last channel packs three counts of a pixel's rays, each below this (supersampling
+    /// is at most 8, so 64 rays): capped + MISSED·missed + MISSED²·early, whole numbers below
+    /// 2^24, where f32 holds them exactly.
+    const MISSED: f32 = 128.0;
     let job = Job {
         occluders: &[],
         surface: None,
@@ -187,11 +243,15 @@ pub fn render_cost_in(
             let early = matches!(out.stop, StopReason::Cutoff | StopReason::FirstHit);
             let capped = out.stop == StopReason::SampleCap;
             let missed = matches!(out.stop, StopReason::Missed | StopReason::CutAway);
+            // The third channel: First's hit distance (0 where the ray found no target).
+            let hit_t = if out.hit_t.is_nan() { 0.0 } else { out.hit_t };
             Vec4::new(
                 out.samples as f32,
                 out.positions as f32,
-                f32::from(u8::from(early)),
-                f32::from(u8::from(capped)) + MISSED * f32::from(u8::from(missed)),
+                hit_t,
+                f32::from(u8::from(capped))
+                    + MISSED * f32::from(u8::from(missed))
+                    + MISSED * MISSED * f32::from(u8::from(early)),
             )
         },
         slices,
@@ -205,14 +265,38 @@ pub fn render_cost_in(
     let n = scene.settings.supersampling.max(1);
     let rays = (n * n) as f32;
     let whole = |x: f32| (x * rays).round() as u32;
-    let pixels = pixels
-        .into_iter()
+    let m = MISSED as u32;
+    let counts: Vec<[u32; 5]> = pixels
+        .iter()
         .map(|p| {
             let last = whole(p.w);
-            let (missed, capped) = (last / MISSED as u32, last % MISSED as u32);
-            [whole(p.x), whole(p.y), whole(p.z), capped, n * n - missed]
+            let (early, missed, capped) = (last / (m * m), last / m % m, last % m);
+            [whole(p.x), whole(p.y), early, capped, n * n - missed]
         })
         .collect();
+    // First's rays stop early exactly where they hit: the depth is the mean over those.
+    let depth = (scene.settings.method == Method::First).then(|| {
+        let (lo, hi) = scene.volume.bounds();
+        let (near, far) = depth_scale(job.camera, lo, hi);
+        DepthMap {
+            width,
+            height,
+            depth: pixels
+                .iter()
+                .zip(&counts)
+                .map(|(p, c)| {
+                    if c[2] > 0 {
+                        p.z * rays / c[2] as f32
+                    } else {
+                        f32::NAN
+                    }
+                })
+                .collect(),
+            near,
+            far,
+            stats,
+        }
+    });
     let longest = scene
         .settings
         .longest_ray_samples(scene.volume)
@@ -222,9 +306,11 @@ pub fn render_cost_in(
         width,
         height,
         rays_per_pixel: n * n,
-        pixels,
+        pixels: counts,
         stats,
         full_scale: longest.max(1) * n * n,
+        depth,
+        background: scene.settings.background,
     }))
 }
 

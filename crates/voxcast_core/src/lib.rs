@@ -43,6 +43,7 @@ pub mod clip;
 pub mod colormap;
 pub mod composite;
 pub mod cost;
+pub mod depth;
 pub mod entry;
 pub mod error;
 pub mod explain;

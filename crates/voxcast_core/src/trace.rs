@@ -67,6 +67,9 @@ pub struct RayOutcome {
     /// space: what a caster without skipping would have interpolated.
     pub positions: u32,
     pub stop: StopReason,
+    /// First's refined hit: its distance along the ray (world units from the ray's origin);
+    /// NaN where the ray found no target (and for the other methods).
+    pub hit_t: f32,
 }
 
 impl RayOutcome {
@@ -76,6 +79,7 @@ impl RayOutcome {
         samples: 0,
         positions: 0,
         stop: StopReason::Missed,
+        hit_t: f32::NAN,
     };
 
     /// The pixel colour over `background`.
@@ -547,6 +551,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             } else {
                 StopReason::LeftVolume
             },
+            hit_t: f32::NAN,
         }
     }
 
@@ -764,6 +769,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             samples: taken,
             positions: plan.count,
             stop: StopReason::LeftVolume,
+            hit_t: f32::NAN,
         }
     }
 
@@ -863,6 +869,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             samples,
             positions: samples,
             stop: StopReason::FirstHit,
+            hit_t: t,
         }
     }
 

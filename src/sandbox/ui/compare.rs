@@ -147,19 +147,29 @@ fn cost_choice(
     let Some(cost) = &result.cost else {
         return;
     };
+    let method = result.snapshot.settings.method;
     ui.horizontal(|ui| {
         ui.label("Show the render as:");
         ui.selectable_value(cost_view, None, "picture")
             .on_hover_text("The rendered image");
-        for (view, words) in [
-            (CostView::Samples, "samples"),
-            (CostView::Skipped, "skipped"),
-            (CostView::Stops, "stops"),
-        ] {
-            ui.selectable_value(cost_view, Some(view), words)
-                .on_hover_text(view.doc());
+        for view in CostView::ALL {
+            let shows = view.shows_for(method);
+            let choice = ui
+                .add_enabled(
+                    shows,
+                    egui::Button::selectable(*cost_view == Some(view), view.name()),
+                )
+                .on_hover_text(view.doc())
+                .on_disabled_hover_text(format!("{} Render with First to see it.", view.doc()));
+            if choice.clicked() {
+                *cost_view = Some(view);
+            }
         }
     });
+    // A depth chosen for a First render, then another method rendered: the picture again.
+    if cost_view.is_some_and(|v| !v.shows_for(method)) {
+        *cost_view = None;
+    }
     let Some(view) = *cost_view else {
         return;
     };
@@ -170,6 +180,10 @@ fn cost_choice(
     }
     let total = |i: usize| cost.pixels.iter().map(|p| p[i] as u64).sum::<u64>();
     let legend = match view {
+        CostView::Depth => match &cost.depth {
+            Some(depth) => format!("{} {}.", view.doc(), depth.scale_words()),
+            None => view.doc().to_string(),
+        },
         CostView::Stops => {
             let rays = cost.stats.rays.max(1) as f32;
             let share = |n: u64| voxcast_core::numbers::percent(n as f32 / rays);
@@ -263,6 +277,7 @@ fn result_view(
             CostView::Samples => "samples interpolated",
             CostView::Skipped => "positions skipped",
             CostView::Stops => "how rays stopped",
+            CostView::Depth => "distance to the first hit",
         };
     }
     let width = ((ui.available_width() - 16.0) / 3.0).max(64.0);

@@ -1,26 +1,44 @@
-//! The preview's cost view: the choice between the picture and what its rays cost, and the
-//! legend — inferno's scale from none to the count drawn pale yellow, or the stops' colours.
+//! The preview's cost view: the choice between the picture and what its rays cost (or, with
+//! First, its depth), and the legend — inferno's scale from none to the count drawn pale
+//! yellow, the stops' colours, or the depth's greys.
 
 use bevy_egui::egui;
 use voxcast_core::colormap::inferno;
+use voxcast_core::composite::Method;
 use voxcast_core::cost::{CAPPED_COLOR, CostView, EARLY_COLOR, LEFT_COLOR};
+use voxcast_core::depth::{FAR_SHADE, NEAR_SHADE};
 
-/// The choice: the picture or one of the cost views.
-pub(super) fn choice(ui: &mut egui::Ui, cost_view: &mut Option<CostView>) {
+/// The choice: the picture or one of the cost views (the depth only for `method` First; a
+/// depth chosen before the method changed falls back to the picture).
+pub(super) fn choice(ui: &mut egui::Ui, cost_view: &mut Option<CostView>, method: Method) {
     ui.horizontal_wrapped(|ui| {
         ui.label("Show the preview as:");
         ui.selectable_value(cost_view, None, "picture")
             .on_hover_text("The volume rendered");
         for view in CostView::ALL {
-            ui.selectable_value(cost_view, Some(view), view.name())
-                .on_hover_text(view.doc());
+            let choice = ui
+                .add_enabled(
+                    view.shows_for(method),
+                    egui::Button::selectable(*cost_view == Some(view), view.name()),
+                )
+                .on_hover_text(view.doc())
+                .on_disabled_hover_text(format!(
+                    "{} Choose the method First to see it.",
+                    view.doc()
+                ));
+            if choice.clicked() {
+                *cost_view = Some(view);
+            }
         }
     });
+    if cost_view.is_some_and(|v| !v.shows_for(method)) {
+        *cost_view = None;
+    }
 }
 
-/// The legend of `view`: `scale` is the count drawn pale yellow and the busiest pixel's count
-/// in the frame on screen (`None` until a frame of this view is drawn).
-pub(super) fn legend(ui: &mut egui::Ui, view: CostView, scale: Option<(u32, u32)>) {
+/// The legend of `view`: `words` is the scale of the frame on screen in words (`None` until
+/// a frame of this view is drawn).
+pub(super) fn legend(ui: &mut egui::Ui, view: CostView, words: Option<&str>) {
     let width = ui.available_width().clamp(80.0, 260.0);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 10.0), egui::Sense::hover());
     let painter = ui.painter_at(rect);
@@ -39,6 +57,17 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, scale: Option<(u32, u32)
                 painter.rect_filled(r, 0.0, super::color32(c.to_array()));
             }
         }
+        CostView::Depth => {
+            let n = 32;
+            let w = rect.width() / n as f32;
+            for i in 0..n {
+                let x = rect.left() + w * i as f32;
+                let r =
+                    egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w + 0.5, 10.0));
+                let grey = NEAR_SHADE + (FAR_SHADE - NEAR_SHADE) * (i as f32 + 0.5) / n as f32;
+                painter.rect_filled(r, 0.0, super::color32([grey; 3]));
+            }
+        }
         _ => {
             let n = 64;
             let w = rect.width() / n as f32;
@@ -54,13 +83,13 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, scale: Option<(u32, u32)
             }
         }
     }
-    let words = match (view, scale) {
+    let words = match (view, words) {
         (CostView::Stops, _) => {
-            "blue: left the volume · orange: stopped early · red: sample cap · \
-                                 black: missed"
+            "blue: left the volume · orange: stopped early · red: sample cap · black: missed"
                 .to_string()
         }
-        (_, Some((full, busiest))) => voxcast_core::cost::scale_words(full, busiest),
+        (_, Some(words)) => words.to_string(),
+        (CostView::Depth, None) => "measuring…".to_string(),
         (_, None) => "counting…".to_string(),
     };
     ui.label(egui::RichText::new(words).small())

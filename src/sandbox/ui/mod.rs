@@ -34,6 +34,7 @@ use voxcast_core::sample::Interpolation;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
 use voxcast_core::tunables::{self as t, Tunable};
+use voxcast_core::worked::LECTURE_VOXEL;
 
 /// The part of the window not yet taken by a docked panel this frame (egui lays panels out
 /// inside a `Ui`; each panel system adds its panel to what the ones before it left).
@@ -531,7 +532,7 @@ fn preset_menu(ui: &mut egui::Ui, edited: &mut RenderState, volume: &voxcast_cor
 /// The virtual camera: shown or not, its resolution and field of view, and where it stands.
 fn virtual_camera_section(
     ui: &mut egui::Ui,
-    vc: &mut Mut<VirtualCamera>,
+    (vc, settings): (&mut Mut<VirtualCamera>, &mut RenderSettings),
     main: Option<voxcast_core::camera::Camera>,
     volume: &VolumeState,
     spot: Spot,
@@ -580,6 +581,21 @@ fn virtual_camera_section(
             edited.view = framed.view;
         }
     });
+    // On the lecture's voxel: its worked ray, to click and follow in the breakdown.
+    if volume.source == LECTURE_VOXEL
+        && ui
+            .button("The lecture's ray")
+            .on_hover_text(
+                "One pixel whose ray runs from P3 towards P1, the far end, with one sample on \
+                 each of P3, P2 and P1 (no opacity correction, no shading): click its pixel to \
+                 see the lecture's numbers",
+            )
+            .clicked()
+    {
+        edited.view = voxcast_core::worked::lecture_ray();
+        (edited.width, edited.height) = (1, 1);
+        *settings = voxcast_core::worked::lecture_ray_settings(settings);
+    }
     if edited != **vc {
         **vc = edited;
     }
@@ -590,7 +606,7 @@ fn preview_section(
     ui: &mut egui::Ui,
     preview: &mut PreviewSettings,
     live: Option<&super::live::LiveView>,
-    depth: &mut bool,
+    (depth, method): (&mut bool, Method),
     spot: Spot,
 ) {
     let mut q = preview.clone();
@@ -609,13 +625,13 @@ fn preview_section(
                 .on_hover_text(t::PREVIEW_BACKEND.doc);
         }
     });
-    cost_view::choice(ui, &mut q.cost_view);
+    cost_view::choice(ui, &mut q.cost_view, method);
     if let Some(view) = q.cost_view {
-        let scale = live
+        let words = live
             .and_then(|l| l.shown.as_ref())
             .filter(|f| f.key.cost_view == Some(view))
-            .and_then(|f| f.cost_scale);
-        cost_view::legend(ui, view, scale);
+            .and_then(|f| f.legend.as_deref());
+        cost_view::legend(ui, view, words);
     }
     if let (true, Some(live)) = (q.cpu_live(), live) {
         ui.label(format!("Live view: {}", live.status()));
@@ -833,7 +849,13 @@ fn settings_panel(
                         if let Ok(mut vc) = virtual_cameras.single_mut() {
                             section(ui, Section::VirtualCamera, false, guide, |ui| {
                                 let main = main_views.single().ok().map(|v| v.0);
-                                virtual_camera_section(ui, &mut vc, main, &volume, spot)
+                                virtual_camera_section(
+                                    ui,
+                                    (&mut vc, &mut edited.settings),
+                                    main,
+                                    &volume,
+                                    spot,
+                                )
                             });
                         }
                         section(ui, Section::RayData, false, guide, |ui| {
@@ -867,7 +889,7 @@ fn settings_panel(
                                 ui,
                                 &mut preview,
                                 live.as_deref(),
-                                &mut edited.depth_termination,
+                                (&mut edited.depth_termination, edited.settings.method),
                                 spot,
                             )
                         });
@@ -971,7 +993,13 @@ mod tests {
                     });
                 }
                 trade::trade_section(ui, &mut step_trade, false, 0.5, None);
-                preview_section(ui, &mut preview, Some(&live), &mut depth, None);
+                preview_section(
+                    ui,
+                    &mut preview,
+                    Some(&live),
+                    (&mut depth, Method::First),
+                    None,
+                );
                 let mut handles = crate::sandbox::cut::CutHandles { crop: true };
                 s.clip.plane = Some(voxcast_core::clip::ClipPlane {
                     normal: Vec3::X,
