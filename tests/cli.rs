@@ -159,6 +159,37 @@ fn render_writes_firsts_depth_image() {
     assert!(text(&o).contains("ending in .png"), "{}", text(&o));
 }
 
+/// `--specular`: Phong's R·V draws other highlights than Blinn-Phong's N·H, which is the
+/// default (bit for bit).
+#[test]
+fn the_specular_model_is_chosen_on_the_command_line() {
+    let dir = out_dir();
+    let render = |name: &str, extra: &[&str]| {
+        let png = dir.join(name);
+        let args = [
+            &[
+                "render",
+                "--volume",
+                "builtin:bunny",
+                "--size",
+                "40x32",
+                "--out",
+            ][..],
+            &[png.to_str().unwrap()],
+            extra,
+        ]
+        .concat();
+        let o = voxcast(&args);
+        assert!(o.status.success(), "{}", text(&o));
+        image::open(&png).unwrap().to_rgb8()
+    };
+    let default = render("spec_default.png", &[]);
+    let blinn = render("spec_blinn.png", &["--specular", "blinn-phong"]);
+    let phong = render("spec_phong.png", &["--specular", "phong"]);
+    assert!(default == blinn, "Blinn-Phong is the default");
+    assert!(phong != blinn, "R·V and N·H give other highlights");
+}
+
 #[test]
 fn trace_prints_json_csv_and_a_table() {
     let args = [

@@ -191,8 +191,7 @@ pub struct SettingsArgs {
     /// as Levoy's formula in the lecture).
     #[arg(long, value_parser = ["white", "levoy"])]
     pub highlight: Option<String>,
-    /// Specular model.
-    #[arg(long, value_parser = ["phong", "blinn-phong"])]
+    #[arg(long, help = SpecularModel::SPECULAR_DOC, value_parser = ["phong", "blinn-phong"])]
     pub specular: Option<String>,
     #[arg(long, help = t::TWO_SIDED.doc, value_parser = ["on", "off"])]
     pub two_sided: Option<String>,
@@ -406,12 +405,11 @@ impl SettingsArgs {
                 Highlight::White
             };
         }
-        if let Some(m) = &self.specular {
-            p.model = if m == "phong" {
-                SpecularModel::Phong
-            } else {
-                SpecularModel::BlinnPhong
-            };
+        if let Some(model) = SpecularModel::ALL
+            .into_iter()
+            .find(|m| self.specular.as_deref() == Some(m.name()))
+        {
+            p.model = model;
         }
         if let Some(v) = on(&self.two_sided) {
             p.two_sided = v;

@@ -46,6 +46,32 @@ pub enum SpecularModel {
     BlinnPhong,
 }
 
+impl SpecularModel {
+    pub const ALL: [SpecularModel; 2] = [SpecularModel::BlinnPhong, SpecularModel::Phong];
+
+    /// What it computes, for tooltips and help (one text for the panel and the CLI).
+    pub const SPECULAR_DOC: &'static str = "The highlight's base: Blinn-Phong's N·H with the half \
+        vector H between the light and the eye (OpenGL's and VTK's), or Phong's R·V with R the \
+        light mirrored about the normal, as the lecture writes it; both raised to the \
+        shininess n";
+
+    /// Words for the interface.
+    pub fn label(self) -> &'static str {
+        match self {
+            SpecularModel::BlinnPhong => "N·H (Blinn-Phong)",
+            SpecularModel::Phong => "R·V (Phong, the lecture's)",
+        }
+    }
+
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpecularModel::BlinnPhong => "blinn-phong",
+            SpecularModel::Phong => "phong",
+        }
+    }
+}
+
 /// The highlight's colour.
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,

@@ -7,7 +7,7 @@ use super::slider;
 use bevy::prelude::Vec3;
 use bevy_egui::egui;
 use voxcast_core::marker::direction_from_marker;
-use voxcast_core::shade::{Highlight, Light, LightSource, MAX_LIGHTS, Phong};
+use voxcast_core::shade::{Highlight, Light, LightSource, MAX_LIGHTS, Phong, SpecularModel};
 use voxcast_core::tunables as t;
 
 /// Where a newly chosen point light stands: above and to the side of the volume, outside it.
@@ -69,6 +69,16 @@ pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec
         })
         .response
         .on_hover_text(p.highlight.doc());
+    egui::ComboBox::from_label("Specular")
+        .selected_text(p.model.label())
+        .show_ui(ui, |ui| {
+            for m in SpecularModel::ALL {
+                ui.selectable_value(&mut p.model, m, m.label())
+                    .on_hover_text(SpecularModel::SPECULAR_DOC);
+            }
+        })
+        .response
+        .on_hover_text(SpecularModel::SPECULAR_DOC);
 }
 
 /// One light's kind, place, colour and attenuation.
