@@ -16,7 +16,7 @@ use crate::sandbox::trade::StepTrade;
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
 use std::path::PathBuf;
-use voxcast_core::level::{Control, Level, Objective, Progress, Section, Situation, Step};
+use voxcast_core::level::{Answer, Control, Level, Objective, Progress, Section, Situation, Step};
 use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
 
 /// The levels, the step being played and the player's progress.
@@ -94,10 +94,61 @@ impl Lessons {
         }
     }
 
-    /// Records the current step of level `l` as done and saves.
+    /// Records the current step of level `l` as done, with its answer where it asked for one
+    /// (the prediction it was done with), and saves.
     fn record(&mut self, l: usize) {
         let id = self.levels[l].id.clone();
+        let step = self.levels[l]
+            .steps
+            .get(self.step)
+            .map(|s| s.objective.clone());
+        let truth = self.detail.as_ref().map(|d| d.value).or_else(|| {
+            self.composite
+                .as_ref()
+                .and_then(|rows| rows.last())
+                .map(|r| r.after[0])
+        });
+        let question = match step {
+            Some(Objective::PredictValue { point, .. }) => Some(format!(
+                "the value at ({}, {}, {})",
+                point[0], point[1], point[2]
+            )),
+            Some(Objective::PredictComposite { .. }) => {
+                Some("the red of C after the last point".to_string())
+            }
+            _ => None,
+        };
+        if let (Some(question), Some(truth)) = (question, truth) {
+            let answer = (
+                self.prediction.trim().to_string(),
+                voxcast_core::numbers::sig(truth),
+                true,
+            );
+            let a = Answer::now(&id, self.step + 1, question, answer);
+            self.progress.answers.push(a);
+        }
         self.progress.record(&id, self.step + 1);
+        self.save();
+    }
+
+    /// Names effect `chosen` as the one that cast trace `trace` (step of level `l`): kept as an
+    /// answer, right or wrong, and saved.
+    pub fn name_effect(&mut self, l: usize, chosen: u32, trace: u32) {
+        use voxcast_core::rays::effects::Effect;
+        self.named_effect = Some(chosen);
+        let words = |id: u32| Effect::ALL.get(id as usize).map_or("?", |e| e.words());
+        let answer = (
+            words(chosen).to_string(),
+            words(trace).to_string(),
+            chosen == trace,
+        );
+        let question = format!("which effect cast trace {trace}");
+        let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
+        self.progress.answers.push(a);
+        self.save();
+    }
+
+    fn save(&mut self) {
         if let Err(e) = self.store.save(&self.progress) {
             self.message = Some(format!("progress not saved: {e}"));
         }
@@ -565,6 +616,51 @@ mod tests {
         app.world_mut().write_message(c);
         app.update();
         app.update();
+    }
+
+    /// A prediction done and an effect named are kept as answers, with what the code
+    /// computes, saved with the progress and exported as CSV.
+    #[test]
+    fn answers_are_kept_with_the_progress() {
+        let dir = std::env::temp_dir().join(format!("voxcast-answers-{}", std::process::id()));
+        let path = dir.join("progress.json");
+        let mut app = app(path.clone());
+        let trilinear = level(&app, "trilinear");
+        send(&mut app, LevelCommand::Start(trilinear));
+        until(&mut app, |a| {
+            a.world().resource::<VolumeState>().source == "builtin:voxel"
+        });
+        send(&mut app, LevelCommand::Next); // step 1 is read
+        app.world_mut().resource_mut::<Lessons>().prediction = "4,99".into();
+        until(&mut app, |a| a.world().resource::<Lessons>().met);
+        send(&mut app, LevelCommand::Next);
+        let lessons = app.world().resource::<Lessons>();
+        let [a] = &lessons.progress.answers[..] else {
+            panic!("{:?}", lessons.progress.answers)
+        };
+        assert_eq!((a.level.as_str(), a.step), ("trilinear", 2));
+        assert_eq!(a.question, "the value at (0.5, 0.5, 0.5)");
+        assert_eq!(
+            (a.answer.as_str(), a.expected.as_str(), a.correct),
+            ("4,99", "4.988", true)
+        );
+        // Naming an effect: a wrong choice and the right one, both kept.
+        let mut lessons = app.world_mut().resource_mut::<Lessons>();
+        lessons.name_effect(trilinear, 2, 1);
+        lessons.name_effect(trilinear, 1, 1);
+        let kept = &lessons.progress.answers;
+        assert_eq!(kept.len(), 3);
+        assert!(!kept[1].correct && kept[2].correct);
+        assert_eq!(kept[1].answer, "reflection rays");
+        assert_eq!(kept[1].expected, "shadow rays");
+        let (saved, _) = Progress::load(&path);
+        assert_eq!(&saved.answers, kept);
+        let csv = saved.answers_csv();
+        assert_eq!(csv.lines().count(), 4, "{csv}");
+        let first = csv.lines().nth(1).unwrap();
+        let quoted = "trilinear,2,\"the value at (0.5, 0.5, 0.5)\",\"4,99\",4.988,yes,";
+        assert!(first.starts_with(quoted), "{csv}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// Levels are states: starting one spawns only what its scene holds, and what free play

@@ -524,10 +524,74 @@ impl Level {
     }
 }
 
-/// Steps completed per level id.
+/// Steps completed per level id, and the answers given, for the player and their teacher.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Progress {
     pub completed: BTreeMap<String, usize>,
+    /// Every answer given, oldest first (kept from the first version that records them; older
+    /// progress has none).
+    #[serde(default)]
+    pub answers: Vec<Answer>,
+}
+
+/// One answer to a level's question: a prediction when the step was done, or an effect named.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Answer {
+    /// The level's id and the step, from 1.
+    pub level: String,
+    pub step: usize,
+    /// What was asked, in words ("value at (0.5, 0.5, 0.5)", "which effect").
+    pub question: String,
+    /// What the player gave, and what the code computes.
+    pub answer: String,
+    pub expected: String,
+    pub correct: bool,
+    /// When, in seconds since 1970-01-01 UTC.
+    pub at: u64,
+}
+
+impl Answer {
+    /// The answer given now.
+    pub fn now(
+        level: &str,
+        step: usize,
+        question: String,
+        (answer, expected, correct): (String, String, bool),
+    ) -> Self {
+        let at = web_time::SystemTime::now()
+            .duration_since(web_time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_secs());
+        Self {
+            level: level.to_string(),
+            step,
+            question,
+            answer,
+            expected,
+            correct,
+            at,
+        }
+    }
+}
+
+/// `seconds` since 1970-01-01 as an ISO 8601 UTC time, `2026-12-04T09:53:47Z`.
+pub fn utc_time(seconds: u64) -> String {
+    let (days, rest) = ((seconds / 86_400) as i64, seconds % 86_400);
+    // Howard Hinnant's days-to-civil.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1_460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        rest / 3_600,
+        rest / 60 % 60,
+        rest % 60
+    )
 }
 
 impl Progress {
@@ -579,11 +643,86 @@ impl Progress {
         let done = self.completed.entry(id.to_string()).or_default();
         *done = (*done).max(steps);
     }
+
+    /// The answers as CSV, one row an answer in the order given, for a teacher's spreadsheet.
+    pub fn answers_csv(&self) -> String {
+        let field = |s: &str| {
+            if s.contains([',', '"', '\n']) {
+                format!("\"{}\"", s.replace('"', "\"\""))
+            } else {
+                s.to_string()
+            }
+        };
+        let mut out = String::from("level,step,question,answer,expected,correct,time (UTC)\n");
+        for a in &self.answers {
+            out += &[
+                field(&a.level),
+                a.step.to_string(),
+                field(&a.question),
+                field(&a.answer),
+                field(&a.expected),
+                if a.correct { "yes" } else { "no" }.to_string(),
+                utc_time(a.at),
+            ]
+            .join(",");
+            out.push('\n');
+        }
+        out
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Answers round-trip through the progress text; progress written before answers were
+    /// kept reads with none; the CSV quotes what needs quoting and dates in UTC.
+    #[test]
+    fn answers_are_kept_and_exported() {
+        let (old, message) = Progress::from_text(r#"{"completed": {"rays": 2}}"#, "old");
+        assert_eq!(message, None);
+        assert_eq!(old.completed["rays"], 2);
+        assert!(old.answers.is_empty());
+        let mut p = old;
+        p.answers.push(Answer {
+            level: "trilinear".into(),
+            step: 2,
+            question: "value at (0.5, 0.5, 0.5)".into(),
+            answer: "4.99".into(),
+            expected: "4.9875".into(),
+            correct: true,
+            at: 1_796_464_427,
+        });
+        p.answers.push(Answer {
+            question: "which effect: \"trace 4\"".into(),
+            answer: "reflection rays".into(),
+            expected: "shadow rays".into(),
+            correct: false,
+            ..p.answers[0].clone()
+        });
+        let (back, _) = Progress::from_text(&p.to_text(), "here");
+        assert_eq!(back, p);
+        let csv = p.answers_csv();
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            lines,
+            [
+                "level,step,question,answer,expected,correct,time (UTC)",
+                "trilinear,2,\"value at (0.5, 0.5, 0.5)\",4.99,4.9875,yes,2026-12-05T09:53:47Z",
+                "trilinear,2,\"which effect: \"\"trace 4\"\"\",reflection rays,shadow rays,no,\
+                 2026-12-05T09:53:47Z",
+            ]
+        );
+        for (seconds, iso) in [
+            (0, "1970-01-01T00:00:00Z"),
+            (951_782_400, "2000-02-29T00:00:00Z"),
+            (4_107_542_399, "2100-02-28T23:59:59Z"),
+        ] {
+            assert_eq!(utc_time(seconds), iso);
+        }
+        let now = Answer::now("x", 1, "q".into(), ("a".into(), "b".into(), true));
+        assert!(now.at > 1_700_000_000, "{}", now.at);
+    }
 
     #[test]
     fn every_embedded_level_reads_and_quotes_only_real_tunables() {

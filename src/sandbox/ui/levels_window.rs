@@ -110,7 +110,7 @@ fn fold_toggle(ui: &mut egui::Ui, folded: &mut bool) {
     }
 }
 
-fn level_list(ui: &mut egui::Ui, lessons: &Lessons, folded: &mut bool) -> Option<LevelCommand> {
+fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons, folded: &mut bool) -> Option<LevelCommand> {
     let mut chosen = None;
     if *folded {
         ui.horizontal(|ui| {
@@ -133,8 +133,40 @@ fn level_list(ui: &mut egui::Ui, lessons: &Lessons, folded: &mut bool) -> Option
     ui.horizontal_wrapped(|ui| {
         chosen = level_buttons(ui, lessons);
     });
+    export_answers(ui, lessons);
     chosen
 }
+
+/// The answers given so far, as a CSV file for a teacher (a download in a browser).
+fn export_answers(ui: &mut egui::Ui, lessons: &mut Lessons) {
+    let count = lessons.progress.answers.len();
+    let button = ui
+        .add_enabled(count > 0, egui::Button::new("Export answers (CSV)"))
+        .on_hover_text(
+            "Every prediction and named effect so far, with the level, the step, what the code \
+             computes, whether it was right and when: a file to hand to your teacher",
+        )
+        .on_disabled_hover_text("No answers yet: the prediction steps keep them");
+    if super::target(button, "export answers").clicked() {
+        let path = std::env::current_dir()
+            .unwrap_or_default()
+            .join(ANSWERS_FILE);
+        let path = path.as_path();
+        let csv = lessons.progress.answers_csv();
+        lessons.message = Some(
+            match crate::sandbox::files::save(path, csv.as_bytes(), "text/csv") {
+                Ok(done) => format!(
+                    "{count} answer{}: {done}",
+                    if count == 1 { "" } else { "s" }
+                ),
+                Err(e) => format!("answers not saved: {e}"),
+            },
+        );
+    }
+}
+
+/// The answers' file: in the folder the sandbox was started from, or a download.
+const ANSWERS_FILE: &str = "voxcast_answers.csv";
 
 fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
     let mut chosen = None;
@@ -251,7 +283,7 @@ fn level_step(
         }
     }
     if let Objective::NameEffect { trace } = step.objective {
-        name_effect(ui, lessons, trace, met);
+        name_effect(ui, lessons, (l, trace), met);
     }
     // One row: the buttons, whether the step is done and, folded, where to look.
     let mut command = None;
@@ -275,13 +307,13 @@ fn level_step(
 
 /// The answers to "which effect cast these rays?": one button per effect, and what a wrong
 /// choice should have shown.
-fn name_effect(ui: &mut egui::Ui, lessons: &mut Lessons, trace: u32, met: bool) {
+fn name_effect(ui: &mut egui::Ui, lessons: &mut Lessons, (l, trace): (usize, u32), met: bool) {
     use voxcast_core::rays::effects::Effect;
     ui.horizontal_wrapped(|ui| {
         for e in Effect::ALL {
             let chosen = lessons.named_effect == Some(e.id());
-            if ui.selectable_label(chosen, e.words()).clicked() && !met {
-                lessons.named_effect = Some(e.id());
+            if ui.selectable_label(chosen, e.words()).clicked() && !met && !chosen {
+                lessons.name_effect(l, e.id(), trace);
             }
         }
     });
