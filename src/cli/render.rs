@@ -7,7 +7,7 @@ use clap::Args;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use voxcast_core::cost::{CostView, render_cost};
+use voxcast_core::cost::{CostMap, CostView, render_cost};
 use voxcast_core::image_out::LinearImage;
 use voxcast_core::render::{RenderStats, render};
 use voxcast_core::trace::Scene;
@@ -191,68 +191,50 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     if let Some(warning) = timed.stats.cap_warning(s.max_samples) {
         eprintln!("warning: {warning}");
     }
-    if let Some(view) = a.cost.as_deref().and_then(CostView::parse) {
-        write_cost(&scene, &camera, a, view)?;
-    }
-    if let Some(path) = &a.depth {
-        write_depth(&scene, &camera, a, path)?;
+    // One more march, the render's own, for the cost views and First's depth.
+    if a.cost.is_some() || a.depth.is_some() {
+        let progress = Progress::new("cost");
+        let cancel = AtomicBool::new(false);
+        let update = |d, t| progress.update(d, t);
+        let map = render_cost(&scene, &camera, a.size, &update, &cancel)
+            .map_err(|e| CliError::failed(e.to_string()))?;
+        progress.finish();
+        if let Some(view) = a.cost.as_deref().and_then(CostView::parse) {
+            write_cost(&map, a, view)?;
+        }
+        if let (Some(path), Some(depth)) = (&a.depth, &map.depth) {
+            write_depth(depth, map.background, path)?;
+        }
     }
     Ok(())
 }
 
 /// Writes First's depth image to `path` and its raw distances beside it (`.nrrd`).
 fn write_depth(
-    scene: &Scene<'_>,
-    camera: &voxcast_core::camera::Camera,
-    a: &RenderArgs,
+    depth: &voxcast_core::depth::DepthMap,
+    background: voxcast_core::glam::Vec3,
     path: &std::path::Path,
 ) -> Result<(), CliError> {
-    let progress = Progress::new("depth");
-    let cancel = AtomicBool::new(false);
-    let map = voxcast_core::cost::render_depth(
-        scene,
-        camera,
-        a.size,
-        &|d, t| progress.update(d, t),
-        &cancel,
-    )
-    .map_err(|e| CliError::failed(e.to_string()))?;
-    progress.finish();
     let cannot = |p: &std::path::Path, e: &dyn std::fmt::Display| {
         CliError::failed(format!("cannot write {}: {e}", p.display()))
     };
-    map.image(scene.settings.background)
+    depth
+        .image(background)
         .save_png(path)
         .map_err(|e| cannot(path, &e))?;
     let raw = path.with_extension("nrrd");
-    std::fs::write(&raw, map.nrrd()).map_err(|e| cannot(&raw, &e))?;
+    std::fs::write(&raw, depth.nrrd()).map_err(|e| cannot(&raw, &e))?;
     println!(
         "depth → {} (raw distances → {}): {}.",
         path.display(),
         raw.display(),
-        map.scale_words()
+        depth.scale_words()
     );
     Ok(())
 }
 
 /// Writes the cost heat map of the render beside its image, and says what its scale means.
-fn write_cost(
-    scene: &Scene<'_>,
-    camera: &voxcast_core::camera::Camera,
-    a: &RenderArgs,
-    view: CostView,
-) -> Result<(), CliError> {
-    let progress = Progress::new("cost");
-    let cancel = AtomicBool::new(false);
-    let map = render_cost(
-        scene,
-        camera,
-        a.size,
-        &|d, t| progress.update(d, t),
-        &cancel,
-    )
-    .map_err(|e| CliError::failed(e.to_string()))?;
-    progress.finish();
+fn write_cost(map: &CostMap, a: &RenderArgs, view: CostView) -> Result<(), CliError> {
     let stem = a.out.file_stem().unwrap_or_default().to_string_lossy();
     let path = a.out.with_file_name(format!("{stem}_cost.png"));
     map.image(view)

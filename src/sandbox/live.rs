@@ -721,6 +721,20 @@ mod tests {
 
     /// A cost view at rest is the core's cost map of the view, on its fixed scale, whichever
     /// backend draws the picture; back to the picture, the render returns.
+    /// An image as the live view's display values.
+    fn displayed(image: &voxcast_core::image_out::LinearImage) -> Vec<[u8; 3]> {
+        image.pixels.iter().map(|p| to_u8(*p)).collect()
+    }
+
+    /// The core's cost map of the live frame's view, at the window's 64×48.
+    fn cores_map(app: &App, key: &LiveKey) -> voxcast_core::cost::CostMap {
+        let volume = app.world().resource::<VolumeState>().volume.clone();
+        let scene =
+            Scene::new(&volume, &key.transfer, &key.settings, key.camera.forward()).unwrap();
+        let quiet = AtomicBool::new(false);
+        voxcast_core::cost::render_cost(&scene, &key.camera, (64, 48), &|_, _| {}, &quiet).unwrap()
+    }
+
     #[test]
     fn the_cost_view_at_rest_is_the_cores_map() {
         let mut app = app();
@@ -738,25 +752,9 @@ mod tests {
         let frame = live.shown.as_ref().unwrap();
         let key = &frame.key;
         assert_eq!(key.cost_view, Some(CostView::Samples));
-        let volume = app.world().resource::<VolumeState>().volume.clone();
-        let scene =
-            Scene::new(&volume, &key.transfer, &key.settings, key.camera.forward()).unwrap();
-        let map = voxcast_core::cost::render_cost(
-            &scene,
-            &key.camera,
-            (64, 48),
-            &|_, _| {},
-            &AtomicBool::new(false),
-        )
-        .unwrap();
-        let expect: Vec<[u8; 3]> = map
-            .image(CostView::Samples)
-            .pixels
-            .iter()
-            .map(|p| to_u8(*p))
-            .collect();
+        let map = cores_map(&app, key);
         assert!(
-            frame.rgb == expect,
+            frame.rgb == displayed(&map.image(CostView::Samples)),
             "the live cost view differs from the core's map"
         );
         assert_eq!(
@@ -786,27 +784,12 @@ mod tests {
         until_exact(&mut app);
         let frame = app.world().resource::<LiveView>().shown.as_ref().unwrap();
         let key = &frame.key;
-        let volume = app.world().resource::<VolumeState>().volume.clone();
-        let scene =
-            Scene::new(&volume, &key.transfer, &key.settings, key.camera.forward()).unwrap();
-        let depth = voxcast_core::cost::render_depth(
-            &scene,
-            &key.camera,
-            (64, 48),
-            &|_, _| {},
-            &AtomicBool::new(false),
-        )
-        .unwrap();
-        let expect: Vec<[u8; 3]> = depth
-            .image(key.settings.background)
-            .pixels
-            .iter()
-            .map(|p| to_u8(*p))
-            .collect();
+        let map = cores_map(&app, key);
         assert!(
-            frame.rgb == expect,
+            frame.rgb == displayed(&map.image(CostView::Depth)),
             "the live depth differs from the core's"
         );
+        let depth = map.depth.expect("First keeps its depth");
         assert!(depth.range().is_some(), "the bunny is hit");
         assert_eq!(frame.legend, Some(depth.scale_words()));
     }

@@ -42,6 +42,16 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, words: Option<&str>) {
     let width = ui.available_width().clamp(80.0, 260.0);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 10.0), egui::Sense::hover());
     let painter = ui.painter_at(rect);
+    // The bar: `n` cells, each the colour at its middle's fraction of the scale.
+    let bar = |n: usize, colour: &dyn Fn(f32) -> [f32; 3]| {
+        let w = rect.width() / n as f32;
+        for i in 0..n {
+            let x = rect.left() + w * i as f32;
+            let r = egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w + 0.5, 10.0));
+            let c = colour((i as f32 + 0.5) / n as f32);
+            painter.rect_filled(r, 0.0, super::color32(c));
+        }
+    };
     match view {
         CostView::Stops => {
             let parts = [
@@ -50,38 +60,12 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, words: Option<&str>) {
                 CAPPED_COLOR,
                 voxcast_core::glam::Vec3::ZERO,
             ];
-            let w = rect.width() / parts.len() as f32;
-            for (i, c) in parts.into_iter().enumerate() {
-                let x = rect.left() + w * i as f32;
-                let r = egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w, 10.0));
-                painter.rect_filled(r, 0.0, super::color32(c.to_array()));
-            }
+            bar(parts.len(), &|x| {
+                parts[((x * parts.len() as f32) as usize).min(parts.len() - 1)].to_array()
+            });
         }
-        CostView::Depth => {
-            let n = 32;
-            let w = rect.width() / n as f32;
-            for i in 0..n {
-                let x = rect.left() + w * i as f32;
-                let r =
-                    egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w + 0.5, 10.0));
-                let grey = NEAR_SHADE + (FAR_SHADE - NEAR_SHADE) * (i as f32 + 0.5) / n as f32;
-                painter.rect_filled(r, 0.0, super::color32([grey; 3]));
-            }
-        }
-        _ => {
-            let n = 64;
-            let w = rect.width() / n as f32;
-            for i in 0..n {
-                let x = rect.left() + w * i as f32;
-                let r =
-                    egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w + 0.5, 10.0));
-                painter.rect_filled(
-                    r,
-                    0.0,
-                    super::color32(inferno((i as f32 + 0.5) / n as f32).to_array()),
-                );
-            }
-        }
+        CostView::Depth => bar(32, &|x| [NEAR_SHADE + (FAR_SHADE - NEAR_SHADE) * x; 3]),
+        _ => bar(64, &|x| inferno(x).to_array()),
     }
     let words = match (view, words) {
         (CostView::Stops, _) => {
