@@ -190,6 +190,47 @@ fn the_specular_model_is_chosen_on_the_command_line() {
     assert!(phong != blinn, "R·V and N·H give other highlights");
 }
 
+/// `voxcast answers`: the player's progress (here `VOXCAST_CONFIG_DIR`'s) as CSV, to standard
+/// output or a file; a missing or damaged progress file says so and exits non-zero.
+#[test]
+fn answers_are_exported_as_csv() {
+    let dir = out_dir().join("answers");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("progress.json"),
+        r#"{"completed": {"trilinear": 2}, "answers": [{"level": "trilinear", "step": 2,
+            "question": "the value at (0.5, 0.5, 0.5)", "answer": "4.99", "expected": "4.988",
+            "correct": true, "at": 1796464427}]}"#,
+    )
+    .unwrap();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_voxcast"))
+            .args(args)
+            .env("VOXCAST_CONFIG_DIR", &dir)
+            .output()
+            .unwrap()
+    };
+    let o = run(&["answers"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let csv = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        csv,
+        "level,step,question,answer,expected,correct,time (UTC)\n\
+         trilinear,2,\"the value at (0.5, 0.5, 0.5)\",4.99,4.988,yes,2026-12-05T09:53:47Z\n"
+    );
+    let out = dir.join("answers.csv");
+    let o = run(&["answers", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), csv);
+    let o = run(&["answers", "--progress", "/no/such/progress.json"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("/no/such/progress.json"), "{}", text(&o));
+    std::fs::write(dir.join("progress.json"), "{ damaged").unwrap();
+    let o = run(&["answers"]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(text(&o).contains("is damaged"), "{}", text(&o));
+}
+
 #[test]
 fn trace_prints_json_csv_and_a_table() {
     let args = [

@@ -1,6 +1,8 @@
-//! The `voxcast` command line: render, trace, info, bench and rays over the core. In a
+//! The `voxcast` command line: render, trace, info, bench, rays and answers over the core. In a
 //! browser only the sandbox's options are read (from the page's address).
 
+#[cfg(not(target_arch = "wasm32"))]
+pub mod answers;
 pub mod args;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod bench;

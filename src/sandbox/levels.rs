@@ -175,17 +175,7 @@ impl ProgressStore {
         #[cfg(target_arch = "wasm32")]
         return Self::Browser("voxcast-progress");
         #[cfg(not(target_arch = "wasm32"))]
-        {
-            let dir = std::env::var_os("VOXCAST_CONFIG_DIR")
-                .map(PathBuf::from)
-                .or_else(|| {
-                    std::env::var_os("XDG_CONFIG_HOME").map(|d| PathBuf::from(d).join("voxcast"))
-                })
-                .or_else(|| {
-                    std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config/voxcast"))
-                });
-            dir.map_or(Self::Nowhere, |d| Self::File(d.join("progress.json")))
-        }
+        voxcast_core::level::players_progress_path().map_or(Self::Nowhere, Self::File)
     }
 
     /// The progress kept here: a fresh start where there is none, and with a message where

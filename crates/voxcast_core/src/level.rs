@@ -534,6 +534,18 @@ pub struct Progress {
     pub answers: Vec<Answer>,
 }
 
+/// Where the player's progress is kept on a desktop: `$VOXCAST_CONFIG_DIR/progress.json`,
+/// else `$XDG_CONFIG_HOME/voxcast/progress.json`, else `~/.config/voxcast/progress.json`;
+/// `None` where none of these is set.
+pub fn players_progress_path() -> Option<std::path::PathBuf> {
+    use std::path::PathBuf;
+    std::env::var_os("VOXCAST_CONFIG_DIR")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("XDG_CONFIG_HOME").map(|d| PathBuf::from(d).join("voxcast")))
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config/voxcast")))
+        .map(|dir| dir.join("progress.json"))
+}
+
 /// One answer to a level's question: a prediction when the step was done, or an effect named.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Answer {
@@ -614,13 +626,18 @@ impl Progress {
     /// Reads progress from the text kept in `place` (a file, the browser's storage): a damaged
     /// text is a fresh start, with a message that names `place`.
     pub fn from_text(text: &str, place: &str) -> (Self, Option<String>) {
-        match serde_json::from_str(text) {
+        match Self::parse(text) {
             Ok(p) => (p, None),
             Err(e) => (
                 Self::default(),
                 Some(format!("{place} is damaged ({e}); starting afresh")),
             ),
         }
+    }
+
+    /// The progress in `text`, or what is wrong with it.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        serde_json::from_str(text).map_err(|e| e.to_string())
     }
 
     /// The progress as the text [`Progress::from_text`] reads.
