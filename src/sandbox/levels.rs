@@ -102,12 +102,7 @@ impl Lessons {
             .steps
             .get(self.step)
             .map(|s| s.objective.clone());
-        let truth = self.detail.as_ref().map(|d| d.value).or_else(|| {
-            self.composite
-                .as_ref()
-                .and_then(|rows| rows.last())
-                .map(|r| r.after[0])
-        });
+        let truth = prediction_truth(self.detail.as_ref(), self.composite.as_deref());
         let question = match step {
             Some(Objective::PredictValue { point, .. }) => Some(format!(
                 "the value at ({}, {}, {})",
@@ -410,12 +405,7 @@ pub(crate) fn check_objective(
             (&comparison, views.single().ok()),
             (&trade, preview.as_deref(), inspect.as_deref()),
         );
-        let truth = detail.as_ref().map(|d| d.value).or_else(|| {
-            composite
-                .as_ref()
-                .and_then(|rows| rows.last())
-                .map(|r| r.after[0])
-        });
+        let truth = prediction_truth(detail.as_ref(), composite.as_deref());
         if let (Some(truth), Ok(typed)) = (truth, parse_typed(&lessons.prediction)) {
             sit.prediction = Some((typed, truth));
         }
@@ -446,6 +436,17 @@ pub(crate) fn check_objective(
     }
     (lessons.met, lessons.spot) = (met, spot);
     (lessons.detail, lessons.composite) = (detail, composite);
+}
+
+/// What a prediction step's answer should be: the reconstructed value at its point, or the
+/// red of the worked composite after its last point.
+fn prediction_truth(
+    detail: Option<&SampleDetail>,
+    composite: Option<&[voxcast_core::worked::WorkedPoint]>,
+) -> Option<f32> {
+    detail
+        .map(|d| d.value)
+        .or_else(|| composite?.last().map(|r| r.after[0]))
 }
 
 /// A number as a player types it: spaces around it and a decimal comma allowed.

@@ -719,8 +719,6 @@ mod tests {
         assert!(live.generation >= 2, "coarse first, then refined");
     }
 
-    /// A cost view at rest is the core's cost map of the view, on its fixed scale, whichever
-    /// backend draws the picture; back to the picture, the render returns.
     /// An image as the live view's display values.
     fn displayed(image: &voxcast_core::image_out::LinearImage) -> Vec<[u8; 3]> {
         image.pixels.iter().map(|p| to_u8(*p)).collect()
@@ -735,6 +733,8 @@ mod tests {
         voxcast_core::cost::render_cost(&scene, &key.camera, (64, 48), &|_, _| {}, &quiet).unwrap()
     }
 
+    /// A cost view at rest is the core's cost map of the view, on its fixed scale, whichever
+    /// backend draws the picture; back to the picture, the render returns.
     #[test]
     fn the_cost_view_at_rest_is_the_cores_map() {
         let mut app = app();

@@ -294,7 +294,6 @@ pub fn render_cost_in(
                 .collect(),
             near,
             far,
-            stats,
         }
     });
     let longest = scene

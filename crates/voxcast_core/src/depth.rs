@@ -12,7 +12,8 @@
 
 use crate::camera::Camera;
 use crate::image_out::LinearImage;
-use crate::render::{Cancelled, RenderStats};
+use crate::numbers::sig;
+use crate::render::Cancelled;
 use glam::Vec3;
 
 /// The grey of the nearest distance on the scale (white)…
@@ -42,7 +43,6 @@ pub struct DepthMap {
     /// The scale: the volume's box nearest to the eye and its farthest corner.
     pub near: f32,
     pub far: f32,
-    pub stats: RenderStats,
 }
 
 /// The distances from `camera`'s eye to the nearest point of the box `lo..hi` (0 with the eye
@@ -50,16 +50,8 @@ pub struct DepthMap {
 pub fn depth_scale(camera: &Camera, lo: Vec3, hi: Vec3) -> (f32, f32) {
     let eye = camera.eye;
     let near = eye.clamp(lo, hi).distance(eye);
-    let far = (0..8)
-        .map(|k| {
-            let corner = Vec3::new(
-                if k & 1 == 0 { lo.x } else { hi.x },
-                if k & 2 == 0 { lo.y } else { hi.y },
-                if k & 4 == 0 { lo.z } else { hi.z },
-            );
-            corner.distance(eye)
-        })
-        .fold(0.0, f32::max);
+    // The farthest corner lies, along each axis, on the face farther from the eye.
+    let far = (eye - lo).abs().max((eye - hi).abs()).length();
     (near, far.max(near + f32::EPSILON))
 }
 
@@ -72,16 +64,18 @@ impl DepthMap {
 
     /// The image: each hit's grey, `background` where no ray hit.
     pub fn image(&self, background: Vec3) -> LinearImage {
-        let mut image = LinearImage::new(self.width, self.height);
-        for (i, &t) in self.depth.iter().enumerate() {
-            let c = if t.is_nan() {
+        let grey = |t: f32| {
+            if t.is_nan() {
                 background
             } else {
                 Vec3::splat(self.shade(t))
-            };
-            image.set(i as u32 % self.width, i as u32 / self.width, c);
+            }
+        };
+        LinearImage {
+            width: self.width,
+            height: self.height,
+            pixels: self.depth.iter().map(|&t| grey(t)).collect(),
         }
-        image
     }
 
     /// The nearest and farthest hit in the image, if any ray hit.
@@ -97,14 +91,14 @@ impl DepthMap {
     /// legend and `render --depth`.
     pub fn scale_words(&self) -> String {
         let hits = match self.range() {
-            Some((a, b)) => format!("the hits here lie {} to {} away", round(a), round(b)),
+            Some((a, b)) => format!("the hits here lie {} to {} away", sig(a), sig(b)),
             None => "no ray found the target value".into(),
         };
         format!(
             "Distance from the eye, world units: white {} (where the volume's box comes \
              nearest), dark grey {} (its farthest corner); {hits}; no hit: the background",
-            round(self.near),
-            round(self.far),
+            sig(self.near),
+            sig(self.far),
         )
     }
 
@@ -121,11 +115,6 @@ impl DepthMap {
         }
         out
     }
-}
-
-/// A distance for people: three significant digits.
-fn round(x: f32) -> String {
-    crate::numbers::sig(x)
 }
 
 #[cfg(test)]

@@ -147,29 +147,14 @@ fn cost_choice(
     let Some(cost) = &result.cost else {
         return;
     };
-    let method = result.snapshot.settings.method;
-    ui.horizontal(|ui| {
-        ui.label("Show the render as:");
-        ui.selectable_value(cost_view, None, "picture")
-            .on_hover_text("The rendered image");
-        for view in CostView::ALL {
-            let shows = view.shows_for(method);
-            let choice = ui
-                .add_enabled(
-                    shows,
-                    egui::Button::selectable(*cost_view == Some(view), view.name()),
-                )
-                .on_hover_text(view.doc())
-                .on_disabled_hover_text(format!("{} Render with First to see it.", view.doc()));
-            if choice.clicked() {
-                *cost_view = Some(view);
-            }
-        }
-    });
+    let render = super::cost_view::Shown {
+        label: "Show the render as:",
+        picture: "The rendered image",
+        to_first: "Render with First to see it.",
+    };
     // A depth chosen for a First render, then another method rendered: the picture again.
-    if cost_view.is_some_and(|v| !v.shows_for(method)) {
-        *cost_view = None;
-    }
+    let method = result.snapshot.settings.method;
+    super::cost_view::choice(ui, &render, cost_view, method);
     let Some(view) = *cost_view else {
         return;
     };

@@ -8,13 +8,35 @@ use voxcast_core::composite::Method;
 use voxcast_core::cost::{CAPPED_COLOR, CostView, EARLY_COLOR, LEFT_COLOR};
 use voxcast_core::depth::{FAR_SHADE, NEAR_SHADE};
 
+/// What a cost-view choice shows: the preview, or Render image's render.
+pub(super) struct Shown {
+    /// "Show the preview as:".
+    pub label: &'static str,
+    /// The picture's tooltip.
+    pub picture: &'static str,
+    /// How to get the depth where the method is not First.
+    pub to_first: &'static str,
+}
+
+/// The preview's choice.
+pub(super) const PREVIEW: Shown = Shown {
+    label: "Show the preview as:",
+    picture: "The volume rendered",
+    to_first: "Choose the method First to see it.",
+};
+
 /// The choice: the picture or one of the cost views (the depth only for `method` First; a
 /// depth chosen before the method changed falls back to the picture).
-pub(super) fn choice(ui: &mut egui::Ui, cost_view: &mut Option<CostView>, method: Method) {
+pub(super) fn choice(
+    ui: &mut egui::Ui,
+    shown: &Shown,
+    cost_view: &mut Option<CostView>,
+    method: Method,
+) {
     ui.horizontal_wrapped(|ui| {
-        ui.label("Show the preview as:");
+        ui.label(shown.label);
         ui.selectable_value(cost_view, None, "picture")
-            .on_hover_text("The volume rendered");
+            .on_hover_text(shown.picture);
         for view in CostView::ALL {
             let choice = ui
                 .add_enabled(
@@ -22,10 +44,7 @@ pub(super) fn choice(ui: &mut egui::Ui, cost_view: &mut Option<CostView>, method
                     egui::Button::selectable(*cost_view == Some(view), view.name()),
                 )
                 .on_hover_text(view.doc())
-                .on_disabled_hover_text(format!(
-                    "{} Choose the method First to see it.",
-                    view.doc()
-                ));
+                .on_disabled_hover_text(format!("{} {}", view.doc(), shown.to_first));
             if choice.clicked() {
                 *cost_view = Some(view);
             }

@@ -625,7 +625,7 @@ fn preview_section(
                 .on_hover_text(t::PREVIEW_BACKEND.doc);
         }
     });
-    cost_view::choice(ui, &mut q.cost_view, method);
+    cost_view::choice(ui, &cost_view::PREVIEW, &mut q.cost_view, method);
     if let Some(view) = q.cost_view {
         let words = live
             .and_then(|l| l.shown.as_ref())
