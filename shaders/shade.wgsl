@@ -1,6 +1,8 @@
-// Twin: crates/voxcast_core/src/shade.rs (`shade`, `power`): Phong / Blinn–Phong with the
-// negated, normalised gradient as the normal, summed over the lights; Levoy's highlight takes
-// the sample's colour.
+// Twin: crates/voxcast_core/src/shade.rs (`shade`, `power`), and shade/lights.rs's Cone::factor
+// as spot_factor: the lecture's illumination model with the negated, normalised gradient as the
+// normal — emission, global ambient, and per light its ambient, Phong or Blinn–Phong diffuse
+// and specular terms, falloff and spotlight factor; Levoy's highlight takes the sample's colour
+// and Levoy's depth cue sets every light's falloff from the picture plane.
 #define_import_path voxcast::shade
 
 #import voxcast::bindings::{params, FLAGS}
@@ -23,6 +25,17 @@ fn power(x: f32, n: f32) -> f32 {
     return pow(x, n);
 }
 
+/// The spotlight factor of light i for a sample whose unit direction to it is l: the core's
+/// `Cone::factor`.
+fn spot_factor(i: u32, l: vec3<f32>) -> f32 {
+    let light = params.lights[i];
+    let cos_a = -dot(l, light.spot_along);
+    if cos_a >= light.spot_cos_cutoff {
+        return power(max(cos_a, 0.0), light.spot_exponent);
+    }
+    return 0.0;
+}
+
 /// Shades colour c at p_world with gradient grad, seen along view (unit, towards the viewer),
 /// summed over the scene's lights.
 fn shade(c: vec3<f32>, grad: vec3<f32>, p_world: vec3<f32>, view: vec3<f32>) -> vec3<f32> {
@@ -38,19 +51,35 @@ fn shade(c: vec3<f32>, grad: vec3<f32>, p_world: vec3<f32>, view: vec3<f32>) -> 
     if (FLAGS & #{FLAG_LEVOY_HIGHLIGHT}u) != 0u {
         tint = c;
     }
+    // Levoy's depth cue: one falloff from the picture plane (through the eye) for every light.
+    var cue = 1.0;
+    if (FLAGS & #{FLAG_DEPTH_CUE}u) != 0u {
+        let d = dot(p_world - params.cam_eye, params.cam_forward);
+        let denom = params.depth_kc + params.depth_kl * d;
+        cue = select(1.0, 1.0 / denom, denom > 0.0);
+    }
     var diffuse = vec3(0.0);
     var specular = vec3(0.0);
+    var light_ambient = vec3(0.0);
     for (var i = 0u; i < params.light_count; i++) {
         let light = params.lights[i];
         var l = light.at;
         var attenuation = 1.0;
-        if light.kind == #{LIGHT_POINT}u {
+        if light.kind != #{LIGHT_TOWARD}u {
             let to = light.at - p_world;
             let d = length(to);
             let denom = light.kc + light.kl * d + light.kq * d * d;
             attenuation = select(1.0, 1.0 / denom, denom > 0.0);
             l = select(view, to / d, d > 0.0);
         }
+        if (FLAGS & #{FLAG_DEPTH_CUE}u) != 0u {
+            attenuation = cue;
+        }
+        var spot = 1.0;
+        if light.kind == #{LIGHT_SPOT}u {
+            spot = spot_factor(i, l);
+        }
+        let fs = attenuation * spot;
         let n_dot_l = dot(n, l);
         let lambert = max(n_dot_l, 0.0);
         var spec = 0.0;
@@ -65,9 +94,11 @@ fn shade(c: vec3<f32>, grad: vec3<f32>, p_world: vec3<f32>, view: vec3<f32>) -> 
             }
             spec = power(max(base, 0.0), params.shininess);
         }
-        diffuse += c * (light.color * (attenuation * params.kd * lambert));
-        specular += tint * light.color * (attenuation * params.ks * spec);
+        diffuse += c * (light.color * (fs * params.kd * lambert));
+        specular += tint * light.color * (fs * params.ks * spec);
+        light_ambient += c * (light.ambient * (fs * params.ka));
     }
-    let ambient = c * params.ka;
-    return clamp(ambient + diffuse + specular, vec3(0.0), vec3(1.0));
+    let emission = c * params.ke;
+    let ambient = c * (params.global_ambient * params.ka);
+    return clamp(emission + ambient + light_ambient + diffuse + specular, vec3(0.0), vec3(1.0));
 }

@@ -9,16 +9,23 @@
 
 /// One light of the scene, as the core's `ResolvedSource`.
 struct LightUniform {
-    /// A point light's position, or the unit direction towards a directional light.
+    /// A point or spot light's position, or the unit direction towards a directional light.
     at: vec3<f32>,
-    /// LIGHT_POINT or LIGHT_TOWARD.
+    /// LIGHT_POINT, LIGHT_TOWARD or LIGHT_SPOT.
     kind: u32,
-    /// Colour and intensity (linear RGB).
+    /// Colour and intensity I (linear RGB).
     color: vec3<f32>,
-    /// Attenuation 1/(kc + kl·d + kq·d²) of a point light at distance d.
+    /// Attenuation 1/(kc + kl·d + kq·d²) of a point or spot light at distance d.
     kc: f32,
+    /// The light's own ambient intensity I_a (its colour times its ambient share).
+    ambient: vec3<f32>,
     kl: f32,
+    /// A spot light's unit direction (the way it shines), as the core's `Cone`.
+    spot_along: vec3<f32>,
     kq: f32,
+    /// The cosine of a spot light's cutoff angle, and its exponent.
+    spot_cos_cutoff: f32,
+    spot_exponent: f32,
 }
 
 struct VolumeUniform {
@@ -99,6 +106,11 @@ struct VolumeUniform {
     bricks: vec3<u32>,
     /// How far inside the cube of empty bricks (voxels) a leap stops.
     brick_margin: f32,
+    /// Emission ke, global ambient G_a, and Levoy's depth cue 1/(k1 + k2·d) (see shade.wgsl).
+    ke: f32,
+    global_ambient: f32,
+    depth_kc: f32,
+    depth_kl: f32,
     /// The lights (shade.wgsl sums over the first light_count).
     lights: array<LightUniform, #{MAX_LIGHTS}>,
 }

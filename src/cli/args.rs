@@ -15,7 +15,7 @@ use voxcast_core::io::{Endian, FileType, Loaded};
 use voxcast_core::preset::{self, Preset};
 use voxcast_core::sample::Interpolation;
 use voxcast_core::settings::RenderSettings;
-use voxcast_core::shade::{Highlight, Light, LightSource, SpecularModel};
+use voxcast_core::shade::{Highlight, Light, LightSource, SpecularModel, Spot};
 use voxcast_core::step::Length;
 use voxcast_core::transfer::TransferFunction;
 use voxcast_core::tunables as t;
@@ -182,9 +182,27 @@ pub struct SettingsArgs {
     pub kl: Option<f32>,
     #[arg(long, help = t::ATTENUATION_QUADRATIC.doc, allow_negative_numbers = true)]
     pub kq: Option<f32>,
-    /// A light: headlight, point:X,Y,Z (world position) or dir:X,Y,Z (direction it shines
-    /// along), each optionally @R,G,B for its colour (linear, 0 … 1 or brighter); repeat for up
-    /// to 4 lights, or none for ambient light only. kc, kl and kq apply to every light.
+    #[arg(long, help = t::EMISSION.doc, allow_negative_numbers = true)]
+    pub ke: Option<f32>,
+    #[arg(long, help = t::GLOBAL_AMBIENT.doc, allow_negative_numbers = true)]
+    pub global_ambient: Option<f32>,
+    #[arg(long, help = t::LIGHT_AMBIENT.doc, allow_negative_numbers = true)]
+    pub light_ambient: Option<f32>,
+    #[arg(long, help = t::SPOT_CUTOFF.doc, allow_negative_numbers = true)]
+    pub spot_cutoff: Option<f32>,
+    #[arg(long, help = t::SPOT_EXPONENT.doc, allow_negative_numbers = true)]
+    pub spot_exponent: Option<f32>,
+    #[arg(long, help = t::DEPTH_CUE.doc, value_parser = ["on", "off"])]
+    pub depth_cue: Option<String>,
+    #[arg(long = "depth-k1", help = t::DEPTH_CUE_CONSTANT.doc, allow_negative_numbers = true)]
+    pub depth_k1: Option<f32>,
+    #[arg(long = "depth-k2", help = t::DEPTH_CUE_LINEAR.doc, allow_negative_numbers = true)]
+    pub depth_k2: Option<f32>,
+    /// A light: headlight, point:X,Y,Z (world position), dir:X,Y,Z (direction it shines
+    /// along) or spot:X,Y,Z>DX,DY,DZ (a spot light at X,Y,Z shining along DX,DY,DZ), each
+    /// optionally @R,G,B for its colour (linear, 0 … 1 or brighter); repeat for up to 4 lights,
+    /// or none for ambient light only. kc, kl, kq and --light-ambient apply to every light,
+    /// --spot-cutoff and --spot-exponent to every spot.
     #[arg(long, value_parser = parse_light)]
     pub light: Vec<Option<LightSource>>,
     /// The highlight's colour: white (OpenGL, VTK) or levoy (multiplied by the sample's colour,
@@ -379,6 +397,10 @@ impl SettingsArgs {
             (&mut p.ks, self.ks),
             (&mut p.shininess, self.shininess),
             (&mut p.gradient_threshold, self.gradient_threshold),
+            (&mut p.ke, self.ke),
+            (&mut p.global_ambient, self.global_ambient),
+            (&mut p.depth_kc, self.depth_k1),
+            (&mut p.depth_kl, self.depth_k2),
         ] {
             if let Some(v) = src {
                 *dst = v;
@@ -392,11 +414,19 @@ impl SettingsArgs {
                 (&mut l.kc, self.kc),
                 (&mut l.kl, self.kl),
                 (&mut l.kq, self.kq),
+                (&mut l.ambient, self.light_ambient),
             ] {
                 if let Some(v) = src {
                     *dst = v;
                 }
             }
+            if let Light::Spot(spot) = &mut l.light {
+                spot.cutoff = self.spot_cutoff.unwrap_or(spot.cutoff);
+                spot.exponent = self.spot_exponent.unwrap_or(spot.exponent);
+            }
+        }
+        if let Some(v) = on(&self.depth_cue) {
+            p.depth_cue = v;
         }
         if let Some(h) = &self.highlight {
             p.highlight = if h == "levoy" {
@@ -555,9 +585,25 @@ fn parse_light(s: &str) -> Result<Option<LightSource>, String> {
             return Err("dir:0,0,0 is not a direction".into());
         }
         Light::Directional(v)
+    } else if let Some(spot) = place.strip_prefix("spot:") {
+        let Some((at, along)) = spot.split_once('>') else {
+            return Err(format!(
+                "'{s}': a spot is spot:X,Y,Z>DX,DY,DZ (where, then along)"
+            ));
+        };
+        let direction = parse_vec3(along)?;
+        if direction.length_squared() == 0.0 {
+            return Err(format!("'{s}': a spot's direction cannot be 0,0,0"));
+        }
+        Light::Spot(Spot {
+            position: parse_vec3(at)?,
+            direction,
+            ..Spot::default()
+        })
     } else {
         return Err(format!(
-            "'{s}': expected none, headlight, point:X,Y,Z or dir:X,Y,Z, optionally @R,G,B"
+            "'{s}': expected none, headlight, point:X,Y,Z, dir:X,Y,Z or spot:X,Y,Z>DX,DY,DZ, \
+             optionally @R,G,B"
         ));
     };
     let mut source = LightSource::new(light);

@@ -31,6 +31,10 @@ pub struct TraceArgs {
     /// Image size for --pixel.
     #[arg(long, default_value = "512x512", value_parser = parse_size)]
     pub size: (u32, u32),
+    /// Explain sample K (its compositing and, with shading on, its shading term by term)
+    /// instead of the last one; First explains its hit.
+    #[arg(long, value_name = "K")]
+    pub sample: Option<usize>,
     /// Print the breakdown as JSON.
     #[arg(long, conflicts_with = "csv")]
     pub json: bool,
@@ -87,12 +91,12 @@ pub fn run(a: &TraceArgs) -> Result<(), CliError> {
     } else if a.csv {
         print!("{}", breakdown::to_csv(&trace));
     } else {
-        print_table(&trace);
+        print_table(&trace, a.sample);
     }
     Ok(())
 }
 
-fn print_table(t: &voxcast_core::trace::RayTrace) {
+fn print_table(t: &voxcast_core::trace::RayTrace, sample: Option<usize>) {
     println!(
         "ray from ({:.4}, {:.4}, {:.4}) along ({:.5}, {:.5}, {:.5}), {}",
         t.origin[0],
@@ -170,5 +174,20 @@ fn print_table(t: &voxcast_core::trace::RayTrace) {
         t.opacity
     );
     println!();
-    println!("{}", voxcast_core::explain::formula(t, None));
+    println!("{}", voxcast_core::explain::formula(t, sample));
+    // The shading of the sample explained (or of First's hit), term by term.
+    let shaded = match &t.first_hit {
+        Some(h) => h.shading.map(|terms| (terms, h.tf_rgba, h.color)),
+        None => sample
+            .or(t.samples.len().checked_sub(1))
+            .and_then(|k| t.samples.get(k))
+            .and_then(|s| s.shading.map(|terms| (terms, s.tf_rgba, s.color))),
+    };
+    if let Some((terms, [r, g, b, _], color)) = shaded {
+        println!();
+        println!(
+            "{}",
+            voxcast_core::explain::shading(&terms, [r, g, b], color)
+        );
+    }
 }

@@ -508,6 +508,11 @@ pub(super) fn situation(
         prediction: None,
         back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
         light_kinds: lights.iter().map(|l| l.light.kind_label()).collect(),
+        spot_ambient: lights
+            .iter()
+            .any(|l| matches!(l.light, voxcast_core::shade::Light::Spot(_)) && l.ambient > 0.0),
+        emission: render.settings.phong.ke,
+        depth_cue: render.settings.phong.depth_cue,
         light_colors: lights.iter().map(|l| l.color.to_array()).collect(),
         attenuated: lights.iter().any(|l| l.attenuated()),
         levoy_highlight: render.settings.phong.highlight == voxcast_core::shade::Highlight::Levoy,

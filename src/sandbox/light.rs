@@ -68,6 +68,7 @@ fn marker_position(light: Light, volume: &VolumeState) -> Option<Vec3> {
     match light {
         Light::Headlight => None,
         Light::Point(p) => Some(p),
+        Light::Spot(spot) => Some(spot.position),
         Light::Directional(d) => directional_marker_position(d, lo, hi),
     }
 }
@@ -216,6 +217,14 @@ pub(super) fn drag_light(
     };
     let light = match current {
         Light::Point(_) => Light::Point(at),
+        // Moved, a spot keeps aiming at the volume's centre.
+        Light::Spot(spot) => Light::Spot(voxcast_core::shade::Spot {
+            position: at,
+            direction: ((lo + hi) * 0.5 - at)
+                .try_normalize()
+                .unwrap_or(spot.direction),
+            ..spot
+        }),
         Light::Directional(d) => Light::Directional(direction_from_marker(at, lo, hi).unwrap_or(d)),
         Light::Headlight => return,
     };
@@ -245,8 +254,15 @@ fn draw_ring(
         let held = drag.plane.is_some_and(|(_, _, k)| k == i);
         let ring = if held { Color::WHITE } else { color };
         overlay.ring(at, r * GRAB_SLACK, view, ring, 1.5);
-        if let Light::Directional(_) = source.light {
-            overlay.arrow(at, (lo + hi) * 0.5, view, color, 1.5);
+        match source.light {
+            Light::Directional(_) => overlay.arrow(at, (lo + hi) * 0.5, view, color, 1.5),
+            // A spot's arrow runs along its axis, as far as the volume's centre is from it.
+            Light::Spot(spot) => {
+                let reach = ((lo + hi) * 0.5 - at).length();
+                let axis = spot.direction.normalize_or(Vec3::NEG_Z);
+                overlay.arrow(at, at + axis * reach, view, color, 1.5);
+            }
+            Light::Headlight | Light::Point(_) => {}
         }
     }
 }

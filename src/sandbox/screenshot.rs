@@ -86,13 +86,14 @@ fn take_screenshot(
     request: Res<Request>,
     cells: Res<super::state::CellsUpload>,
     compiling: Res<super::pipelines::Compiling>,
+    volume: Res<super::state::VolumeState>,
 ) {
     if cells.pending() || compiling.now() {
         return; // the preview as it will be: cells uploaded, its pipeline compiled
     }
     let shots = plan.get_or_insert_with(|| {
         if request.sweep {
-            voxcast_core::settings::agreement_cases(&render.settings)
+            voxcast_core::settings::agreement_cases(&render.settings, volume.volume.bounds())
                 .into_iter()
                 .map(|(name, s)| (request.path.join(format!("{name}.png")), s))
                 .collect()

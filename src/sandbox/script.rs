@@ -242,6 +242,8 @@ fn drive(
                         | Objective::KnobMeasured { .. }
                         | Objective::OpenLitSample { .. }
                         | Objective::LevoyHighlight { .. }
+                        | Objective::FullModel
+                        | Objective::DepthCue { on: true }
                         | Objective::SkipBlocks { .. }
                         | Objective::Skipping { on: true }
                         | Objective::PreviewCostView { .. }
@@ -478,6 +480,28 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 Some(i) => hands.breakdown.opened = Some(i),
                 None => select_centre(hands),
             }
+        }
+        Objective::FullModel => {
+            // Emission raised, the last light made a spot aimed at the centre with an ambient
+            // share, as a student would in the Shading and light panel.
+            s.phong.ke = 0.15;
+            let at = hi + (hi - lo) * Vec3::new(0.2, 0.5, 0.3);
+            let spot = Light::Spot(voxcast_core::shade::Spot {
+                position: at,
+                direction: (lo + hi) * 0.5 - at,
+                ..Default::default()
+            });
+            if s.phong.lights.is_empty() {
+                s.phong.lights.push(LightSource::new(spot));
+            }
+            if let Some(l) = s.phong.lights.last_mut() {
+                l.light = spot;
+                l.ambient = 0.4;
+            }
+        }
+        Objective::DepthCue { on } => {
+            s.phong.depth_cue = *on;
+            s.phong.depth_kl = 2.0 / (hi - lo).length();
         }
         Objective::LevoyHighlight { on } => {
             s.phong.highlight = if *on {

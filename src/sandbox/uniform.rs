@@ -10,7 +10,7 @@ use voxcast_core::camera::ImageRays;
 use voxcast_core::classify::Classifier;
 use voxcast_core::composite::{Method, Order};
 use voxcast_core::sample::Interpolation;
-use voxcast_core::shade::{Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel};
+use voxcast_core::shade::{Cone, Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel};
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::LUT_SIZE;
 
@@ -30,10 +30,14 @@ pub const FLAG_SKIP_CELLS: u32 = 512;
 /// The lattice records are uploaded: Accumulate reads a sample's value and gradient from them
 /// (set by `state`, not by the settings).
 pub const FLAG_RECORDS: u32 = 1024;
+/// Levoy's depth cue sets every light's falloff from the picture plane.
+pub const FLAG_DEPTH_CUE: u32 = 2048;
 
 /// Light kinds of [`LightUniform::kind`].
 pub const LIGHT_POINT: u32 = 0;
 pub const LIGHT_TOWARD: u32 = 1;
+/// A point light with a cone.
+pub const LIGHT_SPOT: u32 = 2;
 
 /// Classification codes of [`VolumeUniform::classification`].
 pub const CLASSIFY_TABLE: u32 = 0;
@@ -88,9 +92,11 @@ pub fn shader_defs(variant: PreviewVariant) -> Vec<ShaderDefVal> {
         ShaderDefVal::UInt("FLAG_LEVOY_HIGHLIGHT".into(), FLAG_LEVOY_HIGHLIGHT),
         ShaderDefVal::UInt("FLAG_SKIP_CELLS".into(), FLAG_SKIP_CELLS),
         ShaderDefVal::UInt("FLAG_RECORDS".into(), FLAG_RECORDS),
+        ShaderDefVal::UInt("FLAG_DEPTH_CUE".into(), FLAG_DEPTH_CUE),
         ShaderDefVal::UInt("MAX_LIGHTS".into(), MAX_LIGHTS as u32),
         ShaderDefVal::UInt("LIGHT_POINT".into(), LIGHT_POINT),
         ShaderDefVal::UInt("LIGHT_TOWARD".into(), LIGHT_TOWARD),
+        ShaderDefVal::UInt("LIGHT_SPOT".into(), LIGHT_SPOT),
         ShaderDefVal::UInt("CLASSIFY_TABLE".into(), CLASSIFY_TABLE),
         ShaderDefVal::UInt("CLASSIFY_ISO_CONTOURS".into(), CLASSIFY_ISO_CONTOURS),
         ShaderDefVal::UInt("CLASSIFY_BOUNDARIES".into(), CLASSIFY_BOUNDARIES),
@@ -173,6 +179,11 @@ pub struct VolumeUniform {
     pub bricks: UVec3,
     /// How far inside the cube of empty bricks (voxels) a leap stops (`BRICK_MARGIN`).
     pub brick_margin: f32,
+    /// Emission ke, global ambient G_a and Levoy's depth cue k1, k2 (`Phong`'s).
+    pub ke: f32,
+    pub global_ambient: f32,
+    pub depth_kc: f32,
+    pub depth_kl: f32,
     /// The lights; the first `light_count` shine.
     pub lights: [LightUniform; MAX_LIGHTS],
 }
@@ -184,8 +195,12 @@ pub struct LightUniform {
     pub kind: u32,
     pub color: Vec3,
     pub kc: f32,
+    pub ambient: Vec3,
     pub kl: f32,
+    pub spot_along: Vec3,
     pub kq: f32,
+    pub spot_cos_cutoff: f32,
+    pub spot_exponent: f32,
 }
 
 impl VolumeUniform {
@@ -207,6 +222,7 @@ impl VolumeUniform {
             (s.phong.model == SpecularModel::BlinnPhong, FLAG_BLINN_PHONG),
             (s.order == Order::BackToFront, FLAG_BACK_TO_FRONT),
             (s.phong.highlight == Highlight::Levoy, FLAG_LEVOY_HIGHLIGHT),
+            (s.phong.depth_cue, FLAG_DEPTH_CUE),
         ] {
             if on {
                 flags |= bit;
@@ -214,17 +230,27 @@ impl VolumeUniform {
         }
         let mut lights = [LightUniform::default(); MAX_LIGHTS];
         for (u, l) in lights.iter_mut().zip(scene.lights.as_slice()) {
-            let (kind, at) = match l.at {
-                ResolvedLight::Point(p) => (LIGHT_POINT, p),
-                ResolvedLight::Toward(d) => (LIGHT_TOWARD, d),
+            let (kind, at) = match (l.at, l.cone) {
+                (ResolvedLight::Point(p), Some(_)) => (LIGHT_SPOT, p),
+                (ResolvedLight::Point(p), None) => (LIGHT_POINT, p),
+                (ResolvedLight::Toward(d), _) => (LIGHT_TOWARD, d),
             };
+            let cone = l.cone.unwrap_or(Cone {
+                along: Vec3::NEG_Z,
+                cos_cutoff: -1.0,
+                exponent: 0.0,
+            });
             *u = LightUniform {
                 at,
                 kind,
                 color: l.color,
                 kc: l.kc,
+                ambient: l.ambient,
                 kl: l.kl,
+                spot_along: cone.along,
                 kq: l.kq,
+                spot_cos_cutoff: cone.cos_cutoff,
+                spot_exponent: cone.exponent,
             };
         }
         let mut u = Self {
@@ -291,6 +317,10 @@ impl VolumeUniform {
                     .map(|b| b as u32),
             ),
             brick_margin: voxcast_core::skip::BRICK_MARGIN,
+            ke: s.phong.ke,
+            global_ambient: s.phong.global_ambient,
+            depth_kc: s.phong.depth_kc,
+            depth_kl: s.phong.depth_kl,
             lights,
         };
         match &scene.classifier {
@@ -399,7 +429,8 @@ mod tests {
             | FLAG_BACK_TO_FRONT
             | FLAG_LEVOY_HIGHLIGHT
             | FLAG_SKIP_CELLS
-            | FLAG_RECORDS;
+            | FLAG_RECORDS
+            | FLAG_DEPTH_CUE;
         let ways = [
             (0, CLASSIFY_TABLE, 0),
             (all_flags, CLASSIFY_ISO_CONTOURS, 1),
@@ -508,6 +539,10 @@ mod tests {
             "clip_d" => f(u.clip_d),
             "bricks" => u3(u.bricks),
             "brick_margin" => f(u.brick_margin),
+            "ke" => f(u.ke),
+            "global_ambient" => f(u.global_ambient),
+            "depth_kc" => f(u.depth_kc),
+            "depth_kl" => f(u.depth_kl),
             "lights" => lights_bytes(&u.lights, light_layout()),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
@@ -567,8 +602,22 @@ mod tests {
                         .flat_map(|x| x.to_le_bytes())
                         .collect(),
                     "kc" => l.kc.to_le_bytes().to_vec(),
+                    "ambient" => l
+                        .ambient
+                        .to_array()
+                        .iter()
+                        .flat_map(|x| x.to_le_bytes())
+                        .collect(),
                     "kl" => l.kl.to_le_bytes().to_vec(),
+                    "spot_along" => l
+                        .spot_along
+                        .to_array()
+                        .iter()
+                        .flat_map(|x| x.to_le_bytes())
+                        .collect(),
                     "kq" => l.kq.to_le_bytes().to_vec(),
+                    "spot_cos_cutoff" => l.spot_cos_cutoff.to_le_bytes().to_vec(),
+                    "spot_exponent" => l.spot_exponent.to_le_bytes().to_vec(),
                     other => panic!("WGSL light member {other} has no Rust twin"),
                 };
                 let at = i * stride as usize + *offset as usize;
@@ -656,13 +705,21 @@ mod tests {
             clip_d: next(),
             bricks: UVec3::new(125, 126, 127),
             brick_margin: next(),
+            ke: next(),
+            global_ambient: next(),
+            depth_kc: next(),
+            depth_kl: next(),
             lights: std::array::from_fn(|i| LightUniform {
                 at: Vec3::new(next(), next(), next()),
                 kind: 130 + i as u32,
                 color: Vec3::new(next(), next(), next()),
                 kc: next(),
+                ambient: Vec3::new(next(), next(), next()),
                 kl: next(),
+                spot_along: Vec3::new(next(), next(), next()),
                 kq: next(),
+                spot_cos_cutoff: next(),
+                spot_exponent: next(),
             }),
         };
         let mut buffer = UniformBuffer::new(Vec::<u8>::new());
@@ -673,7 +730,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 57, "members in the WGSL struct");
+        assert_eq!(members.len(), 61, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

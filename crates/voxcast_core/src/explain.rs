@@ -8,6 +8,10 @@
 //! `C_k = C_(k−1)·(1 − α_k) + α_k·c_k`. A test evaluates every printed expression from its
 //! printed numbers and checks it reaches the printed result.
 
+mod shading;
+
+pub use shading::shading;
+
 use crate::breakdown::RayTrace;
 use crate::composite::{Method, Order};
 use crate::numbers::{sig, sig3, sig64};

@@ -216,6 +216,11 @@ pub enum Objective {
     OpenLitSample { lights: usize },
     /// Choose the highlight's colour: Levoy's (the sample's colour, `true`) or white.
     LevoyHighlight { on: bool },
+    /// Shade with the lecture's full illumination model: emission above zero and a spot light
+    /// with an ambient share of its own.
+    FullModel,
+    /// Turn Levoy's depth cue on or off.
+    DepthCue { on: bool },
     /// Show the live preview as the cost view `view` (`samples`, `skipped`, `stops`).
     PreviewCostView { view: String },
     /// Show or hide the skip blocks the virtual camera's rays crossed.
@@ -318,8 +323,14 @@ pub struct Situation {
     /// worked composite's red component).
     pub prediction: Option<(f32, f32)>,
     pub back_to_front: bool,
-    /// Each light's kind: `headlight`, `point` or `directional`.
+    /// Each light's kind: `headlight`, `point`, `directional` or `spot`.
     pub light_kinds: Vec<&'static str>,
+    /// Some spot light has an ambient share of its own.
+    pub spot_ambient: bool,
+    /// The emission coefficient ke.
+    pub emission: f32,
+    /// Levoy's depth cue is on.
+    pub depth_cue: bool,
     /// Each light's colour.
     pub light_colors: Vec<[f32; 3]>,
     /// Some point light has kl or kq above zero.
@@ -417,6 +428,8 @@ impl Objective {
                 s.opened_sample_lights.is_some_and(|n| n >= *lights)
             }
             Objective::LevoyHighlight { on } => s.levoy_highlight == *on,
+            Objective::FullModel => s.emission > 0.0 && s.spot_ambient,
+            Objective::DepthCue { on } => s.depth_cue == *on,
             Objective::PreviewCostView { view } => s.preview_cost_view == Some(view.as_str()),
             Objective::SkipBlocks { on } => s.skip_blocks_shown == *on,
             Objective::TradeMeasured => s.trade_measured,
@@ -828,6 +841,16 @@ mod tests {
         assert!(!Objective::LevoyHighlight { on: true }.met(&s));
         s.levoy_highlight = true;
         assert!(Objective::LevoyHighlight { on: true }.met(&s));
+        // The full model asks for both emission and a spot with its own ambient.
+        s.emission = 0.1;
+        assert!(!Objective::FullModel.met(&s));
+        s.spot_ambient = true;
+        assert!(Objective::FullModel.met(&s));
+        s.emission = 0.0;
+        assert!(!Objective::FullModel.met(&s));
+        assert!(Objective::DepthCue { on: false }.met(&s));
+        s.depth_cue = true;
+        assert!(Objective::DepthCue { on: true }.met(&s));
     }
 
     #[test]

@@ -97,6 +97,7 @@ fn validate_light(l: &LightSource) -> Result<(), SettingsError> {
     check(&t::ATTENUATION_CONSTANT, l.kc)?;
     check(&t::ATTENUATION_LINEAR, l.kl)?;
     check(&t::ATTENUATION_QUADRATIC, l.kq)?;
+    check(&t::LIGHT_AMBIENT, l.ambient)?;
     if l.kc + l.kl + l.kq <= 0.0 {
         return Err(SettingsError::Invalid(
             "attenuation kc + kl + kq must be positive (else a point light is infinitely bright)"
@@ -112,6 +113,17 @@ fn validate_light(l: &LightSource) -> Result<(), SettingsError> {
         Light::Headlight => Ok(()),
         Light::Point(v) if v.is_finite() => Ok(()),
         Light::Directional(v) if v.is_finite() && v.length_squared() > 0.0 => Ok(()),
+        Light::Spot(s) if s.position.is_finite() => {
+            check(&t::SPOT_CUTOFF, s.cutoff)?;
+            check(&t::SPOT_EXPONENT, s.exponent)?;
+            if s.direction.is_finite() && s.direction.length_squared() > 0.0 {
+                Ok(())
+            } else {
+                Err(SettingsError::Invalid(
+                    "a spot light's direction must be finite and not zero".into(),
+                ))
+            }
+        }
         other => Err(SettingsError::Invalid(format!(
             "{other:?} is not a finite position or direction"
         ))),
@@ -168,6 +180,17 @@ impl RenderSettings {
         check(&t::SPECULAR, p.ks)?;
         check(&t::SHININESS, p.shininess)?;
         check(&t::GRADIENT_THRESHOLD, p.gradient_threshold)?;
+        check(&t::EMISSION, p.ke)?;
+        check(&t::GLOBAL_AMBIENT, p.global_ambient)?;
+        check(&t::DEPTH_CUE_CONSTANT, p.depth_kc)?;
+        check(&t::DEPTH_CUE_LINEAR, p.depth_kl)?;
+        if p.depth_cue && p.depth_kc <= 0.0 {
+            return Err(SettingsError::Invalid(format!(
+                "{} must be positive with the depth cue on (else samples on the picture plane \
+                 are infinitely bright)",
+                t::DEPTH_CUE_CONSTANT.key
+            )));
+        }
         if p.lights.len() > MAX_LIGHTS {
             return Err(SettingsError::Invalid(format!(
                 "{} lights: at most {MAX_LIGHTS} (the preview's shader holds that many)",
@@ -194,9 +217,14 @@ impl RenderSettings {
 /// The combinations on which the GPU preview must agree with the CPU render (the sandbox's
 /// `--screenshot DIR --sweep` and its test): every method at steps 1 and ½ voxel, shading off and
 /// on; plus nearest interpolation, jitter, back-to-front order and no opacity correction for
-/// Accumulate, and a crop box with an oblique clip plane for Accumulate and First. Each with a
-/// file stem naming it.
-pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
+/// Accumulate, and a crop box with an oblique clip plane for Accumulate and First; the lecture's
+/// full illumination model (emission, global ambient, the lights' own ambient, a spot light
+/// whose cone edge crosses the volume `bounds`, Phong's R·V) for Accumulate and First, and
+/// Levoy's depth cue. Each with a file stem naming it.
+pub fn agreement_cases(
+    base: &RenderSettings,
+    bounds: (Vec3, Vec3),
+) -> Vec<(String, RenderSettings)> {
     let mut out = Vec::new();
     for method in Method::ALL {
         for step in [1.0f32, 0.5] {
@@ -313,6 +341,21 @@ pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
             },
         ));
     }
+    for (name, phong) in full_models(&base.phong, bounds) {
+        for method in [Method::Accumulate, Method::First] {
+            if name == "depth_cue" && method == Method::First {
+                continue;
+            }
+            out.push((
+                format!("{}_{name}", method.name()),
+                RenderSettings {
+                    method,
+                    phong: phong.clone(),
+                    ..accumulate.clone()
+                },
+            ));
+        }
+    }
     out.push((
         "accumulate_uncorrected".into(),
         RenderSettings {
@@ -321,6 +364,52 @@ pub fn agreement_cases(base: &RenderSettings) -> Vec<(String, RenderSettings)> {
         },
     ));
     out
+}
+
+/// The lecture's full model and Levoy's depth cue over `base`, for a volume in `bounds`.
+fn full_models(base: &crate::shade::Phong, (lo, hi): (Vec3, Vec3)) -> [(&'static str, Phong); 2] {
+    let (centre, size) = ((lo + hi) * 0.5, (hi - lo).length().max(1e-3));
+    let spot_at = hi + (hi - lo) * Vec3::new(0.3, 0.6, 0.4);
+    let full = Phong {
+        ke: 0.15,
+        global_ambient: 0.6,
+        model: crate::shade::SpecularModel::Phong,
+        lights: vec![
+            LightSource {
+                ambient: 0.3,
+                color: Vec3::new(0.8, 0.8, 0.9),
+                ..LightSource::new(Light::Headlight)
+            },
+            LightSource {
+                ambient: 0.5,
+                color: Vec3::new(1.0, 0.7, 0.4),
+                kl: 0.5 / size,
+                // Aimed at the centre, with a cone whose edge falls inside the volume.
+                ..LightSource::new(Light::Spot(crate::shade::Spot {
+                    position: spot_at,
+                    direction: centre - spot_at,
+                    cutoff: 14.0,
+                    exponent: 3.0,
+                }))
+            },
+        ],
+        ..base.clone()
+    };
+    let cued = Phong {
+        highlight: crate::shade::Highlight::Levoy,
+        depth_cue: true,
+        depth_kc: 0.5,
+        depth_kl: 1.5 / size,
+        lights: vec![
+            LightSource::new(Light::Headlight),
+            LightSource {
+                kl: 0.01,
+                ..LightSource::new(Light::Point(spot_at))
+            },
+        ],
+        ..base.clone()
+    };
+    [("full_model", full), ("depth_cue", cued)]
 }
 
 #[cfg(test)]

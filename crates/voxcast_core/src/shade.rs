@@ -1,24 +1,40 @@
-//! Local illumination of a sample: Phong or Blinn–Phong with the gradient as the normal, summed
-//! over up to [`MAX_LIGHTS`] lights.
+//! Local illumination of a sample: the lecture's "Volumetric Illumination" with the gradient as
+//! the normal, summed over up to [`MAX_LIGHTS`] lights.
 //!
 //! Twin: `shaders/shade.wgsl` (`shade`).
 //!
-//! With `N` the unit normal, `V` the unit direction to the viewer, `c` the sample's colour, and
-//! for each light i its colour `I_i`, the unit direction `L_i` towards it and the attenuation
-//! `f_i = 1/(kc_i + kl_i·d_i + kq_i·d_i²)` of a point light at distance `d_i` (1 for directional
-//! lights) — the lecture's "Volumetric Illumination", which sums over lights i:
+//! The lecture writes, for a material with emission `M_e`, ambient `M_a`, diffuse `M_d` and
+//! specular `M_s` reflectivity, a global ambient light `G_a` and lights i with ambient,
+//! diffuse and specular intensities `I_a,i`, `I_d,i`, `I_s,i`, attenuation `f_i` and spotlight
+//! factor `s_i`:
 //!
 //! ```text
-//! colour = ka·c + Σ_i f_i·I_i·( kd·max(N·L_i, 0)·c + ks·spec_i·h ),
-//! spec_i = max(N·H_i, 0)^n, H_i = normalize(L_i + V)     (Blinn–Phong)
-//!        = max(R_i·V, 0)^n, R_i = 2(N·L_i)N − L_i         (Phong)
-//! h      = 1 (a white highlight, as OpenGL and VTK) or c (Levoy's highlight)
+//! colour = M_e + G_a·M_a + Σ_i f_i·s_i·[I_a,i·M_a + I_d,i·M_d·max(N·L_i, 0) + I_s,i·M_s·spec_i]
+//! f_i    = 1/(kc + kl·d + kq·d²)    (d the distance to a point or spot light; 1 for others)
 //! ```
 //!
-//! clamped to `[0, 1]` per channel, with no highlight where `N·L_i ≤ 0`. **Levoy's variant** is
-//! the lecture's slide "Illumination or Shading" (Levoy 1988): `c_p·ka + c_p/(k1 + k2·d)·(kd·N·L +
-//! ks·(N·H)^n)` multiplies the highlight by the colour `c_p` too, so a red sample has a red
-//! highlight; with `h = 1` a red sample has a white one. The slide writes `N·L` and `N·H`
+//! Voxcast takes the materials from the transfer function's colour `c`: `M_e = ke·c`,
+//! `M_a = ka·c`, `M_d = kd·c`, `M_s = ks·h` with the highlight's tint `h` (1, a white highlight
+//! as OpenGL and VTK, or `c`, Levoy's); `G_a` is a grey level, `I_d,i = I_s,i = I_i` the
+//! light's colour and `I_a,i = a_i·I_i` a share of it. With
+//!
+//! ```text
+//! spec_i = max(N·H_i, 0)^n, H_i = normalize(L_i + V)     (Blinn–Phong)
+//!        = max(R_i·V, 0)^n, R_i = 2(N·L_i)N − L_i         (Phong, the lecture's)
+//! s_i    = max(−L_i·D_i, 0)^e inside a spot's cone of cutoff angle θ (−L_i·D_i ≥ cos θ), else 0
+//! ```
+//!
+//! clamped to `[0, 1]` per channel, with no highlight where `N·L_i ≤ 0`. The defaults — no
+//! emission, `G_a = 1`, no light's own ambient, no spot — leave `ka·c + Σ_i f_i·I_i·(kd·max(N·L_i,
+//! 0)·c + ks·spec_i·h)`, Voxcast's shortened form, bit for bit.
+//!
+//! **Levoy's variant** is the lecture's slide "Illumination or Shading" (Levoy 1988): `c_p·ka +
+//! c_p/(k1 + k2·d(x))·(kd·N·L + ks·(N·H)^n)` multiplies the highlight by the colour `c_p` too,
+//! so a red sample has a red highlight. Its `d(x)` is the distance from the picture plane (depth
+//! cueing: far samples are dimmer), not a light's: [`Phong::depth_cue`] sets every light's
+//! falloff to `f = 1/(k1 + k2·d(x))` ([`crate::tunables::DEPTH_CUE_CONSTANT`],
+//! [`crate::tunables::DEPTH_CUE_LINEAR`]) with `d(x) = (x − o)·F`, `o` the ray's start on the
+//! picture plane and `F` the camera's forward direction. The slide writes `N·L` and `N·H`
 //! without the `max(·, 0)` of its own Phong slide: Voxcast keeps the clamp in both variants (a
 //! negative `N·L` would subtract light and darken a face below its ambient colour).
 //!
@@ -27,11 +43,15 @@
 //! is below the threshold the normal is undefined and the sample keeps its unshaded colour —
 //! never a NaN. With two-sided lighting a normal facing away from the viewer is flipped.
 
-use glam::Vec3;
+mod lights;
+mod terms;
 
-/// The most lights a scene has: the GPU's uniform holds this many (`shaders/types.wgsl`), and
-/// the settings refuse more.
-pub const MAX_LIGHTS: usize = 4;
+pub use lights::{
+    Cone, Light, LightSource, MAX_LIGHTS, ResolvedLight, ResolvedLights, ResolvedSource, Spot,
+};
+pub use terms::{Coefficients, LightTerms, ShadeTerms};
+
+use glam::Vec3;
 
 /// The specular model.
 #[derive(
@@ -110,91 +130,14 @@ impl Highlight {
     }
 }
 
-/// Where a light is.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Light {
-    /// A directional light along the camera's view direction (VTK's default "headlight").
-    #[default]
-    Headlight,
-    /// A point light at a world position; attenuated with distance.
-    Point(Vec3),
-    /// A directional light shining *along* this world direction (from infinitely far away).
-    Directional(Vec3),
-}
-
-/// A light resolved for one view: either a position or the unit direction *towards* the light.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ResolvedLight {
-    Point(Vec3),
-    Toward(Vec3),
-}
-
-impl Light {
-    /// Resolves a headlight with the camera's forward direction.
-    pub fn resolve(self, camera_forward: Vec3) -> ResolvedLight {
-        match self {
-            Light::Headlight => ResolvedLight::Toward(-camera_forward.normalize_or(Vec3::NEG_Z)),
-            Light::Point(p) => ResolvedLight::Point(p),
-            Light::Directional(d) => ResolvedLight::Toward(-d.normalize_or(Vec3::NEG_Z)),
-        }
-    }
-
-    /// Words for the interface.
-    pub fn kind_label(self) -> &'static str {
-        match self {
-            Light::Headlight => "headlight",
-            Light::Point(_) => "point",
-            Light::Directional(_) => "directional",
-        }
-    }
-}
-
-/// One light: where it is, its colour, and its attenuation (which only a point light uses; see
-/// [`crate::tunables`] for each term's documentation).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(default)]
-pub struct LightSource {
-    pub light: Light,
-    /// Colour and intensity (linear RGB).
-    pub color: Vec3,
-    pub kc: f32,
-    pub kl: f32,
-    pub kq: f32,
-}
-
-impl Default for LightSource {
-    fn default() -> Self {
-        use crate::tunables as t;
-        Self {
-            light: Light::Headlight,
-            color: Vec3::ONE,
-            kc: t::ATTENUATION_CONSTANT.default,
-            kl: t::ATTENUATION_LINEAR.default,
-            kq: t::ATTENUATION_QUADRATIC.default,
-        }
-    }
-}
-
-impl LightSource {
-    /// A white, unattenuated light at `light`.
-    pub fn new(light: Light) -> Self {
-        Self {
-            light,
-            ..Self::default()
-        }
-    }
-
-    /// Whether its light falls off with distance (a point light with kl or kq above zero).
-    pub fn attenuated(&self) -> bool {
-        matches!(self.light, Light::Point(_)) && (self.kl > 0.0 || self.kq > 0.0)
-    }
-}
-
 /// The Phong parameters (see [`crate::tunables`] for each one's documentation) and the lights.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
 pub struct Phong {
+    /// [`crate::tunables::EMISSION`].
+    pub ke: f32,
+    /// [`crate::tunables::GLOBAL_AMBIENT`].
+    pub global_ambient: f32,
     pub ka: f32,
     pub kd: f32,
     pub ks: f32,
@@ -203,6 +146,12 @@ pub struct Phong {
     pub highlight: Highlight,
     pub two_sided: bool,
     pub gradient_threshold: f32,
+    /// [`crate::tunables::DEPTH_CUE`]: Levoy's depth cue sets every light's falloff.
+    pub depth_cue: bool,
+    /// [`crate::tunables::DEPTH_CUE_CONSTANT`].
+    pub depth_kc: f32,
+    /// [`crate::tunables::DEPTH_CUE_LINEAR`].
+    pub depth_kl: f32,
     /// At most [`MAX_LIGHTS`]; none leaves the ambient term only.
     pub lights: Vec<LightSource>,
 }
@@ -211,6 +160,8 @@ impl Default for Phong {
     fn default() -> Self {
         use crate::tunables as t;
         Self {
+            ke: t::EMISSION.default,
+            global_ambient: t::GLOBAL_AMBIENT.default,
             ka: t::AMBIENT.default,
             kd: t::DIFFUSE.default,
             ks: t::SPECULAR.default,
@@ -219,6 +170,9 @@ impl Default for Phong {
             highlight: Highlight::default(),
             two_sided: t::TWO_SIDED.default != 0.0,
             gradient_threshold: t::GRADIENT_THRESHOLD.default,
+            depth_cue: t::DEPTH_CUE.default != 0.0,
+            depth_kc: t::DEPTH_CUE_CONSTANT.default,
+            depth_kl: t::DEPTH_CUE_LINEAR.default,
             lights: vec![LightSource::default()],
         }
     }
@@ -227,18 +181,20 @@ impl Default for Phong {
 impl Phong {
     /// The lights resolved for a camera looking along `camera_forward` (the headlights).
     pub fn resolve(&self, camera_forward: Vec3) -> ResolvedLights {
-        let mut out = ResolvedLights::default();
-        for l in self.lights.iter().take(MAX_LIGHTS) {
-            out.items[out.len] = ResolvedSource {
-                at: l.light.resolve(camera_forward),
-                color: l.color,
-                kc: l.kc,
-                kl: l.kl,
-                kq: l.kq,
-            };
-            out.len += 1;
-        }
-        out
+        ResolvedLights::new(&self.lights, camera_forward)
+    }
+
+    /// Whether any term of the lecture's full model beyond Voxcast's shortened form is on:
+    /// emission, a global ambient other than 1, a light's own ambient, a spot light, or
+    /// Levoy's depth cue.
+    pub fn full_form(&self) -> bool {
+        self.ke != 0.0
+            || self.global_ambient != 1.0
+            || self.depth_cue
+            || self
+                .lights
+                .iter()
+                .any(|l| l.ambient != 0.0 || matches!(l.light, Light::Spot(_)))
     }
 
     /// Adds a light, as the panel's "Add a light" does: a white directional light from a side
@@ -258,61 +214,6 @@ impl Phong {
         self.lights
             .push(LightSource::new(Light::Directional(FROM[n])));
         true
-    }
-}
-
-/// One light resolved for a view.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ResolvedSource {
-    pub at: ResolvedLight,
-    pub color: Vec3,
-    pub kc: f32,
-    pub kl: f32,
-    pub kq: f32,
-}
-
-impl Default for ResolvedSource {
-    fn default() -> Self {
-        Self {
-            at: ResolvedLight::Toward(Vec3::Z),
-            color: Vec3::ZERO,
-            kc: 1.0,
-            kl: 0.0,
-            kq: 0.0,
-        }
-    }
-}
-
-impl ResolvedSource {
-    #[inline(always)]
-    fn attenuation(&self, d: f32) -> f32 {
-        let denom = self.kc + self.kl * d + self.kq * d * d;
-        if denom > 0.0 { 1.0 / denom } else { 1.0 }
-    }
-}
-
-/// The lights of one view, without allocation (every ray copies them).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct ResolvedLights {
-    items: [ResolvedSource; MAX_LIGHTS],
-    len: usize,
-}
-
-impl ResolvedLights {
-    pub fn as_slice(&self) -> &[ResolvedSource] {
-        &self.items[..self.len]
-    }
-
-    /// One light.
-    pub fn one(at: ResolvedLight) -> Self {
-        let mut out = Self::default();
-        out.items[0] = ResolvedSource {
-            at,
-            color: Vec3::ONE,
-            ..ResolvedSource::default()
-        };
-        out.len = 1;
-        out
     }
 }
 
@@ -339,82 +240,53 @@ pub fn power(x: f32, n: f32) -> f32 {
     }
 }
 
-/// One light's share of a shading computation, for the ray inspector.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct LightTerms {
-    /// `N·L_i` (unclamped; the diffuse term uses `max(N·L_i, 0)`).
-    pub n_dot_l: f32,
-    /// `f_i` (1 for a directional light).
-    pub attenuation: f32,
-    /// f_i·I_i·kd·max(N·L_i,0)·c.
-    pub diffuse: [f32; 3],
-    /// f_i·I_i·ks·spec_i·h.
-    pub specular: [f32; 3],
-}
-
-/// The terms of one shading computation, for the ray inspector.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct ShadeTerms {
-    /// False where the gradient was below the threshold (the colour is left unshaded).
-    pub lit: bool,
-    pub normal: [f32; 3],
-    /// ka·c (per channel).
-    pub ambient: [f32; 3],
-    /// Σ_i of the lights' diffuse terms.
-    pub diffuse: [f32; 3],
-    /// Σ_i of the lights' specular terms.
-    pub specular: [f32; 3],
-    /// Which highlight, and its tint h: 1 (white) or the sample's colour (Levoy's).
-    pub highlight: Highlight,
-    pub tint: [f32; 3],
-    /// Each light's terms; the first [`ShadeTerms::light_count`] are used.
-    #[serde(serialize_with = "serialize_lights")]
-    pub lights: [LightTerms; MAX_LIGHTS],
-    pub light_count: usize,
-}
-
-impl ShadeTerms {
-    /// The used lights' terms.
-    pub fn per_light(&self) -> &[LightTerms] {
-        &self.lights[..self.light_count.min(MAX_LIGHTS)]
-    }
-}
-
-fn serialize_lights<S: serde::Serializer>(
-    lights: &[LightTerms; MAX_LIGHTS],
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    // Unused slots are written too, so the JSON keeps one shape; light_count says which count.
-    serde::Serialize::serialize(&lights[..], s)
-}
-
-/// What shading needs about one ray: the direction to the viewer, the lights, and (for each
-/// directional light) the Blinn half vector, which is the same for every sample of the ray.
-/// Built for every ray, so it borrows the lights rather than copying them (a copy was a call
-/// to `memcpy` a ray: about 2 % of the bunny's render).
+/// What shading needs about one ray: the direction to the viewer, where the ray starts on the
+/// picture plane (for the depth cue), the lights, and (for each directional light) the Blinn
+/// half vector, which is the same for every sample of the ray. Built for every ray, so it
+/// borrows the lights rather than copying them (a copy was a call to `memcpy` a ray: about 2 %
+/// of the bunny's render).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Viewing<'l> {
     /// Unit vector towards the viewer (minus the ray direction).
     pub view: Vec3,
+    /// Where the ray starts, on the picture plane (the eye, for a perspective camera).
+    pub origin: Vec3,
     pub lights: &'l ResolvedLights,
     /// `normalize(L + V)` per directional light (`None` for point lights, or when L = −V).
     half: [Option<Vec3>; MAX_LIGHTS],
 }
 
 impl<'l> Viewing<'l> {
+    /// For a ray towards −`view` that starts at the world origin.
     pub fn new(view: Vec3, lights: &'l ResolvedLights) -> Self {
+        Self::from_origin(Vec3::ZERO, view, lights)
+    }
+
+    /// For a ray from `origin` (on the picture plane) towards −`view`.
+    pub fn from_origin(origin: Vec3, view: Vec3, lights: &'l ResolvedLights) -> Self {
         let mut half = [None; MAX_LIGHTS];
         for (h, l) in half.iter_mut().zip(lights.as_slice()) {
             if let ResolvedLight::Toward(d) = l.at {
                 *h = (d + view).try_normalize();
             }
         }
-        Self { view, lights, half }
+        Self {
+            view,
+            origin,
+            lights,
+            half,
+        }
     }
 
     /// Light `i`'s Blinn half vector, if it is directional and not straight behind the viewer.
     pub fn half(&self, i: usize) -> Option<Vec3> {
         self.half.get(i).copied().flatten()
+    }
+
+    /// The distance of `p_world` from the picture plane, along the camera's forward direction.
+    #[inline(always)]
+    pub fn depth(&self, p_world: Vec3) -> f32 {
+        (p_world - self.origin).dot(self.lights.forward)
     }
 }
 
@@ -438,21 +310,44 @@ pub fn shade(c: Vec3, grad: Vec3, p_world: Vec3, v: &Viewing<'_>, k: &Phong) -> 
     let mut terms = ShadeTerms {
         lit: true,
         normal: n.to_array(),
+        k: Coefficients {
+            ke: k.ke,
+            ga: k.global_ambient,
+            ka: k.ka,
+            kd: k.kd,
+            ks: k.ks,
+            shininess: k.shininess,
+            depth_k1: k.depth_kc,
+            depth_k2: k.depth_kl,
+        },
+        depth_cue: k.depth_cue,
         highlight: k.highlight,
         tint: tint.to_array(),
         light_count: v.lights.len,
         ..ShadeTerms::default()
     };
-    let (mut diffuse, mut specular) = (Vec3::ZERO, Vec3::ZERO);
+    // Levoy's depth cue: one falloff, from the picture plane, for every light.
+    let cue = k.depth_cue.then(|| {
+        let d = v.depth(p_world);
+        let denom = k.depth_kc + k.depth_kl * d;
+        (d, if denom > 0.0 { 1.0 / denom } else { 1.0 })
+    });
+    let (mut diffuse, mut specular, mut light_ambient) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
     for (i, light) in v.lights.as_slice().iter().enumerate() {
-        let (l, attenuation) = match light.at {
-            ResolvedLight::Toward(l) => (l, 1.0),
+        let (l, mut distance, mut attenuation) = match light.at {
+            ResolvedLight::Toward(l) => (l, 0.0, 1.0),
             ResolvedLight::Point(pos) => {
                 let to = pos - p_world;
                 let d = to.length();
-                (to.normalize_or(view), light.attenuation(d))
+                (to.normalize_or(view), d, light.attenuation(d))
             }
         };
+        if let Some((d, f)) = cue {
+            (distance, attenuation) = (d, f);
+        }
+        let spot = light.cone.map_or(1.0, |cone| cone.factor(l));
+        // f_i·s_i (bit for bit f_i without a spot).
+        let fs = attenuation * spot;
         let n_dot_l = n.dot(l);
         let lambert = n_dot_l.max(0.0);
         let spec = if n_dot_l > 0.0 {
@@ -466,20 +361,39 @@ pub fn shade(c: Vec3, grad: Vec3, p_world: Vec3, v: &Viewing<'_>, k: &Phong) -> 
         } else {
             0.0
         };
-        let d = c * (light.color * (attenuation * k.kd * lambert));
-        let s = tint * light.color * (attenuation * k.ks * spec);
+        let d = c * (light.color * (fs * k.kd * lambert));
+        let s = tint * light.color * (fs * k.ks * spec);
+        let a = c * (light.ambient * (fs * k.ka));
         diffuse += d;
         specular += s;
+        light_ambient += a;
         terms.lights[i] = LightTerms {
+            color: light.color.to_array(),
+            kc: light.kc,
+            kl: light.kl,
+            kq: light.kq,
+            positional: matches!(light.at, ResolvedLight::Point(_)),
             n_dot_l,
+            distance,
             attenuation,
+            spotlight: light.cone.is_some(),
+            spot,
+            spec,
+            ambient_color: light.ambient.to_array(),
+            ambient: a.to_array(),
             diffuse: d.to_array(),
             specular: s.to_array(),
         };
     }
-    let ambient = c * k.ka;
-    let out = (ambient + diffuse + specular).clamp(Vec3::ZERO, Vec3::ONE);
+    let emission = c * k.ke;
+    let ambient = c * (k.global_ambient * k.ka);
+    // The lecture's order; each added zero of the default form leaves the sum's bits as they
+    // were.
+    let sum = emission + ambient + light_ambient + diffuse + specular;
+    let out = sum.clamp(Vec3::ZERO, Vec3::ONE);
+    terms.emission = emission.to_array();
     terms.ambient = ambient.to_array();
+    terms.light_ambient = light_ambient.to_array();
     terms.diffuse = diffuse.to_array();
     terms.specular = specular.to_array();
     (out, terms)
@@ -701,6 +615,138 @@ mod tests {
         )
         .1;
         assert_eq!(terms.tint, c.to_array(), "the breakdown shows h");
+    }
+
+    /// The lecture's full model by hand: M_e + G_a·M_a + f·s·[I_a·M_a + I·M_d·N·L + I·M_s·spec]
+    /// for a spot light straight above a surface facing it, 20° off the spot's axis.
+    #[test]
+    fn the_full_model_adds_emission_global_and_light_ambient_and_the_spot_factor() {
+        let off = 20f32.to_radians();
+        // The sample at the origin, normal +z; the light 5 up, its axis tilted 20° from −z.
+        let spot = Spot {
+            position: Vec3::new(0.0, 0.0, 5.0),
+            direction: Vec3::new(off.sin(), 0.0, -off.cos()),
+            cutoff: 30.0,
+            exponent: 2.0,
+        };
+        let p = Phong {
+            ke: 0.1,
+            global_ambient: 0.5,
+            ka: 0.2,
+            kd: 0.6,
+            ks: 0.3,
+            shininess: 4.0,
+            lights: vec![LightSource {
+                color: Vec3::new(1.0, 0.5, 0.25),
+                ambient: 0.4,
+                kc: 1.0,
+                kl: 0.1,
+                kq: 0.0,
+                light: Light::Spot(spot),
+            }],
+            ..Phong::default()
+        };
+        assert!(p.full_form());
+        let c = Vec3::new(0.4, 0.3, 0.2);
+        let resolved = lights(&p);
+        let (out, t) = shade(
+            c,
+            Vec3::NEG_Z,
+            Vec3::ZERO,
+            &Viewing::new(Vec3::Z, &resolved),
+            &p,
+        );
+        let f = 1.0 / (1.0 + 0.1 * 5.0);
+        let s = off.cos().powi(2);
+        let i = Vec3::new(1.0, 0.5, 0.25);
+        // N·L = 1 and N·H = 1 (light and viewer straight above): spec = 1.
+        let want = c * 0.1 + c * (0.5 * 0.2) + f * s * (i * 0.4 * 0.2 * c + i * 0.6 * c + i * 0.3);
+        assert!((out - want).abs().max_element() < 1e-6, "{out} vs {want}");
+        let l = t.per_light()[0];
+        assert!((l.spot - s).abs() < 1e-6 && (l.attenuation - f).abs() < 1e-6);
+        assert!(t.full_form());
+        // Outside the cone only the global terms are left.
+        let narrow = Phong {
+            lights: vec![LightSource {
+                light: Light::Spot(Spot {
+                    cutoff: 10.0,
+                    ..spot
+                }),
+                ..p.lights[0]
+            }],
+            ..p.clone()
+        };
+        let resolved = lights(&narrow);
+        let (dark, _) = shade(
+            c,
+            Vec3::NEG_Z,
+            Vec3::ZERO,
+            &Viewing::new(Vec3::Z, &resolved),
+            &narrow,
+        );
+        assert!(
+            (dark - (c * 0.1 + c * 0.1)).abs().max_element() < 1e-7,
+            "{dark}"
+        );
+    }
+
+    /// Levoy's depth cue: f = 1/(k1 + k2·d) with d the distance from the picture plane, for
+    /// every light (a point light's own falloff is replaced), not the distance to the light.
+    #[test]
+    fn the_depth_cue_dims_with_distance_from_the_picture_plane() {
+        let mut p = k();
+        p.ks = 0.0;
+        p.depth_cue = true;
+        p.depth_kc = 1.0;
+        p.depth_kl = 0.05;
+        p.lights = vec![LightSource {
+            kl: 3.0,
+            ..LightSource::new(Light::Point(Vec3::new(0.0, 0.0, 100.0)))
+        }];
+        // The camera looks along −z from z = 50 (its picture plane is z = 50).
+        let resolved = p.resolve(Vec3::NEG_Z);
+        let eye = Vec3::new(7.0, -3.0, 50.0);
+        let v = Viewing::from_origin(eye, Vec3::Z, &resolved);
+        let c = Vec3::splat(0.5);
+        for z in [40.0f32, 10.0, -20.0] {
+            let at = Vec3::new(1.0, 2.0, z);
+            let (out, t) = shade(c, Vec3::NEG_Z, at, &v, &p);
+            let d = 50.0 - z;
+            let f = 1.0 / (1.0 + 0.05 * d);
+            let n_dot_l = (Vec3::new(0.0, 0.0, 100.0) - at).normalize().z;
+            let want = c * 0.1 + c * (0.6 * f * n_dot_l);
+            assert!(
+                (out - want).abs().max_element() < 1e-6,
+                "z {z}: {out} vs {want}"
+            );
+            assert!((t.per_light()[0].distance - d).abs() < 1e-4);
+        }
+        // Off: the point light's own falloff at its distance.
+        p.depth_cue = false;
+        let (_, t) = shade(c, Vec3::NEG_Z, Vec3::ZERO, &v, &p);
+        assert!((t.per_light()[0].attenuation - 1.0 / (1.0 + 3.0 * 100.0)).abs() < 1e-7);
+    }
+
+    /// The defaults are the shortened form: no term of the full model is on, and a sample's
+    /// colour is ka·c + Σ f·I·(kd·N·L·c + ks·spec·h) to the last bit.
+    #[test]
+    fn the_defaults_are_the_shortened_form_bit_for_bit() {
+        let p = Phong::default();
+        assert!(!p.full_form());
+        let resolved = lights(&p);
+        let view = Vec3::new(0.2, 0.3, 0.9).normalize();
+        let v = Viewing::new(view, &resolved);
+        let c = Vec3::new(0.7, 0.35, 0.1);
+        let grad = Vec3::new(-0.3, -0.2, -1.0);
+        let (out, t) = shade(c, grad, Vec3::ZERO, &v, &p);
+        let n = -grad.normalize();
+        let l = Vec3::Z;
+        let spec = power(n.dot(v.half(0).unwrap()).max(0.0), p.shininess);
+        let short = c * p.ka
+            + c * (Vec3::ONE * (1.0 * p.kd * n.dot(l).max(0.0)))
+            + Vec3::ONE * Vec3::ONE * (1.0 * p.ks * spec);
+        assert_eq!(out, short.clamp(Vec3::ZERO, Vec3::ONE));
+        assert!(!t.full_form());
     }
 
     #[test]

@@ -492,7 +492,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             // as either skipping march would find.
             return self.accumulated(acc, None);
         }
-        let viewing = Viewing::new(-ray.dir, &self.s.lights);
+        let viewing = Viewing::from_origin(ray.origin, -ray.dir, &self.s.lights);
         let mut stopped_at = None;
         match skip {
             Some((_, cells)) if plan.count > 0 => {
@@ -846,7 +846,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let t = ta + (tb - ta) * crossing_fraction(va, vb, target);
         let pv = o_v + d_v * t;
         let rgba = self.s.lut.lookup(target);
-        let viewing = Viewing::new(-ray.dir, &self.s.lights);
+        let viewing = Viewing::from_origin(ray.origin, -ray.dir, &self.s.lights);
         let (color, _, terms) = self.shade(rgba.truncate(), (pv, None), None, &viewing);
         if R::ACTIVE {
             let value = self.value(pv);

@@ -237,7 +237,8 @@ pub const SHADING: Tunable = Tunable {
 pub const AMBIENT: Tunable = Tunable {
     key: "ka",
     label: "Ambient (ka)",
-    doc: "Fraction of the sample's colour seen without any light: lifts shadowed sides. \
+    doc: "Fraction of the sample's colour seen without any light (times the global ambient G_a): \
+          lifts shadowed sides. \
           In [0, 1]; default 0.2.",
     default: 0.2,
     min: 0.0,
@@ -276,8 +277,8 @@ pub const SHININESS: Tunable = Tunable {
 pub const ATTENUATION_CONSTANT: Tunable = Tunable {
     key: "kc",
     label: "Attenuation kc",
-    doc: "Constant term of the point light's attenuation f = 1/(kc + kl·d + kq·d²), d the distance \
-          to the light in world units. Default 1 (no falloff with kl = kq = 0).",
+    doc: "Constant term of a point or spot light's attenuation f = 1/(kc + kl·d + kq·d²), d the \
+          distance to the light in world units. Default 1 (no falloff with kl = kq = 0).",
     default: 1.0,
     min: 0.0,
     max: 1e6,
@@ -286,7 +287,7 @@ pub const ATTENUATION_CONSTANT: Tunable = Tunable {
 pub const ATTENUATION_LINEAR: Tunable = Tunable {
     key: "kl",
     label: "Attenuation kl",
-    doc: "Linear term of the point light's attenuation, per world unit: raising it darkens \
+    doc: "Linear term of a point or spot light's attenuation, per world unit: raising it darkens \
           samples far from the light. Default 0.",
     default: 0.0,
     min: 0.0,
@@ -296,7 +297,7 @@ pub const ATTENUATION_LINEAR: Tunable = Tunable {
 pub const ATTENUATION_QUADRATIC: Tunable = Tunable {
     key: "kq",
     label: "Attenuation kq",
-    doc: "Quadratic term of the point light's attenuation, per squared world unit (physical \
+    doc: "Quadratic term of a point or spot light's attenuation, per squared world unit (physical \
           inverse-square falloff). Default 0.",
     default: 0.0,
     min: 0.0,
@@ -321,6 +322,87 @@ pub const TWO_SIDED: Tunable = Tunable {
     default: 1.0,
     min: 0.0,
     max: 1.0,
+};
+
+pub const EMISSION: Tunable = Tunable {
+    key: "ke",
+    label: "Emission (ke)",
+    doc: "The lecture's M_e: the sample glows with ke times its own colour, lit or not (added \
+          before the ambient term). In [0, 1]; default 0.",
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const GLOBAL_AMBIENT: Tunable = Tunable {
+    key: "global-ambient",
+    label: "Global ambient (G_a)",
+    doc: "The lecture's G_a: the grey level of the scene-wide ambient light, which multiplies the \
+          ambient term to give G_a·ka·c. In [0, 1]; default 1.",
+    default: 1.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const LIGHT_AMBIENT: Tunable = Tunable {
+    key: "light-ambient",
+    label: "Light's ambient",
+    doc: "The lecture's I_a,i: this light's own ambient intensity as a share of its colour; it \
+          adds f·s·I_a·ka·c, so it falls off with the light's distance and cone. In [0, 1]; \
+          default 0.",
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const SPOT_CUTOFF: Tunable = Tunable {
+    key: "spot-cutoff",
+    label: "Spot cutoff (degrees)",
+    doc: "Half the opening angle of a spot light's cone: samples further off its axis get no \
+          light from it (s = 0). Default 30.",
+    default: 30.0,
+    min: 0.0,
+    max: 90.0,
+};
+
+pub const SPOT_EXPONENT: Tunable = Tunable {
+    key: "spot-exponent",
+    label: "Spot exponent",
+    doc: "How fast a spot light dims away from its axis inside the cone: the spotlight factor is \
+          s = (cos of the angle to the axis)^exponent; 0 lights the cone evenly. Default 4.",
+    default: 4.0,
+    min: 0.0,
+    max: 128.0,
+};
+
+pub const DEPTH_CUE: Tunable = Tunable {
+    key: "depth-cue",
+    label: "Depth cue (Levoy)",
+    doc: "Levoy's depth cueing: every light's falloff becomes f = 1/(k1 + k2·d) with d the \
+          sample's distance from the picture plane, so farther parts of the volume are dimmer \
+          (instead of each point light's own falloff with its distance). Default off.",
+    default: 0.0,
+    min: 0.0,
+    max: 1.0,
+};
+
+pub const DEPTH_CUE_CONSTANT: Tunable = Tunable {
+    key: "depth-k1",
+    label: "Depth cue k1",
+    doc: "Constant term k1 of Levoy's depth cue 1/(k1 + k2·d). Default 1.",
+    default: 1.0,
+    min: 0.0,
+    max: 1e6,
+};
+
+pub const DEPTH_CUE_LINEAR: Tunable = Tunable {
+    key: "depth-k2",
+    label: "Depth cue k2",
+    doc: "Linear term k2 of Levoy's depth cue 1/(k1 + k2·d), per world unit of distance from the \
+          picture plane: raising it darkens the far side. Default 0.002.",
+    default: 0.002,
+    min: 0.0,
+    max: 1e6,
 };
 
 pub const ISO_THICKNESS: Tunable = Tunable {
@@ -504,6 +586,14 @@ pub const ALL: &[Tunable] = &[
     ATTENUATION_QUADRATIC,
     GRADIENT_THRESHOLD,
     TWO_SIDED,
+    EMISSION,
+    GLOBAL_AMBIENT,
+    LIGHT_AMBIENT,
+    SPOT_CUTOFF,
+    SPOT_EXPONENT,
+    DEPTH_CUE,
+    DEPTH_CUE_CONSTANT,
+    DEPTH_CUE_LINEAR,
     ISO_THICKNESS,
     BOUNDARY_GRADIENT,
     PREVIEW_SCALE,

@@ -112,3 +112,100 @@ fn the_formula_follows_the_order() {
         assert!(text.contains(rule), "{order:?}: {text}");
     }
 }
+
+/// Every shading equation the breakdown prints adds up from its printed numbers: the shortened
+/// form, the lecture's full model (emission, global ambient, the lights' own ambient, a point
+/// and a spot light with falloff) and Levoy's depth cue, on every shaded sample of several rays.
+#[test]
+fn every_printed_shading_equation_adds_up() {
+    use voxcast_core::shade::{Light, LightSource, Phong, Spot};
+    let volume = blobs();
+    let tf = coloured();
+    let spot_at = Vec3::new(4.0, 12.0, 14.0);
+    let full = Phong {
+        ke: 0.1,
+        global_ambient: 0.7,
+        lights: vec![
+            LightSource {
+                ambient: 0.3,
+                ..LightSource::new(Light::Headlight)
+            },
+            LightSource {
+                ambient: 0.2,
+                kl: 0.05,
+                kq: 0.002,
+                color: Vec3::new(1.0, 0.6, 0.3),
+                ..LightSource::new(Light::Point(Vec3::new(-6.0, 3.0, 9.0)))
+            },
+            LightSource {
+                ambient: 0.5,
+                kl: 0.02,
+                ..LightSource::new(Light::Spot(Spot {
+                    position: spot_at,
+                    direction: Vec3::new(4.0, 3.5, 3.0) - spot_at,
+                    cutoff: 20.0,
+                    exponent: 3.0,
+                }))
+            },
+        ],
+        ..Phong::default()
+    };
+    let cued = Phong {
+        depth_cue: true,
+        depth_kc: 0.8,
+        depth_kl: 0.04,
+        highlight: voxcast_core::shade::Highlight::Levoy,
+        ..full.clone()
+    };
+    let (mut checked, mut forms) = (0, [0usize; 2]);
+    for phong in [Phong::default(), full, cued] {
+        let settings = RenderSettings {
+            shading: true,
+            step: Length::Voxels(0.7),
+            phong,
+            ..RenderSettings::default()
+        };
+        for dir in [
+            Vec3::new(1.0, 0.1, 0.05),
+            Vec3::new(0.3, 1.0, 0.2),
+            Vec3::new(0.2, 0.3, -1.0),
+        ] {
+            let dir = dir.normalize();
+            let t = trace(
+                &volume,
+                &tf,
+                &settings,
+                Vec3::new(4.0, 4.2, 2.7) - dir * 20.0,
+                dir,
+            );
+            for s in &t.samples {
+                let Some(terms) = &s.shading else { continue };
+                let [r, g, b, _] = s.tf_rgba;
+                let text = voxcast_core::explain::shading(terms, [r, g, b], s.color);
+                forms[terms.full_form() as usize] += 1;
+                match check_equations(&text) {
+                    Ok(n) => checked += n,
+                    Err(m) => panic!("{} ({})\n{text}", m.line, m.why),
+                }
+                if terms.lit {
+                    let said = |w: &str| text.contains(w);
+                    assert_eq!(
+                        said("the lecture's full model"),
+                        terms.full_form(),
+                        "{text}"
+                    );
+                    assert_eq!(said("depth cue"), terms.depth_cue, "{text}");
+                    assert_eq!(
+                        said("spotlight factor"),
+                        terms.per_light().iter().any(|l| l.spotlight)
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        forms[0] > 10 && forms[1] > 20,
+        "samples per form: {forms:?}"
+    );
+    assert!(checked > 300, "only {checked} equations checked");
+}

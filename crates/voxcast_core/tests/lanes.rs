@@ -106,6 +106,7 @@ fn phong() -> impl Strategy<Value = Phong> {
                         _ => true,
                     })
                     .collect(),
+                ..Phong::default()
             },
         )
 }

@@ -179,19 +179,17 @@ fn halving_the_step_doubles_the_samples() {
     }
 }
 
-/// Level 16, step 1: Voxcast's shading is a shortened form of the lecture's model (the level
-/// names what it leaves out), each light adds its own terms, and the ambient term ka·c is
-/// added once, however many lights there are.
+/// Level 16, step 1: Voxcast's default shading is a shortened form of the lecture's model
+/// (the full form's terms are off by default), each light adds its own terms, and the ambient
+/// term ka·c is added once, however many lights there are.
 #[test]
 fn each_light_adds_its_terms_and_the_ambient_is_counted_once() {
     use voxcast_core::shade::{Light, LightSource, Phong, Viewing, shade};
     let text = words("lights", 1);
-    says(
-        &text,
-        "a shortened form of the lecture's illumination model",
-    );
-    says(&text, "which Voxcast leaves out");
+    says(&text, "By default it uses a shortened form");
+    says(&text, "off by default");
     says(&text, "the ambient term ka·c is added once");
+    assert!(!voxcast_core::shade::Phong::default().full_form());
     // Dark enough that no sum reaches 1, where the colour is clamped.
     let c = Vec3::new(0.3, 0.2, 0.1);
     let view = Vec3::new(0.0, 0.0, -1.0);
@@ -215,4 +213,106 @@ fn each_light_adds_its_terms_and_the_ambient_is_counted_once() {
         "{both} vs {one} + {other}"
     );
     assert!(with(vec![]).abs_diff_eq(ambient, 1e-6));
+}
+
+/// Level 16's full-model step: emission adds ke·c to every shaded sample "lit or not", and a
+/// spot lights only what lies inside its cone, "its ambient term" included.
+#[test]
+fn the_full_model_glows_and_a_spot_lights_only_its_cone() {
+    use voxcast_core::shade::{Light, LightSource, Phong, Spot, Viewing, shade};
+    let text = words("lights", 5);
+    says(&text, "Every shaded sample gains ke·c, lit or not");
+    says(&text, "outside it s_i = 0, and its ambient term goes too");
+    let c = Vec3::new(0.3, 0.2, 0.1);
+    let spot = Spot {
+        position: Vec3::new(0.0, 0.0, 10.0),
+        direction: Vec3::NEG_Z,
+        cutoff: 20.0,
+        ..Spot::default()
+    };
+    let k = Phong {
+        ke: 0.2,
+        lights: vec![LightSource {
+            ambient: 0.5,
+            ..LightSource::new(Light::Spot(spot))
+        }],
+        ..Phong::default()
+    };
+    let resolved = k.resolve(Vec3::NEG_Z);
+    let v = Viewing::new(Vec3::Z, &resolved);
+    // A surface facing up, on the axis and far outside the cone.
+    let (inside, t_in) = shade(c, Vec3::NEG_Z, Vec3::ZERO, &v, &k);
+    let (outside, t_out) = shade(c, Vec3::NEG_Z, Vec3::new(30.0, 0.0, 0.0), &v, &k);
+    let global = c * 0.2 + c * k.ka;
+    assert!(outside.abs_diff_eq(global, 1e-7), "{outside} vs {global}");
+    assert_eq!(t_out.per_light()[0].ambient, [0.0; 3]);
+    assert!(inside.x > outside.x + 0.1 && t_in.per_light()[0].ambient[0] > 0.0);
+    // Facing away from the light and the viewer (one-sided), still ke·c more than without.
+    let one_sided = Phong {
+        two_sided: false,
+        ..k.clone()
+    };
+    let (away, _) = shade(c, Vec3::Z, Vec3::ZERO, &v, &one_sided);
+    let without = Phong {
+        ke: 0.0,
+        ..one_sided
+    };
+    let (dark, _) = shade(c, Vec3::Z, Vec3::ZERO, &v, &without);
+    assert!((away - dark).abs_diff_eq(c * 0.2, 1e-7), "{away} vs {dark}");
+}
+
+/// Level 16's last step: with Levoy's depth cue the bunny's far side is dimmer than its near
+/// side, every light's falloff being 1/(k1 + k2·d) "in place of a point light's own falloff".
+#[test]
+fn the_depth_cue_dims_the_far_side() {
+    use voxcast_core::shade::{Light, LightSource};
+    let text = words("lights", 7);
+    says(
+        &text,
+        "f = 1/(k1 + k2·d), in place of a point light's own falloff",
+    );
+    says(&text, "the bunny's far side is dimmer than its near side");
+    let bunny = load_builtin("bunny").unwrap().volume;
+    let p = voxcast_core::preset::for_volume(bunny.name()).unwrap();
+    let v = voxcast_core::Prepared::from(bunny);
+    let (lo, hi) = v.bounds();
+    let mut s = p.settings_over(&RenderSettings::default()).unwrap();
+    s.method = voxcast_core::composite::Method::First;
+    s.phong.lights = vec![LightSource::new(Light::Headlight)];
+    let cam = Camera::framing(lo, hi, Vec3::new(1.0, 0.3, 1.2), Vec3::Y).unwrap();
+    // The mean brightness of the hits at the nearest and the farthest quarter of depths.
+    let brightness_by_depth = |s: &RenderSettings| {
+        let scene = Scene::new(&v, &p.transfer, s, cam.forward()).unwrap();
+        let mut hits = Vec::new();
+        for y in (0..64).step_by(2) {
+            for x in (0..64).step_by(2) {
+                let ray = cam.ray(x as f32 + 0.5, y as f32 + 0.5, 64, 64);
+                let t = voxcast_core::trace::trace_ray(&scene, &ray, [x, y]);
+                if let Some(h) = t.first_hit {
+                    hits.push((
+                        h.t,
+                        h.color.iter().sum::<f32>() / h.tf_rgba[..3].iter().sum::<f32>().max(1e-6),
+                    ));
+                }
+            }
+        }
+        hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let q = hits.len() / 4;
+        let mean = |h: &[(f32, f32)]| h.iter().map(|x| x.1).sum::<f32>() / h.len() as f32;
+        (mean(&hits[..q]), mean(&hits[hits.len() - q..]))
+    };
+    let (near, far) = brightness_by_depth(&s);
+    s.phong.depth_cue = true;
+    s.phong.depth_kl = 2.0 / (hi - lo).length();
+    let (near_cued, far_cued) = brightness_by_depth(&s);
+    // Relative to the image without the cue (whose own shading differs with depth), the far
+    // hits lose more than the near ones.
+    assert!(
+        far_cued / far < 0.95 * (near_cued / near),
+        "near {near_cued}/{near}, far {far_cued}/{far}"
+    );
+    // "Raise Depth cue k2 to dim it more."
+    s.phong.depth_kl *= 2.0;
+    let (near_more, far_more) = brightness_by_depth(&s);
+    assert!(near_more < near_cued && far_more < far_cued);
 }

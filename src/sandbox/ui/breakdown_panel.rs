@@ -275,61 +275,20 @@ fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
         ui.label(format!("gradient (central differences) {}", v3(g)));
     }
     if let Some(sh) = &s.shading {
-        shading_terms(ui, sh, s.color);
+        let [r, g, b, _] = s.tf_rgba;
+        shading_terms(ui, sh, [r, g, b], s.color);
     }
 }
 
-/// The shading of one sample: the ambient term, each light's diffuse and specular terms, and
-/// their sum (the lecture's Σ over lights i).
-fn shading_terms(ui: &mut egui::Ui, sh: &voxcast_core::shade::ShadeTerms, color: [f32; 3]) {
-    if !sh.lit {
-        ui.label(
-            "shading: the gradient is too small here to give a normal, so the sample keeps its \
-             colour",
-        );
-        return;
-    }
-    let h = if sh.highlight == voxcast_core::shade::Highlight::White {
-        "h = 1: a white highlight (OpenGL, VTK)".to_string()
-    } else {
-        format!(
-            "h = c = {}: Levoy's highlight, tinted by the sample's colour",
-            v3(sh.tint)
-        )
-    };
-    ui.label(format!(
-        "shading (normal N = {}): colour = ka·c + Σ over lights of f·I·(kd·max(N·L, 0)·c + ks·spec·h), {h}",
-        v3(sh.normal)
-    ));
-    egui::Grid::new("shading").striped(true).show(ui, |ui| {
-        super::header_row(ui, &["term", "N·L", "falloff f", "diffuse", "specular"]);
-        ui.label("ambient ka·c");
-        ui.label("");
-        ui.label("");
-        ui.label(v3(sh.ambient));
-        ui.label("");
-        ui.end_row();
-        for (i, l) in sh.per_light().iter().enumerate() {
-            ui.label(format!("light {}", i + 1));
-            ui.label(sig(l.n_dot_l));
-            ui.label(sig(l.attenuation));
-            ui.label(v3(l.diffuse));
-            ui.label(v3(l.specular));
-            ui.end_row();
-        }
-        if sh.per_light().len() > 1 {
-            ui.label("sum");
-            ui.label("");
-            ui.label("");
-            ui.label(v3(sh.diffuse));
-            ui.label(v3(sh.specular));
-            ui.end_row();
-        }
-    });
-    ui.label(format!(
-        "ambient + diffuse + specular, each channel clipped to [0, 1]: the colour is {}",
-        v3(color)
-    ));
+/// The shading of one sample, every term that is on with its numbers (the core's
+/// `explain::shading`, which a test recomputes).
+fn shading_terms(
+    ui: &mut egui::Ui,
+    sh: &voxcast_core::shade::ShadeTerms,
+    c: [f32; 3],
+    shaded: [f32; 3],
+) {
+    ui.label(egui::RichText::new(voxcast_core::explain::shading(sh, c, shaded)).monospace());
 }
 
 fn export(

@@ -7,7 +7,7 @@ use super::slider;
 use bevy::prelude::Vec3;
 use bevy_egui::egui;
 use voxcast_core::marker::direction_from_marker;
-use voxcast_core::shade::{Highlight, Light, LightSource, MAX_LIGHTS, Phong, SpecularModel};
+use voxcast_core::shade::{Highlight, Light, LightSource, MAX_LIGHTS, Phong, SpecularModel, Spot};
 use voxcast_core::tunables as t;
 
 /// Where a newly chosen point light stands: above and to the side of the volume, outside it.
@@ -69,6 +69,7 @@ pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec
         })
         .response
         .on_hover_text(p.highlight.doc());
+    depth_cue_controls(ui, p, (hi - lo).length());
     egui::ComboBox::from_label("Specular")
         .selected_text(p.model.label())
         .show_ui(ui, |ui| {
@@ -83,11 +84,12 @@ pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec
 
 /// One light's kind, place, colour and attenuation.
 fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
-    let names = ["Headlight", "Point", "Directional"];
+    let names = ["Headlight", "Point", "Directional", "Spot"];
     let current = match source.light {
         Light::Headlight => 0,
         Light::Point(_) => 1,
         Light::Directional(_) => 2,
+        Light::Spot(_) => 3,
     };
     let mut chosen = current;
     egui::ComboBox::from_label("Kind")
@@ -97,6 +99,9 @@ fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
                 "Shines along the view direction, wherever the camera goes",
                 "A point in the scene (drag its marker); its light falls off with distance",
                 "Parallel light from far away along a fixed direction (drag its marker)",
+                "A point light that shines in a cone only, brightest along its axis (the \
+                 lecture's spotlight factor s); drag its marker and it keeps aiming at the \
+                 volume's centre",
             ];
             for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
                 ui.selectable_value(&mut chosen, i, *name)
@@ -104,14 +109,19 @@ fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
             }
         });
     if chosen != current {
-        let point = match source.light {
-            Light::Point(q) => q,
-            _ => default_point(lo, hi),
-        };
+        let point = source
+            .light
+            .position()
+            .unwrap_or_else(|| default_point(lo, hi));
         source.light = match chosen {
             0 => Light::Headlight,
             1 => Light::Point(point),
-            _ => Light::Directional(direction_from_marker(point, lo, hi).unwrap_or(Vec3::NEG_Y)),
+            2 => Light::Directional(direction_from_marker(point, lo, hi).unwrap_or(Vec3::NEG_Y)),
+            _ => Light::Spot(Spot {
+                position: point,
+                direction: (lo + hi) * 0.5 - point,
+                ..Spot::default()
+            }),
         };
     }
     let diagonal = (hi - lo).length().max(f32::MIN_POSITIVE);
@@ -141,6 +151,7 @@ fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
                 *d = e;
             }
         }
+        Light::Spot(spot) => spot_controls(ui, spot, diagonal),
     }
     let mut color = source.color.to_array();
     ui.horizontal(|ui| {
@@ -149,7 +160,8 @@ fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
         ui.label("Colour");
     });
     source.color = Vec3::from_array(color);
-    if let Light::Point(_) = source.light {
+    slider(ui, &mut source.ambient, &t::LIGHT_AMBIENT, 0.0..=1.0, false);
+    if source.light.positional() {
         slider(
             ui,
             &mut source.kc,
@@ -171,5 +183,51 @@ fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
             0.0..=100.0 / (diagonal * diagonal),
             true,
         );
+    }
+}
+
+/// A spot light's place, axis and cone.
+fn spot_controls(ui: &mut egui::Ui, spot: &mut Spot, diagonal: f32) {
+    ui.horizontal(|ui| {
+        ui.label("at");
+        for v in [
+            &mut spot.position.x,
+            &mut spot.position.y,
+            &mut spot.position.z,
+        ] {
+            ui.add(egui::DragValue::new(v).speed(diagonal * 0.005));
+        }
+    })
+    .response
+    .on_hover_text("The spot light's world position (or drag its marker in the scene)");
+    let mut e = spot.direction;
+    ui.horizontal(|ui| {
+        ui.label("along");
+        for v in [&mut e.x, &mut e.y, &mut e.z] {
+            ui.add(egui::DragValue::new(v).speed(0.01));
+        }
+    })
+    .response
+    .on_hover_text("The direction of the cone's axis (the way the spot shines)");
+    if e != spot.direction && e.length_squared() > 0.0 {
+        spot.direction = e;
+    }
+    slider(ui, &mut spot.cutoff, &t::SPOT_CUTOFF, 0.0..=90.0, false);
+    slider(ui, &mut spot.exponent, &t::SPOT_EXPONENT, 0.0..=64.0, false);
+}
+
+/// Levoy's depth cue: on or off, and its two terms.
+fn depth_cue_controls(ui: &mut egui::Ui, p: &mut Phong, diagonal: f32) {
+    super::checkbox(ui, &mut p.depth_cue, &t::DEPTH_CUE);
+    if p.depth_cue {
+        slider(
+            ui,
+            &mut p.depth_kc,
+            &t::DEPTH_CUE_CONSTANT,
+            0.01..=4.0,
+            true,
+        );
+        let top = 20.0 / diagonal.max(f32::MIN_POSITIVE);
+        slider(ui, &mut p.depth_kl, &t::DEPTH_CUE_LINEAR, 0.0..=top, true);
     }
 }

@@ -488,6 +488,14 @@ fn shading_section(ui: &mut egui::Ui, s: &mut RenderSettings, volume: &VolumeSta
         });
     });
     let p = &mut s.phong;
+    slider(ui, &mut p.ke, &t::EMISSION, 0.0..=1.0, false);
+    slider(
+        ui,
+        &mut p.global_ambient,
+        &t::GLOBAL_AMBIENT,
+        0.0..=1.0,
+        false,
+    );
     slider(ui, &mut p.ka, &t::AMBIENT, 0.0..=1.0, false);
     slider(ui, &mut p.kd, &t::DIFFUSE, 0.0..=1.0, false);
     slider(ui, &mut p.ks, &t::SPECULAR, 0.0..=1.0, false);

@@ -21,9 +21,10 @@
 //! located past it.
 //!
 //! Used where it applies exactly: Accumulate front to back with skipping, trilinear, table
-//! classification, the precomputed records (an integer volume, shading on), directional lights
-//! and a whole-number shininess (the scalar code then raises by repeated squaring, which lanes
-//! repeat step for step). Anything else, or a CPU with none of those vector units, takes the
+//! classification, the precomputed records (an integer volume, shading on), directional lights,
+//! the shortened illumination model (no emission, global ambient 1, no light's own ambient, no
+//! depth cue: [`crate::shade::Phong::full_form`]) and a whole-number shininess (the scalar
+//! code then raises by repeated squaring, which lanes repeat step for step). Anything else, or a CPU with none of those vector units, takes the
 //! scalar march. `tests/lanes.rs` renders random scenes with each backend and without lanes, and compares
 //! every bit.
 
@@ -98,7 +99,9 @@ impl<'s> Lanes<'s> {
             && set.shading
             // `shade::power` squares repeatedly for these only (else it calls `powf`).
             && p.shininess.fract() == 0.0
-            && (0.0..=1024.0).contains(&p.shininess);
+            && (0.0..=1024.0).contains(&p.shininess)
+            // Voxcast's shortened form only: no emission, light's ambient or depth cue.
+            && !p.full_form();
         if !applies {
             return None;
         }
