@@ -1,4 +1,5 @@
-// Twin: crates/voxcast_core/src/classify.rs (`iso_contour_alpha`, `Classifier::classify`).
+// Twin: crates/voxcast_core/src/classify.rs (`iso_contour_alpha`, `Classifier::classify`,
+// `Region::contains`).
 #define_import_path voxcast::classify
 
 #import voxcast::bindings::{params, CLASSIFICATION}
@@ -15,6 +16,12 @@ fn iso_contour_alpha(f: f32, g: f32, f_v: f32, alpha_v: f32, r: f32) -> f32 {
     return 0.0;
 }
 
+/// Whether (f, g) lies in rectangle i of the value-and-gradient classification (edges in).
+fn contains(i: u32, f: f32, g: f32) -> bool {
+    let r = params.regions[i];
+    return f >= r.x && f <= r.y && g >= r.z && g <= r.w;
+}
+
 /// Opacity for value f with table opacity table_alpha and gradient magnitude g.
 fn classify(f: f32, table_alpha: f32, g: f32) -> f32 {
     if CLASSIFICATION == #{CLASSIFY_ISO_CONTOURS}u {
@@ -26,6 +33,15 @@ fn classify(f: f32, table_alpha: f32, g: f32) -> f32 {
     }
     if CLASSIFICATION == #{CLASSIFY_BOUNDARIES}u {
         return min(table_alpha * g * params.inv_full_gradient, 1.0);
+    }
+    if CLASSIFICATION == #{CLASSIFY_VALUE_GRADIENT}u {
+        var alpha = 0.0;
+        for (var i = 0u; i < params.region_count; i++) {
+            if contains(i, f, g) {
+                alpha = max(alpha, params.region_opacity[i]);
+            }
+        }
+        return alpha;
     }
     return table_alpha;
 }

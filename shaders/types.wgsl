@@ -111,6 +111,11 @@ struct VolumeUniform {
     global_ambient: f32,
     depth_kc: f32,
     depth_kl: f32,
+    /// The value-and-gradient rectangles (classify.wgsl): how many, each one's opacity, and
+    /// each one's [value lo, value hi, gradient lo, gradient hi].
+    region_count: u32,
+    region_opacity: vec4<f32>,
+    regions: array<vec4<f32>, #{MAX_REGIONS}>,
     /// The lights (shade.wgsl sums over the first light_count).
     lights: array<LightUniform, #{MAX_LIGHTS}>,
 }

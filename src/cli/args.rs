@@ -215,8 +215,11 @@ pub struct SettingsArgs {
     pub two_sided: Option<String>,
     #[arg(long, help = t::GRADIENT_THRESHOLD.doc, allow_negative_numbers = true)]
     pub gradient_threshold: Option<f32>,
-    /// Classification: table, iso:V1,V2,…[@THICKNESS_VOXELS] (Levoy's isovalue contours), or
-    /// boundaries[@FULL_GRADIENT] (Levoy's region boundaries).
+    /// Classification: table, iso:V1,V2,…[@THICKNESS_VOXELS] (Levoy's isovalue contours),
+    /// boundaries[@FULL_GRADIENT] (Levoy's region boundaries), or
+    /// rects:F0,F1,G0,G1@OPACITY[/…] (up to 4 rectangles over value F0…F1 × gradient magnitude
+    /// G0…G1, data units per world unit, each with its opacity; `voxcast info` draws that
+    /// plane's histogram).
     #[arg(long, allow_hyphen_values = true)]
     pub classify: Option<String>,
     /// Background colour r,g,b in [0, 1].
@@ -461,13 +464,34 @@ impl SettingsArgs {
     }
 }
 
-/// `table`, `iso:V1,V2[@R]`, `boundaries[@G]`.
+/// `table`, `iso:V1,V2[@R]`, `boundaries[@G]`, `rects:F0,F1,G0,G1@A[/…]`.
 fn parse_classification(s: &str) -> Result<Classification, CliError> {
     let bad = || {
         CliError::usage(format!(
-            "--classify '{s}': expected table, iso:V1,V2,…[@THICKNESS] or boundaries[@GRADIENT]"
+            "--classify '{s}': expected table, iso:V1,V2,…[@THICKNESS], boundaries[@GRADIENT] \
+             or rects:F0,F1,G0,G1@OPACITY[/F0,F1,G0,G1@OPACITY…]"
         ))
     };
+    if let Some(rects) = s.strip_prefix("rects:") {
+        let regions = rects
+            .split('/')
+            .map(|r| {
+                let (bounds, opacity) = r.split_once('@')?;
+                let v: Vec<f32> = bounds
+                    .split(',')
+                    .map(|x| x.trim().parse::<f32>().ok())
+                    .collect::<Option<_>>()?;
+                let [f0, f1, g0, g1]: [f32; 4] = v.try_into().ok()?;
+                Some(voxcast_core::classify::Region {
+                    value: [f0, f1],
+                    gradient: [g0, g1],
+                    opacity: opacity.trim().parse().ok()?,
+                })
+            })
+            .collect::<Option<Vec<_>>>()
+            .ok_or_else(bad)?;
+        return Ok(Classification::ValueGradient { regions });
+    }
     let (head, at) = match s.split_once('@') {
         Some((h, a)) => (h, Some(a.parse::<f32>().map_err(|_| bad())?)),
         None => (s, None),

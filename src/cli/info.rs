@@ -104,6 +104,26 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         })
         .collect();
     println!("histogram (64 bins, log): |{bars}|");
+    // Value across, gradient magnitude up: where --classify rects:… draws its rectangles.
+    let joint = voxcast_core::histogram2d::JointHistogram::of(v, [64, 10], 1 << 20);
+    let shades = joint.shades();
+    println!(
+        "value × gradient magnitude (log; gradient 0 … {} data units per world unit, up):",
+        sig(joint.gradient[1])
+    );
+    for row in (0..joint.bins[1]).rev() {
+        let line: String = (0..joint.bins[0])
+            .map(|col| {
+                let x = shades[row * joint.bins[0] + col];
+                if x == 0.0 {
+                    ' '
+                } else {
+                    BARS[((x * 7.0).round() as usize).min(7)]
+                }
+            })
+            .collect();
+        println!("  |{line}|");
+    }
     if let Some(p) = preset::for_loaded(v) {
         println!("preset:     {} — {}", p.name, p.description);
     }

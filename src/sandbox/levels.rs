@@ -502,6 +502,10 @@ pub(super) fn situation(
         shading: render.settings.shading,
         target: render.settings.target,
         classification: voxcast_core::level::classification_mode(&render.settings.classification),
+        regions: match &render.settings.classification {
+            voxcast_core::classify::Classification::ValueGradient { regions } => regions.clone(),
+            _ => Vec::new(),
+        },
         transfer: Some(render.transfer.clone()),
         compared_max,
         light_inside_volume,

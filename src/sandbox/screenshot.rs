@@ -93,7 +93,7 @@ fn take_screenshot(
     }
     let shots = plan.get_or_insert_with(|| {
         if request.sweep {
-            voxcast_core::settings::agreement_cases(&render.settings, volume.volume.bounds())
+            voxcast_core::settings::agreement_cases(&render.settings, volume.volume.volume())
                 .into_iter()
                 .map(|(name, s)| (request.path.join(format!("{name}.png")), s))
                 .collect()

@@ -244,6 +244,7 @@ fn drive(
                         | Objective::LevoyHighlight { .. }
                         | Objective::FullModel
                         | Objective::DepthCue { on: true }
+                        | Objective::RegionAround { .. }
                         | Objective::SkipBlocks { .. }
                         | Objective::Skipping { on: true }
                         | Objective::PreviewCostView { .. }
@@ -392,8 +393,27 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 "boundaries" => Classification::Boundaries {
                     full_gradient: None,
                 },
+                "value-gradient" => Classification::ValueGradient {
+                    regions: Vec::new(),
+                },
                 _ => Classification::Table,
             }
+        }
+        Objective::RegionAround {
+            value,
+            max_gradient,
+        } => {
+            // A rectangle dragged around the value, from the bottom to three quarters of the
+            // highest gradient allowed.
+            let (lo_v, hi_v) = hands.volume.volume.value_range();
+            let half = 0.05 * (hi_v - lo_v);
+            s.classification = Classification::ValueGradient {
+                regions: vec![voxcast_core::classify::Region {
+                    value: [value - half, value + half],
+                    gradient: [0.0, 0.75 * max_gradient],
+                    opacity: 0.6,
+                }],
+            };
         }
         Objective::TfAlphaAtMost { value, alpha } => {
             if let Ok((t, _)) = hands.render.transfer.with_point_added(*value, *alpha) {

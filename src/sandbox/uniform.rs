@@ -43,9 +43,10 @@ pub const LIGHT_SPOT: u32 = 2;
 pub const CLASSIFY_TABLE: u32 = 0;
 pub const CLASSIFY_ISO_CONTOURS: u32 = 1;
 pub const CLASSIFY_BOUNDARIES: u32 = 2;
+pub const CLASSIFY_VALUE_GRADIENT: u32 = 3;
 
 /// The most isovalues the preview classifies with: the core refuses more.
-pub use voxcast_core::classify::MAX_ISOVALUES;
+pub use voxcast_core::classify::{MAX_ISOVALUES, MAX_REGIONS};
 
 /// What a preview pipeline is compiled for: the uniform's members that choose which code runs
 /// (the method, the flags, the classification, the skip switch), compiled in as constants
@@ -100,6 +101,8 @@ pub fn shader_defs(variant: PreviewVariant) -> Vec<ShaderDefVal> {
         ShaderDefVal::UInt("CLASSIFY_TABLE".into(), CLASSIFY_TABLE),
         ShaderDefVal::UInt("CLASSIFY_ISO_CONTOURS".into(), CLASSIFY_ISO_CONTOURS),
         ShaderDefVal::UInt("CLASSIFY_BOUNDARIES".into(), CLASSIFY_BOUNDARIES),
+        ShaderDefVal::UInt("CLASSIFY_VALUE_GRADIENT".into(), CLASSIFY_VALUE_GRADIENT),
+        ShaderDefVal::UInt("MAX_REGIONS".into(), MAX_REGIONS as u32),
     ];
     for m in Method::ALL {
         defs.push(ShaderDefVal::UInt(
@@ -184,6 +187,11 @@ pub struct VolumeUniform {
     pub global_ambient: f32,
     pub depth_kc: f32,
     pub depth_kl: f32,
+    /// The value-and-gradient rectangles: how many, their opacities, and each one's
+    /// `[value lo, value hi, gradient lo, gradient hi]`.
+    pub region_count: u32,
+    pub region_opacity: Vec4,
+    pub regions: [Vec4; MAX_REGIONS],
     /// The lights; the first `light_count` shine.
     pub lights: [LightUniform; MAX_LIGHTS],
 }
@@ -321,6 +329,9 @@ impl VolumeUniform {
             global_ambient: s.phong.global_ambient,
             depth_kc: s.phong.depth_kc,
             depth_kl: s.phong.depth_kl,
+            region_count: 0,
+            region_opacity: Vec4::ZERO,
+            regions: [Vec4::ZERO; MAX_REGIONS],
             lights,
         };
         match &scene.classifier {
@@ -337,6 +348,15 @@ impl VolumeUniform {
             Classifier::Boundaries { inv_full_gradient } => {
                 u.classification = CLASSIFY_BOUNDARIES;
                 u.inv_full_gradient = *inv_full_gradient;
+            }
+            Classifier::ValueGradient { regions } => {
+                u.classification = CLASSIFY_VALUE_GRADIENT;
+                u.region_count = regions.len().min(MAX_REGIONS) as u32;
+                for (i, r) in regions.iter().take(MAX_REGIONS).enumerate() {
+                    let ([f0, f1], [g0, g1]) = (r.value, r.gradient);
+                    u.regions[i] = Vec4::new(f0, f1, g0, g1);
+                    u.region_opacity[i] = r.opacity;
+                }
             }
         }
         u
@@ -435,6 +455,7 @@ mod tests {
             (0, CLASSIFY_TABLE, 0),
             (all_flags, CLASSIFY_ISO_CONTOURS, 1),
             (all_flags & !FLAG_BACK_TO_FRONT, CLASSIFY_BOUNDARIES, 1),
+            (all_flags, CLASSIFY_VALUE_GRADIENT, 0),
         ];
         for method in Method::ALL {
             for (flags, classification, skip_empty) in ways {
@@ -543,6 +564,9 @@ mod tests {
             "global_ambient" => f(u.global_ambient),
             "depth_kc" => f(u.depth_kc),
             "depth_kl" => f(u.depth_kl),
+            "region_count" => n(u.region_count),
+            "region_opacity" => v4(u.region_opacity),
+            "regions" => u.regions.iter().flat_map(|r| v4(*r)).collect(),
             "lights" => lights_bytes(&u.lights, light_layout()),
             other => panic!("WGSL member {other} has no Rust twin"),
         }
@@ -709,6 +733,9 @@ mod tests {
             global_ambient: next(),
             depth_kc: next(),
             depth_kl: next(),
+            region_count: 128,
+            region_opacity: Vec4::new(next(), next(), next(), next()),
+            regions: std::array::from_fn(|_| Vec4::new(next(), next(), next(), next())),
             lights: std::array::from_fn(|i| LightUniform {
                 at: Vec3::new(next(), next(), next()),
                 kind: 130 + i as u32,
@@ -730,7 +757,7 @@ mod tests {
             span,
             "the Rust encoding and the WGSL struct differ in size"
         );
-        assert_eq!(members.len(), 61, "members in the WGSL struct");
+        assert_eq!(members.len(), 64, "members in the WGSL struct");
         for m in &members {
             let name = m.name.as_deref().unwrap();
             let expect = member_bytes(&u, name);

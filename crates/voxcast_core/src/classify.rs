@@ -21,6 +21,16 @@
 //!   regions vanish and the boundaries between them remain. `g_full` is the gradient at which a
 //!   boundary reaches the table's opacity.
 //!
+//! * **Value and gradient** (the lecture's "classification based on scalar value and gradient
+//!   magnitude"; the 2-D transfer functions of Kindlmann and Durkin 1998 and Kniss et al. 2001):
+//!   rectangles in the plane of value × gradient magnitude, each with an opacity, drawn over
+//!   that plane's histogram ([`crate::histogram2d`]). A sample whose `(f, |∇f|)` lies in a
+//!   rectangle takes its opacity (the highest, where rectangles overlap), elsewhere 0:
+//!   `α = max{α_r : f ∈ [f0_r, f1_r], |∇f| ∈ [g0_r, g1_r]}`. A boundary between two materials
+//!   crosses every value between theirs with a high gradient, while a material of one of
+//!   those values inside has a low one: a rectangle at high gradient keeps the boundary and
+//!   drops the material, which no 1-D table can do.
+//!
 //! The colour is always the transfer function's colour at the value.
 
 use crate::error::SettingsError;
@@ -28,6 +38,28 @@ use crate::transfer::Lut;
 
 /// The most isovalues a classification may have: the GPU preview's uniform holds this many.
 pub const MAX_ISOVALUES: usize = 4;
+
+/// The most rectangles a value-and-gradient classification may have (the uniform's room).
+pub const MAX_REGIONS: usize = 4;
+
+/// One rectangle of a value-and-gradient classification.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Region {
+    /// `[f0, f1]`: the values it covers (data units).
+    pub value: [f32; 2],
+    /// `[g0, g1]`: the gradient magnitudes it covers (data units per world unit).
+    pub gradient: [f32; 2],
+    /// The opacity of a sample inside it.
+    pub opacity: f32,
+}
+
+impl Region {
+    /// Whether `(f, g)` lies in it (edges included).
+    #[inline]
+    pub fn contains(&self, f: f32, g: f32) -> bool {
+        f >= self.value[0] && f <= self.value[1] && g >= self.gradient[0] && g <= self.gradient[1]
+    }
+}
 
 /// How opacity is assigned (see the module docs for the formulas).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -48,6 +80,8 @@ pub enum Classification {
         /// `None`: a tenth of the value range per voxel.
         full_gradient: Option<f32>,
     },
+    /// Rectangles over value × gradient magnitude, each with an opacity.
+    ValueGradient { regions: Vec<Region> },
 }
 
 impl Classification {
@@ -86,8 +120,32 @@ impl Classification {
                 Some(g) => SettingsError::check_positive("boundary-gradient", *g),
                 None => Ok(()),
             },
+            Classification::ValueGradient { regions } => validate_regions(regions),
         }
     }
+}
+
+fn validate_regions(regions: &[Region]) -> Result<(), SettingsError> {
+    if regions.len() > MAX_REGIONS {
+        return Err(SettingsError::Invalid(format!(
+            "at most {MAX_REGIONS} rectangles (the GPU preview classifies with no more); {} given",
+            regions.len()
+        )));
+    }
+    for (i, r) in regions.iter().enumerate() {
+        let [f0, f1] = r.value;
+        let [g0, g1] = r.gradient;
+        let finite = [f0, f1, g0, g1, r.opacity].iter().all(|x| x.is_finite());
+        if !finite || f0 > f1 || g0 > g1 || g0 < 0.0 || !(0.0..=1.0).contains(&r.opacity) {
+            return Err(SettingsError::Invalid(format!(
+                "rectangle {}: values {f0} … {f1} and gradients {g0} … {g1} must be finite and \
+                 in order, gradients not negative, and the opacity {} within 0 … 1",
+                i + 1,
+                r.opacity
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// One isovalue's contour opacity (Levoy's formula) for value `f` with gradient magnitude `g`.
@@ -110,6 +168,7 @@ pub enum Classifier {
     Table,
     IsoContours { isovalues: Vec<(f32, f32)>, r: f32 },
     Boundaries { inv_full_gradient: f32 },
+    ValueGradient { regions: Vec<Region> },
 }
 
 impl Classifier {
@@ -128,7 +187,20 @@ impl Classifier {
             Classification::Boundaries { full_gradient } => Classifier::Boundaries {
                 inv_full_gradient: 1.0 / full_gradient.unwrap_or(0.1 * (lut.hi - lut.lo) / voxel),
             },
+            Classification::ValueGradient { regions } => Classifier::ValueGradient {
+                regions: regions.iter().take(MAX_REGIONS).copied().collect(),
+            },
         }
+    }
+
+    /// Whether a sample may be opaque where the table's opacity is 0: isovalue contours (any
+    /// value near an isovalue) and the value-and-gradient rectangles (their own opacities).
+    /// Skipping by the table's visibility is then not exact.
+    pub fn beyond_table(&self) -> bool {
+        matches!(
+            self,
+            Classifier::IsoContours { .. } | Classifier::ValueGradient { .. }
+        )
     }
 
     /// Opacity for value `f` with table opacity `table_alpha` and gradient magnitude `g`
@@ -146,6 +218,10 @@ impl Classifier {
             Classifier::Boundaries { inv_full_gradient } => {
                 (table_alpha * g * inv_full_gradient).min(1.0)
             }
+            Classifier::ValueGradient { regions } => regions
+                .iter()
+                .filter(|r| r.contains(f, g))
+                .fold(0.0, |a, r| a.max(r.opacity)),
         }
     }
 }
@@ -185,6 +261,34 @@ mod tests {
         assert_eq!(c.classify(0.0, 0.5, 1000.0), 1.0);
     }
 
+    /// A sample takes the opacity of the rectangle it lies in (the highest where two overlap),
+    /// whatever the table says; outside every rectangle it is transparent.
+    #[test]
+    fn value_gradient_rectangles_set_the_opacity() {
+        let c = Classifier::ValueGradient {
+            regions: vec![
+                Region {
+                    value: [10.0, 20.0],
+                    gradient: [5.0, 50.0],
+                    opacity: 0.4,
+                },
+                Region {
+                    value: [15.0, 30.0],
+                    gradient: [0.0, 8.0],
+                    opacity: 0.9,
+                },
+            ],
+        };
+        assert_eq!(c.classify(12.0, 0.0, 6.0), 0.4);
+        assert_eq!(c.classify(16.0, 1.0, 6.0), 0.9, "both: the higher");
+        assert_eq!(c.classify(16.0, 1.0, 9.0), 0.4);
+        assert_eq!(c.classify(25.0, 1.0, 9.0), 0.0);
+        assert_eq!(c.classify(20.0, 0.0, 50.0), 0.4, "edges are inside");
+        assert_eq!(c.classify(9.99, 1.0, 6.0), 0.0);
+        let none = Classifier::ValueGradient { regions: vec![] };
+        assert_eq!(none.classify(12.0, 1.0, 6.0), 0.0);
+    }
+
     #[test]
     fn validation() {
         assert!(
@@ -220,5 +324,31 @@ mod tests {
             .is_ok()
         );
         assert!(Classification::Table.validate().is_ok());
+        let r = Region {
+            value: [0.0, 1.0],
+            gradient: [0.0, 1.0],
+            opacity: 0.5,
+        };
+        let vg = |regions: Vec<Region>| Classification::ValueGradient { regions };
+        assert!(vg(vec![r; MAX_REGIONS]).validate().is_ok());
+        assert!(vg(vec![r; MAX_REGIONS + 1]).validate().is_err());
+        for bad in [
+            Region {
+                value: [2.0, 1.0],
+                ..r
+            },
+            Region {
+                gradient: [-1.0, 1.0],
+                ..r
+            },
+            Region { opacity: 1.5, ..r },
+            Region {
+                value: [f32::NAN, 1.0],
+                ..r
+            },
+        ] {
+            let e = vg(vec![r, bad]).validate().unwrap_err().to_string();
+            assert!(e.contains("rectangle 2"), "{e}");
+        }
     }
 }

@@ -24,6 +24,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/04_opacity.json"),
     include_str!("../../../assets/levels/05_first_hit.json"),
     include_str!("../../../assets/levels/06_levoy.json"),
+    include_str!("../../../assets/levels/19_value_gradient.json"),
     include_str!("../../../assets/levels/10_light.json"),
     include_str!("../../../assets/levels/16_lights.json"),
     include_str!("../../../assets/levels/07_transfer.json"),
@@ -221,6 +222,9 @@ pub enum Objective {
     FullModel,
     /// Turn Levoy's depth cue on or off.
     DepthCue { on: bool },
+    /// Draw a value-and-gradient rectangle (with some opacity) around `value` at the lowest
+    /// gradients, reaching no higher than `max_gradient`.
+    RegionAround { value: f32, max_gradient: f32 },
     /// Show the live preview as the cost view `view` (`samples`, `skipped`, `stops`).
     PreviewCostView { view: String },
     /// Show or hide the skip blocks the virtual camera's rays crossed.
@@ -313,8 +317,10 @@ pub struct Situation {
     pub opacity_correction: bool,
     pub shading: bool,
     pub target: Option<f32>,
-    /// `table`, `iso-contours` or `boundaries`.
+    /// `table`, `iso-contours`, `boundaries` or `value-gradient`.
     pub classification: &'static str,
+    /// The value-and-gradient rectangles, when that classification is chosen.
+    pub regions: Vec<crate::classify::Region>,
     pub transfer: Option<crate::transfer::TransferFunction>,
     /// The largest preview/render difference of the last comparison (/255), if current.
     pub compared_max: Option<f32>,
@@ -430,6 +436,12 @@ impl Objective {
             Objective::LevoyHighlight { on } => s.levoy_highlight == *on,
             Objective::FullModel => s.emission > 0.0 && s.spot_ambient,
             Objective::DepthCue { on } => s.depth_cue == *on,
+            Objective::RegionAround {
+                value,
+                max_gradient,
+            } => s.regions.iter().any(|r| {
+                r.contains(*value, 0.0) && r.gradient[1] <= *max_gradient && r.opacity > 0.0
+            }),
             Objective::PreviewCostView { view } => s.preview_cost_view == Some(view.as_str()),
             Objective::SkipBlocks { on } => s.skip_blocks_shown == *on,
             Objective::TradeMeasured => s.trade_measured,
@@ -486,6 +498,7 @@ pub fn classification_mode(c: &crate::classify::Classification) -> &'static str 
         crate::classify::Classification::Table => "table",
         crate::classify::Classification::IsoContours { .. } => "iso-contours",
         crate::classify::Classification::Boundaries { .. } => "boundaries",
+        crate::classify::Classification::ValueGradient { .. } => "value-gradient",
     }
 }
 
@@ -851,6 +864,36 @@ mod tests {
         assert!(Objective::DepthCue { on: false }.met(&s));
         s.depth_cue = true;
         assert!(Objective::DepthCue { on: true }.met(&s));
+        let around = Objective::RegionAround {
+            value: 110.0,
+            max_gradient: 40.0,
+        };
+        let r = crate::classify::Region {
+            value: [100.0, 120.0],
+            gradient: [0.0, 30.0],
+            opacity: 0.8,
+        };
+        assert!(!around.met(&s));
+        s.regions = vec![r];
+        assert!(around.met(&s));
+        for off in [
+            crate::classify::Region {
+                gradient: [0.0, 60.0],
+                ..r
+            },
+            crate::classify::Region {
+                gradient: [5.0, 30.0],
+                ..r
+            },
+            crate::classify::Region {
+                value: [111.0, 130.0],
+                ..r
+            },
+            crate::classify::Region { opacity: 0.0, ..r },
+        ] {
+            s.regions = vec![off];
+            assert!(!around.met(&s), "{off:?}");
+        }
     }
 
     #[test]
@@ -1162,7 +1205,8 @@ mod tests {
             for step in &l.steps {
                 if let Objective::Classification { mode } = &step.objective {
                     assert!(
-                        ["table", "iso-contours", "boundaries"].contains(&mode.as_str()),
+                        ["table", "iso-contours", "boundaries", "value-gradient"]
+                            .contains(&mode.as_str()),
                         "{}: {mode}",
                         l.id
                     );

@@ -49,6 +49,7 @@ pub mod error;
 pub mod explain;
 pub mod hash;
 pub mod histogram;
+pub mod histogram2d;
 pub mod image_out;
 pub mod io;
 pub mod knob;

@@ -52,6 +52,7 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/presets/bucky.json"),
     include_str!("../../../assets/presets/voxel.json"),
     include_str!("../../../assets/presets/head.json"),
+    include_str!("../../../assets/presets/head-brain.json"),
     include_str!("../../../assets/presets/blobs.json"),
     include_str!("../../../assets/presets/masked.json"),
     include_str!("../../../assets/presets/ct_skin_bone.json"),

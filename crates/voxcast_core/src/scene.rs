@@ -173,14 +173,14 @@ impl<'a> Scene<'a> {
     }
 
     /// Whether empty space is skipped by the transfer function's visibility: on, for
-    /// Accumulate front to back, unless Levoy's isovalue contours (which make any value
-    /// visible near an isovalue) classify.
+    /// Accumulate front to back, unless a classification may show what the table hides
+    /// (Levoy's isovalue contours, the value-and-gradient rectangles).
     pub fn skips_empty(&self) -> bool {
         let s = &self.settings;
         s.skipping
             && s.method == Method::Accumulate
             && s.order == Order::FrontToBack
-            && !matches!(self.classifier, Classifier::IsoContours { .. })
+            && !self.classifier.beyond_table()
     }
 
     /// Whether First, Maximum and Minimum pass blocks that cannot change their result, by the

@@ -219,12 +219,14 @@ impl RenderSettings {
 /// on; plus nearest interpolation, jitter, back-to-front order and no opacity correction for
 /// Accumulate, and a crop box with an oblique clip plane for Accumulate and First; the lecture's
 /// full illumination model (emission, global ambient, the lights' own ambient, a spot light
-/// whose cone edge crosses the volume `bounds`, Phong's R·V) for Accumulate and First, and
-/// Levoy's depth cue. Each with a file stem naming it.
+/// whose cone edge crosses the volume, Phong's R·V) for Accumulate and First, and Levoy's
+/// depth cue; two overlapping value-and-gradient rectangles for Accumulate in both orders. Each
+/// with a file stem naming it.
 pub fn agreement_cases(
     base: &RenderSettings,
-    bounds: (Vec3, Vec3),
+    volume: &crate::volume::Volume,
 ) -> Vec<(String, RenderSettings)> {
+    let bounds = volume.bounds();
     let mut out = Vec::new();
     for method in Method::ALL {
         for step in [1.0f32, 0.5] {
@@ -356,6 +358,19 @@ pub fn agreement_cases(
             ));
         }
     }
+    // Opacity matters to Accumulate only (the projections and First read values): both its
+    // orders.
+    let classification = value_gradient_rectangles(volume);
+    for (name, order) in [("", Order::FrontToBack), ("_back_to_front", Order::BackToFront)] {
+        out.push((
+            format!("accumulate_value_gradient{name}"),
+            RenderSettings {
+                order,
+                classification: classification.clone(),
+                ..accumulate.clone()
+            },
+        ));
+    }
     out.push((
         "accumulate_uncorrected".into(),
         RenderSettings {
@@ -364,6 +379,28 @@ pub fn agreement_cases(
         },
     ));
     out
+}
+
+/// Two overlapping rectangles over value × gradient magnitude for `volume`: low values at low
+/// gradients, and higher values at gradients from a tenth of a value range per voxel up.
+fn value_gradient_rectangles(volume: &crate::volume::Volume) -> crate::classify::Classification {
+    let (lo, hi) = volume.value_range();
+    let range = (hi - lo).max(1e-6);
+    let steep = range / volume.spacing().min_element();
+    crate::classify::Classification::ValueGradient {
+        regions: vec![
+            crate::classify::Region {
+                value: [lo + 0.15 * range, lo + 0.65 * range],
+                gradient: [0.0, 0.15 * steep],
+                opacity: 0.5,
+            },
+            crate::classify::Region {
+                value: [lo + 0.4 * range, hi],
+                gradient: [0.1 * steep, steep],
+                opacity: 0.8,
+            },
+        ],
+    }
 }
 
 /// The lecture's full model and Levoy's depth cue over `base`, for a volume in `bounds`.

@@ -243,8 +243,9 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     interp: Interpolation,
     /// Gradient needed for every classified sample (Levoy's modes).
     classify_gradient: bool,
-    /// Opacity independent of the table's opacity at the value (Levoy's isovalue contours).
-    iso_contours: bool,
+    /// Opacity independent of the table's opacity at the value (Levoy's isovalue contours,
+    /// the value-and-gradient rectangles): a sample the table makes transparent may show.
+    beyond_table: bool,
     /// Accumulate's eight-lane path, where it applies (see `lanes.rs`).
     #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     lanes: Option<lanes::Lanes<'s>>,
@@ -291,7 +292,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             inv_spacing: 1.0 / g.spacing,
             interp: s.settings.interpolation,
             classify_gradient: s.classifier != Classifier::Table,
-            iso_contours: matches!(s.classifier, Classifier::IsoContours { .. }),
+            beyond_table: s.classifier.beyond_table(),
             #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
             lanes: lanes::Lanes::new(s, &g),
             superblocks: s.superblocks.filter(|_| T::TABLE.is_some()),
@@ -360,7 +361,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         }
         let rgba = match self.s.lut.lookup_if_visible(v) {
             Some(rgba) => rgba,
-            None if !full && !self.iso_contours => {
+            None if !full && !self.beyond_table => {
                 return Classified {
                     rgba: Vec4::ZERO,
                     alpha: 0.0,

@@ -316,3 +316,80 @@ fn the_depth_cue_dims_the_far_side() {
     let (near_more, far_more) = brightness_by_depth(&s);
     assert!(near_more < near_cued && far_more < far_cued);
 }
+
+/// The value-and-gradient level: with the values 100–120 opaque the first thing every ray
+/// meets is a shell outside the brain (step 1); a rectangle around 110 below a gradient of 40
+/// shows the brain with no shell (step 3), the shell's points having "gradients near 50".
+#[test]
+fn a_rectangle_in_value_and_gradient_keeps_the_brain_and_drops_the_shell() {
+    use voxcast_core::builtin::HEAD_BRAIN_AXES;
+    use voxcast_core::classify::{Classification, Region};
+    says(
+        &words("value-gradient", 1),
+        "Yet you see a shell, not the brain",
+    );
+    says(&words("value-gradient", 1), "wraps the whole head");
+    let step3 = words("value-gradient", 3);
+    says(&step3, "up to a gradient magnitude of at most 40");
+    says(&step3, "The brain appears and the shell is gone");
+    says(&step3, "gradients near 50");
+    let head = load_builtin("head").unwrap().volume;
+    let p = voxcast_core::preset::by_name("head-brain").unwrap();
+    let v = voxcast_core::Prepared::from(head);
+    let (lo, hi) = v.bounds();
+    let (centre, half) = ((lo + hi) * 0.5, (hi - lo) * 0.5);
+    let in_brain = |x: Vec3| ((x - centre) / half / HEAD_BRAIN_AXES).length() < 1.0;
+    // Where each ray through the centre, from 26 directions, first meets an opaque sample.
+    let first_opaque = |s: &RenderSettings| -> Vec<Vec3> {
+        let mut out = Vec::new();
+        for x in -1..=1 {
+            for y in -1..=1 {
+                for z in -1..=1 {
+                    let dir = -Vec3::new(x as f32, y as f32, z as f32).normalize_or_zero();
+                    if dir == Vec3::ZERO {
+                        continue;
+                    }
+                    let scene = Scene::new(&v, &p.transfer, s, dir).unwrap();
+                    let ray = voxcast_core::ray::Ray::new(centre - dir * 100.0, dir).unwrap();
+                    let t = voxcast_core::trace::trace_ray(&scene, &ray, [0, 0]);
+                    let hit = t.samples.iter().find(|s| s.alpha > 0.0).unwrap();
+                    out.push(Vec3::from(hit.p_world));
+                }
+            }
+        }
+        out
+    };
+    let mut s = p.settings_over(&RenderSettings::default()).unwrap();
+    s.step = voxcast_core::step::Length::Voxels(0.25);
+    assert!(
+        first_opaque(&s).iter().all(|&x| !in_brain(x)),
+        "a shell first"
+    );
+    s.classification = Classification::ValueGradient {
+        regions: vec![Region {
+            value: [100.0, 120.0],
+            gradient: [0.0, 40.0],
+            opacity: 0.6,
+        }],
+    };
+    assert!(
+        first_opaque(&s).iter().all(|&x| in_brain(x)),
+        "the brain first"
+    );
+    // The shell: lattice points at 100–120 outside the brain, their gradients 45 to 60.
+    let h = voxcast_core::builtin::head_at;
+    let mut shell = Vec::new();
+    for k in 1..63 {
+        for j in 1..63 {
+            for i in 1..63 {
+                let at = Vec3::new(i as f32, j as f32, k as f32);
+                if (100.0..=120.0).contains(&h(at)) && !in_brain(at) {
+                    let d = |e: Vec3| h(at + e) - h(at - e);
+                    shell.push(Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z)).length() * 0.5);
+                }
+            }
+        }
+    }
+    assert!(shell.len() > 1000);
+    assert!(shell.iter().all(|g| (45.0..60.0).contains(g)), "{shell:?}");
+}

@@ -1,31 +1,36 @@
 //! Classification: the transfer function's own opacity, or Levoy's isovalue contours (opacity
 //! from the distance to chosen values, scaled by the gradient) or region boundaries (opacity
-//! scaled by the gradient magnitude).
+//! scaled by the gradient magnitude), or rectangles over value × gradient magnitude (the
+//! lecture's classification by value and gradient; editor in `value_gradient.rs`).
 
 use super::slider;
 use bevy_egui::egui;
 use voxcast_core::classify::Classification;
 use voxcast_core::tunables as t;
 
-/// The panel's text for the isovalue list, kept while it does not parse.
+/// The panel's text for the isovalue list, kept while it does not parse, and the
+/// value-and-gradient editor.
 #[derive(Default)]
 pub(super) struct ClassifyText {
     isovalues: String,
     error: Option<String>,
+    regions: super::value_gradient::RegionEditor,
 }
 
-/// Draws the controls; `lo..hi` is the volume's value range (data units).
+/// Draws the controls for a volume (from `source`).
 pub(super) fn classification_controls(
     ui: &mut egui::Ui,
     c: &mut Classification,
     text: &mut ClassifyText,
-    lo: f32,
-    hi: f32,
+    volume: &voxcast_core::Volume,
+    source: &str,
 ) {
+    let (lo, hi) = volume.value_range();
     let names = [
         "Transfer function",
         "Iso-contours (Levoy)",
         "Boundaries (Levoy)",
+        "Value and gradient (2-D)",
     ];
     let docs = [
         "Opacity is the transfer function's",
@@ -33,11 +38,15 @@ pub(super) fn classification_controls(
          gradient steps: thin, even surfaces",
         "The table's opacity scaled by the gradient magnitude: region boundaries show, \
          homogeneous insides fade",
+        "Opacity from rectangles you draw over the histogram of value × gradient magnitude: \
+         a boundary (high gradient) can be kept apart from a material of the same value (low \
+         gradient), which a transfer function of the value alone cannot",
     ];
     let current = match c {
         Classification::Table => 0,
         Classification::IsoContours { .. } => 1,
         Classification::Boundaries { .. } => 2,
+        Classification::ValueGradient { .. } => 3,
     };
     let mut chosen = current;
     egui::ComboBox::from_label("Classification")
@@ -60,8 +69,11 @@ pub(super) fn classification_controls(
                     thickness_voxels: t::ISO_THICKNESS.default,
                 }
             }
-            _ => Classification::Boundaries {
+            2 => Classification::Boundaries {
                 full_gradient: None,
+            },
+            _ => Classification::ValueGradient {
+                regions: Vec::new(),
             },
         };
     }
@@ -107,6 +119,9 @@ pub(super) fn classification_controls(
                 slider(ui, &mut g, &t::BOUNDARY_GRADIENT, top * 1e-4..=top, true);
                 *full_gradient = Some(g);
             }
+        }
+        Classification::ValueGradient { regions } => {
+            text.regions.show(ui, regions, volume, source);
         }
     }
 }

@@ -16,6 +16,7 @@ mod ray_overlay;
 mod rays_panel;
 mod trade;
 mod transfer;
+mod value_gradient;
 
 use super::compare::Comparison;
 use super::levels;
@@ -843,14 +844,13 @@ fn settings_panel(
                                 &volume.volume,
                                 &volume.source,
                             );
-                            let (lo, hi) = volume.volume.value_range();
                             marked(ui, spot, Control::Classification, |ui| {
                                 classify::classification_controls(
                                     ui,
                                     &mut edited.settings.classification,
                                     &mut panel.classify,
-                                    lo,
-                                    hi,
+                                    &volume.volume,
+                                    &volume.source,
                                 )
                             });
                         });
@@ -986,6 +986,13 @@ mod tests {
                 voxcast_core::classify::Classification::Boundaries {
                     full_gradient: Some(10.0),
                 },
+                voxcast_core::classify::Classification::ValueGradient {
+                    regions: vec![voxcast_core::classify::Region {
+                        value: [lo, hi],
+                        gradient: [0.0, 1.0],
+                        opacity: 0.5,
+                    }],
+                },
             ];
             let missing = missing_glyphs(|ui| {
                 dataset_section(ui, &mut panel, &volume, &mut loading);
@@ -997,7 +1004,13 @@ mod tests {
                     .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
                 for (i, c) in classifications.iter_mut().enumerate() {
                     ui.push_id(i, |ui| {
-                        classify::classification_controls(ui, c, &mut panel.classify, lo, hi)
+                        classify::classification_controls(
+                            ui,
+                            c,
+                            &mut panel.classify,
+                            &volume.volume,
+                            &volume.source,
+                        )
                     });
                 }
                 trade::trade_section(ui, &mut step_trade, false, 0.5, None);
