@@ -361,7 +361,10 @@ pub fn agreement_cases(
     // Opacity matters to Accumulate only (the projections and First read values): both its
     // orders.
     let classification = value_gradient_rectangles(volume);
-    for (name, order) in [("", Order::FrontToBack), ("_back_to_front", Order::BackToFront)] {
+    for (name, order) in [
+        ("", Order::FrontToBack),
+        ("_back_to_front", Order::BackToFront),
+    ] {
         out.push((
             format!("accumulate_value_gradient{name}"),
             RenderSettings {

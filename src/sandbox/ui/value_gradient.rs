@@ -12,6 +12,8 @@ const BINS: [usize; 2] = [128, 64];
 /// The most lattice points the histogram reads (a stride is taken on larger volumes).
 const MAX_POINTS: usize = 1 << 20;
 const PLOT_HEIGHT: f32 = 150.0;
+/// How near an edge of the plot (pixels) a pointer snaps onto it.
+const SNAP: f32 = 6.0;
 /// The opacity of a newly drawn rectangle.
 const NEW_OPACITY: f32 = 0.6;
 
@@ -49,9 +51,27 @@ impl Axes {
         )
     }
 
+    /// The plot's (value, gradient) under `p`; within [`SNAP`] pixels of an edge, the edge's
+    /// (so a rectangle drawn from near the bottom starts at gradient 0).
     fn plot_at(&self, p: Pos2) -> [f32; 2] {
-        let x = ((p.x - self.rect.left()) / self.rect.width()).clamp(0.0, 1.0);
-        let y = ((self.rect.bottom() - p.y) / self.rect.height()).clamp(0.0, 1.0);
+        let snap = |t: f32, size: f32| {
+            let edge = SNAP / size.max(1.0);
+            if t < edge {
+                0.0
+            } else if t > 1.0 - edge {
+                1.0
+            } else {
+                t
+            }
+        };
+        let x = snap(
+            (p.x - self.rect.left()) / self.rect.width(),
+            self.rect.width(),
+        );
+        let y = snap(
+            (self.rect.bottom() - p.y) / self.rect.height(),
+            self.rect.height(),
+        );
         [
             self.value[0] + x * (self.value[1] - self.value[0]),
             self.gradient[0] + y * (self.gradient[1] - self.gradient[0]),
@@ -127,8 +147,13 @@ impl RegionEditor {
             Color32::WHITE,
         );
         let pointer = response.interact_pointer_pos().map(|p| axes.plot_at(p));
+        // A drag starts where the button went down, not where it was seen to move.
+        let origin = ui
+            .input(|i| i.pointer.press_origin())
+            .map(|p| axes.plot_at(p))
+            .or(pointer);
         if response.drag_started()
-            && let Some(at) = pointer
+            && let Some(at) = origin
         {
             self.drag = Some(match region_at(regions, at) {
                 Some(i) => {
@@ -212,24 +237,22 @@ impl RegionEditor {
             return;
         };
         let r = &mut regions[i];
+        // Four significant digits, as the breakdown prints numbers.
+        fn number(v: &mut f32) -> egui::DragValue<'_> {
+            egui::DragValue::new(v)
+                .speed(0.1)
+                .custom_formatter(|x, _| voxcast_core::numbers::sig(x as f32))
+        }
         ui.horizontal(|ui| {
             ui.strong(format!("Rectangle {}", i + 1));
             ui.label("values");
-            ui.add(egui::DragValue::new(&mut r.value[0]).speed(0.1));
-            ui.add(egui::DragValue::new(&mut r.value[1]).speed(0.1));
+            ui.add(number(&mut r.value[0]));
+            ui.add(number(&mut r.value[1]));
         });
         ui.horizontal(|ui| {
             ui.label("gradients");
-            ui.add(
-                egui::DragValue::new(&mut r.gradient[0])
-                    .speed(0.1)
-                    .range(0.0..=f32::MAX),
-            );
-            ui.add(
-                egui::DragValue::new(&mut r.gradient[1])
-                    .speed(0.1)
-                    .range(0.0..=f32::MAX),
-            );
+            ui.add(number(&mut r.gradient[0]).range(0.0..=f32::MAX));
+            ui.add(number(&mut r.gradient[1]).range(0.0..=f32::MAX));
         });
         // Kept in order, so the rectangle is never empty by a typo.
         *r = spanned(
@@ -304,5 +327,8 @@ mod tests {
         assert_eq!(p, pos2(85.0, 57.5));
         let back = axes.plot_at(p);
         assert!((back[0] - 10.0).abs() < 1e-5 && (back[1] - 1.0).abs() < 1e-5);
+        // Near the edges: their values exactly; beyond them, clamped.
+        assert_eq!(axes.plot_at(pos2(14.0, 66.0)), [-5.0, 0.0]);
+        assert_eq!(axes.plot_at(pos2(200.0, 0.0)), [15.0, 4.0]);
     }
 }
