@@ -10,7 +10,8 @@ use voxcast_core::knob::Knob;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::trade::{STEPS, View, trade};
 
-/// Every knob's table for `view` with `settings`, each measured once on the global pool.
+/// Every knob's table for `view` with `settings`, each setting timed as the core's trade
+/// times (a median of alternating runs after an untimed one) on the global pool.
 pub fn tables(
     view: &View<'_>,
     settings: &RenderSettings,
@@ -20,11 +21,13 @@ pub fn tables(
     let cpu = cpu_model();
     let _ = writeln!(
         out,
-        "{}×{} pixels, {camera_words}, {cpu}, {} threads; one render each (no repeats: read \
-         ratios within a table, not single times).\n",
+        "{}×{} pixels, {camera_words}, {cpu}, {} threads; each time the median of {} renders \
+         after an untimed one, the settings in alternating order, with the fastest and slowest \
+         beside it.\n",
         view.size.0,
         view.size.1,
-        rayon::current_num_threads()
+        rayon::current_num_threads(),
+        voxcast_core::trade::TIMED_RUNS
     );
     let cancel = AtomicBool::new(false);
     for knob in Knob::ALL {
@@ -42,16 +45,20 @@ pub fn tables(
         let _ = writeln!(out, "**{}** — against {}.\n", knob.label(), t.reference);
         let _ = writeln!(
             out,
-            "| {} | time (ms) | samples | max error (/255) | RMSE (/255) | speed-up |",
+            "| {} | time (ms) | fastest–slowest (ms) | samples | max error (/255) | RMSE (/255) | speed-up |",
             knob.label().to_lowercase()
         );
-        let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: |");
+        let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+        let spread = |t: &voxcast_core::trade::Timing| {
+            format!("{:.1}–{:.1}", t.fastest * 1e3, t.slowest * 1e3)
+        };
         for r in &t.rows {
             let _ = writeln!(
                 out,
-                "| {} | {:.1} | {} | {:.1} | {:.2} | ×{:.1} |",
+                "| {} | {:.1} | {} | {} | {:.1} | {:.2} | ×{:.1} |",
                 r.label,
                 r.seconds * 1e3,
+                spread(&r.timing),
                 r.samples,
                 r.max_error * 255.0,
                 r.rmse * 255.0,
@@ -60,9 +67,10 @@ pub fn tables(
         }
         let _ = writeln!(
             out,
-            "| {} (reference) | {:.1} | {} | 0 | 0 | ×1 |\n",
+            "| {} (reference) | {:.1} | {} | {} | 0 | 0 | ×1 |\n",
             t.reference,
             t.reference_seconds * 1e3,
+            spread(&t.reference_timing),
             t.reference_samples
         );
     }

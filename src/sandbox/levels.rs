@@ -16,7 +16,9 @@ use crate::sandbox::trade::StepTrade;
 use crate::sandbox::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
 use std::path::PathBuf;
-use voxcast_core::level::{Answer, Control, Level, Objective, Progress, Section, Situation, Step};
+use voxcast_core::level::{
+    Answer, Control, Level, Objective, Progress, Section, Situation, Step, StudyRun,
+};
 use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
 
 /// The levels, the step being played and the player's progress.
@@ -45,6 +47,12 @@ pub struct Lessons {
     pub detail: Option<SampleDetail>,
     /// For a composite prediction step: the worked composite, point by point.
     pub composite: Option<Vec<voxcast_core::worked::WorkedPoint>>,
+    /// The run of the study under way (the level played twice, preview off then on).
+    pub study: Option<StudyRun>,
+    /// The levels list's choice: a level clicked starts as a study.
+    pub study_next: bool,
+    /// The scene is set up again on the next frame (a study's second run, same mode).
+    set_up_again: bool,
 }
 
 /// What the Levels panel asks for (a scripted run sends the same).
@@ -52,6 +60,9 @@ pub struct Lessons {
 pub enum LevelCommand {
     /// Start level `i` at its first step.
     Start(usize),
+    /// Start level `i` as a study: played to its end with the preview off, then again with
+    /// it on, each run's answers kept with the run's name.
+    Study(usize),
     /// The current step is done (refused unless its objective is met).
     Next,
     /// Leave the level for free play.
@@ -75,6 +86,9 @@ impl Lessons {
             spot: None,
             detail: None,
             composite: None,
+            study: None,
+            study_next: false,
+            set_up_again: false,
         }
     }
 
@@ -120,7 +134,7 @@ impl Lessons {
                 true,
             );
             let a = Answer::now(&id, self.step + 1, question, answer);
-            self.progress.answers.push(a);
+            self.keep(a);
         }
         self.progress.record(&id, self.step + 1);
         self.save();
@@ -139,8 +153,14 @@ impl Lessons {
         );
         let question = format!("which effect cast trace {trace}");
         let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
-        self.progress.answers.push(a);
+        self.keep(a);
         self.save();
+    }
+
+    /// Keeps an answer, with the study's run where one is under way.
+    fn keep(&mut self, mut a: Answer) {
+        a.run = self.study.map(|r| r.words().to_string());
+        self.progress.answers.push(a);
     }
 
     fn save(&mut self) {
@@ -207,7 +227,7 @@ pub(crate) fn plugin(app: &mut App) {
         Update,
         (
             apply_commands,
-            set_up_scene.run_if(state_changed::<Mode>),
+            set_up_scene,
             level_preset_after_load.after(crate::sandbox::loading::finish_loading),
             check_objective.after(crate::sandbox::breakdown::follow_selection),
         )
@@ -225,15 +245,20 @@ fn apply_commands(
 ) {
     for command in commands.read() {
         match *command {
-            LevelCommand::Start(i) => {
+            LevelCommand::Start(i) | LevelCommand::Study(i) => {
                 let Some(level) = lessons.levels.get(i) else {
                     continue;
                 };
                 *stage = Stage::of(&level.scene);
+                let title = level.title.clone();
                 lessons.step = 0;
                 lessons.met = false;
                 lessons.met_for = None;
-                lessons.message = None;
+                lessons.study =
+                    matches!(command, LevelCommand::Study(_)).then_some(StudyRun::PreviewOff);
+                lessons.message = lessons.study.map(|r| study_words(r, &title));
+                // Set up afresh even when this level is already the mode.
+                lessons.set_up_again = *mode.get() == Mode::Level(i);
                 next.set(Mode::Level(i));
             }
             LevelCommand::Next => {
@@ -248,12 +273,32 @@ fn apply_commands(
                 lessons.met_for = None;
                 lessons.step += 1;
                 if lessons.step == lessons.levels[l].steps.len() {
-                    lessons.message = Some(format!("“{}” done!", lessons.levels[l].title));
-                    *stage = free.0;
-                    next.set(Mode::FreePlay);
+                    let title = lessons.levels[l].title.clone();
+                    match lessons.study.and_then(StudyRun::next) {
+                        // The study's next run: the same level from its first step.
+                        Some(run) => {
+                            lessons.study = Some(run);
+                            lessons.step = 0;
+                            lessons.set_up_again = true;
+                            lessons.message = Some(study_words(run, &title));
+                        }
+                        None => {
+                            lessons.message = Some(if lessons.study.take().is_some() {
+                                format!(
+                                    "“{title}” studied: both runs' answers are kept (Export \
+                                     answers)"
+                                )
+                            } else {
+                                format!("“{title}” done!")
+                            });
+                            *stage = free.0;
+                            next.set(Mode::FreePlay);
+                        }
+                    }
                 }
             }
             LevelCommand::FreePlay => {
+                lessons.study = None;
                 *stage = free.0;
                 next.set(Mode::FreePlay);
             }
@@ -263,12 +308,58 @@ fn apply_commands(
     }
 }
 
-/// Sets up the scene of the mode just entered: the preview on or off, and a level's volume
-/// with its default settings (so no objective is met before the player acts). The virtual
-/// camera and the light marker are spawned by their own plugins from the [`Stage`].
+/// A study to start once the window runs (`--study`).
+#[derive(Resource)]
+pub struct StartStudy(pub Option<usize>);
+
+/// Starts the study `--study` asked for, on the first frame.
+pub fn start_study(mut start: ResMut<StartStudy>, mut commands: MessageWriter<LevelCommand>) {
+    if let Some(i) = start.0.take() {
+        commands.write(LevelCommand::Study(i));
+    }
+}
+
+/// The index of the level `name` names: its id, or its number in the list (from 1).
+pub fn level_named(name: &str) -> Result<usize, String> {
+    let levels = Level::all();
+    let by_number = name
+        .parse::<usize>()
+        .ok()
+        .filter(|&n| (1..=levels.len()).contains(&n))
+        .map(|n| n - 1);
+    by_number
+        .or_else(|| levels.iter().position(|l| l.id == name))
+        .ok_or_else(|| {
+            let ids: Vec<&str> = levels.iter().map(|l| l.id.as_str()).collect();
+            format!(
+                "--study {name}: no such level; give a number from 1 to {} or one of: {}",
+                levels.len(),
+                ids.join(", ")
+            )
+        })
+}
+
+/// What the player reads as a study's run begins.
+fn study_words(run: StudyRun, title: &str) -> String {
+    format!(
+        "Study of “{title}”, run {} of 2: the preview is {} for this run{}",
+        run.number(),
+        if run.preview() { "on" } else { "off" },
+        if run.preview() {
+            "; the same steps again"
+        } else {
+            "; then the same level again with it on"
+        }
+    )
+}
+
+/// Sets up the scene of the mode just entered (or of a study's next run): the preview on or
+/// off, and a level's volume with its default settings (so no objective is met before the
+/// player acts). The virtual camera and the light marker are spawned by their own plugins from
+/// the [`Stage`]. A study's run holds the preview on or off whatever the player does.
 fn set_up_scene(
     mode: Res<State<Mode>>,
-    lessons: Res<Lessons>,
+    mut lessons: ResMut<Lessons>,
     stage: Res<Stage>,
     (volume, mut render): (Res<VolumeState>, ResMut<RenderState>),
     (mut loading, mut preview): (ResMut<Loading>, ResMut<PreviewSettings>),
@@ -277,7 +368,16 @@ fn set_up_scene(
         Option<ResMut<super::inspect::InspectSettings>>,
     ),
 ) {
-    preview.enabled = stage.preview;
+    if let Some(run) = lessons.study
+        && preview.enabled != run.preview()
+    {
+        preview.enabled = run.preview();
+    }
+    let again = std::mem::take(&mut lessons.set_up_again);
+    if !mode.is_changed() && !again {
+        return;
+    }
+    preview.enabled = lessons.study.map_or(stage.preview, StudyRun::preview);
     let Mode::Level(l) = *mode.get() else { return };
     // The Ray data section starts afresh too (no ray mesh left over from another level).
     if let Some(mut c) = ray_choices {
@@ -660,6 +760,73 @@ mod tests {
         let first = csv.lines().nth(1).unwrap();
         let quoted = "trilinear,2,\"the value at (0.5, 0.5, 0.5)\",\"4,99\",4.988,yes,";
         assert!(first.starts_with(quoted), "{csv}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A study plays the level twice: the preview held off in the first run (whatever the
+    /// player turns on), on in the second, from the first step again; each answer is kept
+    /// with its run's name; after the second run, free play. `--study` names a level by id or
+    /// number.
+    #[test]
+    fn a_study_plays_the_level_with_the_preview_off_then_on() {
+        use voxcast_core::classify::{Classification, Region};
+        let dir = std::env::temp_dir().join(format!("voxcast-study-{}", std::process::id()));
+        let mut app = app(dir.join("progress.json"));
+        let l = level(&app, "value-gradient");
+        assert_eq!(level_named("value-gradient"), Ok(l));
+        assert_eq!(level_named(&(l + 1).to_string()), Ok(l));
+        assert!(level_named("nope").unwrap_err().contains("value-gradient"));
+        send(&mut app, LevelCommand::Study(l));
+        until(&mut app, |a| {
+            a.world().resource::<VolumeState>().source == "builtin:head"
+        });
+        let preview = |app: &App| app.world().resource::<PreviewSettings>().enabled;
+        let play_through = |app: &mut App| {
+            send(app, LevelCommand::Next); // read
+            app.world_mut()
+                .resource_mut::<RenderState>()
+                .settings
+                .classification = Classification::ValueGradient { regions: vec![] };
+            until(app, |a| a.world().resource::<Lessons>().met);
+            send(app, LevelCommand::Next);
+            app.world_mut()
+                .resource_mut::<RenderState>()
+                .settings
+                .classification = Classification::ValueGradient {
+                regions: vec![Region {
+                    value: [100.0, 120.0],
+                    gradient: [0.0, 30.0],
+                    opacity: 0.6,
+                }],
+            };
+            until(app, |a| a.world().resource::<Lessons>().met);
+            app.world_mut()
+                .resource_mut::<Lessons>()
+                .name_effect(l, 1, 1);
+            send(app, LevelCommand::Next);
+        };
+        assert!(!preview(&app));
+        app.world_mut().resource_mut::<PreviewSettings>().enabled = true;
+        app.update();
+        assert!(!preview(&app), "held off in the first run");
+        play_through(&mut app);
+        let lessons = app.world().resource::<Lessons>();
+        assert_eq!(lessons.study, Some(StudyRun::PreviewOn));
+        assert_eq!((mode(&app), lessons.step), (Mode::Level(l), 0));
+        assert!(lessons.message.as_deref().unwrap().contains("run 2 of 2"));
+        assert!(preview(&app), "on in the second");
+        play_through(&mut app);
+        let lessons = app.world().resource::<Lessons>();
+        assert_eq!(mode(&app), Mode::FreePlay);
+        assert_eq!(lessons.study, None);
+        assert!(lessons.message.as_deref().unwrap().contains("both runs"));
+        let runs: Vec<Option<&str>> = lessons
+            .progress
+            .answers
+            .iter()
+            .map(|a| a.run.as_deref())
+            .collect();
+        assert_eq!(runs, [Some("preview off"), Some("preview on")]);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

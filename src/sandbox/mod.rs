@@ -122,6 +122,11 @@ pub struct SandboxArgs {
     /// the exit code says whether every objective behaved.
     #[arg(long, conflicts_with_all = ["screenshot", "compare", "measure_frames"])]
     pub play_levels: Option<PathBuf>,
+    /// Start with this level (its id, as `voxcast answers` lists them, or its number in the
+    /// levels list) as a study: played to its end with the preview off, then again with it on;
+    /// each run's answers are kept with the run's name.
+    #[arg(long, value_name = "LEVEL", conflicts_with_all = ["screenshot", "compare", "measure_frames", "play_levels"])]
+    pub study: Option<String>,
     #[arg(long, help = voxcast_core::tunables::PREVIEW_SCALE.doc, value_parser = parse_preview_scale)]
     pub preview_scale: Option<f32>,
     #[arg(long, help = voxcast_core::tunables::PREVIEW_BACKEND.doc, value_parser = ["gpu", "cpu"])]
@@ -379,6 +384,11 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             ..default()
         })
         .add_systems(Startup, spawn_main_camera);
+    if let Some(level) = &args.study {
+        let i = levels::level_named(level).map_err(CliError::usage)?;
+        app.insert_resource(levels::StartStudy(Some(i)))
+            .add_systems(Update, levels::start_study);
+    }
     if let Some(dir) = &args.play_levels {
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;

@@ -586,6 +586,48 @@ pub struct Answer {
     pub correct: bool,
     /// When, in seconds since 1970-01-01 UTC.
     pub at: u64,
+    /// In a study, which run ([`StudyRun::words`]); `None` outside one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run: Option<String>,
+}
+
+/// The runs of a study: a level played twice, first with the preview off, then with it on,
+/// as the educational ray caster's user study compared them (Virtual Ray Tracer's thesis).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StudyRun {
+    PreviewOff,
+    PreviewOn,
+}
+
+impl StudyRun {
+    /// The run's words, as the answers keep them.
+    pub fn words(self) -> &'static str {
+        match self {
+            StudyRun::PreviewOff => "preview off",
+            StudyRun::PreviewOn => "preview on",
+        }
+    }
+
+    /// Whether the preview is drawn in this run.
+    pub fn preview(self) -> bool {
+        self == StudyRun::PreviewOn
+    }
+
+    /// The run after this one, if any.
+    pub fn next(self) -> Option<Self> {
+        match self {
+            StudyRun::PreviewOff => Some(StudyRun::PreviewOn),
+            StudyRun::PreviewOn => None,
+        }
+    }
+
+    /// Which of the two it is, from 1.
+    pub fn number(self) -> usize {
+        match self {
+            StudyRun::PreviewOff => 1,
+            StudyRun::PreviewOn => 2,
+        }
+    }
 }
 
 impl Answer {
@@ -607,6 +649,7 @@ impl Answer {
             expected,
             correct,
             at,
+            run: None,
         }
     }
 }
@@ -696,7 +739,7 @@ impl Progress {
                 s.to_string()
             }
         };
-        let mut out = String::from("level,step,question,answer,expected,correct,time (UTC)\n");
+        let mut out = String::from("level,step,question,answer,expected,correct,time (UTC),run\n");
         for a in &self.answers {
             out += &[
                 field(&a.level),
@@ -706,6 +749,7 @@ impl Progress {
                 field(&a.expected),
                 if a.correct { "yes" } else { "no" }.to_string(),
                 utc_time(a.at),
+                a.run.as_deref().unwrap_or("").to_string(),
             ]
             .join(",");
             out.push('\n');
@@ -735,12 +779,14 @@ mod tests {
             expected: "4.9875".into(),
             correct: true,
             at: 1_796_464_427,
+            run: None,
         });
         p.answers.push(Answer {
             question: "which effect: \"trace 4\"".into(),
             answer: "reflection rays".into(),
             expected: "shadow rays".into(),
             correct: false,
+            run: Some(StudyRun::PreviewOn.words().into()),
             ..p.answers[0].clone()
         });
         let (back, _) = Progress::from_text(&p.to_text(), "here");
@@ -750,10 +796,10 @@ mod tests {
         assert_eq!(
             lines,
             [
-                "level,step,question,answer,expected,correct,time (UTC)",
-                "trilinear,2,\"value at (0.5, 0.5, 0.5)\",4.99,4.9875,yes,2026-12-05T09:53:47Z",
+                "level,step,question,answer,expected,correct,time (UTC),run",
+                "trilinear,2,\"value at (0.5, 0.5, 0.5)\",4.99,4.9875,yes,2026-12-05T09:53:47Z,",
                 "trilinear,2,\"which effect: \"\"trace 4\"\"\",reflection rays,shadow rays,no,\
-                 2026-12-05T09:53:47Z",
+                 2026-12-05T09:53:47Z,preview on",
             ]
         );
         for (seconds, iso) in [

@@ -255,6 +255,12 @@ pub fn render_layer_in(
     })
 }
 
+/// The threads a render started here runs on (the current rayon pool's; one in a browser
+/// without threads).
+pub fn threads() -> usize {
+    rayon::current_num_threads()
+}
+
 /// As [`render`], on a dedicated pool of `threads` threads (for measurements and tests).
 pub fn render_with_threads(
     scene: &Scene<'_>,

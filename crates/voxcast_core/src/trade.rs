@@ -1,9 +1,16 @@
 //! The step size's trade of speed for accuracy, measured: one view rendered at several steps,
-//! each timed, its samples counted and its error taken against a reference render at a much
-//! finer step, always with trilinear interpolation (the best reconstruction the core has), so
-//! with nearest interpolation the error shows what the staircase costs as well. The sampling
-//! and interpolation levels show these numbers; `voxcast bench` measures the same trade with
-//! repeats and the peer.
+//! its samples counted and its error taken against a reference render at a much finer step,
+//! always with trilinear interpolation (the best reconstruction the core has), so with nearest
+//! interpolation the error shows what the staircase costs as well. The sampling and
+//! interpolation levels show these numbers; `voxcast bench` measures the same trade with the
+//! peer.
+//!
+//! Timed as the benchmark times: the first render of each setting (the one the error is taken
+//! from) warms the caches and is not counted; then [`TIMED_RUNS`] rounds render every setting
+//! once, the reference included, in alternating order (forwards, then backwards, so that no
+//! setting always follows the same one), and each setting's time is the median of its runs,
+//! with their fastest and slowest as its spread. A render's time is the time of its own slices
+//! ([`crate::slices`]): the frames the window draws between them are not counted.
 
 use crate::camera::Camera;
 use crate::error::SettingsError;
@@ -22,6 +29,38 @@ use web_time::Instant;
 pub const STEPS: [f32; 4] = [2.0, 1.0, 0.5, 0.25];
 /// The reference step (voxels): sixteen samples per voxel.
 pub const REFERENCE: f32 = crate::knob::REFERENCE_STEP;
+/// Timed renders of each setting, after one untimed (see the module docs).
+pub const TIMED_RUNS: usize = 5;
+
+/// The median, fastest and slowest of some runs' seconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timing {
+    pub median: f64,
+    pub fastest: f64,
+    pub slowest: f64,
+}
+
+impl Timing {
+    /// Of `runs` seconds (zeros where there are none).
+    pub fn of(runs: &[f64]) -> Self {
+        let mut v = runs.to_vec();
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        if n == 0 {
+            return Self::default();
+        }
+        let median = if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        };
+        Self {
+            median,
+            fastest: v[0],
+            slowest: v[n - 1],
+        }
+    }
+}
 
 /// One setting's render against the reference.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,8 +69,10 @@ pub struct TradeRow {
     pub label: String,
     /// The row's step (voxels).
     pub step_voxels: f32,
-    /// Wall-clock seconds of the render (one run, every core).
+    /// Median wall-clock seconds of its timed renders (every core of the render's pool).
     pub seconds: f64,
+    /// Their median, fastest and slowest.
+    pub timing: Timing,
     /// Samples interpolated over all rays.
     pub samples: u64,
     /// Largest and root-mean-square difference from the reference, per channel (0–1).
@@ -47,8 +88,12 @@ pub struct Trade {
     pub reference: String,
     pub reference_voxels: f32,
     pub reference_seconds: f64,
+    pub reference_timing: Timing,
     pub reference_samples: u64,
     pub rows: Vec<TradeRow>,
+    /// Timed renders per setting, and the threads each render ran on.
+    pub runs: usize,
+    pub threads: usize,
 }
 
 /// Why a trade has no result.
@@ -124,13 +169,24 @@ pub struct TradeJob<'x, 'a> {
 }
 
 /// A trade's work kept between slices ([`crate::slices`]): the renders finished (the
-/// reference first) with their samples and seconds, and the one under way with the seconds it
-/// has taken so far (a row's time is its slices' time, not the frames drawn between them).
+/// reference first) with their samples, the timed runs so far (per setting, the reference
+/// first), and the render under way with the seconds it has taken so far (a render's time is
+/// its slices' time, not the frames drawn between them).
 #[derive(Clone, Debug, Default)]
 pub struct TradeSlices {
-    finished: Vec<(LinearImage, u64, f64)>,
+    finished: Vec<(LinearImage, u64)>,
+    runs: Vec<Vec<f64>>,
+    /// Timed renders done, over all rounds.
+    timed: usize,
     current: TileSlices,
     seconds: f64,
+}
+
+/// Which setting the `k`-th timed render renders, of `total`: rounds alternate forwards and
+/// backwards.
+fn timed_order(k: usize, total: usize) -> usize {
+    let (round, i) = (k / total, k % total);
+    if round % 2 == 0 { i } else { total - 1 - i }
 }
 
 /// [`trade`] in slices: its renders' tiles up to `deadline`, kept in `slices`.
@@ -144,55 +200,54 @@ pub fn trade_in(
     let tries = knob.tries(settings, voxel, job.steps);
     let reference_try = knob.reference(settings);
     let total = tries.len() + 1;
-    let (w, h) = view.size;
-    while slices.finished.len() < total {
-        let i = slices.finished.len();
-        (job.progress)(i, total);
-        let t = if i == 0 {
+    let renders = total * (1 + TIMED_RUNS);
+    let try_at = |i: usize| {
+        if i == 0 {
             &reference_try
         } else {
             &tries[i - 1]
-        };
-        let scene = Scene::new(
-            view.volume,
-            view.transfer,
-            &t.settings,
-            view.camera.forward(),
-        )?;
-        let (sw, sh) = (
-            ((w as f32 * t.scale).round() as u32).max(1),
-            ((h as f32 * t.scale).round() as u32).max(1),
-        );
-        let start = Instant::now();
-        let render = Job::plain(&scene, view.camera, (sw, sh), &|_, _| {}, job.cancel);
-        let step = render_in(&render, &mut slices.current, deadline)?;
-        slices.seconds += start.elapsed().as_secs_f64();
-        let Step::Done((image, stats)) = step else {
+        }
+    };
+    // The untimed renders, whose images the errors are taken from; then the timed rounds.
+    while slices.finished.len() < total {
+        let i = slices.finished.len();
+        (job.progress)(i, renders);
+        let Some((image, samples)) = render_try(job, try_at(i), slices, deadline)? else {
             return Ok(Step::Paused);
         };
-        let image = if (sw, sh) == (w, h) {
-            image
-        } else {
-            image.resized_bilinear(w, h)
-        };
-        let seconds = std::mem::take(&mut slices.seconds);
-        slices.finished.push((image, stats.samples, seconds));
-        slices.current = TileSlices::default();
+        slices.finished.push((image, samples));
         if deadline.passed() {
             return Ok(Step::Paused);
         }
     }
-    (job.progress)(total, total);
-    let (reference, reference_samples, reference_seconds) = &slices.finished[0];
+    slices.runs.resize(total, Vec::new());
+    while slices.timed < total * TIMED_RUNS {
+        (job.progress)(total + slices.timed, renders);
+        let i = timed_order(slices.timed, total);
+        if render_try(job, try_at(i), slices, deadline)?.is_none() {
+            return Ok(Step::Paused);
+        }
+        let seconds = std::mem::take(&mut slices.seconds);
+        slices.runs[i].push(seconds);
+        slices.timed += 1;
+        if deadline.passed() {
+            return Ok(Step::Paused);
+        }
+    }
+    (job.progress)(renders, renders);
+    let (reference, reference_samples) = &slices.finished[0];
+    let timings: Vec<Timing> = slices.runs.iter().map(|r| Timing::of(r)).collect();
     let rows = tries
         .iter()
         .zip(&slices.finished[1..])
-        .map(|(t, (image, samples, seconds))| {
+        .zip(&timings[1..])
+        .map(|((t, (image, samples)), timing)| {
             let diff = image.diff(reference).expect("the same size");
             TradeRow {
                 label: t.label.clone(),
                 step_voxels: t.settings.step.voxels(voxel),
-                seconds: *seconds,
+                seconds: timing.median,
+                timing: *timing,
                 samples: *samples,
                 max_error: diff.max_abs,
                 rmse: diff.rmse as f32,
@@ -203,10 +258,49 @@ pub fn trade_in(
         knob,
         reference: reference_try.label,
         reference_voxels: reference_try.settings.step.voxels(voxel),
-        reference_seconds: *reference_seconds,
+        reference_seconds: timings[0].median,
+        reference_timing: timings[0],
         reference_samples: *reference_samples,
         rows,
+        runs: TIMED_RUNS,
+        threads: crate::render::threads(),
     }))
+}
+
+/// Renders `t` at the view's size (its own scale, then resized), in slices up to `deadline`;
+/// its slices' seconds are added to `slices.seconds`. `None` while it is unfinished.
+fn render_try(
+    job: &TradeJob<'_, '_>,
+    t: &crate::knob::Try,
+    slices: &mut TradeSlices,
+    deadline: Deadline,
+) -> Result<Option<(LinearImage, u64)>, TradeError> {
+    let view = job.view;
+    let (w, h) = view.size;
+    let scene = Scene::new(
+        view.volume,
+        view.transfer,
+        &t.settings,
+        view.camera.forward(),
+    )?;
+    let (sw, sh) = (
+        ((w as f32 * t.scale).round() as u32).max(1),
+        ((h as f32 * t.scale).round() as u32).max(1),
+    );
+    let start = Instant::now();
+    let render = Job::plain(&scene, view.camera, (sw, sh), &|_, _| {}, job.cancel);
+    let step = render_in(&render, &mut slices.current, deadline)?;
+    slices.seconds += start.elapsed().as_secs_f64();
+    let Step::Done((image, stats)) = step else {
+        return Ok(None);
+    };
+    slices.current = TileSlices::default();
+    let image = if (sw, sh) == (w, h) {
+        image
+    } else {
+        image.resized_bilinear(w, h)
+    };
+    Ok(Some((image, stats.samples)))
 }
 
 #[cfg(test)]
@@ -359,6 +453,59 @@ mod tests {
         );
     }
 
+    /// Each row is timed [`TIMED_RUNS`] times after its untimed render, in alternating order;
+    /// on a scene whose cost is its samples (halving the step doubles them), the times rise
+    /// from the coarsest step to the reference within their spread.
+    #[test]
+    fn the_times_are_medians_of_alternating_runs_and_rise_with_the_samples() {
+        assert_eq!(
+            (0..12).map(|k| timed_order(k, 3)).collect::<Vec<_>>(),
+            [0, 1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0]
+        );
+        assert_eq!(
+            Timing::of(&[3.0, 1.0, 2.0, 9.0]),
+            Timing {
+                median: 2.5,
+                fastest: 1.0,
+                slowest: 9.0
+            }
+        );
+        let (v, transfer, s, cam) = bucky_scene();
+        let t = step_trade(
+            &v,
+            &transfer,
+            &s,
+            &cam,
+            (64, 64),
+            &STEPS,
+            &|_, _| {},
+            &AtomicBool::new(false),
+        )
+        .unwrap();
+        assert_eq!(t.runs, TIMED_RUNS);
+        assert!(t.threads >= 1);
+        let timings: Vec<Timing> = t
+            .rows
+            .iter()
+            .map(|r| r.timing)
+            .chain([t.reference_timing])
+            .collect();
+        for (r, timing) in t.rows.iter().zip(&timings) {
+            assert_eq!(r.seconds, timing.median);
+        }
+        for x in &timings {
+            assert!(0.0 < x.fastest && x.fastest <= x.median && x.median <= x.slowest);
+        }
+        for w in timings.windows(2) {
+            let (coarse, fine) = (w[0], w[1]);
+            let spread = (coarse.slowest - coarse.fastest) + (fine.slowest - fine.fastest);
+            assert!(
+                fine.median + spread >= coarse.median,
+                "a finer step timed faster beyond the spread: {coarse:?} then {fine:?}"
+            );
+        }
+    }
+
     /// In slices, one tile a call, the trade has the same rows but their times.
     #[test]
     fn a_trade_in_slices_is_the_trade() {
@@ -390,7 +537,11 @@ mod tests {
         let untimed = |t: &Trade| {
             let mut t = t.clone();
             t.reference_seconds = 0.0;
-            t.rows.iter_mut().for_each(|r| r.seconds = 0.0);
+            t.reference_timing = Timing::default();
+            t.rows.iter_mut().for_each(|r| {
+                r.seconds = 0.0;
+                r.timing = Timing::default();
+            });
             t
         };
         assert_eq!(untimed(&sliced), untimed(&whole));

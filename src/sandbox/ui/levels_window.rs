@@ -116,6 +116,7 @@ fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons, folded: &mut bool) -> Op
         ui.horizontal(|ui| {
             ui.label("Levels: one concept each (you are in free play).");
             let menu = ui.menu_button("Choose a level", |ui| {
+                study_choice(ui, lessons);
                 chosen = level_buttons(ui, lessons);
             });
             super::target(menu.response, "levels menu");
@@ -128,6 +129,7 @@ fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons, folded: &mut bool) -> Op
             "Levels: one concept each (free play, everything on, is where you are now). \
              Choose one to start:",
         );
+        study_choice(ui, lessons);
         fold_toggle(ui, folded);
     });
     ui.horizontal_wrapped(|ui| {
@@ -135,6 +137,16 @@ fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons, folded: &mut bool) -> Op
     });
     export_answers(ui, lessons);
     chosen
+}
+
+/// Whether a level chosen starts as a study.
+fn study_choice(ui: &mut egui::Ui, lessons: &mut Lessons) {
+    let check = ui.checkbox(&mut lessons.study_next, "as a study");
+    super::target(check, "study").on_hover_text(
+        "Play the level you choose twice: first with the live preview off, then again with it \
+         on, as the educational ray caster's user study did. Each run's answers are kept with \
+         the run's name (Export answers).",
+    );
 }
 
 /// The answers given so far, as a CSV file for a teacher (a download in a browser).
@@ -189,7 +201,11 @@ fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
             ))
             .clicked()
         {
-            chosen = Some(LevelCommand::Start(i));
+            chosen = Some(if lessons.study_next {
+                LevelCommand::Study(i)
+            } else {
+                LevelCommand::Start(i)
+            });
         }
     }
     chosen

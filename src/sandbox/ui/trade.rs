@@ -168,7 +168,8 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
                 }
             };
             ui.label(text(r.label.clone()));
-            ui.label(text(ms(r.seconds)));
+            ui.label(text(ms(r.seconds)))
+                .on_hover_text(spread(&r.timing));
             ui.label(text(r.samples.to_string()));
             ui.label(text(format!("{:.1}/255", r.max_error * 255.0)));
             ui.label(text(format!("{:.2}/255", r.rmse * 255.0)));
@@ -180,7 +181,8 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
         }
         ui.label(format!("{} (ref.)", t.reference))
             .on_hover_text("The exact setting every row is measured against");
-        ui.label(ms(t.reference_seconds));
+        ui.label(ms(t.reference_seconds))
+            .on_hover_text(spread(&t.reference_timing));
         ui.label(t.reference_samples.to_string());
         ui.label("0");
         ui.label("0");
@@ -188,11 +190,28 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
         ui.end_row();
     });
     ui.label(
-        egui::RichText::new(if t.knob == Knob::Step {
-            "step in voxels; your step is in blue; speed-up against the reference"
-        } else {
-            "speed-up against the reference"
-        })
+        egui::RichText::new(format!(
+            "{}time: the median of {} renders after an untimed one, the settings taken in turn \
+             (hover a time for the fastest and slowest), each on {} thread{}, sharing the \
+             computer with this window; speed-up against the reference",
+            if t.knob == Knob::Step {
+                "step in voxels; your step is in blue; "
+            } else {
+                ""
+            },
+            t.runs,
+            t.threads,
+            if t.threads == 1 { "" } else { "s" }
+        ))
         .small(),
     );
+}
+
+/// A timing's spread, in words.
+fn spread(t: &voxcast_core::trade::Timing) -> String {
+    format!(
+        "fastest {:.1} ms, slowest {:.1} ms",
+        t.fastest * 1e3,
+        t.slowest * 1e3
+    )
 }
