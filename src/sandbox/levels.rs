@@ -145,11 +145,11 @@ impl Lessons {
     pub fn name_effect(&mut self, l: usize, chosen: u32, trace: u32) {
         use voxcast_core::rays::effects::Effect;
         self.named_effect = Some(chosen);
-        let words = |id: u32| Effect::ALL.get(id as usize).map_or("?", |e| e.words());
+        let words = |id: u32| Effect::of(id).map_or("?", |e| e.kind());
         let answer = (
             words(chosen).to_string(),
             words(trace).to_string(),
-            chosen == trace,
+            Effect::same_kind(chosen, trace),
         );
         let question = format!("which effect cast trace {trace}");
         let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
@@ -752,7 +752,7 @@ mod tests {
         assert_eq!(kept.len(), 3);
         assert!(!kept[1].correct && kept[2].correct);
         assert_eq!(kept[1].answer, "reflection rays");
-        assert_eq!(kept[1].expected, "shadow rays");
+        assert_eq!(kept[1].expected, "primary rays");
         let (saved, _) = Progress::load(&path);
         assert_eq!(&saved.answers, kept);
         let csv = saved.answers_csv();

@@ -205,12 +205,13 @@ impl SourceKind {
     pub const fn doc(self) -> &'static str {
         match self {
             Self::Cornell => {
-                "The Cornell box with the primary, shadow, reflection and ambient-occlusion \
-                 rays Voxcast traces through it (seeded: the same every time)"
+                "The Cornell box with RayVis's study's five traces, which Voxcast traces through \
+                 it (seeded: the same every time): primary rays of two cameras, reflection, \
+                 ambient-occlusion and shadow rays"
             }
             Self::CornellMillion => {
                 "The Cornell box traced with 400 × 400 primary rays instead of 256 × 256: \
-                 about a million rays in all, the scale RayVis's study drew (the density \
+                 about 1.2 million rays in all, the scale RayVis's study drew (the density \
                  takes about a second)"
             }
             Self::File => "A ray data set saved by RayVis (or by voxcast rays export)",

@@ -472,7 +472,9 @@ impl Objective {
                     && trace.is_none_or(|t| f.trace == Some(t))
             }),
             Objective::RayView { view, on } => s.ray_views.contains(&view.as_str()) == *on,
-            Objective::NameEffect { trace } => s.named_effect == Some(*trace),
+            Objective::NameEffect { trace } => s
+                .named_effect
+                .is_some_and(|named| crate::rays::effects::Effect::same_kind(named, *trace)),
         }
     }
 }
@@ -1186,6 +1188,10 @@ mod tests {
         assert!(!Objective::NameEffect { trace: 2 }.met(&s));
         s.named_effect = Some(2);
         assert!(Objective::NameEffect { trace: 2 }.met(&s));
+        // Either primary trace is "primary rays".
+        s.named_effect = Some(0);
+        assert!(Objective::NameEffect { trace: 1 }.met(&s));
+        assert!(!Objective::NameEffect { trace: 4 }.met(&s));
     }
 
     /// The names objectives use are real: knobs and cost views.

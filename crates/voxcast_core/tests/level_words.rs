@@ -80,7 +80,9 @@ fn shadow_rays_leave_only_the_points_that_face_the_light() {
         ao_radius: 50.0,
         seed: 1,
     };
-    let sets = effects::trace_effects(&scene, &cam, &p);
+    let second = cornell::second_camera();
+    let sets = effects::trace_effects(&scene, [&cam, &second], &p);
+    let shadow = effects::Effect::Shadow.id() as usize;
     let to_light = -cornell::light_direction().normalize();
     let facing = sets[0]
         .rays
@@ -93,13 +95,15 @@ fn shadow_rays_leave_only_the_points_that_face_the_light() {
             hit.normal.dot(to_light) > 0.0
         })
         .count();
-    assert_eq!(sets[1].rays.len(), facing);
+    assert_eq!(sets[shadow].rays.len(), facing);
     // Turned the other way, the light faces other walls: the count follows the surfaces.
     let away = effects::TraceParams {
         light: -cornell::light_direction(),
         ..p
     };
-    let facing_away = effects::trace_effects(&scene, &cam, &away)[1].rays.len();
+    let facing_away = effects::trace_effects(&scene, [&cam, &second], &away)[shadow]
+        .rays
+        .len();
     let hits = sets[0].hits_and_misses(0.0).0;
     assert!(
         facing < hits || facing_away < hits,

@@ -326,20 +326,18 @@ fn level_step(
 fn name_effect(ui: &mut egui::Ui, lessons: &mut Lessons, (l, trace): (usize, u32), met: bool) {
     use voxcast_core::rays::effects::Effect;
     ui.horizontal_wrapped(|ui| {
-        for e in Effect::ALL {
+        for e in Effect::KINDS {
             let chosen = lessons.named_effect == Some(e.id());
-            if ui.selectable_label(chosen, e.words()).clicked() && !met && !chosen {
+            if ui.selectable_label(chosen, e.kind()).clicked() && !met && !chosen {
                 lessons.name_effect(l, e.id(), trace);
             }
         }
     });
-    let hint = match lessons
-        .named_effect
-        .and_then(|id| Effect::ALL.get(id as usize))
-    {
-        Some(e) if e.id() != trace => Some(match e {
-            Effect::Primary => {
-                "Not these: primary rays all start at the camera, outside the box's open front."
+    let hint = match lessons.named_effect.and_then(Effect::of) {
+        Some(e) if !Effect::same_kind(e.id(), trace) => Some(match e {
+            Effect::Primary | Effect::SecondPrimary => {
+                "Not these: primary rays all start at one point, the camera's eye, outside the \
+                 box's open front."
             }
             Effect::Shadow => {
                 "Not these: shadow rays to a distant light are all parallel — look at the arrows."

@@ -763,6 +763,18 @@ fn settings_panel(
     let mut edited = render.clone();
     let mut load: Option<String> = None;
     let spot: Spot = lessons.spot;
+    // A level that asks which effect a trace holds names traces by number only.
+    let hide_effects = match *mode.get() {
+        super::mode::Mode::Level(l) => lessons.levels.get(l).is_some_and(|level| {
+            level.steps.iter().any(|s| {
+                matches!(
+                    s.objective,
+                    voxcast_core::level::Objective::NameEffect { .. }
+                )
+            })
+        }),
+        super::mode::Mode::FreePlay => false,
+    };
     let guide = Guide {
         spot,
         panel: lessons.panel_in(*mode.get()),
@@ -884,6 +896,7 @@ fn settings_panel(
                                     preview_on: &mut preview.enabled,
                                     back: &mut back,
                                     fit: &mut range_fit,
+                                    hide_effects,
                                 },
                                 spot,
                             );

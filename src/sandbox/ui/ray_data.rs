@@ -32,6 +32,8 @@ pub(crate) struct RayPanel<'a> {
     /// Set when the volume before the densities is to come back.
     pub back: &'a mut bool,
     pub fit: &'a mut crate::sandbox::raydata::RangeFit,
+    /// Name the box's traces by number only (a level asks which effect each holds).
+    pub hide_effects: bool,
 }
 
 /// Bytes in words (KiB, MiB, GiB).
@@ -47,7 +49,7 @@ fn bytes(n: usize) -> String {
 pub(crate) fn ray_data_section(ui: &mut egui::Ui, p: RayPanel, spot: Spot) {
     let on_show = p.rays.on_show(p.volume).cloned();
     marked(ui, spot, Control::RaySource, |ui| {
-        source_controls(ui, &mut *p.choices)
+        source_controls(ui, &mut *p.choices, p.hide_effects)
     });
     grid_controls(ui, p.choices, p.estimator);
     ui.horizontal(|ui| {
@@ -140,7 +142,7 @@ pub(crate) fn ray_data_section(ui: &mut egui::Ui, p: RayPanel, spot: Spot) {
 }
 
 /// Source, path, trace and filter.
-fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices) {
+fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
     egui::ComboBox::from_label("Rays")
         .selected_text(c.source.words())
         .show_ui(ui, |ui| {
@@ -176,19 +178,17 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices) {
             }
         }
         SourceKind::Cornell | SourceKind::CornellMillion => {
-            let words = |id: Option<u32>| match id {
-                None => "every trace".to_string(),
-                Some(id) => Effect::ALL
-                    .iter()
-                    .find(|e| e.id() == id)
-                    .map_or(format!("trace {id}"), |e| e.words().to_string()),
+            let words = |id: Option<u32>| match (id, id.and_then(Effect::of)) {
+                (None, _) => "every trace".to_string(),
+                (Some(id), Some(e)) if !hide_effects => format!("trace {id}: {}", e.words()),
+                (Some(id), _) => format!("trace {id}"),
             };
             egui::ComboBox::from_label("Trace")
                 .selected_text(words(c.trace))
                 .show_ui(ui, |ui| {
                     ui.selectable_value(&mut c.trace, None, words(None));
                     for e in Effect::ALL {
-                        ui.selectable_value(&mut c.trace, Some(e.id()), e.words());
+                        ui.selectable_value(&mut c.trace, Some(e.id()), words(Some(e.id())));
                     }
                 })
                 .response

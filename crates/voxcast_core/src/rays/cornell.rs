@@ -106,6 +106,17 @@ pub const CAMERA_EYE: Vec3 = Vec3::new(278.0, 273.0, -800.0);
 pub const CAMERA_TARGET: Vec3 = Vec3::new(278.0, 273.0, 0.0);
 pub const CAMERA_FOV_Y_DEG: f32 = 39.3;
 
+/// The second camera of the study's two primary traces: in front of the box, to the right
+/// and above the first, looking down and across into the box.
+pub const SECOND_CAMERA_EYE: Vec3 = Vec3::new(-150.0, 520.0, -650.0);
+pub const SECOND_CAMERA_TARGET: Vec3 = Vec3::new(300.0, 200.0, 280.0);
+
+/// The second camera (the first one's field of view).
+pub fn second_camera() -> crate::camera::Camera {
+    super::effects::camera(SECOND_CAMERA_EYE, SECOND_CAMERA_TARGET, CAMERA_FOV_Y_DEG)
+        .expect("the second camera is valid")
+}
+
 /// The direction the directional light shines along (not normalised): in through the open
 /// front, from above and from the left, so both blocks cast shadows on the floor and the back
 /// wall.

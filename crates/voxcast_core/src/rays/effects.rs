@@ -1,8 +1,9 @@
-//! Ray sets Voxcast traces itself through a triangle scene, one per effect of RayVis's study:
-//! primary rays of a pinhole camera, and from every primary hit a shadow ray towards a
-//! directional light (where the surface faces it: one turned away is dark without a ray), a
-//! mirror reflection ray and a few short ambient-occlusion rays
-//! (cosine-distributed over the hemisphere of the surface's normal). Seeded and reproducible:
+//! Ray sets Voxcast traces itself through a triangle scene, one per trace of RayVis's study
+//! (its Table 4.2, with the study's trace ids): primary rays of two pinhole cameras (traces 0
+//! and 1), and from every hit of the first camera's primary rays a mirror reflection ray
+//! (trace 2), a few short ambient-occlusion rays (trace 3, cosine-distributed over the
+//! hemisphere of the surface's normal) and a shadow ray towards a directional light (trace 4,
+//! where the surface faces it: one turned away is dark without a ray). Seeded and reproducible:
 //! every random number is a hash of the seed, the primary ray and the secondary ray's index,
 //! so any thread count gives the same sets.
 //!
@@ -19,24 +20,28 @@ use crate::slices::{Deadline, Step};
 use glam::Vec3;
 use rayon::prelude::*;
 
-/// One effect's rays.
+/// One trace's effect, in the order (and with the ids) of RayVis's study.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Effect {
+    /// The first camera's primary rays.
     Primary,
-    Shadow,
+    /// The second camera's primary rays.
+    SecondPrimary,
     Reflection,
     AmbientOcclusion,
+    Shadow,
 }
 
 impl Effect {
-    pub const ALL: [Effect; 4] = [
+    pub const ALL: [Effect; 5] = [
         Effect::Primary,
-        Effect::Shadow,
+        Effect::SecondPrimary,
         Effect::Reflection,
         Effect::AmbientOcclusion,
+        Effect::Shadow,
     ];
 
-    /// Its trace id in the data set.
+    /// Its trace id in the data set (the study's: primary rays 0 and 1, shadow rays 4).
     pub const fn id(self) -> u32 {
         self as u32
     }
@@ -44,10 +49,38 @@ impl Effect {
     /// Its name, in words.
     pub const fn words(self) -> &'static str {
         match self {
-            Effect::Primary => "primary rays",
-            Effect::Shadow => "shadow rays",
+            Effect::Primary => "primary rays (camera 1)",
+            Effect::SecondPrimary => "primary rays (camera 2)",
             Effect::Reflection => "reflection rays",
             Effect::AmbientOcclusion => "ambient-occlusion rays",
+            Effect::Shadow => "shadow rays",
+        }
+    }
+
+    /// One effect of each kind, in the order a choice lists them.
+    pub const KINDS: [Effect; 4] = [
+        Effect::Primary,
+        Effect::Reflection,
+        Effect::AmbientOcclusion,
+        Effect::Shadow,
+    ];
+
+    /// The effect with trace id `id`.
+    pub fn of(id: u32) -> Option<Effect> {
+        Effect::ALL.get(id as usize).copied()
+    }
+
+    /// Whether traces `a` and `b` hold the same kind of effect (both primary traces do).
+    pub fn same_kind(a: u32, b: u32) -> bool {
+        matches!((Effect::of(a), Effect::of(b)), (Some(x), Some(y)) if x.kind() == y.kind())
+    }
+
+    /// The kind of effect, without which camera: both primary traces are "primary rays" (the
+    /// study counted naming either trace's effect as right).
+    pub const fn kind(self) -> &'static str {
+        match self {
+            Effect::Primary | Effect::SecondPrimary => "primary rays",
+            other => other.words(),
         }
     }
 }
@@ -93,10 +126,11 @@ struct Leaving {
     normal: Vec3,
 }
 
-/// One primary ray's records: the primary ray, then its secondaries by effect.
+/// One pixel's records, by effect id: each camera's primary ray, then the first camera's
+/// secondaries.
 #[derive(Clone, Debug, Default)]
 struct PixelRays {
-    sets: [Vec<RayRecord>; 4],
+    sets: [Vec<RayRecord>; 5],
 }
 
 /// A ray record from a trace through `scene`.
@@ -138,11 +172,12 @@ pub fn camera(
     Camera::new(eye, target, Vec3::Y, Projection::Perspective { fov_y_deg })
 }
 
-/// Traces the four sets (in [`Effect::ALL`]'s order) through `scene` from `camera`.
-pub fn trace_effects(scene: &TriangleScene, camera: &Camera, p: &TraceParams) -> Vec<RaySet> {
+/// Traces the five sets (in [`Effect::ALL`]'s order) through `scene` from the two `cameras`
+/// (the secondaries from the first one's hits).
+pub fn trace_effects(scene: &TriangleScene, cameras: [&Camera; 2], p: &TraceParams) -> Vec<RaySet> {
     trace_effects_in(
         scene,
-        camera,
+        cameras,
         p,
         &mut TraceSlices::default(),
         Deadline::NONE,
@@ -162,27 +197,36 @@ const PIXELS_PER_LOOK: u32 = 512;
 /// [`trace_effects`] in slices: the pixels in order, a block at a time, until `deadline`.
 pub fn trace_effects_in(
     scene: &TriangleScene,
-    camera: &Camera,
+    [camera, second]: [&Camera; 2],
     p: &TraceParams,
     slices: &mut TraceSlices,
     deadline: Deadline,
 ) -> Step<Vec<RaySet>> {
-    let (lo, hi) = scene.bounds().map_or((camera.eye, camera.eye), |(lo, hi)| {
-        (lo.min(camera.eye), hi.max(camera.eye))
-    });
+    let (lo, hi) = scene
+        .bounds()
+        .map_or((camera.eye, camera.eye), |(lo, hi)| (lo, hi));
+    let (lo, hi) = (
+        lo.min(camera.eye).min(second.eye),
+        hi.max(camera.eye).max(second.eye),
+    );
     let size = (hi - lo).length().max(f32::MIN_POSITIVE);
     let (lo, hi) = (lo - WORLD_PADDING * size, hi + WORLD_PADDING * size);
     let far = |o: Vec3, d: Vec3| exit_distance(o, d, lo, hi);
     let offset = SURFACE_OFFSET * size;
     let to_light = -p.light.normalize_or_zero();
     let rays = camera.rays(p.width.max(1), p.height.max(1));
+    let second_rays = second.rays(p.width.max(1), p.height.max(1));
     let total = p.width * p.height;
+    let id = |e: Effect| e.id() as usize;
     let trace_pixel = |i: u32| {
         let (px, py) = (i % p.width, i / p.width);
-        let ray = rays.ray(px as f32 + 0.5, py as f32 + 0.5);
         let mut out = PixelRays::default();
+        let other = second_rays.ray(px as f32 + 0.5, py as f32 + 0.5);
+        let (primary, _) = traced(scene, other.origin, other.dir, far(other.origin, other.dir));
+        out.sets[id(Effect::SecondPrimary)].push(primary);
+        let ray = rays.ray(px as f32 + 0.5, py as f32 + 0.5);
         let (primary, hit) = traced(scene, ray.origin, ray.dir, far(ray.origin, ray.dir));
-        out.sets[0].push(primary);
+        out.sets[id(Effect::Primary)].push(primary);
         let Some(hit) = hit else { return out };
         let at = ray.origin + ray.dir * hit.t;
         let leave = Leaving {
@@ -192,18 +236,18 @@ pub fn trace_effects_in(
         // A surface facing away from the light is dark without a ray.
         if to_light != Vec3::ZERO && leave.normal.dot(to_light) > 0.0 {
             let t_max = far(leave.origin, to_light);
-            out.sets[1].push(traced(scene, leave.origin, to_light, t_max).0);
+            out.sets[id(Effect::Shadow)].push(traced(scene, leave.origin, to_light, t_max).0);
         }
         let mirror = ray.dir - 2.0 * ray.dir.dot(leave.normal) * leave.normal;
         let mirror = mirror.normalize();
         let t_max = far(leave.origin, mirror);
-        out.sets[2].push(traced(scene, leave.origin, mirror, t_max).0);
+        out.sets[id(Effect::Reflection)].push(traced(scene, leave.origin, mirror, t_max).0);
         for k in 0..p.ao_rays {
             let u1 = uniform([p.seed, i, k, 1]);
             let u2 = uniform([p.seed, i, k, 2]);
             let d = cosine_direction(leave.normal, u1, u2);
             let t_max = p.ao_radius.min(far(leave.origin, d));
-            out.sets[3].push(traced(scene, leave.origin, d, t_max).0);
+            out.sets[id(Effect::AmbientOcclusion)].push(traced(scene, leave.origin, d, t_max).0);
         }
         out
     };
@@ -259,30 +303,32 @@ mod tests {
         }
     }
 
+    fn cameras() -> [Camera; 2] {
+        [
+            camera(
+                cornell::CAMERA_EYE,
+                cornell::CAMERA_TARGET,
+                cornell::CAMERA_FOV_Y_DEG,
+            )
+            .unwrap(),
+            cornell::second_camera(),
+        ]
+    }
+
     fn cornell_sets(width: u32, height: u32, seed: u32) -> Vec<RaySet> {
-        let cam = camera(
-            cornell::CAMERA_EYE,
-            cornell::CAMERA_TARGET,
-            cornell::CAMERA_FOV_Y_DEG,
-        )
-        .unwrap();
-        trace_effects(&cornell::scene(), &cam, &params(width, height, seed))
+        let [a, b] = cameras();
+        trace_effects(&cornell::scene(), [&a, &b], &params(width, height, seed))
     }
 
     /// Traced in slices, a block of pixels a call, the sets are the ones traced whole.
     #[test]
     fn tracing_in_slices_gives_the_same_rays() {
-        let cam = camera(
-            cornell::CAMERA_EYE,
-            cornell::CAMERA_TARGET,
-            cornell::CAMERA_FOV_Y_DEG,
-        )
-        .unwrap();
+        let [a, b] = cameras();
         let (scene, p) = (cornell::scene(), params(40, 30, 9));
-        let whole = trace_effects(&scene, &cam, &p);
+        let whole = trace_effects(&scene, [&a, &b], &p);
         let mut slices = TraceSlices::default();
         let (sliced, calls) = crate::slices::until_done(crate::slices::Duration::ZERO, |d| {
-            Ok::<_, ()>(trace_effects_in(&scene, &cam, &p, &mut slices, d))
+            Ok::<_, ()>(trace_effects_in(&scene, [&a, &b], &p, &mut slices, d))
         })
         .unwrap();
         assert_eq!(calls, (40 * 30usize).div_ceil(PIXELS_PER_LOOK as usize));
@@ -294,7 +340,10 @@ mod tests {
         let sets = cornell_sets(48, 48, 7);
         let scene = cornell::scene();
         let (lo, hi) = scene.bounds().unwrap();
-        assert_eq!(sets.len(), 4);
+        assert_eq!(sets.len(), 5);
+        let ids: Vec<u32> = sets.iter().map(|s| s.trace_id).collect();
+        assert_eq!(ids, [0, 1, 2, 3, 4]);
+        let [reflection, ao, shadow] = [&sets[2], &sets[3], &sets[4]];
         let primary = &sets[0];
         assert_eq!(primary.rays.len(), 48 * 48);
         let (hits, misses) = primary.hits_and_misses(0.0);
@@ -302,7 +351,8 @@ mod tests {
         // image's edges pass outside the box.
         assert!(hits > 48 * 48 * 9 / 10, "{hits} hits, {misses} misses");
         // Misses end where they leave the world: the box around the scene and the camera.
-        let (w_lo, w_hi) = (lo.min(cornell::CAMERA_EYE), hi.max(cornell::CAMERA_EYE));
+        let eyes = cameras().map(|c| c.eye);
+        let (w_lo, w_hi) = (lo.min(eyes[0]).min(eyes[1]), hi.max(eyes[0]).max(eyes[1]));
         let pad = WORLD_PADDING * (w_hi - w_lo).length() + 0.01;
         let (world_lo, world_hi) = (w_lo - pad, w_hi + pad);
         for r in sets.iter().flat_map(|s| &s.rays) {
@@ -319,19 +369,24 @@ mod tests {
                 assert!(p.cmpge(lo - 0.01).all() && p.cmple(hi + 0.01).all(), "{p}");
             }
         }
-        // Secondary rays leave from primary hits: reflections one each, AO four each.
-        assert_eq!(sets[2].rays.len(), hits);
-        assert_eq!(sets[3].rays.len(), 4 * hits);
+        // The second camera's primary rays: one a pixel, from its own eye.
+        let second = &sets[1];
+        assert_eq!(second.rays.len(), 48 * 48);
+        assert!(second.rays.iter().all(|r| r.origin == eyes[1]));
+        assert!(primary.rays.iter().all(|r| r.origin == eyes[0]));
+        // Secondary rays leave from the first camera's hits: reflections one each, AO four.
+        assert_eq!(reflection.rays.len(), hits);
+        assert_eq!(ao.rays.len(), 4 * hits);
         // Shadow rays all point at the light; some surfaces lie in shadow, most are lit.
         let to_light = -cornell::light_direction();
-        assert!(!sets[1].rays.is_empty() && sets[1].rays.len() <= hits);
+        assert!(!shadow.rays.is_empty() && shadow.rays.len() <= hits);
         assert!(
-            sets[1]
+            shadow
                 .rays
                 .iter()
                 .all(|r| r.direction.abs_diff_eq(to_light, 1e-6))
         );
-        let (shadowed, lit) = sets[1].hits_and_misses(0.0);
+        let (shadowed, lit) = shadow.hits_and_misses(0.0);
         assert!(
             shadowed > 0 && lit > shadowed,
             "{shadowed} shadowed, {lit} lit"
@@ -340,10 +395,10 @@ mod tests {
         for set in &sets {
             assert!(set.rays.iter().enumerate().all(|(i, r)| r.id == i as u32));
         }
-        for r in &sets[3].rays {
+        for r in &ao.rays {
             assert!(r.t_max <= 100.0 && r.t_hit < 100.0);
         }
-        assert!(sets[3].rays.iter().filter(|r| r.t_max == 100.0).count() > sets[3].rays.len() / 2);
+        assert!(ao.rays.iter().filter(|r| r.t_max == 100.0).count() > ao.rays.len() / 2);
     }
 
     #[test]
@@ -370,9 +425,11 @@ mod tests {
         let a = cornell_sets(16, 16, 3);
         assert_eq!(a, cornell_sets(16, 16, 3));
         let b = cornell_sets(16, 16, 4);
-        // Only the random rays change with the seed.
-        assert_eq!(a[..3], b[..3]);
-        assert_ne!(a[3], b[3]);
+        // Only the random rays (ambient occlusion) change with the seed.
+        let ao = Effect::AmbientOcclusion.id() as usize;
+        for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert_eq!(x == y, i != ao, "trace {i}");
+        }
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Where a ray data set comes from: a scene and its traces, by name — a `.rayvis` file
-//! (`rayvis`), or `builtin:cornell`, the Cornell box with the four effect sets Voxcast traces
-//! through it at [`CORNELL`]'s settings (`builtin:cornell-1m`: at [`CORNELL_1M`]'s, a million
+//! (`rayvis`), or `builtin:cornell`, the Cornell box with the five traces of RayVis's study
+//! that Voxcast traces through it at [`CORNELL`]'s settings (`builtin:cornell-1m`: at [`CORNELL_1M`]'s, a million
 //! rays, the scale RayVis's study drew).
 
 use super::cornell;
@@ -48,8 +48,8 @@ pub const CORNELL: TraceParams = TraceParams {
     seed: 1,
 };
 
-/// How `builtin:cornell-1m` is traced: as [`CORNELL`] with 400 × 400 primary rays, about a
-/// million rays in all.
+/// How `builtin:cornell-1m` is traced: as [`CORNELL`] with 400 × 400 primary rays per camera,
+/// about 1.2 million rays in all.
 pub const CORNELL_1M: TraceParams = TraceParams {
     width: 400,
     height: 400,
@@ -60,13 +60,14 @@ pub const CORNELL_1M: TraceParams = TraceParams {
 pub const BUILTIN: &[(&str, &str)] = &[
     (
         "cornell",
-        "the Cornell box (five walls, two blocks) with primary, shadow, reflection and \
-         ambient-occlusion rays traced by Voxcast",
+        "the Cornell box (five walls, two blocks) with RayVis's study's five traces, traced by \
+         Voxcast: primary rays of two cameras (0, 1), reflection (2), ambient-occlusion (3) and \
+         shadow rays (4)",
     ),
     (
         "cornell-1m",
-        "the same at 400 × 400 primary rays: about a million rays, the scale RayVis's study \
-         drew (tracing takes a quarter of a second, the density a second)",
+        "the same at 400 × 400 primary rays per camera: about 1.2 million rays, the scale \
+         RayVis's study drew",
     ),
 ];
 
@@ -112,7 +113,7 @@ pub fn load_in(
     }
 }
 
-/// The Cornell box with its four effect sets traced at `p` (in slices).
+/// The Cornell box with its five traces at `p` (in slices).
 fn cornell_with(p: &TraceParams, slices: &mut TraceSlices, deadline: Deadline) -> Step<RayData> {
     let scene = cornell::scene();
     let cam = camera(
@@ -121,13 +122,16 @@ fn cornell_with(p: &TraceParams, slices: &mut TraceSlices, deadline: Deadline) -
         cornell::CAMERA_FOV_Y_DEG,
     )
     .expect("the Cornell box's camera is valid");
-    let Step::Done(traces) = trace_effects_in(&scene, &cam, p, slices, deadline) else {
+    let second = cornell::second_camera();
+    let Step::Done(traces) = trace_effects_in(&scene, [&cam, &second], p, slices, deadline) else {
         return Step::Paused;
     };
     Step::Done(RayData {
         description: format!(
-            "the Cornell box, {}×{} primary rays from its published camera, a directional \
-             light through the open front, {} ambient-occlusion rays of {} mm per hit, seed {}",
+            "the Cornell box, {}×{} primary rays from its published camera (trace 0) and from \
+             a second one above and to the right (trace 1); from the first one's hits \
+             reflection rays (2), {} ambient-occlusion rays of {} mm each (3) and shadow rays \
+             towards a directional light through the open front (4); seed {}",
             p.width, p.height, p.ao_rays, p.ao_radius, p.seed
         ),
         scene,
@@ -150,16 +154,18 @@ mod tests {
         let d = load("builtin:cornell-1m").unwrap();
         assert_eq!(d.trace(0).unwrap().rays.len(), 400 * 400);
         let all = d.all_rays().rays.len();
-        assert!((900_000..1_200_000).contains(&all), "{all} rays");
+        assert!((1_000_000..1_400_000).contains(&all), "{all} rays");
         assert!(d.description.contains("400×400"));
     }
 
     #[test]
-    fn the_cornell_box_loads_with_its_four_traces_and_names_fail_clearly() {
+    fn the_cornell_box_loads_with_the_studys_five_traces_and_names_fail_clearly() {
         let d = load("builtin:cornell").unwrap();
-        assert_eq!(d.traces.len(), 4);
+        assert_eq!(d.traces.len(), 5);
         assert_eq!(d.trace(0).unwrap().rays.len(), 256 * 256);
-        assert!(d.trace(4).is_none());
+        assert_eq!(d.trace(1).unwrap().rays.len(), 256 * 256);
+        assert!(d.trace(5).is_none());
+        assert_eq!(effect_of(4), Some(Effect::Shadow));
         let all = d.all_rays();
         assert_eq!(
             all.rays.len(),
