@@ -47,6 +47,10 @@ pub struct Lessons {
     pub detail: Option<SampleDetail>,
     /// For a composite prediction step: the worked composite, point by point.
     pub composite: Option<Vec<voxcast_core::worked::WorkedPoint>>,
+    /// The study question answered right in this step: its trace and key.
+    pub studied: Option<(u32, String)>,
+    /// The ray density on show (what a study question is asked about).
+    pub on_show: Option<std::sync::Arc<super::raydata::Shown>>,
     /// The run of the study under way (the level played twice, preview off then on).
     pub study: Option<StudyRun>,
     /// The levels list's choice: a level clicked starts as a study.
@@ -86,6 +90,8 @@ impl Lessons {
             spot: None,
             detail: None,
             composite: None,
+            studied: None,
+            on_show: None,
             study: None,
             study_next: false,
             set_up_again: false,
@@ -152,6 +158,21 @@ impl Lessons {
             Effect::same_kind(chosen, trace),
         );
         let question = format!("which effect cast trace {trace}");
+        let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
+        self.keep(a);
+        self.save();
+    }
+
+    /// Answers study question `key` about `trace` (step of level `l`) with `chosen`, against
+    /// what the code finds in the trace on show (`truth`): kept as an answer, right or wrong.
+    pub fn answer_study(&mut self, l: usize, (trace, key): (u32, &str), chosen: &str, truth: &str) {
+        let question = voxcast_core::rays::study::Question::parse(key)
+            .map_or(key.to_string(), |q| q.words(trace));
+        let correct = chosen == truth;
+        if correct {
+            self.studied = Some((trace, key.to_string()));
+        }
+        let answer = (chosen.to_string(), truth.to_string(), correct);
         let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
         self.keep(a);
         self.save();
@@ -305,6 +326,7 @@ fn apply_commands(
         }
         lessons.prediction.clear();
         lessons.named_effect = None;
+        lessons.studied = None;
     }
 }
 
@@ -527,8 +549,10 @@ pub(crate) fn check_objective(
             .collect();
         }
         sit.named_effect = lessons.named_effect;
+        sit.studied = lessons.studied.clone();
         step.objective.met(&sit)
     });
+    lessons.on_show = rays.as_ref().and_then(|r| r.on_show(&volume)).cloned();
     let here = Some((*mode.get(), lessons.step));
     let met = met || (lessons.met_for == here && lessons.met);
     if met {
@@ -647,6 +671,7 @@ pub(super) fn situation(
         ray_density: None,
         ray_views: Vec::new(),
         named_effect: None,
+        studied: None,
     }
 }
 
@@ -828,6 +853,40 @@ mod tests {
             .collect();
         assert_eq!(runs, [Some("preview off"), Some("preview on")]);
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A study question answered wrong, then right: both kept, and only the right one meets
+    /// the step.
+    #[test]
+    fn study_answers_are_kept_and_only_the_right_one_counts() {
+        let mut lessons = Lessons::new(ProgressStore::Nowhere);
+        let l = lessons
+            .levels
+            .iter()
+            .position(|l| l.id == "which-effect")
+            .unwrap();
+        let camera = voxcast_core::rays::study::CameraPlace::FrontHigher.words();
+        lessons.answer_study(l, (1, "camera"), "inside the box", camera);
+        assert_eq!(lessons.studied, None);
+        lessons.answer_study(l, (1, "camera"), camera, camera);
+        assert_eq!(lessons.studied, Some((1, "camera".to_string())));
+        let kept: Vec<(bool, &str)> = lessons
+            .progress
+            .answers
+            .iter()
+            .map(|a| (a.correct, a.question.as_str()))
+            .collect();
+        let q = "where was the camera of trace 1";
+        assert_eq!(kept, [(false, q), (true, q)]);
+        let objective = Objective::StudyQuestion {
+            trace: 1,
+            question: "camera".into(),
+        };
+        let sit = Situation {
+            studied: lessons.studied.clone(),
+            ..Situation::default()
+        };
+        assert!(objective.met(&sit));
     }
 
     /// Levels are states: starting one spawns only what its scene holds, and what free play

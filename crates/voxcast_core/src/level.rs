@@ -268,6 +268,10 @@ pub enum Objective {
     /// Tell which effect (its trace id, `crate::rays::effects::Effect::id`) cast the rays on
     /// show.
     NameEffect { trace: u32 },
+    /// Answer one of RayVis's study questions about a trace of the Cornell box
+    /// ([`crate::rays::study::Question`]: `camera` or `hits`), checked against what the code
+    /// finds in the trace.
+    StudyQuestion { trace: u32, question: String },
 }
 
 /// What a ray density on show was computed from, as the objectives see it.
@@ -373,6 +377,8 @@ pub struct Situation {
     pub ray_views: Vec<&'static str>,
     /// The effect (trace id) the player named.
     pub named_effect: Option<u32>,
+    /// The study question answered right this step: its trace and question key.
+    pub studied: Option<(u32, String)>,
 }
 
 impl Objective {
@@ -472,6 +478,9 @@ impl Objective {
                     && trace.is_none_or(|t| f.trace == Some(t))
             }),
             Objective::RayView { view, on } => s.ray_views.contains(&view.as_str()) == *on,
+            Objective::StudyQuestion { trace, question } => {
+                s.studied.as_ref() == Some(&(*trace, question.clone()))
+            }
             Objective::NameEffect { trace } => s
                 .named_effect
                 .is_some_and(|named| crate::rays::effects::Effect::same_kind(named, *trace)),
@@ -1216,6 +1225,12 @@ mod tests {
                             "{view}"
                         )
                     }
+                    Objective::StudyQuestion { trace, question } => assert!(
+                        crate::rays::study::Question::parse(question).is_some()
+                            && crate::rays::effects::Effect::of(*trace).is_some(),
+                        "{}: {question} of trace {trace}",
+                        l.id
+                    ),
                     Objective::NameEffect { trace } => assert!(
                         crate::rays::effects::Effect::ALL
                             .iter()

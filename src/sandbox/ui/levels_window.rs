@@ -301,6 +301,9 @@ fn level_step(
     if let Objective::NameEffect { trace } = step.objective {
         name_effect(ui, lessons, (l, trace), met);
     }
+    if let Objective::StudyQuestion { trace, question } = &step.objective {
+        study_question(ui, lessons, l, (*trace, question), met);
+    }
     // One row: the buttons, whether the step is done and, folded, where to look.
     let mut command = None;
     ui.horizontal_wrapped(|ui| {
@@ -353,6 +356,49 @@ fn name_effect(ui: &mut egui::Ui, lessons: &mut Lessons, (l, trace): (usize, u32
     };
     if let Some(h) = hint {
         ui.colored_label(egui::Color32::YELLOW, h);
+    }
+}
+
+/// A study question's options, once the trace it asks about is on show; the answer is checked
+/// against what the code finds in that trace.
+fn study_question(
+    ui: &mut egui::Ui,
+    lessons: &mut Lessons,
+    l: usize,
+    (trace, key): (u32, &str),
+    met: bool,
+) {
+    use voxcast_core::rays::study::Question;
+    let Some(q) = Question::parse(key) else {
+        return;
+    };
+    let shown = lessons.on_show.clone().filter(|s| {
+        let f = &s.computed.facts;
+        f.source.starts_with("builtin:cornell") && f.trace == Some(trace)
+    });
+    let Some(shown) = shown else {
+        ui.colored_label(
+            egui::Color32::YELLOW,
+            format!("In Ray data, choose trace {trace} of the Cornell box and Compute first."),
+        );
+        return;
+    };
+    let scene = &shown.computed.data.scene;
+    let truth = q.answer(scene, &shown.computed.set);
+    let mut chosen = None;
+    ui.horizontal_wrapped(|ui| {
+        for option in q.options(scene) {
+            if ui.selectable_label(false, &option).clicked() && !met {
+                chosen = Some(option);
+            }
+        }
+    });
+    if let (Some(c), Some(t)) = (chosen, truth) {
+        let right = c == t;
+        lessons.answer_study(l, (trace, key), &c, &t);
+        if !right {
+            lessons.message = Some(format!("Not {c}: look again at where the rays run."));
+        }
     }
 }
 

@@ -108,7 +108,7 @@ pub const CAMERA_FOV_Y_DEG: f32 = 39.3;
 
 /// The second camera of the study's two primary traces: in front of the box, to the right
 /// and above the first, looking down and across into the box.
-pub const SECOND_CAMERA_EYE: Vec3 = Vec3::new(-150.0, 520.0, -650.0);
+pub const SECOND_CAMERA_EYE: Vec3 = Vec3::new(-150.0, 700.0, -650.0);
 pub const SECOND_CAMERA_TARGET: Vec3 = Vec3::new(300.0, 200.0, 280.0);
 
 /// The second camera (the first one's field of view).

@@ -29,3 +29,4 @@ pub mod rayvis;
 pub mod rdf;
 pub mod set;
 pub mod source;
+pub mod study;
