@@ -33,6 +33,7 @@ pub mod screenshot;
 mod script;
 mod shaders;
 mod sharp;
+mod shortcuts;
 mod state;
 mod tasks;
 mod trade;
@@ -143,6 +144,8 @@ pub struct SandboxArgs {
     pub ray_stride: Option<usize>,
     #[arg(long, help = voxcast_core::tunables::SAMPLE_CUBE.doc)]
     pub ray_cube: Option<u32>,
+    #[arg(long, help = voxcast_core::tunables::FIELD_MIN_COUNT.doc)]
+    pub ray_min_count: Option<u64>,
 }
 
 /// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): the player's
@@ -375,6 +378,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
                 raydata::plugin,
                 rayviews::plugin,
                 cpu_lines::plugin,
+                shortcuts::plugin,
             ),
         ))
         .insert_resource(free_play)
@@ -433,6 +437,9 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
     }
     if let Some(cube) = args.ray_cube {
         choices.view.cube = cube.max(1);
+    }
+    if let Some(n) = args.ray_min_count {
+        choices.view.min_count = n;
     }
     app.insert_resource(choices);
     app.insert_resource(preview::PreviewSettings {

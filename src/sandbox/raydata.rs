@@ -271,6 +271,8 @@ pub struct ViewChoices {
     /// The vector field's sample cube, cells a side (divides the chunk).
     pub cube: u32,
     pub arrow_scale: ArrowScale,
+    /// [`t::FIELD_MIN_COUNT`].
+    pub min_count: u64,
     pub shading: SceneShading,
 }
 
@@ -285,6 +287,7 @@ impl Default for ViewChoices {
             miss_colour: [0.35, 0.7, 1.0],
             cube: t::SAMPLE_CUBE.default as u32,
             arrow_scale: ArrowScale::Count,
+            min_count: t::FIELD_MIN_COUNT.default as u64,
             shading: SceneShading::Grey,
         }
     }

@@ -298,7 +298,7 @@ fn geometry(shown: &Shown, view: &ViewChoices) -> Geometry {
         (positions, colours)
     });
     let field = if view.field {
-        match arrows(&c.density, view.cube, view.arrow_scale) {
+        match arrows(&c.density, view.cube, view.arrow_scale, view.min_count) {
             Ok(a) => {
                 report.arrows = a.len();
                 Some(arrow_lines(&a))

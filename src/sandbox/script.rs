@@ -577,19 +577,25 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
         // The player judges the pictures; here the level's answer is chosen.
         Objective::NameEffect { trace } => lessons.named_effect = Some(*trace),
         Objective::StudyQuestion { trace, question } => {
-            // The answer the code finds in the trace on show, as a student who reads the
-            // density right would give it.
+            // The trace computed first, as the step asks; then the answer the code finds in
+            // it, as a student who reads the density right would give it.
             use voxcast_core::rays::study::Question;
-            if let (Some(q), Some(shown)) = (Question::parse(question), lessons.on_show.clone())
+            let shown = lessons.on_show.clone().filter(|s| {
+                let f = &s.computed.facts;
+                f.source.starts_with("builtin:cornell") && f.trace == Some(*trace)
+            });
+            let Some(shown) = shown else {
+                compute_density(hands, "builtin:cornell", Some(*trace), 0);
+                return;
+            };
+            let level = lessons
+                .levels
+                .iter()
+                .position(|l| l.steps.iter().any(|s| s.objective == *objective));
+            if let (Some(q), Some(l)) = (Question::parse(question), level)
                 && let Some(truth) = q.answer(&shown.computed.data.scene, &shown.computed.set)
             {
-                let l = lessons
-                    .levels
-                    .iter()
-                    .position(|l| l.steps.iter().any(|s| s.objective == *objective));
-                if let Some(l) = l {
-                    lessons.answer_study(l, (*trace, question), &truth, &truth);
-                }
+                lessons.answer_study(l, (*trace, question), &truth, &truth);
             }
         }
     }

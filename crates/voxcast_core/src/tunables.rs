@@ -181,6 +181,17 @@ pub const RAY_CAMERA_SIDE: Tunable = Tunable {
     max: 512.0,
 };
 
+pub const FIELD_MIN_COUNT: Tunable = Tunable {
+    key: "field-min-count",
+    label: "Count threshold",
+    doc: "The vector field draws no arrow for a cube whose rays' cell visits number fewer than \
+          this (RayVis's count threshold): the sparse fringes stop hiding the main streams. \
+          Default 0 (every cube some ray crossed).",
+    default: 0.0,
+    min: 0.0,
+    max: 1e9,
+};
+
 pub const SAMPLE_CUBE: Tunable = Tunable {
     key: "sample-cube",
     label: "Sample cube (cells)",
@@ -612,6 +623,7 @@ pub const ALL: &[Tunable] = &[
     RAY_STRIDE,
     RAY_CAMERA_SIDE,
     SAMPLE_CUBE,
+    FIELD_MIN_COUNT,
 ];
 
 #[cfg(test)]

@@ -335,6 +335,8 @@ fn view_controls(
     }
     ui.checkbox(&mut v.field, "Vector field")
         .on_hover_text("An arrow per sample cube along the rays' mean direction");
+    ui.label(egui::RichText::new(crate::sandbox::shortcuts::SHORTCUTS).small())
+        .on_hover_text("Over the scene (not while typing in a field)");
     if v.field {
         ui.indent("field", |ui| {
             let sizes = cube_sizes(chunk);
@@ -355,6 +357,12 @@ fn view_controls(
                     ui.radio_value(&mut v.arrow_scale, s, s.name())
                         .on_hover_text(s.doc());
                 }
+            });
+            ui.horizontal(|ui| {
+                ui.add(egui::DragValue::new(&mut v.min_count).speed(1.0))
+                    .on_hover_text(t::FIELD_MIN_COUNT.doc);
+                ui.label(t::FIELD_MIN_COUNT.label)
+                    .on_hover_text(t::FIELD_MIN_COUNT.doc);
             });
             let words = match &report.field_error {
                 Some(e) => e.clone(),

@@ -11,6 +11,9 @@
 //! by count `f = count / max`, by inverse count `f = min / count` (the rare directions stand
 //! out), or the same for all. **Colour** is the count's place between the smallest and the
 //! largest, `(count − min) / (max − min)`, through the inferno map by the caller.
+//!
+//! **Count threshold** (RayVis's): cubes whose count is below it draw no arrow, so the sparse
+//! fringes stop hiding the main streams; lengths and colours span the arrows kept.
 
 use super::density::Density;
 use glam::{IVec3, Vec3};
@@ -68,9 +71,15 @@ pub struct Arrow {
     pub shade: f32,
 }
 
-/// The arrows of `density` for sample cubes of `k` cells a side, ordered by cube (chunks in
-/// key order, then z, y, x): `Err` when `k` does not divide the chunk size.
-pub fn arrows(density: &Density, k: u32, scale: ArrowScale) -> Result<Vec<Arrow>, String> {
+/// The arrows of `density` for sample cubes of `k` cells a side whose count is at least
+/// `min_count`, ordered by cube (chunks in key order, then z, y, x): `Err` when `k` does not
+/// divide the chunk size.
+pub fn arrows(
+    density: &Density,
+    k: u32,
+    scale: ArrowScale,
+    min_count: u64,
+) -> Result<Vec<Arrow>, String> {
     let n = density.params.chunk;
     if k == 0 || !n.is_multiple_of(k) {
         return Err(format!(
@@ -99,7 +108,7 @@ pub fn arrows(density: &Density, k: u32, scale: ArrowScale) -> Result<Vec<Arrow>
                             }
                         }
                     }
-                    if count == 0 {
+                    if count == 0 || count < min_count {
                         continue;
                     }
                     let first = base + IVec3::new(cx as i32, cy as i32, cz as i32) * k as i32;
@@ -176,7 +185,7 @@ mod tests {
     #[test]
     fn an_axis_ray_gives_arrows_along_it() {
         let d = density(vec![ray(Vec3::new(0.0, 0.5, 0.5), Vec3::X, 8.0)], 1.0, 4);
-        let a = arrows(&d, 2, ArrowScale::Count).unwrap();
+        let a = arrows(&d, 2, ArrowScale::Count, 0).unwrap();
         assert_eq!(a.len(), 4);
         for (i, arrow) in a.iter().enumerate() {
             assert_eq!(arrow.count, 2);
@@ -199,7 +208,7 @@ mod tests {
         let d = density(rays, 1.0, 8);
         for k in cube_sizes(8) {
             for scale in ArrowScale::ALL {
-                let a = arrows(&d, k, scale).unwrap();
+                let a = arrows(&d, k, scale, 0).unwrap();
                 let total: u64 = a.iter().map(|a| a.count).sum();
                 assert_eq!(total, d.report.visits, "k = {k}");
                 let side = k as f32;
@@ -229,7 +238,7 @@ mod tests {
             1.0,
             4,
         );
-        let a = arrows(&d, 4, ArrowScale::Count).unwrap();
+        let a = arrows(&d, 4, ArrowScale::Count, 0).unwrap();
         assert_eq!(a.len(), 1);
         assert_eq!((a[0].count, a[0].direction), (8, Vec3::ZERO));
     }
@@ -239,17 +248,48 @@ mod tests {
         let d = density(vec![ray(Vec3::ZERO, Vec3::X, 2.0)], 1.0, 6);
         assert_eq!(cube_sizes(6), vec![1, 2, 3, 6]);
         assert!(
-            arrows(&d, 4, ArrowScale::Count)
+            arrows(&d, 4, ArrowScale::Count, 0)
                 .unwrap_err()
                 .contains("divide")
         );
-        assert!(arrows(&d, 0, ArrowScale::Count).is_err());
-        assert!(arrows(&d, 3, ArrowScale::Count).is_ok());
+        assert!(arrows(&d, 0, ArrowScale::Count, 0).is_err());
+        assert!(arrows(&d, 3, ArrowScale::Count, 0).is_ok());
+    }
+
+    #[test]
+    fn the_count_threshold_leaves_out_the_sparse_cubes() {
+        // Two rays along +x: one through 8 cells, one through the first cube's 2 only.
+        let d = density(
+            vec![
+                ray(Vec3::new(0.0, 0.5, 0.5), Vec3::X, 8.0),
+                ray(Vec3::new(0.0, 0.5, 0.5), Vec3::X, 2.0),
+            ],
+            1.0,
+            4,
+        );
+        let all = arrows(&d, 2, ArrowScale::Count, 0).unwrap();
+        let most = all.iter().map(|a| a.count).max().unwrap();
+        let least = all.iter().map(|a| a.count).min().unwrap();
+        assert!(most > least, "{all:?}");
+        let kept = arrows(&d, 2, ArrowScale::Count, most).unwrap();
+        assert_eq!((all.len(), kept.len()), (4, 1));
+        assert!(kept.iter().all(|a| a.count >= most));
+        // The kept arrows span the colours and lengths themselves.
+        assert!(kept.iter().any(|a| a.shade == 1.0));
+        assert!(
+            arrows(&d, 2, ArrowScale::Count, most + 1)
+                .unwrap()
+                .is_empty()
+        );
     }
 
     #[test]
     fn no_rays_no_arrows() {
         let d = density(Vec::new(), 1.0, 4);
-        assert!(arrows(&d, 2, ArrowScale::InverseCount).unwrap().is_empty());
+        assert!(
+            arrows(&d, 2, ArrowScale::InverseCount, 0)
+                .unwrap()
+                .is_empty()
+        );
     }
 }
