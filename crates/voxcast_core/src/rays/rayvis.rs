@@ -14,9 +14,12 @@
 //!   `u8 instanceMask`, 3 padding bytes, `f32×16` matrix row-major, 4 padding bytes) followed
 //!   by its `childCount` u32 child ids.
 //!
-//! A node's matrix places its mesh: row-major, acting on column vectors (translation in the
-//! last column), as the listing's DirectX-style renderer stores it transposed; a matrix whose
-//! last column is (0, 0, 0, 1) and last row is not is read the other way round.
+//! A node's matrix places it in its parent's space: row-major, acting on column vectors
+//! (translation in the last column), as the listing's DirectX-style renderer stores it
+//! transposed; a matrix whose last column is (0, 0, 0, 1) and last row is not is read the other
+//! way round. A node's place in the world is its matrix composed down the tree from its
+//! group's root (`rootNodeId`) through every parent; a node no parent names is placed from its
+//! own matrix, as a root, and a cycle (a node reached twice) is an error.
 
 use super::mesh::{Mesh, TriangleScene};
 use super::rdf::{self, Chunk, RdfError};
@@ -250,50 +253,129 @@ fn read_scene(c: &Chunk) -> Result<TriangleScene, RdfError> {
         }
         meshes.push(triangles);
     }
-    // Nodes: each with a mesh places it in the world.
+    // Nodes: each group read whole, then placed down its tree.
     let mut scene = TriangleScene::default();
     for _ in 0..root_count {
-        let nodes = d.count(NODE_BYTES, "nodeCount")?;
-        let _root_id = d.u64("rootNodeId")?;
-        for _ in 0..nodes {
-            let children = d.u64("childCount")?;
-            let mesh_id = d.u64("meshId")?;
-            let color = d.vec3("meshColor")?;
-            let id = d.u32("id")? as i32;
-            d.take(4, "instanceMask and padding")?;
-            let mut m = [0f32; 16];
-            for v in &mut m {
-                *v = d.f32("matrix")?;
-            }
-            d.take(4, "padding")?;
-            if children > ((d.bytes.len() - d.at) / 4) as u64 {
-                return Err(RdfError::Bad(format!(
-                    "{SCENE_CHUNK}: node {id} has {children} children, more than the data holds"
-                )));
-            }
-            d.take(children as usize * 4, "child ids")?;
-            if mesh_id == u64::MAX {
-                continue;
-            }
-            let Some(local) = meshes.get(mesh_id as usize) else {
-                return Err(RdfError::Bad(format!(
-                    "{SCENE_CHUNK}: node {id} names mesh {mesh_id} of {}",
-                    meshes.len()
-                )));
-            };
-            let to_world = node_matrix(m);
-            let triangles = local
-                .iter()
-                .map(|t| t.map(|p| to_world.transform_point3(p)))
-                .collect();
-            scene.meshes.push(Mesh {
-                name: format!("node {id} (mesh {mesh_id})"),
-                color,
-                triangles,
-            });
+        let count = d.count(NODE_BYTES, "nodeCount")?;
+        let root_id = d.u64("rootNodeId")?;
+        let mut nodes = Vec::with_capacity(count);
+        for _ in 0..count {
+            nodes.push(read_node(&mut d, meshes.len())?);
         }
+        place_nodes(&nodes, root_id, &meshes, &mut scene)?;
     }
     Ok(scene)
+}
+
+/// One node as stored: its id, mesh, colour, matrix (in its parent's space) and children.
+struct Node {
+    id: i32,
+    mesh: Option<usize>,
+    color: Vec3,
+    local: Mat4,
+    children: Vec<u32>,
+}
+
+fn read_node(d: &mut Cursor<'_>, mesh_count: usize) -> Result<Node, RdfError> {
+    let children = d.u64("childCount")?;
+    let mesh_id = d.u64("meshId")?;
+    let color = d.vec3("meshColor")?;
+    let id = d.u32("id")? as i32;
+    d.take(4, "instanceMask and padding")?;
+    let mut m = [0f32; 16];
+    for v in &mut m {
+        *v = d.f32("matrix")?;
+    }
+    d.take(4, "padding")?;
+    if children > ((d.bytes.len() - d.at) / 4) as u64 {
+        return Err(RdfError::Bad(format!(
+            "{SCENE_CHUNK}: node {id} has {children} children, more than the data holds"
+        )));
+    }
+    let mut ids = Vec::with_capacity(children as usize);
+    for _ in 0..children {
+        ids.push(d.u32("child id")?);
+    }
+    let mesh = match mesh_id {
+        u64::MAX => None,
+        m if (m as usize) < mesh_count => Some(m as usize),
+        m => {
+            return Err(RdfError::Bad(format!(
+                "{SCENE_CHUNK}: node {id} names mesh {m} of {mesh_count}"
+            )));
+        }
+    };
+    Ok(Node {
+        id,
+        mesh,
+        color,
+        local: node_matrix(m),
+        children: ids,
+    })
+}
+
+/// Places one group's nodes: from the root down, each node's world matrix its parent's times
+/// its own; then, the same way, from each node no node names as a child. A node reached twice,
+/// or never (a cycle), is an error.
+fn place_nodes(
+    nodes: &[Node],
+    root_id: u64,
+    meshes: &[Vec<[Vec3; 3]>],
+    scene: &mut TriangleScene,
+) -> Result<(), RdfError> {
+    let index_of = |id: i64| nodes.iter().position(|n| i64::from(n.id) == id);
+    let mut placed = vec![false; nodes.len()];
+    let named: std::collections::HashSet<u32> = nodes
+        .iter()
+        .flat_map(|n| n.children.iter().copied())
+        .collect();
+    let orphans = (0..nodes.len()).filter(|&i| !named.contains(&(nodes[i].id as u32)));
+    let roots: Vec<usize> = index_of(root_id as i64)
+        .into_iter()
+        .chain(orphans)
+        .collect();
+    for root in roots {
+        if placed[root] {
+            continue;
+        }
+        let mut stack = vec![(root, Mat4::IDENTITY)];
+        while let Some((i, parent)) = stack.pop() {
+            if std::mem::replace(&mut placed[i], true) {
+                return Err(RdfError::Bad(format!(
+                    "{SCENE_CHUNK}: node {} is reached twice (a cycle or a shared child)",
+                    nodes[i].id
+                )));
+            }
+            let n = &nodes[i];
+            let to_world = parent * n.local;
+            if let Some(m) = n.mesh {
+                scene.meshes.push(Mesh {
+                    name: format!("node {} (mesh {m})", n.id),
+                    color: n.color,
+                    triangles: meshes[m]
+                        .iter()
+                        .map(|t| t.map(|p| to_world.transform_point3(p)))
+                        .collect(),
+                });
+            }
+            for &child in n.children.iter().rev() {
+                let Some(c) = index_of(i64::from(child)) else {
+                    return Err(RdfError::Bad(format!(
+                        "{SCENE_CHUNK}: node {} names child {child}, which is not in its group",
+                        n.id
+                    )));
+                };
+                stack.push((c, to_world));
+            }
+        }
+    }
+    match placed.iter().position(|p| !p) {
+        Some(i) => Err(RdfError::Bad(format!(
+            "{SCENE_CHUNK}: node {} is in a cycle no root reaches",
+            nodes[i].id
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// `data` as a `.rayvis` file: its scene (a mesh and a node per mesh, placed by the identity)
@@ -396,6 +478,33 @@ mod tests {
         // The records have the pinned sizes: 52 bytes a ray.
         let chunks = rdf::read(&file).unwrap();
         assert_eq!(chunks[1].data.len(), 500 * RAY_BYTES);
+    }
+
+    /// A hierarchy two levels deep, written by an independent writer
+    /// (`tests/data/two_level_rayvis.py`, from the listings and the RDF specification): each
+    /// mesh placed by its matrices composed from the root down.
+    #[test]
+    fn a_node_hierarchy_is_composed_from_the_root_down() {
+        let bytes = include_bytes!("../../../../tests/data/two_level.rayvis");
+        let d = read(bytes, "two_level.rayvis").unwrap();
+        let placed: Vec<[Vec3; 3]> = d.scene.meshes.iter().map(|m| m.triangles[0]).collect();
+        let v = Vec3::new;
+        let want = [
+            [v(10.0, 5.0, 0.0), v(12.0, 5.0, 0.0), v(10.0, 7.0, 0.0)],
+            [v(10.0, 5.0, 6.0), v(10.0, 7.0, 6.0), v(8.0, 5.0, 6.0)],
+        ];
+        assert_eq!(placed.len(), 2, "the root has no mesh");
+        for (got, want) in placed.iter().zip(&want) {
+            for (a, b) in got.iter().zip(want) {
+                assert!(a.abs_diff_eq(*b, 1e-5), "{got:?} vs {want:?}");
+            }
+        }
+        assert_eq!(d.traces[0].trace_id, 7);
+        assert_eq!(d.traces[0].rays[0].origin, v(0.0, 0.0, -5.0));
+        // The same with the grandchild naming its parent as a child: an error, not a loop.
+        let cycle = include_bytes!("../../../../tests/data/cycle.rayvis");
+        let e = read(cycle, "cycle.rayvis").unwrap_err().to_string();
+        assert!(e.contains("node 1 is reached twice"), "{e}");
     }
 
     #[test]
