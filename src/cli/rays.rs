@@ -117,8 +117,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "LOW,HIGH", value_parser = super::args::parse_range, allow_negative_numbers = true)]
     pub sum_range: Option<(f32, f32)>,
     /// How the scene is drawn under the density: grey (RayVis's default), colour (each mesh's
-    /// own) or hidden (the density alone; meshes do not stop the rays).
-    #[arg(long, default_value = "grey", value_parser = ["grey", "colour", "color", "hidden"])]
+    /// own), instance (a colour per mesh instance), normals, barycentrics, or hidden (the
+    /// density alone; meshes do not stop the rays).
+    #[arg(long, default_value = "grey", value_parser = ["grey", "colour", "color", "instance", "normals", "barycentrics", "hidden"])]
     pub scene: String,
     /// The PNG to write.
     #[arg(long, value_name = "FILE.png")]

@@ -220,25 +220,38 @@ fn shade_scene(
 }
 
 /// Linear colours of mesh `index`'s vertices (three a triangle) seen from `eye` (the rays'
-/// world): the mesh's base (grey or its own colour) × (ambient + (1 − ambient)·|n·d|).
+/// world), as the core's `shade_hit` shades a hit: the base (grey, the mesh's own colour or
+/// its instance's) × (ambient + (1 − ambient)·|n·d|); the normal turned to the eye; or the
+/// corners red, green and blue, so the GPU's interpolation gives the barycentric coordinates.
 fn vertex_shades(
     scene: &TriangleScene,
     index: usize,
     eye: Vec3,
     shading: SceneShading,
 ) -> Vec<[f32; 4]> {
+    use voxcast_core::rays::layered::{instance_colour, normal_colour};
     let m = &scene.meshes[index];
     let base = match shading {
         SceneShading::Colour => m.color,
+        SceneShading::Instance => instance_colour(index),
         _ => Vec3::splat(0.8),
     };
     m.triangles
         .iter()
         .flat_map(|[a, b, c]| {
             let n = (*b - *a).cross(*c - *a).normalize_or_zero();
+            let corners = [Vec3::X, Vec3::Y, Vec3::Z];
+            let mut k = 0;
             [*a, *b, *c].map(|v| {
-                let lambert = n.dot((v - eye).normalize_or_zero()).abs();
-                let s = base * (AMBIENT + (1.0 - AMBIENT) * lambert);
+                let to_eye = (eye - v).normalize_or_zero();
+                let s = match shading {
+                    SceneShading::Normals => {
+                        normal_colour(if n.dot(to_eye) < 0.0 { -n } else { n })
+                    }
+                    SceneShading::Barycentrics => corners[k],
+                    _ => base * (AMBIENT + (1.0 - AMBIENT) * n.dot(to_eye).abs()),
+                };
+                k += 1;
                 [s.x, s.y, s.z, 1.0]
             })
         })

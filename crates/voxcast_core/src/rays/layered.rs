@@ -18,7 +18,7 @@ use crate::trace::Scene;
 use glam::{Vec3, Vec4};
 use std::sync::atomic::AtomicBool;
 
-/// How the scene's meshes are drawn under the density.
+/// How the scene's meshes are drawn under the density (RayVis's scene shading modes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum SceneShading {
     /// Smooth grey, lit from the eye (RayVis's default diffuse shading).
@@ -26,18 +26,36 @@ pub enum SceneShading {
     Grey,
     /// Each mesh's own colour, lit the same way.
     Colour,
+    /// Each mesh instance in a colour of its own ([`instance_colour`]), lit the same way: tells
+    /// the instances apart where their own colours are alike.
+    Instance,
+    /// The surface's normal (turned towards the eye) as a colour, `0.5 + 0.5·n`, unlit.
+    Normals,
+    /// The barycentric coordinates within each triangle as a colour (red, green and blue at
+    /// its first, second and third corner), unlit: shows the triangles.
+    Barycentrics,
     /// Not drawn, and not stopping rays: the density alone.
     Hidden,
 }
 
 impl SceneShading {
-    pub const ALL: [SceneShading; 3] = [Self::Grey, Self::Colour, Self::Hidden];
+    pub const ALL: [SceneShading; 6] = [
+        Self::Grey,
+        Self::Colour,
+        Self::Instance,
+        Self::Normals,
+        Self::Barycentrics,
+        Self::Hidden,
+    ];
 
     /// The name the command line and the sandbox use.
     pub const fn name(self) -> &'static str {
         match self {
             Self::Grey => "grey",
             Self::Colour => "colour",
+            Self::Instance => "instance",
+            Self::Normals => "normals",
+            Self::Barycentrics => "barycentrics",
             Self::Hidden => "hidden",
         }
     }
@@ -47,6 +65,11 @@ impl SceneShading {
         match self {
             Self::Grey => "The scene in smooth grey, lit from the eye (RayVis's default).",
             Self::Colour => "Each mesh in its own colour, lit from the eye.",
+            Self::Instance => "Each mesh instance in a colour of its own, lit from the eye.",
+            Self::Normals => "The surface normal as a colour (0.5 + 0.5·n), unlit.",
+            Self::Barycentrics => {
+                "Each triangle's barycentric coordinates as red, green and blue, unlit."
+            }
             Self::Hidden => "No scene: the density alone, and rays are not stopped by meshes.",
         }
     }
@@ -61,16 +84,41 @@ impl SceneShading {
 /// Light every surface gets whatever its angle, so walls seen edge-on stay visible.
 pub const AMBIENT: f32 = 0.25;
 
-/// The shaded colour of `hit` seen along `dir`: `(AMBIENT + (1 − AMBIENT)·|n·d|)` times grey
-/// or the mesh's colour; `None` when the scene is hidden.
+/// Mesh instance `i`'s colour: hues a golden angle apart (no two neighbours alike), full
+/// saturation at 0.85 brightness.
+pub fn instance_colour(i: usize) -> Vec3 {
+    let hue = (i as f32 * 0.618_034).fract() * 6.0;
+    let x = 1.0 - ((hue % 2.0) - 1.0).abs();
+    let rgb = match hue as u32 {
+        0 => Vec3::new(1.0, x, 0.0),
+        1 => Vec3::new(x, 1.0, 0.0),
+        2 => Vec3::new(0.0, 1.0, x),
+        3 => Vec3::new(0.0, x, 1.0),
+        4 => Vec3::new(x, 0.0, 1.0),
+        _ => Vec3::new(1.0, 0.0, x),
+    };
+    rgb * 0.85
+}
+
+/// The shaded colour of `hit` seen along `dir`: for grey, the mesh's colour and the
+/// instance's, that base times `(AMBIENT + (1 − AMBIENT)·|n·d|)`; the normal or the
+/// barycentric coordinates as they are; `None` when the scene is hidden.
 pub fn shade_hit(scene: &TriangleScene, hit: &Hit, dir: Vec3, mode: SceneShading) -> Option<Vec3> {
     let base = match mode {
         SceneShading::Grey => Vec3::splat(0.8),
         SceneShading::Colour => scene.meshes[hit.mesh].color,
+        SceneShading::Instance => instance_colour(hit.mesh),
+        SceneShading::Normals => return Some(normal_colour(hit.normal)),
+        SceneShading::Barycentrics => return Some(hit.barycentric.clamp(Vec3::ZERO, Vec3::ONE)),
         SceneShading::Hidden => return None,
     };
     let lambert = hit.normal.dot(dir.normalize_or_zero()).abs();
     Some(base * (AMBIENT + (1.0 - AMBIENT) * lambert))
+}
+
+/// A unit normal as a colour, `0.5 + 0.5·n`.
+pub fn normal_colour(n: Vec3) -> Vec3 {
+    Vec3::splat(0.5) + 0.5 * n
 }
 
 /// A triangle scene as the opaque surface a density's rays stop at (the CPU's twin of the
@@ -371,6 +419,21 @@ mod tests {
         let grazing = shade_hit(&scene, &hit, Vec3::X, SceneShading::Grey).unwrap();
         assert_eq!(grazing, Vec3::splat(0.8 * AMBIENT));
         assert_eq!(shade_hit(&scene, &hit, Vec3::X, SceneShading::Hidden), None);
+        // The wall faces +z (towards the eye): its normal colour is (0.5, 0.5, 1), unlit.
+        let normals = shade_hit(&scene, &hit, Vec3::X, SceneShading::Normals).unwrap();
+        assert_eq!(normals, Vec3::new(0.5, 0.5, 1.0));
+        let instance = shade_hit(&scene, &hit, Vec3::NEG_Z, SceneShading::Instance).unwrap();
+        assert_eq!(instance, instance_colour(0));
+        // Barycentrics: the weights of the hit triangle's corners, summing to 1.
+        let b = shade_hit(&scene, &hit, Vec3::X, SceneShading::Barycentrics).unwrap();
+        let tri = &scene.meshes[hit.mesh].triangles[hit.triangle];
+        let at = b.x * tri[0] + b.y * tri[1] + b.z * tri[2];
+        assert!(at.abs_diff_eq(Vec3::ZERO, 1e-5) && (b.element_sum() - 1.0).abs() < 1e-5);
+        // Neighbouring instances differ.
+        for i in 0..8 {
+            let (a, c) = (instance_colour(i), instance_colour(i + 1));
+            assert!((a - c).abs().max_element() > 0.2, "{i}: {a} {c}");
+        }
         for m in SceneShading::ALL {
             assert_eq!(SceneShading::parse(m.name()), Some(m));
         }

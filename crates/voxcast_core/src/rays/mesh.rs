@@ -44,6 +44,23 @@ pub struct Hit {
     pub triangle: usize,
     /// The triangle's unit normal, turned to face the ray's origin.
     pub normal: Vec3,
+    /// The hit's barycentric coordinates: the weights of the triangle's three corners.
+    pub barycentric: Vec3,
+}
+
+/// The barycentric coordinates of `p` (in the plane of `tri`): the weights `(w0, w1, w2)`,
+/// summing to 1, with `p = w0·a + w1·b + w2·c`.
+pub fn barycentric(tri: &[Vec3; 3], p: Vec3) -> Vec3 {
+    let (e1, e2, d) = (tri[1] - tri[0], tri[2] - tri[0], p - tri[0]);
+    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let (d1, d2) = (d.dot(e1), d.dot(e2));
+    let den = d11 * d22 - d12 * d12;
+    if den.abs() <= f32::MIN_POSITIVE {
+        return Vec3::new(1.0, 0.0, 0.0);
+    }
+    let v = (d22 * d1 - d12 * d2) / den;
+    let w = (d11 * d2 - d12 * d1) / den;
+    Vec3::new(1.0 - v - w, v, w)
 }
 
 /// Möller & Trumbore: the `t` at which `origin + t·dir` crosses triangle `tri`, if it does
@@ -99,6 +116,7 @@ impl TriangleScene {
             mesh,
             triangle,
             normal,
+            barycentric: barycentric(tri, origin + dir * t),
         })
     }
 
