@@ -146,6 +146,10 @@ pub struct SandboxArgs {
     pub ray_cube: Option<u32>,
     #[arg(long, help = voxcast_core::tunables::FIELD_MIN_COUNT.doc)]
     pub ray_min_count: Option<u64>,
+    /// With `--ray-view mesh`: mark each ray's start with a cross and its end with an
+    /// arrowhead.
+    #[arg(long)]
+    pub ray_glyphs: bool,
 }
 
 /// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): the player's
@@ -441,6 +445,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
     if let Some(n) = args.ray_min_count {
         choices.view.min_count = n;
     }
+    choices.view.glyphs = args.ray_glyphs;
     app.insert_resource(choices);
     app.insert_resource(preview::PreviewSettings {
         backend: match args.preview_backend.as_deref() {

@@ -266,6 +266,8 @@ pub struct ViewChoices {
     pub field: bool,
     /// The ray mesh draws every `stride`-th ray the filter passes.
     pub stride: usize,
+    /// The ray mesh marks each ray's start (a cross) and end (an arrowhead).
+    pub glyphs: bool,
     pub hit_colour: [f32; 3],
     pub miss_colour: [f32; 3],
     /// The vector field's sample cube, cells a side (divides the chunk).
@@ -283,6 +285,7 @@ impl Default for ViewChoices {
             mesh: false,
             field: false,
             stride: t::RAY_STRIDE.default as usize,
+            glyphs: false,
             hit_colour: [1.0, 0.55, 0.1],
             miss_colour: [0.35, 0.7, 1.0],
             cube: t::SAMPLE_CUBE.default as u32,

@@ -21,7 +21,7 @@ use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use voxcast_core::rays::field::{Arrow, arrows};
 use voxcast_core::rays::layered::{AMBIENT, SceneShading};
-use voxcast_core::rays::lines::{LineParams, padded, ray_lines};
+use voxcast_core::rays::lines::{GLYPH_SEGMENTS, LineParams, glyphs, padded, ray_lines};
 use voxcast_core::rays::mesh::TriangleScene;
 
 /// How far beyond the scene's box the ray mesh is drawn, as a share of its longest side.
@@ -303,10 +303,18 @@ fn geometry(shown: &Shown, view: &ViewChoices) -> Geometry {
         let (hit, miss) = (view.hit_colour, view.miss_colour);
         let mut positions = Vec::with_capacity(lines.lines.len() * 2);
         let mut colours = Vec::with_capacity(lines.lines.len() * 2);
+        // Glyphs a hundredth of the drawn box across.
+        let size = 0.01 * (bounds.1 - bounds.0).length();
         for l in &lines.lines {
-            positions.extend([l.from.to_array(), l.to.to_array()]);
             let [r, g, b] = if l.hit { hit } else { miss };
+            positions.extend([l.from.to_array(), l.to.to_array()]);
             colours.extend([[r, g, b, 1.0]; 2]);
+            if view.glyphs {
+                for (a, z) in glyphs(l, size) {
+                    positions.extend([a.to_array(), z.to_array()]);
+                    colours.extend([[r, g, b, 1.0]; 2]);
+                }
+            }
         }
         (positions, colours)
     });
@@ -324,7 +332,8 @@ fn geometry(shown: &Shown, view: &ViewChoices) -> Geometry {
     } else {
         None
     };
-    let cpu = [(&rays, 1), (&field, ARROW_SEGMENTS)]
+    let per_ray = if view.glyphs { 1 + GLYPH_SEGMENTS } else { 1 };
+    let cpu = [(&rays, per_ray), (&field, ARROW_SEGMENTS)]
         .into_iter()
         .filter_map(|(list, per_item)| {
             let (positions, colours) = list.as_ref().filter(|l| !l.0.is_empty())?;

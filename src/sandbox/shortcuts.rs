@@ -1,5 +1,6 @@
 //! Keyboard shortcuts for RayVis's common view toggles (RayVis's users asked for them): V the
-//! density volume, M the ray mesh, F the vector field, S the scene's shading in turn. Keys egui
+//! density volume, M the ray mesh, G its start and end glyphs, F the vector field, S the
+//! scene's shading in turn. Keys egui
 //! wants (a text field being typed in) are left to egui. The Ray data panel lists them
 //! ([`SHORTCUTS`]).
 
@@ -9,21 +10,23 @@ use bevy_egui::input::EguiWantsInput;
 use voxcast_core::rays::layered::SceneShading;
 
 /// The shortcuts, in words, for the panel.
-pub const SHORTCUTS: &str =
-    "Keys: V the density volume, M the ray mesh, F the vector field, S the scene's shading";
+pub const SHORTCUTS: &str = "Keys: V the density volume, M the ray mesh, G its glyphs, F the vector field, S the \
+     scene's shading";
 
 /// What a key toggles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Toggle {
     Volume,
     Mesh,
+    Glyphs,
     Field,
     Shading,
 }
 
-const KEYS: [(KeyCode, Toggle); 4] = [
+const KEYS: [(KeyCode, Toggle); 5] = [
     (KeyCode::KeyV, Toggle::Volume),
     (KeyCode::KeyM, Toggle::Mesh),
+    (KeyCode::KeyG, Toggle::Glyphs),
     (KeyCode::KeyF, Toggle::Field),
     (KeyCode::KeyS, Toggle::Shading),
 ];
@@ -56,6 +59,7 @@ fn apply(c: &mut RayChoices, toggle: Toggle) {
     match toggle {
         Toggle::Volume => v.volume = !v.volume,
         Toggle::Mesh => v.mesh = !v.mesh,
+        Toggle::Glyphs => v.glyphs = !v.glyphs,
         Toggle::Field => v.field = !v.field,
         Toggle::Shading => {
             let all = SceneShading::ALL;
@@ -92,6 +96,8 @@ mod tests {
         assert!(view(&app).mesh != before.mesh);
         press(&mut app, KeyCode::KeyF);
         assert!(view(&app).field != before.field);
+        press(&mut app, KeyCode::KeyG);
+        assert!(view(&app).glyphs != before.glyphs);
         press(&mut app, KeyCode::KeyV);
         assert!(view(&app).volume != before.volume);
         let mut seen = vec![view(&app).shading];
@@ -101,7 +107,7 @@ mod tests {
         }
         assert_eq!(seen.first(), seen.last(), "round the shadings");
         assert_eq!(seen.len(), SceneShading::ALL.len() + 1);
-        for k in [KeyCode::KeyM, KeyCode::KeyF, KeyCode::KeyV] {
+        for k in [KeyCode::KeyM, KeyCode::KeyF, KeyCode::KeyV, KeyCode::KeyG] {
             press(&mut app, k);
         }
         assert_eq!(view(&app), before);

@@ -311,6 +311,10 @@ fn view_controls(
             {
                 v.stride = stride as usize;
             }
+            ui.checkbox(&mut v.glyphs, "Start and end glyphs")
+                .on_hover_text(
+                    "A cross where each ray starts and an arrowhead where it hit or ended (G)",
+                );
             ui.horizontal(|ui| {
                 ui.color_edit_button_rgb(&mut v.hit_colour)
                     .on_hover_text("The colour of rays that hit");

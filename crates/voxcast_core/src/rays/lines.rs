@@ -36,6 +36,35 @@ pub struct RayLines {
     pub outside: usize,
 }
 
+/// Segments per ray of [`glyphs`]: a three-armed cross at the start, an arrowhead of four
+/// strokes at the end.
+pub const GLYPH_SEGMENTS: usize = 7;
+
+/// A ray line's start and end glyphs (RayVis marks where a ray begins and where it ends), as
+/// segments of `size` world units: a cross of three axis-aligned strokes centred on `from`,
+/// and an arrowhead at `to`, four strokes back along the line at 30° to it, in two planes at
+/// right angles. A line of no length gets the cross only (its arrowhead strokes are empty).
+pub fn glyphs(l: &RayLine, size: f32) -> [(Vec3, Vec3); GLYPH_SEGMENTS] {
+    let h = 0.5 * size;
+    let cross = [Vec3::X, Vec3::Y, Vec3::Z].map(|a| (l.from - a * h, l.from + a * h));
+    let dir = (l.to - l.from).normalize_or_zero();
+    let (u, v) = dir.any_orthonormal_pair();
+    let (back, side) = (
+        size * 30f32.to_radians().cos(),
+        size * 30f32.to_radians().sin(),
+    );
+    let head = [u, -u, v, -v].map(|p| {
+        if dir == Vec3::ZERO {
+            (l.to, l.to)
+        } else {
+            (l.to, l.to - dir * back + p * side)
+        }
+    });
+    [
+        cross[0], cross[1], cross[2], head[0], head[1], head[2], head[3],
+    ]
+}
+
 /// The lines of `set` (see the module's text), in the rays' order.
 pub fn ray_lines(set: &RaySet, p: &LineParams) -> RayLines {
     let mut out = RayLines::default();
@@ -90,6 +119,31 @@ pub fn padded(bounds: (Vec3, Vec3), pad: f32) -> (Vec3, Vec3) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The cross is centred on the start, the arrowhead's strokes leave the end backwards at
+    /// 30° to the line, each `size` long.
+    #[test]
+    fn glyphs_mark_the_start_and_the_end() {
+        let l = RayLine {
+            from: Vec3::new(1.0, 2.0, 3.0),
+            to: Vec3::new(1.0, 2.0, 13.0),
+            hit: true,
+        };
+        let g = glyphs(&l, 0.5);
+        for (a, b) in &g[..3] {
+            assert!(((*a + *b) * 0.5).abs_diff_eq(l.from, 1e-6));
+            assert!((a.distance(*b) - 0.5).abs() < 1e-6);
+        }
+        for (a, b) in &g[3..] {
+            assert_eq!(*a, l.to);
+            let stroke = *b - *a;
+            assert!((stroke.length() - 0.5).abs() < 1e-5);
+            let cos = stroke.normalize().dot(Vec3::NEG_Z);
+            assert!((cos - 30f32.to_radians().cos()).abs() < 1e-5, "{cos}");
+        }
+        let dot = RayLine { to: l.from, ..l };
+        assert!(glyphs(&dot, 0.5)[3..].iter().all(|(a, b)| a == b));
+    }
 
     const BOX: (Vec3, Vec3) = (Vec3::splat(-10.0), Vec3::splat(10.0));
 
