@@ -215,8 +215,8 @@ fn answers_are_exported_as_csv() {
     let csv = String::from_utf8_lossy(&o.stdout);
     assert_eq!(
         csv,
-        "level,step,question,answer,expected,correct,time (UTC)\n\
-         trilinear,2,\"the value at (0.5, 0.5, 0.5)\",4.99,4.988,yes,2026-12-05T09:53:47Z\n"
+        "level,step,question,answer,expected,correct,time (UTC),run\n\
+         trilinear,2,\"the value at (0.5, 0.5, 0.5)\",4.99,4.988,yes,2026-12-05T09:53:47Z,\n"
     );
     let out = dir.join("answers.csv");
     let o = run(&["answers", "--out", out.to_str().unwrap()]);
@@ -613,10 +613,11 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
     let out = text(&o);
     for line in [
         "30 triangles",
-        "trace 0 (primary rays): 65536 rays",
-        "trace 1 (shadow rays)",
+        "trace 0 (primary rays from camera 1): 65536 rays",
+        "trace 1 (primary rays from camera 2): 65536 rays",
         "trace 2 (reflection rays)",
         "trace 3 (ambient-occlusion rays)",
+        "trace 4 (shadow rays)",
     ] {
         assert!(out.contains(line), "{line} in\n{out}");
     }
@@ -627,7 +628,7 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
         "density",
         "builtin:cornell",
         "--trace",
-        "1",
+        "4",
         "--filter",
         "hit",
         "--cell",
@@ -640,7 +641,7 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
     assert!(o.status.success(), "{}", text(&o));
     let out = text(&o);
     assert!(
-        out.contains("trace 1 (shadow rays)") && out.contains("cell visits"),
+        out.contains("trace 4 (shadow rays)") && out.contains("cell visits"),
         "{out}"
     );
     let info = voxcast(&["info", counts.to_str().unwrap()]);
@@ -664,7 +665,7 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
         (vec!["--cell", "0.01"], "more than the 2048 MiB allowed"),
         (
             vec!["--cell", "20", "--trace", "9"],
-            "has traces 0, 1, 2, 3",
+            "has traces 0, 1, 2, 3, 4",
         ),
         (vec!["--cell", "20", "--chunk", "0"], "chunk size 0"),
     ] {

@@ -115,8 +115,8 @@ impl VolumeArgs {
 #[derive(Args, Debug, Clone, Default)]
 pub struct SettingsArgs {
     /// Transfer function: a preset name (bunny, brainsmall, brainsmall-projections, shells,
-    /// marschner-lobb, bucky, voxel, head, blobs, masked, ct_skin_bone, mri_brain; inferno,
-    /// matplotlib's colour map over the volume's values, for Sum), a Voxcast preset or
+    /// marschner-lobb, bucky, voxel, head, head-brain, blobs, masked, ct_skin_bone, mri_brain;
+    /// inferno, matplotlib's colour map over the volume's values, for Sum), a Voxcast preset or
     /// transfer-function JSON file, or a peer TF JSON (../shared/tools/peer/tf/*.json).
     /// Default: the volume's preset.
     #[arg(long)]

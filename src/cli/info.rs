@@ -92,16 +92,18 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
         sig(p[4])
     );
     const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
+    // A height in [0, 1] as one of eight bars (a blank for none).
+    let bar = |x: f32| {
+        if x == 0.0 {
+            ' '
+        } else {
+            BARS[((x * 7.0).round() as usize).min(7)]
+        }
+    };
     let bars: String = h
         .heights(HistogramScale::Log)
-        .iter()
-        .map(|&x| {
-            if x == 0.0 {
-                ' '
-            } else {
-                BARS[((x * 7.0).round() as usize).min(7)]
-            }
-        })
+        .into_iter()
+        .map(bar)
         .collect();
     println!("histogram (64 bins, log): |{bars}|");
     // Value across, gradient magnitude up: where --classify rects:… draws its rectangles.
@@ -113,14 +115,7 @@ pub fn run(a: &InfoArgs) -> Result<(), CliError> {
     );
     for row in (0..joint.bins[1]).rev() {
         let line: String = (0..joint.bins[0])
-            .map(|col| {
-                let x = shades[row * joint.bins[0] + col];
-                if x == 0.0 {
-                    ' '
-                } else {
-                    BARS[((x * 7.0).round() as usize).min(7)]
-                }
-            })
+            .map(|col| bar(shades[row * joint.bins[0] + col]))
             .collect();
         println!("  |{line}|");
     }

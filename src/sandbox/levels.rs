@@ -640,6 +640,7 @@ pub(super) fn situation(
             .iter()
             .any(|l| matches!(l.light, voxcast_core::shade::Light::Spot(_)) && l.ambient > 0.0),
         emission: render.settings.phong.ke,
+        ka: render.settings.phong.ka,
         depth_cue: render.settings.phong.depth_cue,
         light_colors: lights.iter().map(|l| l.color.to_array()).collect(),
         attenuated: lights.iter().any(|l| l.attenuated()),

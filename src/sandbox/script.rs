@@ -505,6 +505,7 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             // Emission raised, the last light made a spot aimed at the centre with an ambient
             // share, as a student would in the Shading and light panel.
             s.phong.ke = 0.15;
+            s.phong.ka = s.phong.ka.max(0.2);
             let at = hi + (hi - lo) * Vec3::new(0.2, 0.5, 0.3);
             let spot = Light::Spot(voxcast_core::shade::Spot {
                 position: at,

@@ -217,8 +217,9 @@ pub enum Objective {
     OpenLitSample { lights: usize },
     /// Choose the highlight's colour: Levoy's (the sample's colour, `true`) or white.
     LevoyHighlight { on: bool },
-    /// Shade with the lecture's full illumination model: emission above zero and a spot light
-    /// with an ambient share of its own.
+    /// Shade with the lecture's full illumination model: emission above zero, a spot light
+    /// with an ambient share of its own, and an ambient coefficient above zero (without which
+    /// every ambient term is zero).
     FullModel,
     /// Turn Levoy's depth cue on or off.
     DepthCue { on: bool },
@@ -339,6 +340,8 @@ pub struct Situation {
     pub spot_ambient: bool,
     /// The emission coefficient ke.
     pub emission: f32,
+    /// The ambient coefficient ka (the lights' ambient terms are I_a·ka·c).
+    pub ka: f32,
     /// Levoy's depth cue is on.
     pub depth_cue: bool,
     /// Each light's colour.
@@ -440,7 +443,7 @@ impl Objective {
                 s.opened_sample_lights.is_some_and(|n| n >= *lights)
             }
             Objective::LevoyHighlight { on } => s.levoy_highlight == *on,
-            Objective::FullModel => s.emission > 0.0 && s.spot_ambient,
+            Objective::FullModel => s.emission > 0.0 && s.spot_ambient && s.ka > 0.0,
             Objective::DepthCue { on } => s.depth_cue == *on,
             Objective::RegionAround {
                 value,
@@ -915,6 +918,11 @@ mod tests {
         s.emission = 0.1;
         assert!(!Objective::FullModel.met(&s));
         s.spot_ambient = true;
+        assert!(
+            !Objective::FullModel.met(&s),
+            "ka = 0: no ambient term shows"
+        );
+        s.ka = 0.2;
         assert!(Objective::FullModel.met(&s));
         s.emission = 0.0;
         assert!(!Objective::FullModel.met(&s));

@@ -49,8 +49,8 @@ impl Effect {
     /// Its name, in words.
     pub const fn words(self) -> &'static str {
         match self {
-            Effect::Primary => "primary rays (camera 1)",
-            Effect::SecondPrimary => "primary rays (camera 2)",
+            Effect::Primary => "primary rays from camera 1",
+            Effect::SecondPrimary => "primary rays from camera 2",
             Effect::Reflection => "reflection rays",
             Effect::AmbientOcclusion => "ambient-occlusion rays",
             Effect::Shadow => "shadow rays",
