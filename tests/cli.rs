@@ -711,7 +711,7 @@ fn rays_info_and_density_describe_and_write_the_cornell_box() {
     let name = file.to_str().unwrap();
     assert_eq!(out.matches(name).count(), 1, "{out}");
     assert!(
-        out.starts_with(&format!("{name}: a RayVis file: 4 traces")),
+        out.starts_with(&format!("{name}: a RayVis file: 5 traces")),
         "{out}"
     );
     let garbage = out_dir().join("garbage.rayvis");

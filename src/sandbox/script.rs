@@ -580,12 +580,18 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
         Objective::StudyQuestion { trace, question } => {
             // The trace computed first, as the step asks; then the answer the code finds in
             // it, as a student who reads the density right would give it.
+            use voxcast_core::rays::set::Filter;
             use voxcast_core::rays::study::Question;
+            let hits_only = Question::parse(question).is_some_and(Question::needs_hits_density);
+            let filter = if hits_only { Filter::Hit } else { Filter::All };
             let shown = lessons.on_show.clone().filter(|s| {
                 let f = &s.computed.facts;
-                f.source.starts_with("builtin:cornell") && f.trace == Some(*trace)
+                f.source.starts_with("builtin:cornell")
+                    && f.trace == Some(*trace)
+                    && (!hits_only || s.computed.density.params.filter == filter)
             });
             let Some(shown) = shown else {
+                hands.ray_choices.params.filter = filter;
                 compute_density(hands, "builtin:cornell", Some(*trace), 0);
                 return;
             };
@@ -594,7 +600,11 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 .iter()
                 .position(|l| l.steps.iter().any(|s| s.objective == *objective));
             if let (Some(q), Some(l)) = (Question::parse(question), level)
-                && let Some(truth) = q.answer(&shown.computed.data.scene, &shown.computed.set)
+                && let Some(truth) = q.answer(
+                    &shown.computed.data.scene,
+                    &shown.computed.set,
+                    Some(&shown.computed.density),
+                )
             {
                 lessons.answer_study(l, (*trace, question), &truth, &truth);
             }

@@ -372,19 +372,30 @@ fn study_question(
     let Some(q) = Question::parse(key) else {
         return;
     };
+    use voxcast_core::rays::set::Filter;
+    let hits_only = q.needs_hits_density();
     let shown = lessons.on_show.clone().filter(|s| {
         let f = &s.computed.facts;
-        f.source.starts_with("builtin:cornell") && f.trace == Some(trace)
+        f.source.starts_with("builtin:cornell")
+            && f.trace == Some(trace)
+            && (!hits_only || s.computed.density.params.filter == Filter::Hit)
     });
     let Some(shown) = shown else {
         ui.colored_label(
             egui::Color32::YELLOW,
-            format!("In Ray data, choose trace {trace} of the Cornell box and Compute first."),
+            format!(
+                "In Ray data, choose trace {trace} of the Cornell box{} and Compute first.",
+                if hits_only {
+                    ", set the filter to the rays that hit,"
+                } else {
+                    ""
+                }
+            ),
         );
         return;
     };
     let scene = &shown.computed.data.scene;
-    let truth = q.answer(scene, &shown.computed.set);
+    let truth = q.answer(scene, &shown.computed.set, Some(&shown.computed.density));
     let mut chosen = None;
     ui.horizontal_wrapped(|ui| {
         for option in q.options(scene) {

@@ -6,7 +6,11 @@
 //!   and higher than the box, inside the box, or behind it.
 //! * **Where are the hitting rays located?** — the surface most of the trace's hitting rays
 //!   start from (a secondary ray leaves its surface a hair's breadth off it).
+//! * **Where is the density of the hitting rays particularly high?** — where the densest cell
+//!   of the trace's ray density (the hitting rays counted) lies, placed against the box as a
+//!   camera is: rays that start at one eye crowd together there.
 
+use super::density::Density;
 use super::effects::SURFACE_OFFSET;
 use super::mesh::TriangleScene;
 use super::set::RaySet;
@@ -59,6 +63,8 @@ pub enum Question {
     Camera,
     /// Where are the hitting rays located (the surface most of them start from)?
     Hits,
+    /// Where is the density of the hitting rays highest (its densest cell)?
+    DensityHigh,
 }
 
 impl Question {
@@ -67,6 +73,7 @@ impl Question {
         match key {
             "camera" => Some(Question::Camera),
             "hits" => Some(Question::Hits),
+            "density-high" => Some(Question::DensityHigh),
             _ => None,
         }
     }
@@ -76,21 +83,41 @@ impl Question {
         match self {
             Question::Camera => format!("where was the camera of trace {trace}"),
             Question::Hits => format!("where do the hitting rays of trace {trace} start"),
+            Question::DensityHigh => format!(
+                "where is the density of the hitting rays of trace {trace} particularly high"
+            ),
         }
     }
 
     /// The options, in words; the answer is one of them.
     pub fn options(self, scene: &TriangleScene) -> Vec<String> {
         match self {
-            Question::Camera => CameraPlace::ALL.iter().map(|p| p.words().into()).collect(),
+            Question::Camera | Question::DensityHigh => {
+                CameraPlace::ALL.iter().map(|p| p.words().into()).collect()
+            }
             Question::Hits => surfaces(scene),
         }
     }
 
-    /// The answer for the rays `set` of `scene`, in the words of [`Question::options`]; `None`
-    /// where the trace has no answer (rays from many points have no camera; no ray hits).
-    pub fn answer(self, scene: &TriangleScene, set: &RaySet) -> Option<String> {
+    /// Whether the answer is read from a density of the trace's hitting rays only.
+    pub fn needs_hits_density(self) -> bool {
+        self == Question::DensityHigh
+    }
+
+    /// The answer for the rays `set` of `scene` (and their `density`, for the density
+    /// question: of the hitting rays), in the words of [`Question::options`]; `None` where the
+    /// trace has no answer (rays from many points have no camera; no ray hits; no density).
+    pub fn answer(
+        self,
+        scene: &TriangleScene,
+        set: &RaySet,
+        density: Option<&Density>,
+    ) -> Option<String> {
         match self {
+            Question::DensityHigh => {
+                let at = densest_cell(density?)?;
+                Some(CameraPlace::of(at, scene.bounds()?).words().into())
+            }
             Question::Camera => {
                 let eye = set.rays.first()?.origin;
                 if set.rays.iter().any(|r| r.origin != eye) {
@@ -111,6 +138,24 @@ impl Question {
             }
         }
     }
+}
+
+/// The centre of the densest cell (world units): the first of the highest counts, chunks in
+/// key order.
+fn densest_cell(d: &Density) -> Option<Vec3> {
+    let n = d.params.chunk as i32;
+    let mut best: Option<(u32, Vec3)> = None;
+    for (key, chunk) in &d.chunks {
+        for (i, c) in chunk.cells.iter().enumerate() {
+            if c.count > best.map_or(0, |b| b.0) {
+                let i = i as i32;
+                let local = glam::IVec3::new(i % n, (i / n) % n, i / (n * n));
+                let cell = glam::IVec3::from_array(*key) * n + local;
+                best = Some((c.count, (cell.as_vec3() + 0.5) * d.params.cell));
+            }
+        }
+    }
+    best.map(|b| b.1)
 }
 
 /// The scene's surfaces by name: each mesh's, the two blocks as one ("the blocks"), and the
@@ -188,18 +233,20 @@ mod tests {
         let trace = |e: Effect| d.trace(e.id()).unwrap();
         let camera = Question::Camera;
         assert_eq!(
-            camera.answer(&d.scene, trace(Effect::Primary)).as_deref(),
+            camera
+                .answer(&d.scene, trace(Effect::Primary), None)
+                .as_deref(),
             Some(CameraPlace::FrontLevel.words())
         );
         assert_eq!(
             camera
-                .answer(&d.scene, trace(Effect::SecondPrimary))
+                .answer(&d.scene, trace(Effect::SecondPrimary), None)
                 .as_deref(),
             Some(CameraPlace::FrontHigher.words())
         );
-        assert_eq!(camera.answer(&d.scene, trace(Effect::Shadow)), None);
+        assert_eq!(camera.answer(&d.scene, trace(Effect::Shadow), None), None);
         let hits = Question::Hits
-            .answer(&d.scene, trace(Effect::Shadow))
+            .answer(&d.scene, trace(Effect::Shadow), None)
             .unwrap();
         let options = Question::Hits.options(&d.scene);
         assert!(options.contains(&hits) && options.contains(&"the blocks".to_string()));
@@ -207,6 +254,33 @@ mod tests {
         for o in camera.options(&d.scene) {
             assert_eq!(Question::parse("camera"), Some(camera), "{o}");
         }
+        // The hitting primary rays of trace 0 crowd together at the eye: the densest cell is
+        // there, in front of the open side, level with the box.
+        let hits = crate::rays::density::DensityParams {
+            cell: 20.0,
+            filter: crate::rays::set::Filter::Hit,
+            ..Default::default()
+        };
+        let primary = trace(Effect::Primary);
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        let density = crate::rays::density::compute(primary, &hits, &|_, _| {}, &stop).unwrap();
+        let high = Question::DensityHigh;
+        assert!(high.needs_hits_density());
+        assert_eq!(
+            high.answer(&d.scene, primary, None),
+            None,
+            "no density, no answer"
+        );
+        assert_eq!(
+            high.answer(&d.scene, primary, Some(&density)).as_deref(),
+            Some(CameraPlace::FrontLevel.words())
+        );
+        let at = densest_cell(&density).unwrap();
+        let eye = crate::rays::cornell::CAMERA_EYE;
+        assert!(
+            at.distance(eye) < 2.0 * 20.0,
+            "the densest cell {at} is the eye's {eye}"
+        );
     }
 
     /// Rays that leave a surface (a hair's breadth off it, as the tracer starts them) are
@@ -248,10 +322,13 @@ mod tests {
             (vec![(ceiling, true)], "the ceiling"),
             (vec![(block, true), (floor, false)], "the blocks"),
         ] {
-            let got = Question::Hits.answer(&scene, &set(&points));
+            let got = Question::Hits.answer(&scene, &set(&points), None);
             assert_eq!(got.as_deref(), Some(want));
         }
-        assert_eq!(Question::Hits.answer(&scene, &set(&[(floor, false)])), None);
+        assert_eq!(
+            Question::Hits.answer(&scene, &set(&[(floor, false)]), None),
+            None
+        );
     }
 
     #[test]
