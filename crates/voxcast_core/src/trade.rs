@@ -212,7 +212,8 @@ pub fn trade_in(
     while slices.finished.len() < total {
         let i = slices.finished.len();
         (job.progress)(i, renders);
-        let Some((image, samples)) = render_try(job, try_at(i), slices, deadline)? else {
+        // Its seconds are the warm-up's: not counted.
+        let Some((image, samples, _)) = render_try(job, try_at(i), slices, deadline)? else {
             return Ok(Step::Paused);
         };
         slices.finished.push((image, samples));
@@ -224,10 +225,9 @@ pub fn trade_in(
     while slices.timed < total * TIMED_RUNS {
         (job.progress)(total + slices.timed, renders);
         let i = timed_order(slices.timed, total);
-        if render_try(job, try_at(i), slices, deadline)?.is_none() {
+        let Some((_, _, seconds)) = render_try(job, try_at(i), slices, deadline)? else {
             return Ok(Step::Paused);
-        }
-        let seconds = std::mem::take(&mut slices.seconds);
+        };
         slices.runs[i].push(seconds);
         slices.timed += 1;
         if deadline.passed() {
@@ -267,14 +267,15 @@ pub fn trade_in(
     }))
 }
 
-/// Renders `t` at the view's size (its own scale, then resized), in slices up to `deadline`;
-/// its slices' seconds are added to `slices.seconds`. `None` while it is unfinished.
+/// Renders `t` at the view's size (its own scale, then resized), in slices up to `deadline`:
+/// `None` while it is unfinished, else its image, its samples and the seconds of its slices
+/// (kept in `slices.seconds` between calls, and cleared for the next render).
 fn render_try(
     job: &TradeJob<'_, '_>,
     t: &crate::knob::Try,
     slices: &mut TradeSlices,
     deadline: Deadline,
-) -> Result<Option<(LinearImage, u64)>, TradeError> {
+) -> Result<Option<(LinearImage, u64, f64)>, TradeError> {
     let view = job.view;
     let (w, h) = view.size;
     let scene = Scene::new(
@@ -295,12 +296,13 @@ fn render_try(
         return Ok(None);
     };
     slices.current = TileSlices::default();
+    let seconds = std::mem::take(&mut slices.seconds);
     let image = if (sw, sh) == (w, h) {
         image
     } else {
         image.resized_bilinear(w, h)
     };
-    Ok(Some((image, stats.samples)))
+    Ok(Some((image, stats.samples, seconds)))
 }
 
 #[cfg(test)]
