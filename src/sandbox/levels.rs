@@ -19,6 +19,7 @@ use std::path::PathBuf;
 use voxcast_core::level::{
     Answer, Control, Level, Objective, Progress, Section, Situation, Step, StudyRun,
 };
+use voxcast_core::rays::set::Filter;
 use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
 
 /// The levels, the step being played and the player's progress.
@@ -176,6 +177,21 @@ impl Lessons {
         let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
         self.keep(a);
         self.save();
+    }
+
+    /// The ray density on show, if it is the one study question `q` about `trace` is asked
+    /// of: that trace of the Cornell box, its hitting rays only where `q` reads them.
+    pub fn study_shown(
+        &self,
+        trace: u32,
+        q: voxcast_core::rays::study::Question,
+    ) -> Option<std::sync::Arc<super::raydata::Shown>> {
+        self.on_show.clone().filter(|s| {
+            let f = &s.computed.facts;
+            f.source.starts_with("builtin:cornell")
+                && f.trace == Some(trace)
+                && (!q.needs_hits_density() || s.computed.density.params.filter == Filter::Hit)
+        })
     }
 
     /// Keeps an answer, with the study's run where one is under way.
@@ -560,6 +576,16 @@ pub(crate) fn check_objective(
     }
     (lessons.met, lessons.spot) = (met, spot);
     (lessons.detail, lessons.composite) = (detail, composite);
+}
+
+/// The code's answer to study question `q` from the density on show (see
+/// [`Lessons::study_shown`]).
+pub fn study_truth(
+    shown: &super::raydata::Shown,
+    q: voxcast_core::rays::study::Question,
+) -> Option<String> {
+    let c = &shown.computed;
+    q.answer(&c.data.scene, &c.set, Some(&c.density))
 }
 
 /// What a prediction step's answer should be: the reconstructed value at its point, or the

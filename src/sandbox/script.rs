@@ -582,16 +582,15 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             // it, as a student who reads the density right would give it.
             use voxcast_core::rays::set::Filter;
             use voxcast_core::rays::study::Question;
-            let hits_only = Question::parse(question).is_some_and(Question::needs_hits_density);
-            let filter = if hits_only { Filter::Hit } else { Filter::All };
-            let shown = lessons.on_show.clone().filter(|s| {
-                let f = &s.computed.facts;
-                f.source.starts_with("builtin:cornell")
-                    && f.trace == Some(*trace)
-                    && (!hits_only || s.computed.density.params.filter == filter)
-            });
-            let Some(shown) = shown else {
-                hands.ray_choices.params.filter = filter;
+            let Some(q) = Question::parse(question) else {
+                return;
+            };
+            let Some(shown) = lessons.study_shown(*trace, q) else {
+                hands.ray_choices.params.filter = if q.needs_hits_density() {
+                    Filter::Hit
+                } else {
+                    Filter::All
+                };
                 compute_density(hands, "builtin:cornell", Some(*trace), 0);
                 return;
             };
@@ -599,12 +598,8 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 .levels
                 .iter()
                 .position(|l| l.steps.iter().any(|s| s.objective == *objective));
-            if let (Some(q), Some(l)) = (Question::parse(question), level)
-                && let Some(truth) = q.answer(
-                    &shown.computed.data.scene,
-                    &shown.computed.set,
-                    Some(&shown.computed.density),
-                )
+            if let Some(l) = level
+                && let Some(truth) = super::levels::study_truth(&shown, q)
             {
                 lessons.answer_study(l, (*trace, question), &truth, &truth);
             }

@@ -372,20 +372,12 @@ fn study_question(
     let Some(q) = Question::parse(key) else {
         return;
     };
-    use voxcast_core::rays::set::Filter;
-    let hits_only = q.needs_hits_density();
-    let shown = lessons.on_show.clone().filter(|s| {
-        let f = &s.computed.facts;
-        f.source.starts_with("builtin:cornell")
-            && f.trace == Some(trace)
-            && (!hits_only || s.computed.density.params.filter == Filter::Hit)
-    });
-    let Some(shown) = shown else {
+    let Some(shown) = lessons.study_shown(trace, q) else {
         ui.colored_label(
             egui::Color32::YELLOW,
             format!(
                 "In Ray data, choose trace {trace} of the Cornell box{} and Compute first.",
-                if hits_only {
+                if q.needs_hits_density() {
                     ", set the filter to the rays that hit,"
                 } else {
                     ""
@@ -394,20 +386,20 @@ fn study_question(
         );
         return;
     };
-    let scene = &shown.computed.data.scene;
-    let truth = q.answer(scene, &shown.computed.set, Some(&shown.computed.density));
     let mut chosen = None;
     ui.horizontal_wrapped(|ui| {
-        for option in q.options(scene) {
+        for option in q.options(&shown.computed.data.scene) {
             if ui.selectable_label(false, &option).clicked() && !met {
                 chosen = Some(option);
             }
         }
     });
-    if let (Some(c), Some(t)) = (chosen, truth) {
-        let right = c == t;
+    // The code's answer, worked out when the player answers (not every frame).
+    if let Some(c) = chosen
+        && let Some(t) = crate::sandbox::levels::study_truth(&shown, q)
+    {
         lessons.answer_study(l, (trace, key), &c, &t);
-        if !right {
+        if c != t {
             lessons.message = Some(format!("Not {c}: look again at where the rays run."));
         }
     }
