@@ -512,6 +512,7 @@ fn bad_arguments_and_files_fail_clearly() {
         ),
         (&["trace", "--pixel", "600,0"], 2, "outside"),
         (&["info", "/no/such.nii"], 1, "/no/such.nii"),
+        (&["--measure-knob", "speed"], 2, "preview-step-multiplier"),
     ];
     for (args, code, needle) in cases {
         let o = voxcast(args);

@@ -8,8 +8,7 @@
 mod support;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
-use support::{Completion, Outcome, gpu_required, run_or_skip};
+use support::{Completion, Outcome, gpu_required, run_or_skip, windowed};
 use voxcast_core::level::Level;
 
 fn main() {
@@ -27,23 +26,9 @@ fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/levels")
 }
 
-/// The sandbox's command, inside `xvfb-run` when there is no display.
-fn windowed() -> Option<Command> {
-    let exe = env!("CARGO_BIN_EXE_voxcast");
-    if std::env::var_os("DISPLAY").is_some() {
-        return Some(Command::new(exe));
-    }
-    let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
-    has_xvfb.then(|| {
-        let mut c = Command::new("xvfb-run");
-        c.args(["-a", "-s", "-screen 0 1280x800x24", exe]);
-        c
-    })
-}
-
 /// Plays every level with the volume drawn by `backend` (`cpu` or `gpu`).
 fn play(backend: &str) -> Outcome {
-    let Some(mut command) = windowed() else {
+    let Some(mut command) = windowed(env!("CARGO_BIN_EXE_voxcast")) else {
         assert!(!gpu_required(), "no X display and no xvfb-run");
         return Ok(Completion::ignored_with(
             "no X display and no xvfb-run here (package xvfb)",

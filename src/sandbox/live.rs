@@ -213,6 +213,11 @@ impl LiveView {
         self.image.as_ref().map(|(_, h)| h.clone())
     }
 
+    /// What the last frame showed (its view, settings and resting resolution), once one was.
+    pub fn key(&self) -> Option<&LiveKey> {
+        self.last_key.as_ref()
+    }
+
     /// Whether the image on screen is below the resting resolution (a quick frame, or a
     /// refinement on its way): its spheres are not in it, the main camera draws them sharp.
     pub fn coarse(&self) -> bool {
@@ -571,6 +576,18 @@ fn resting_pool() -> &'static rayon::ThreadPool {
             .build()
             .expect("a thread pool can be built")
     })
+}
+
+/// Renders `key`'s view at its resting resolution as the live view renders its exact frame
+/// (on the resting threads, `spheres` in the image or not), beside the live view: what
+/// Measure times as the CPU live view's frame.
+pub fn render_exact(
+    key: LiveKey,
+    volume: Arc<voxcast_core::Prepared>,
+    spheres: bool,
+) -> Task<Option<LiveFrame>> {
+    let size = key.full;
+    start(key, size, volume, true, spheres).task
 }
 
 /// Starts a render of `key`'s view at `size` (a refinement at rest, or a quick frame), with the

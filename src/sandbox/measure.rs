@@ -3,6 +3,9 @@
 //! median over N frames after a warm-up, and exits. BENCHMARKS.md's preview figures come from it.
 //! The virtual camera's rays are shown whole (no growing animation), with all their samples.
 //!
+//! `voxcast --measure-knob KNOB` measures one knob's trade as the panel's Measure does (a
+//! preview's knob timed as the preview's own images), prints its table and exits.
+//!
 //! With the CPU live view it also reports how many new volume images arrived a second while
 //! measuring, at what size, and (resting) how long after start the exact render was on screen.
 
@@ -204,4 +207,58 @@ fn measure_frames(
         println!("{text}");
         exit.write(AppExit::Success);
     }
+}
+
+/// `--measure-knob`: the knob to measure.
+#[derive(Resource, Clone, Copy)]
+pub struct KnobRequest(pub voxcast_core::knob::Knob);
+
+/// Asks for the knob's trade once the window has settled, prints its table when it is there
+/// (or why there is none) and exits.
+pub(super) fn measure_knob(
+    request: Res<KnobRequest>,
+    mut trade: ResMut<super::trade::StepTrade>,
+    mut seen: Local<u32>,
+    mut exit: MessageWriter<AppExit>,
+) {
+    *seen += 1;
+    if *seen == WARM_UP {
+        trade.knob = request.0;
+        trade.request();
+    }
+    if *seen <= WARM_UP || trade.progress().is_some() {
+        return;
+    }
+    if let Some(why) = &trade.error {
+        eprintln!("error: {why}");
+        exit.write(AppExit::from_code(1));
+        return;
+    }
+    let Some((t, _)) = &trade.result else {
+        return;
+    };
+    let how = match &trade.timed_frames {
+        Some(f) => format!(
+            "time: one finished image of the {} at {}×{} pixels (full resolution), the median \
+             of {} after an untimed one, the settings in alternating order; samples and errors: \
+             the core's render at {}×{}",
+            f.drawer.words(),
+            f.size.x,
+            f.size.y,
+            t.runs,
+            super::trade::TRADE_SIZE.0,
+            super::trade::TRADE_SIZE.1
+        ),
+        None => format!(
+            "{}time: the core's render at {}×{} on {} threads, the median of {} after an \
+             untimed one, the settings in alternating order",
+            trade.stand_in.map_or(String::new(), |w| format!("{w}\n")),
+            super::trade::TRADE_SIZE.0,
+            super::trade::TRADE_SIZE.1,
+            t.threads,
+            t.runs
+        ),
+    };
+    println!("{how}.\n\n{}", crate::cli::knobs::table(t));
+    exit.write(AppExit::Success);
 }

@@ -12,6 +12,7 @@ mod cpu_lines;
 mod cut;
 mod files;
 mod fit;
+mod frame_trade;
 mod inspect;
 mod lattice;
 pub(crate) mod levels;
@@ -104,6 +105,12 @@ pub struct SandboxArgs {
     /// costs (to compare with another renderer's frame).
     #[arg(long, requires = "measure_frames")]
     pub whole_frames: bool,
+    /// Measure this knob's trade as the "Speed against accuracy" panel's Measure does (a
+    /// preview's knob timed as the preview's own images in this window), print its table and
+    /// exit.
+    #[arg(long, value_name = "KNOB", value_parser = parse_knob,
+          conflicts_with_all = ["screenshot", "compare", "measure_frames", "play_levels"])]
+    pub measure_knob: Option<voxcast_core::knob::Knob>,
     /// Let preview rays pass through scene geometry (the light's marker) instead of stopping
     /// at it (the depth prepass is ignored).
     #[arg(long)]
@@ -407,6 +414,12 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             .insert_resource(script::PlayLevels(dir.clone()))
             .add_plugins(script::plugin);
     }
+    if let Some(knob) = args.measure_knob {
+        // Draw every frame even without focus (a virtual display never gives it).
+        app.insert_resource(bevy::winit::WinitSettings::continuous())
+            .insert_resource(measure::KnobRequest(knob))
+            .add_systems(Update, measure::measure_knob);
+    }
     if let Some(frames) = args.measure_frames {
         // Draw every frame even without focus (a virtual display never gives it).
         app.insert_resource(bevy::winit::WinitSettings::continuous());
@@ -463,6 +476,14 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
 }
 
 /// `--preview-scale`: a fraction within the tunable's range.
+fn parse_knob(s: &str) -> Result<voxcast_core::knob::Knob, String> {
+    use voxcast_core::knob::Knob;
+    Knob::parse(s).ok_or_else(|| {
+        let names: Vec<_> = Knob::ALL.iter().map(|k| k.name()).collect();
+        format!("give one of {}", names.join(", "))
+    })
+}
+
 fn parse_preview_scale(s: &str) -> Result<f32, String> {
     let t = &voxcast_core::tunables::PREVIEW_SCALE;
     match s.parse::<f32>() {

@@ -98,6 +98,8 @@ pub struct Progressive {
     finished_full: bool,
     /// Never draw in strips (`voxcast --measure-frames --whole-frames`).
     whole_frames: bool,
+    /// Images the GPU preview has finished: whole frames and passes of strips.
+    passes: u64,
 }
 
 /// Rows `[y0, y1)` of the next strip of a pass that has drawn `done` of `height` rows: the
@@ -140,6 +142,24 @@ impl Progressive {
         } else {
             self.drawn
         }
+    }
+
+    /// Whether the resting view is drawn whole every frame, never in strips.
+    pub fn whole_frames(&self) -> bool {
+        self.whole_frames
+    }
+
+    /// Draws the resting view whole every frame (`true`) or in strips where a frame would
+    /// take too long (Measure draws whole frames while it times the preview's knobs).
+    pub fn set_whole_frames(&mut self, whole: bool) {
+        self.whole_frames = whole;
+    }
+
+    /// Images the GPU preview has been given whole so far: a whole frame each frame it draws
+    /// one, a pass of strips when its last strip is given (what Measure times the preview's
+    /// knobs by).
+    pub fn passes(&self) -> u64 {
+        self.passes
     }
 
     /// Whether the resting view is on screen at full quality: drawn whole, or a pass finished.
@@ -241,6 +261,7 @@ pub(super) fn give_camera_its_work(
             p.finished = Some(p.filling);
             p.finished_full = p.pass_full;
             p.took = p.drawn;
+            p.passes += 1;
             p.filling ^= 1;
             (p.rows, p.drawn, p.pass_full) = (0, 0, full.0);
         }
@@ -252,6 +273,7 @@ pub(super) fn give_camera_its_work(
         p.active = false;
         if gpu {
             p.whole = Some(target.image.clone());
+            p.passes += 1;
         }
         (target.image.clone(), None)
     };

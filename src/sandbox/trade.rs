@@ -1,8 +1,14 @@
-//! Measuring the step size's trade in the sandbox: the main camera's view rendered by the core
-//! at the sampling level's steps and the player's own, against a fine reference
-//! (`voxcast_core::trade`), on the `AsyncComputeTaskPool` with progress and Cancel. A result
-//! remembers what it measured, so the panel can say when it no longer matches.
+//! Measuring a knob's trade in the sandbox: the main camera's view rendered by the core at the
+//! knob's settings (the step's: the sampling level's steps and the player's own) against its
+//! exact reference (`voxcast_core::trade`), on the `AsyncComputeTaskPool` with progress and
+//! Cancel. A preview's knob is then timed as the preview's own images in the window
+//! (`frame_trade`), its errors staying the core's. A result remembers what it measured, so the
+//! panel can say when it no longer matches.
 
+use super::frame_trade::{
+    Drawing, Ended, FrameRun, FrameTiming, PreviewTry, drive, preview_tries, stand_in,
+};
+use super::preview::PreviewSettings;
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use super::tasks::in_slices;
 use bevy::prelude::*;
@@ -49,7 +55,13 @@ pub struct StepTrade {
     /// The knob Measure measures (the step unless the player picks another).
     pub knob: Knob,
     job: Option<Job>,
+    /// The core's trade of a preview's knob, waiting for the preview's images to be timed.
+    frames: Option<(Trade, TradeKey, FrameRun)>,
     pub result: Option<(Trade, TradeKey)>,
+    /// For a preview's knob: the result's times are these images of the preview; or why the
+    /// core's renders stand in for them.
+    pub timed_frames: Option<FrameTiming>,
+    pub stand_in: Option<&'static str>,
     pub error: Option<String>,
     /// Set by the panel's button; the next update starts the job.
     requested: bool,
@@ -60,6 +72,11 @@ struct Job {
     done: Arc<(AtomicUsize, AtomicUsize)>,
     cancel: Arc<AtomicBool>,
     key: TradeKey,
+    /// A preview's knob: its settings, to time as the preview's images next; or why the
+    /// core's renders stand in for them.
+    preview: Option<Vec<PreviewTry>>,
+    stand_in: Option<&'static str>,
+    view: CoreCamera,
 }
 
 impl StepTrade {
@@ -70,11 +87,20 @@ impl StepTrade {
         if let Some(job) = self.job.take() {
             job.cancel.store(true, Ordering::Relaxed);
         }
+        if let Some((_, _, run)) = &mut self.frames {
+            run.cancelled = true;
+        }
     }
-    /// Renders done and in all, while measuring.
-    pub fn progress(&self) -> Option<(usize, usize)> {
+    /// While measuring: what is counted (renders of the core, or the preview's images), how
+    /// many are done and how many in all.
+    pub fn progress(&self) -> Option<(&'static str, usize, usize)> {
+        if let Some((_, _, run)) = &self.frames {
+            let (done, total) = run.progress();
+            return Some(("preview image", done, total));
+        }
         let j = self.job.as_ref()?;
         Some((
+            "render",
             j.done.0.load(Ordering::Relaxed),
             j.done.1.load(Ordering::Relaxed),
         ))
@@ -94,15 +120,16 @@ impl StepTrade {
 
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<StepTrade>()
-        .add_systems(Update, (start, finish).chain());
+        .add_systems(Update, (start, finish, time_frames).chain());
 }
 
 fn start(
     mut trade: ResMut<StepTrade>,
     views: Query<&View, With<MainCamera>>,
     (render, volume): (Res<RenderState>, Res<VolumeState>),
+    preview_settings: Option<Res<PreviewSettings>>,
 ) {
-    if !std::mem::take(&mut trade.requested) || trade.job.is_some() {
+    if !std::mem::take(&mut trade.requested) || trade.job.is_some() || trade.frames.is_some() {
         return;
     }
     let Ok(view) = views.single() else {
@@ -112,6 +139,17 @@ fn start(
     let key = TradeKey::of(view.0, &render, &volume);
     let knob = trade.knob;
     let voxel = volume.volume.spacing().min_element();
+    // A preview's knob is timed as the preview's images, where the preview draws it.
+    let mut preview = preview_tries(knob, &render.settings, voxel);
+    let stand_in = preview
+        .as_ref()
+        .and_then(|_| match preview_settings.as_deref() {
+            Some(p) => stand_in(knob, p),
+            None => Some("This window has no preview: the core's renders stand in for its images."),
+        });
+    if stand_in.is_some() {
+        preview = None;
+    }
     let mut steps = STEPS.to_vec();
     steps.push(render.settings.step.voxels(voxel));
     let done = Arc::new((AtomicUsize::new(0), AtomicUsize::new(steps.len() + 1)));
@@ -155,21 +193,56 @@ fn start(
         done,
         cancel,
         key,
+        preview,
+        stand_in,
+        view: view.0,
     });
 }
 
-fn finish(mut trade: ResMut<StepTrade>) {
+fn finish(mut trade: ResMut<StepTrade>, preview: Option<Res<PreviewSettings>>) {
     let Some(job) = trade.job.as_mut() else {
         return;
     };
     let Some(result) = check_ready(&mut job.task) else {
         return;
     };
-    let key = job.key.clone();
-    trade.job = None;
-    match result {
-        Ok(t) => trade.result = Some((t, key)),
-        Err(e) => trade.error = Some(e.to_string()),
+    let Some(job) = trade.job.take() else {
+        return;
+    };
+    match (result, job.preview, preview) {
+        (Ok(t), Some(tries), Some(p)) => {
+            let run = FrameRun::new(tries, &p, job.view);
+            trade.frames = Some((t, job.key, run));
+        }
+        (Ok(t), _, _) => {
+            trade.result = Some((t, job.key));
+            trade.timed_frames = None;
+            trade.stand_in = job.stand_in;
+        }
+        (Err(e), _, _) => trade.error = Some(e.to_string()),
+    }
+}
+
+/// Times a preview's knob as the preview's images, once the core has rendered its errors.
+fn time_frames(mut trade: ResMut<StepTrade>, mut drawing: Drawing) {
+    let Some((_, _, run)) = trade.frames.as_mut() else {
+        return;
+    };
+    let Some(ended) = drive(run, &mut drawing) else {
+        return;
+    };
+    let Some((mut t, key, _)) = trade.frames.take() else {
+        return;
+    };
+    match ended {
+        Ended::Timed(frames) => {
+            frames.apply(&mut t);
+            trade.result = Some((t, key));
+            trade.timed_frames = Some(frames);
+            trade.stand_in = None;
+        }
+        Ended::Stopped(why) => trade.error = Some(why),
+        Ended::Cancelled => {}
     }
 }
 

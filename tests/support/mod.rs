@@ -39,3 +39,18 @@ pub fn run_or_skip(command: &mut std::process::Command) -> Result<(String, Strin
     assert!(output.status.success(), "{stdout}\n{stderr}");
     Ok((stdout, stderr))
 }
+
+/// The sandbox `exe`'s command, inside `xvfb-run` when there is no display; `None` without
+/// either.
+pub fn windowed(exe: &str) -> Option<std::process::Command> {
+    use std::process::Command;
+    if std::env::var_os("DISPLAY").is_some() {
+        return Some(Command::new(exe));
+    }
+    let has_xvfb = Command::new("xvfb-run").arg("--help").output().is_ok();
+    has_xvfb.then(|| {
+        let mut c = Command::new("xvfb-run");
+        c.args(["-a", "-s", "-screen 0 1280x800x24", exe]);
+        c
+    })
+}

@@ -58,6 +58,15 @@ impl Knob {
         Knob::AdaptiveQuality,
     ];
 
+    /// Whether it is one of the preview's: its cost is the frame the preview draws, and the
+    /// core's render only stands in for it.
+    pub const fn is_preview(self) -> bool {
+        matches!(
+            self,
+            Knob::PreviewScale | Knob::PreviewStepMultiplier | Knob::AdaptiveQuality
+        )
+    }
+
     /// Its key on the command line.
     pub const fn name(self) -> &'static str {
         match self {

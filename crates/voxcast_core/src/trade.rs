@@ -183,8 +183,8 @@ pub struct TradeSlices {
 }
 
 /// Which setting the `k`-th timed render renders, of `total`: rounds alternate forwards and
-/// backwards.
-fn timed_order(k: usize, total: usize) -> usize {
+/// backwards (the sandbox times the preview's frames in the same order).
+pub fn timed_order(k: usize, total: usize) -> usize {
     let (round, i) = (k / total, k % total);
     if round % 2 == 0 { i } else { total - 1 - i }
 }

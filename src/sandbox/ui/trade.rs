@@ -5,6 +5,7 @@
 //! the trade is read as numbers; the player's own step is the highlighted row.
 
 use super::{Spot, marked};
+use crate::sandbox::frame_trade::FrameTiming;
 use crate::sandbox::trade::{StepTrade, TRADE_SIZE};
 use bevy_egui::egui;
 use voxcast_core::knob::Knob;
@@ -29,19 +30,27 @@ pub(super) fn trade_section(
         })
         .response
         .on_hover_text(trade.knob.doc());
-    ui.label(
-        egui::RichText::new(format!(
+    let intro = if trade.knob.is_preview() {
+        format!(
+            "The preview's own renderer (the GPU preview or the CPU live view) draws this \
+             view at the window's size at each setting, timed; the errors are the core's \
+             render of the view at {}×{} pixels against the exact reference. Keep the view \
+             still while it measures.",
+            TRADE_SIZE.0, TRADE_SIZE.1
+        )
+    } else {
+        format!(
             "This view at {}×{} pixels, rendered by the core at several settings of the knob \
              and at its exact reference; the error is against the reference.",
             TRADE_SIZE.0, TRADE_SIZE.1
-        ))
-        .small(),
-    );
+        )
+    };
+    ui.label(egui::RichText::new(intro).small());
     marked(ui, spot, Control::StepTrade, |ui| {
         ui.horizontal(|ui| match trade.progress() {
-            Some((done, total)) => {
+            Some((what, done, total)) => {
                 ui.spinner();
-                ui.label(format!("render {} of {total}", (done + 1).min(total)));
+                ui.label(format!("{what} {} of {total}", (done + 1).min(total)));
                 if ui.button("Cancel").clicked() {
                     trade.cancel();
                 }
@@ -67,7 +76,14 @@ pub(super) fn trade_section(
                 "measured for another view or settings: measure again",
             );
         }
-        table(ui, t, step_voxels);
+        if let Some(why) = trade.stand_in {
+            ui.label(
+                egui::RichText::new(why)
+                    .small()
+                    .color(egui::Color32::YELLOW),
+            );
+        }
+        table(ui, t, step_voxels, trade.timed_frames.as_ref());
         plot(ui, t);
     }
 }
@@ -144,7 +160,7 @@ fn plot(ui: &mut egui::Ui, t: &Trade) {
     );
 }
 
-fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
+fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTiming>) {
     egui::Grid::new("trade").striped(true).show(ui, |ui| {
         let knob = match t.knob {
             Knob::Step => "step",
@@ -189,8 +205,18 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
         ui.label("×1");
         ui.end_row();
     });
-    ui.label(
-        egui::RichText::new(format!(
+    let words = match frames {
+        Some(f) => format!(
+            "time: one finished image of the {} in this window ({}×{} pixels at full \
+             resolution), the median of {} after an untimed one, the settings taken in turn \
+             (hover a time for the fastest and slowest); samples and errors: the core's \
+             render of the view; speed-up against the reference",
+            f.drawer.words(),
+            f.size.x,
+            f.size.y,
+            t.runs
+        ),
+        None => format!(
             "{}time: the median of {} renders after an untimed one, the settings taken in turn \
              (hover a time for the fastest and slowest), each on {} thread{}, sharing the \
              computer with this window; speed-up against the reference",
@@ -202,9 +228,9 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32) {
             t.runs,
             t.threads,
             if t.threads == 1 { "" } else { "s" }
-        ))
-        .small(),
-    );
+        ),
+    };
+    ui.label(egui::RichText::new(words).small());
 }
 
 /// A timing's spread, in words.
