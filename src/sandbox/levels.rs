@@ -19,7 +19,6 @@ use std::path::PathBuf;
 use voxcast_core::level::{
     Answer, Control, Level, Objective, Progress, Section, Situation, Step, StudyRun,
 };
-use voxcast_core::rays::set::Filter;
 use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
 
 /// The levels, the step being played and the player's progress.
@@ -190,7 +189,8 @@ impl Lessons {
             let f = &s.computed.facts;
             f.source.starts_with("builtin:cornell")
                 && f.trace == Some(trace)
-                && (!q.needs_hits_density() || s.computed.density.params.filter == Filter::Hit)
+                && q.density_filter()
+                    .is_none_or(|f| s.computed.density.params.filter == f)
         })
     }
 
@@ -386,7 +386,9 @@ fn study_words(run: StudyRun, title: &str) -> String {
         if run.preview() {
             "; the same steps again"
         } else {
-            "; then the same level again with it on"
+            "; then the same level again with it on. Where a step asks you to look at the \
+             volume, press Render image at the top of the settings: the exact picture, drawn \
+             by the CPU"
         }
     )
 }
@@ -433,6 +435,8 @@ fn set_up_scene(
     if let Some(scale) = level.scene.preview_scale {
         preview.scale = scale;
     }
+    // The preview shows the picture: a cost view a level before asked for is not this one's.
+    preview.cost_view = None;
     if level.scene.volume != volume.source {
         // The load brings the volume's defaults with it.
         loading.start(level.scene.volume.clone());

@@ -586,11 +586,7 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 return;
             };
             let Some(shown) = lessons.study_shown(*trace, q) else {
-                hands.ray_choices.params.filter = if q.needs_hits_density() {
-                    Filter::Hit
-                } else {
-                    Filter::All
-                };
+                hands.ray_choices.params.filter = q.density_filter().unwrap_or(Filter::All);
                 compute_density(hands, "builtin:cornell", Some(*trace), 0);
                 return;
             };

@@ -270,8 +270,8 @@ pub enum Objective {
     /// show.
     NameEffect { trace: u32 },
     /// Answer one of RayVis's study questions about a trace of the Cornell box
-    /// ([`crate::rays::study::Question`]: `camera` or `hits`), checked against what the code
-    /// finds in the trace.
+    /// ([`crate::rays::study::Question`]: `camera`, `hits`, `density-high` or `density-low`),
+    /// checked against what the code finds in the trace.
     StudyQuestion { trace: u32, question: String },
 }
 

@@ -368,6 +368,7 @@ fn study_question(
     (trace, key): (u32, &str),
     met: bool,
 ) {
+    use voxcast_core::rays::set::Filter;
     use voxcast_core::rays::study::Question;
     let Some(q) = Question::parse(key) else {
         return;
@@ -377,10 +378,10 @@ fn study_question(
             egui::Color32::YELLOW,
             format!(
                 "In Ray data, choose trace {trace} of the Cornell box{} and Compute first.",
-                if q.needs_hits_density() {
-                    ", set the filter to the rays that hit,"
-                } else {
-                    ""
+                match q.density_filter() {
+                    Some(Filter::Hit) => ", set the filter to the rays that hit,",
+                    Some(Filter::Miss) => ", set the filter to the rays that miss,",
+                    _ => "",
                 }
             ),
         );

@@ -1,5 +1,5 @@
-//! Two of RayVis's study questions about a trace of the Cornell box (its Table 4.1), answered
-//! by the code from the trace itself, so a level can check what a student says:
+//! RayVis's study questions about a trace of the Cornell box (its Table 4.1), answered by the
+//! code from the trace itself, so a level can check what a student says:
 //!
 //! * **Where was the camera?** — where the trace's rays start, if they all start at one point
 //!   (a pinhole camera's eye): in front of the open side level with the box, in front of it
@@ -9,12 +9,21 @@
 //! * **Where is the density of the hitting rays particularly high?** — where the densest cell
 //!   of the trace's ray density (the hitting rays counted) lies, placed against the box as a
 //!   camera is: rays that start at one eye crowd together there.
+//! * **Where is the density of the missing rays particularly low?** — "low" needs a measure of
+//!   what it is low against: every place the trace's rays never reach has none. So: of the
+//!   surfaces the trace's rays start from (each with at least [`MIN_SHARE`] of them), the one
+//!   where the smallest share of them miss. For the shadow rays (trace 4) a ray that misses
+//!   reaches the light, so that is the surface most in shadow.
 
 use super::density::Density;
 use super::effects::SURFACE_OFFSET;
 use super::mesh::TriangleScene;
-use super::set::RaySet;
+use super::set::{Filter, RaySet};
 use glam::Vec3;
+
+/// The least share of a trace's rays a surface must start for the density-low question to
+/// weigh it: a surface only a few strays start from (beside an edge) has no share to speak of.
+pub const MIN_SHARE: f64 = 0.01;
 
 /// Where a camera stood, relative to the box.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,6 +74,9 @@ pub enum Question {
     Hits,
     /// Where is the density of the hitting rays highest (its densest cell)?
     DensityHigh,
+    /// Where is the density of the missing rays particularly low (the surface where the
+    /// smallest share of the rays that start there miss)?
+    DensityLow,
 }
 
 impl Question {
@@ -74,6 +86,7 @@ impl Question {
             "camera" => Some(Question::Camera),
             "hits" => Some(Question::Hits),
             "density-high" => Some(Question::DensityHigh),
+            "density-low" => Some(Question::DensityLow),
             _ => None,
         }
     }
@@ -86,6 +99,10 @@ impl Question {
             Question::DensityHigh => format!(
                 "where is the density of the hitting rays of trace {trace} particularly high"
             ),
+            Question::DensityLow => format!(
+                "where is the density of the missing rays of trace {trace} particularly low: \
+                 on which surface does the smallest share of the rays that start there miss"
+            ),
         }
     }
 
@@ -95,13 +112,18 @@ impl Question {
             Question::Camera | Question::DensityHigh => {
                 CameraPlace::ALL.iter().map(|p| p.words().into()).collect()
             }
-            Question::Hits => surfaces(scene),
+            Question::Hits | Question::DensityLow => surfaces(scene),
         }
     }
 
-    /// Whether the answer is read from a density of the trace's hitting rays only.
-    pub fn needs_hits_density(self) -> bool {
-        self == Question::DensityHigh
+    /// The rays whose density the question is read from (the hitting rays', the missing
+    /// rays'), where it asks about a density.
+    pub fn density_filter(self) -> Option<Filter> {
+        match self {
+            Question::DensityHigh => Some(Filter::Hit),
+            Question::DensityLow => Some(Filter::Miss),
+            Question::Camera | Question::Hits => None,
+        }
     }
 
     /// The answer for the rays `set` of `scene` (and their `density`, for the density
@@ -135,6 +157,26 @@ impl Question {
                 }
                 let (best, &n) = counts.iter().enumerate().max_by_key(|(_, n)| **n)?;
                 (n > 0).then(|| names[best].clone())
+            }
+            Question::DensityLow => {
+                let names = surfaces(scene);
+                // Per surface: the rays that start there, and those of them that miss.
+                let mut counts = vec![(0usize, 0usize); names.len()];
+                for r in &set.rays {
+                    if let Some(name) = surface_of(scene, r.origin) {
+                        let c = &mut counts[names.iter().position(|n| *n == name)?];
+                        c.0 += 1;
+                        c.1 += usize::from(!r.is_hit(0.0));
+                    }
+                }
+                let total: usize = counts.iter().map(|c| c.0).sum();
+                let share = |c: &(usize, usize)| c.1 as f64 / c.0 as f64;
+                let (best, _) = counts
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.0 > 0 && c.0 as f64 >= MIN_SHARE * total as f64)
+                    .min_by(|a, b| share(a.1).total_cmp(&share(b.1)))?;
+                Some(names[best].clone())
             }
         }
     }
@@ -265,7 +307,7 @@ mod tests {
         let stop = std::sync::atomic::AtomicBool::new(false);
         let density = crate::rays::density::compute(primary, &hits, &|_, _| {}, &stop).unwrap();
         let high = Question::DensityHigh;
-        assert!(high.needs_hits_density());
+        assert_eq!(high.density_filter(), Some(crate::rays::set::Filter::Hit));
         assert_eq!(
             high.answer(&d.scene, primary, None),
             None,
@@ -281,6 +323,59 @@ mod tests {
             at.distance(eye) < 2.0 * 20.0,
             "the densest cell {at} is the eye's {eye}"
         );
+    }
+
+    /// Trace 4's shadow rays point up and out of the open side, towards the directional
+    /// light: from the back wall most of them meet the ceiling first, so fewer of its rays
+    /// miss than of any other surface's; the ceiling and the wall that face away from the
+    /// light start almost none and are not weighed.
+    #[test]
+    fn the_missing_rays_are_scarcest_where_the_rays_are_most_in_shadow() {
+        let d = load("builtin:cornell").unwrap();
+        let shadow = d.trace(Effect::Shadow.id()).unwrap();
+        let q = Question::DensityLow;
+        assert_eq!(q.density_filter(), Some(crate::rays::set::Filter::Miss));
+        assert_eq!(
+            q.answer(&d.scene, shadow, None).as_deref(),
+            Some("the back wall")
+        );
+        assert_eq!(q.options(&d.scene), Question::Hits.options(&d.scene));
+        // Against the shares, counted independently: the back wall's is the smallest of
+        // those weighed, and the ceiling (facing away from the light) is not weighed.
+        let to_light = -crate::rays::cornell::light_direction();
+        let (mut back, mut floor) = ((0, 0), (0, 0));
+        let (lo, hi) = d.scene.bounds().unwrap();
+        for r in &shadow.rays {
+            assert!(r.direction.abs_diff_eq(to_light, 1e-5));
+            let c = if (r.origin.z - hi.z).abs() < 1.0 {
+                &mut back
+            } else if (r.origin.y - lo.y).abs() < 1.0 && r.origin.z < hi.z - 1.0 {
+                &mut floor
+            } else {
+                continue;
+            };
+            c.0 += 1;
+            c.1 += usize::from(!r.is_hit(0.0));
+        }
+        let share = |c: (usize, usize)| c.1 as f64 / c.0 as f64;
+        assert!(back.0 > 1000 && floor.0 > 1000, "{back:?} {floor:?}");
+        assert!(
+            share(back) < 0.5 && share(floor) > 0.5,
+            "{back:?} {floor:?}"
+        );
+        // Level 18's words: the ceiling and the left wall face away from the light and start
+        // almost none of the rays.
+        for away in ["the ceiling", "the left wall"] {
+            let n = shadow
+                .rays
+                .iter()
+                .filter(|r| surface_of(&d.scene, r.origin).as_deref() == Some(away))
+                .count();
+            assert!(
+                (n as f64) < MIN_SHARE * shadow.rays.len() as f64,
+                "{away}: {n}"
+            );
+        }
     }
 
     /// Rays that leave a surface (a hair's breadth off it, as the tracer starts them) are
