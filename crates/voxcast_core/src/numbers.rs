@@ -52,6 +52,37 @@ pub fn percent(fraction: f32) -> String {
     format!("{p:.0} %")
 }
 
+/// A count of things for people: exact below ten thousand, else to two or three significant
+/// digits in thousands, millions or billions (`9.9 million`, `502 thousand`).
+pub fn count(n: u64) -> String {
+    if n < 10_000 {
+        return n.to_string();
+    }
+    let x = n as f64;
+    let (v, unit) = if x < 1e6 {
+        (x / 1e3, "thousand")
+    } else if x < 1e9 {
+        (x / 1e6, "million")
+    } else {
+        (x / 1e9, "billion")
+    };
+    let decimals = if v < 10.0 { 1 } else { 0 };
+    format!("{} {unit}", trim_zeros(&format!("{v:.decimals$}")))
+}
+
+/// A time for people: milliseconds below a second (one decimal below ten), else seconds
+/// with one decimal (`4.2 ms`, `192 ms`, `1.4 s`).
+pub fn duration(seconds: f64) -> String {
+    let ms = seconds * 1e3;
+    if ms < 10.0 {
+        format!("{ms:.1} ms")
+    } else if seconds < 1.0 {
+        format!("{ms:.0} ms")
+    } else {
+        format!("{seconds:.1} s")
+    }
+}
+
 /// How far the value behind a number printed by [`sig`] may lie from it: half a unit of its
 /// last significant place (0 for `0`, which is printed only for an exact zero).
 pub fn half_width(printed: f64) -> f64 {
@@ -96,6 +127,21 @@ mod tests {
     }
 
     /// Every printed number is within `half_width` of the value it stands for.
+    #[test]
+    fn counts_and_times_read_as_people_say_them() {
+        assert_eq!(count(0), "0");
+        assert_eq!(count(9_999), "9999");
+        assert_eq!(count(502_350), "502 thousand");
+        assert_eq!(count(934_511), "935 thousand");
+        assert_eq!(count(9_911_921), "9.9 million");
+        assert_eq!(count(51_690_000), "52 million");
+        assert_eq!(count(3_000_000), "3 million");
+        assert_eq!(count(2_500_000_000), "2.5 billion");
+        assert_eq!(duration(0.0042), "4.2 ms");
+        assert_eq!(duration(0.1918), "192 ms");
+        assert_eq!(duration(1.44), "1.4 s");
+    }
+
     #[test]
     fn the_half_width_bounds_the_rounding() {
         let mut x = 1.234_567e-3f64;

@@ -9,7 +9,7 @@ use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
 use voxcast_core::cost::CostView;
 use voxcast_core::image_out::LinearImage;
-use voxcast_core::numbers::{sig, sig64};
+use voxcast_core::numbers::{count, duration, sig, sig64};
 
 /// The window's own state: open or not, the textures of the shown result, the save path.
 #[derive(Resource)]
@@ -219,16 +219,16 @@ fn result_view(
     let (size, live) = (result.snapshot.size, result.snapshot.live);
     // Millions a second of each count (positions: as BENCHMARKS.md's samples/s, comparable
     // across ray casters; interpolated: what this one reconstructed).
-    let per_second = |n: u64| sig64(n as f64 / result.seconds.max(1e-9) / 1e6);
+    let per_second = |n: u64| count((n as f64 / result.seconds.max(1e-9)) as u64);
     ui.label(format!(
-        "{}×{} on the CPU in {} s: {} rays, {} sample positions, {} interpolated ({} million \
-         positions and {} million interpolated a second)",
+        "{}×{} on the CPU in {}: {} rays, {} sample positions, {} interpolated ({} positions \
+         and {} interpolated a second)",
         size.x,
         size.y,
-        sig64(result.seconds),
-        s.rays,
-        s.positions,
-        s.samples,
+        duration(result.seconds),
+        count(s.rays),
+        count(s.positions),
+        count(s.samples),
         per_second(s.positions),
         per_second(s.samples)
     ));

@@ -216,7 +216,11 @@ impl TransferEditor {
         ui.horizontal(|ui| {
             ui.checkbox(&mut self.log, "log counts")
                 .on_hover_text("Histogram heights as ln(1 + count): rare values stay visible");
-            ui.label(format!("{lo} … {hi}"));
+            ui.label(format!(
+                "{} … {}",
+                voxcast_core::numbers::sig(lo),
+                voxcast_core::numbers::sig(hi)
+            ));
         });
         changed |= self.selected_point(ui, &mut edited, lo, hi);
         changed |= self.save_load(ui, &mut edited);
