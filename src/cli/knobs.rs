@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 use voxcast_core::camera::Camera;
 use voxcast_core::knob::Knob;
 use voxcast_core::settings::RenderSettings;
-use voxcast_core::trade::{STEPS, Trade, View, trade};
+use voxcast_core::trade::{STEPS, View, trade};
 
 /// Every knob's table for `view` with `settings`, each setting timed as the core's trade
 /// times (a median of alternating runs after an untimed one) on the global pool.
@@ -42,7 +42,7 @@ pub fn tables(
         )
         .map_err(|e| CliError::failed(e.to_string()))?;
         progress.finish();
-        out.push_str(&table(&t));
+        out.push_str(&t.markdown());
         if knob.is_preview() {
             let _ = writeln!(
                 out,
@@ -54,43 +54,6 @@ pub fn tables(
         }
     }
     Ok(out)
-}
-
-/// One knob's trade as a markdown table, headed by the knob and its reference.
-pub fn table(t: &Trade) -> String {
-    let mut out = String::new();
-    let knob = t.knob;
-    let _ = writeln!(out, "**{}** — against {}.\n", knob.label(), t.reference);
-    let _ = writeln!(
-        out,
-        "| {} | time (ms) | fastest–slowest (ms) | samples | max error (/255) | RMSE (/255) | speed-up |",
-        knob.label().to_lowercase()
-    );
-    let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
-    let spread =
-        |t: &voxcast_core::trade::Timing| format!("{:.1}–{:.1}", t.fastest * 1e3, t.slowest * 1e3);
-    for r in &t.rows {
-        let _ = writeln!(
-            out,
-            "| {} | {:.1} | {} | {} | {:.1} | {:.2} | ×{:.1} |",
-            r.label,
-            r.seconds * 1e3,
-            spread(&r.timing),
-            r.samples,
-            r.max_error * 255.0,
-            r.rmse * 255.0,
-            t.reference_seconds / r.seconds.max(1e-9)
-        );
-    }
-    let _ = writeln!(
-        out,
-        "| {} (reference) | {:.1} | {} | {} | 0 | 0 | ×1 |\n",
-        t.reference,
-        t.reference_seconds * 1e3,
-        spread(&t.reference_timing),
-        t.reference_samples
-    );
-    out
 }
 
 /// The CPU's model name (`lscpu`'s "Model name", from /proc/cpuinfo), or "an unnamed CPU",

@@ -376,8 +376,10 @@ mod tests {
 
     #[test]
     fn the_preview_knobs_draw_the_cores_tries_reference_first() {
-        let mut s = RenderSettings::default();
-        s.step = Length::Voxels(0.5);
+        let s = RenderSettings {
+            step: Length::Voxels(0.5),
+            ..Default::default()
+        };
         let t = |scale, step_multiplier| PreviewTry {
             scale,
             step_multiplier,

@@ -259,6 +259,6 @@ pub(super) fn measure_knob(
             t.runs
         ),
     };
-    println!("{how}.\n\n{}", crate::cli::knobs::table(t));
+    println!("{how}.\n\n{}", t.markdown());
     exit.write(AppExit::Success);
 }

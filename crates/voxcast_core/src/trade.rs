@@ -96,6 +96,47 @@ pub struct Trade {
     pub threads: usize,
 }
 
+impl Trade {
+    /// The trade as a markdown table headed by the knob and its reference: each setting's
+    /// median time, its fastest–slowest, samples, errors and speed-up (`voxcast bench
+    /// --knobs`, `voxcast --measure-knob`).
+    pub fn markdown(&self) -> String {
+        use std::fmt::Write as _;
+        let mut out = String::new();
+        let knob = self.knob;
+        let _ = writeln!(out, "**{}** — against {}.\n", knob.label(), self.reference);
+        let _ = writeln!(
+            out,
+            "| {} | time (ms) | fastest–slowest (ms) | samples | max error (/255) | RMSE (/255) | speed-up |",
+            knob.label().to_lowercase()
+        );
+        let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: | ---: |");
+        let spread = |t: &Timing| format!("{:.1}–{:.1}", t.fastest * 1e3, t.slowest * 1e3);
+        for r in &self.rows {
+            let _ = writeln!(
+                out,
+                "| {} | {:.1} | {} | {} | {:.1} | {:.2} | ×{:.1} |",
+                r.label,
+                r.seconds * 1e3,
+                spread(&r.timing),
+                r.samples,
+                r.max_error * 255.0,
+                r.rmse * 255.0,
+                self.reference_seconds / r.seconds.max(1e-9)
+            );
+        }
+        let _ = writeln!(
+            out,
+            "| {} (reference) | {:.1} | {} | {} | 0 | 0 | ×1 |\n",
+            self.reference,
+            self.reference_seconds * 1e3,
+            spread(&self.reference_timing),
+            self.reference_samples
+        );
+        out
+    }
+}
+
 /// Why a trade has no result.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 pub enum TradeError {
