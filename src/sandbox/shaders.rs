@@ -59,6 +59,24 @@ mod tests {
             .join(" ")
     }
 
+    /// A twin's Rust: its file, and the files of its folder where it has one (`skip.rs` and
+    /// `skip/*.rs`), as one text.
+    fn twin_source(path: &str) -> std::io::Result<String> {
+        let mut text = std::fs::read_to_string(path)?;
+        let folder = std::path::Path::new(path.trim_end_matches(".rs"));
+        if let Ok(entries) = std::fs::read_dir(folder) {
+            let mut files: Vec<_> = entries.filter_map(|e| Some(e.ok()?.path())).collect();
+            files.sort();
+            for f in files
+                .iter()
+                .filter(|f| f.extension().is_some_and(|x| x == "rs"))
+            {
+                text.push_str(&std::fs::read_to_string(f)?);
+            }
+        }
+        Ok(text)
+    }
+
     #[test]
     fn every_shader_names_a_twin_that_defines_its_functions() {
         let root = env!("CARGO_MANIFEST_DIR");
@@ -74,7 +92,7 @@ mod tests {
                 continue;
             };
             let twin = twin.trim_end_matches([',', ':', '.']);
-            let rust = std::fs::read_to_string(format!("{root}/{twin}"))
+            let rust = twin_source(&format!("{root}/{twin}"))
                 .unwrap_or_else(|e| panic!("{name}: twin {twin}: {e}"));
             let stem = name.trim_end_matches(".wgsl");
             if twin.starts_with("crates/voxcast_core/src/") && stem != "volume" {

@@ -1,0 +1,354 @@
+//! What the player must do to go on ([`Objective`]) and the state it is checked against
+//! ([`Situation`], as the sandbox sees it).
+
+use crate::composite::Method;
+use serde::{Deserialize, Serialize};
+
+/// What the player must do to go on.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Objective {
+    /// Only reading: Next is open at once.
+    Read,
+    /// Select any ray (a pixel of the virtual camera's image).
+    SelectRay,
+    /// Set the virtual camera to at least this many pixels across.
+    VirtualPixelsAtLeast { pixels: u32 },
+    /// Set the step to at most this many voxels.
+    StepAtMost { voxels: f32 },
+    /// Set the step to at least this many voxels.
+    StepAtLeast { voxels: f32 },
+    /// Turn jitter on or off.
+    Jitter { on: bool },
+    /// Turn trilinear interpolation on (else: nearest).
+    Interpolation { trilinear: bool },
+    /// Cast at least `rays` × `rays` rays a pixel.
+    SupersamplingAtLeast { rays: u32 },
+    /// Choose this compositing method.
+    Method { method: Method },
+    /// Open the sample with the highest value on the selected ray.
+    OpenHighestSample,
+    /// Turn early ray termination on or off.
+    EarlyTermination { on: bool },
+    /// Turn opacity correction on or off.
+    OpacityCorrection { on: bool },
+    /// Turn shading on or off.
+    Shading { on: bool },
+    /// Set First's target value within `[lo, hi]` (data units).
+    TargetBetween { lo: f32, hi: f32 },
+    /// Choose a classification: `table`, `iso-contours` or `boundaries`.
+    Classification { mode: String },
+    /// Make the transfer function's opacity at `value` at most `alpha`.
+    TfAlphaAtMost { value: f32, alpha: f32 },
+    /// Make the transfer function's colour at `value` within `tolerance` (per channel) of
+    /// `color`, with opacity at least `alpha`.
+    TfColorNear {
+        value: f32,
+        color: [f32; 3],
+        tolerance: f32,
+        alpha: f32,
+    },
+    /// Render the view on the CPU and compare: largest difference at most `max` (/255).
+    Compared { max: f32 },
+    /// Put the point light inside the volume's box.
+    LightInsideVolume,
+    /// Predict the interpolated value at `point` (voxel coordinates) to within `tolerance`.
+    PredictValue { point: [f32; 3], tolerance: f32 },
+    /// The player types the red component of the ray's colour after the last of `points`,
+    /// composited back to front as the lecture's worked example does
+    /// (`crate::worked::back_to_front`), within `tolerance`.
+    PredictComposite {
+        points: Vec<[f32; 3]>,
+        tolerance: f32,
+    },
+    /// Composite back to front (`true`) or front to back.
+    BackToFront { on: bool },
+    /// Have a light of this kind: `headlight`, `point` or `directional`.
+    LightKind { light: String },
+    /// Give a point light a falloff with distance (kl or kq above zero).
+    Attenuated,
+    /// Have at least `count` lights.
+    LightsAtLeast { count: usize },
+    /// Have at least `count` lights of distinct colours (no channel within 0.1 of each other's).
+    DistinctLightColours { count: usize },
+    /// Open, in the selected ray's breakdown, a shaded sample lit by at least `lights` lights.
+    OpenLitSample { lights: usize },
+    /// Choose the highlight's colour: Levoy's (the sample's colour, `true`) or white.
+    LevoyHighlight { on: bool },
+    /// Shade with the lecture's full illumination model: emission above zero, a spot light
+    /// with an ambient share of its own, and an ambient coefficient above zero (without which
+    /// every ambient term is zero).
+    FullModel,
+    /// Turn Levoy's depth cue on or off.
+    DepthCue { on: bool },
+    /// Draw a value-and-gradient rectangle (with some opacity) around `value` at the lowest
+    /// gradients, reaching no higher than `max_gradient`.
+    RegionAround { value: f32, max_gradient: f32 },
+    /// Show the live preview as the cost view `view` (`samples`, `skipped`, `stops`).
+    PreviewCostView { view: String },
+    /// Show or hide the skip blocks the virtual camera's rays crossed.
+    SkipBlocks { on: bool },
+    /// Measure the step size's trade for the view on screen.
+    TradeMeasured,
+    /// Turn the clip plane on or off.
+    ClipPlane { on: bool },
+    /// Put the clip plane (on) at a position within `[lo, hi]`.
+    ClipPositionBetween { lo: f32, hi: f32 },
+    /// Crop the box to at most `fraction` of the volume's extent along some axis.
+    CropAtMost { fraction: f32 },
+    /// Select a ray whose sampled part the crop box or clip plane shortened.
+    SelectCutRay,
+    /// Turn empty-space skipping on or off.
+    Skipping { on: bool },
+    /// Show Render image's render as the cost view `view` (`samples`, `skipped`, `stops`),
+    /// rendered with the settings on screen.
+    CostViewed { view: String },
+    /// Set the preview's resolution to at most `scale`.
+    PreviewScaleAtMost { scale: f32 },
+    /// Set the preview's resolution to at least `scale`.
+    PreviewScaleAtLeast { scale: f32 },
+    /// Turn the preview on or off.
+    Preview { on: bool },
+    /// Measure the trade of the knob named `knob` (`crate::knob::Knob::name`) for the view on
+    /// screen.
+    KnobMeasured { knob: String },
+    /// Show a ray density computed from `source` (`camera`: the virtual camera's rays; else a
+    /// ray data source such as `builtin:cornell`), of trace `trace` when given, from at least
+    /// `side_at_least` rays across (the virtual camera's).
+    RayDensity {
+        source: String,
+        #[serde(default)]
+        trace: Option<u32>,
+        #[serde(default)]
+        side_at_least: u32,
+    },
+    /// Show or hide a view of the ray density: `volume`, `mesh` or `field`.
+    RayView { view: String, on: bool },
+    /// Tell which effect (its trace id, `crate::rays::effects::Effect::id`) cast the rays on
+    /// show.
+    NameEffect { trace: u32 },
+    /// Answer one of RayVis's study questions about a trace of the Cornell box
+    /// ([`crate::rays::study::Question`]: `camera`, `hits`, `density-high` or `density-low`),
+    /// checked against what the code finds in the trace.
+    StudyQuestion { trace: u32, question: String },
+}
+
+/// What a ray density on show was computed from, as the objectives see it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RayDensityFacts {
+    /// `camera`, or the ray data source.
+    pub source: String,
+    pub trace: Option<u32>,
+    /// The virtual camera's rays across (0 for other sources).
+    pub side: u32,
+}
+
+/// The state an objective is checked against, as the sandbox sees it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Situation {
+    pub method: Option<Method>,
+    /// The step in voxels.
+    pub step_voxels: f32,
+    /// The virtual camera's pixels across (its image's width; 0 without one).
+    pub virtual_pixels_across: u32,
+    pub ray_selected: bool,
+    /// Values of the selected ray's samples, and the index of the opened one.
+    pub ray_values: Vec<f32>,
+    pub opened_sample: Option<usize>,
+    pub early_termination: bool,
+    pub opacity_correction: bool,
+    pub shading: bool,
+    pub target: Option<f32>,
+    /// `table`, `iso-contours`, `boundaries` or `value-gradient`.
+    pub classification: &'static str,
+    /// The value-and-gradient rectangles, when that classification is chosen.
+    pub regions: Vec<crate::classify::Region>,
+    pub transfer: Option<crate::transfer::TransferFunction>,
+    /// The largest preview/render difference of the last comparison (/255), if current.
+    pub compared_max: Option<f32>,
+    pub light_inside_volume: bool,
+    /// The value the player typed and the true one (the value at the step's point, or the
+    /// worked composite's red component).
+    pub prediction: Option<(f32, f32)>,
+    pub back_to_front: bool,
+    /// Each light's kind: `headlight`, `point`, `directional` or `spot`.
+    pub light_kinds: Vec<&'static str>,
+    /// Some spot light has an ambient share of its own.
+    pub spot_ambient: bool,
+    /// The emission coefficient ke.
+    pub emission: f32,
+    /// The ambient coefficient ka (the lights' ambient terms are I_a·ka·c).
+    pub ka: f32,
+    /// Levoy's depth cue is on.
+    pub depth_cue: bool,
+    /// Each light's colour.
+    pub light_colors: Vec<[f32; 3]>,
+    /// Some point light has kl or kq above zero.
+    pub attenuated: bool,
+    /// The highlight takes the sample's colour (Levoy).
+    pub levoy_highlight: bool,
+    /// How many lights shaded the opened sample (`None`: none opened, or it was not shaded).
+    pub opened_sample_lights: Option<usize>,
+    /// A step-trade measurement matches the view and settings on screen.
+    pub trade_measured: bool,
+    pub jitter: bool,
+    /// Trilinear interpolation (else nearest).
+    pub trilinear: bool,
+    /// Rays per pixel side.
+    pub supersampling: u32,
+    /// The crop box and clip plane.
+    pub clip: crate::clip::Clip,
+    /// The selected ray's sampled part was shortened by the cut.
+    pub ray_cut: bool,
+    pub skipping: bool,
+    /// The cost view Render image shows of a render of what is on screen, if any.
+    pub cost_view: Option<&'static str>,
+    pub preview_on: bool,
+    pub preview_scale: f32,
+    /// The cost view the live preview shows, if any.
+    pub preview_cost_view: Option<&'static str>,
+    /// The skip blocks the virtual camera's rays crossed are drawn.
+    pub skip_blocks_shown: bool,
+    /// The knob of a trade measured for what is on screen, if any.
+    pub measured_knob: Option<&'static str>,
+    /// The ray density on show, if any.
+    pub ray_density: Option<RayDensityFacts>,
+    /// The ray density's views shown (`volume`, `mesh`, `field`).
+    pub ray_views: Vec<&'static str>,
+    /// The effect (trace id) the player named.
+    pub named_effect: Option<u32>,
+    /// The study question answered right this step: its trace and question key.
+    pub studied: Option<(u32, String)>,
+}
+
+impl Objective {
+    /// Whether `s` meets the objective.
+    pub fn met(&self, s: &Situation) -> bool {
+        match self {
+            Objective::Read => true,
+            Objective::SelectRay => s.ray_selected,
+            Objective::VirtualPixelsAtLeast { pixels } => s.virtual_pixels_across >= *pixels,
+            // A slider lands on 0.25 as 0.2500001: a thousandth of a voxel is allowed.
+            Objective::StepAtMost { voxels } => s.step_voxels <= voxels + 1e-3,
+            Objective::StepAtLeast { voxels } => s.step_voxels >= voxels - 1e-3,
+            Objective::Jitter { on } => s.jitter == *on,
+            Objective::Interpolation { trilinear } => s.trilinear == *trilinear,
+            Objective::SupersamplingAtLeast { rays } => s.supersampling >= *rays,
+            Objective::Method { method } => s.method == Some(*method),
+            Objective::OpenHighestSample => {
+                let highest = s
+                    .ray_values
+                    .iter()
+                    .copied()
+                    .fold(f32::NEG_INFINITY, f32::max);
+                s.opened_sample
+                    .and_then(|k| s.ray_values.get(k))
+                    .is_some_and(|v| *v == highest)
+            }
+            Objective::EarlyTermination { on } => s.early_termination == *on,
+            Objective::OpacityCorrection { on } => s.opacity_correction == *on,
+            Objective::Shading { on } => s.shading == *on,
+            Objective::TargetBetween { lo, hi } => s.target.is_some_and(|t| t >= *lo && t <= *hi),
+            Objective::Classification { mode } => s.classification == mode,
+            Objective::TfAlphaAtMost { value, alpha } => s
+                .transfer
+                .as_ref()
+                .is_some_and(|t| t.evaluate(*value).w <= *alpha),
+            Objective::TfColorNear {
+                value,
+                color,
+                tolerance,
+                alpha,
+            } => s.transfer.as_ref().is_some_and(|t| {
+                let c = t.evaluate(*value);
+                c.w >= *alpha && (0..3).all(|i| (c[i] - color[i]).abs() <= *tolerance)
+            }),
+            Objective::Compared { max } => s.compared_max.is_some_and(|m| m <= *max),
+            Objective::LightInsideVolume => s.light_inside_volume,
+            Objective::PredictValue { tolerance, .. }
+            | Objective::PredictComposite { tolerance, .. } => s
+                .prediction
+                .is_some_and(|(typed, truth)| (typed - truth).abs() <= *tolerance),
+            Objective::BackToFront { on } => s.back_to_front == *on,
+            Objective::LightKind { light } => s.light_kinds.contains(&light.as_str()),
+            Objective::Attenuated => s.attenuated,
+            Objective::LightsAtLeast { count } => s.light_kinds.len() >= *count,
+            Objective::DistinctLightColours { count } => {
+                distinct_colours(&s.light_colors) >= *count
+            }
+            Objective::OpenLitSample { lights } => {
+                s.opened_sample_lights.is_some_and(|n| n >= *lights)
+            }
+            Objective::LevoyHighlight { on } => s.levoy_highlight == *on,
+            Objective::FullModel => s.emission > 0.0 && s.spot_ambient && s.ka > 0.0,
+            Objective::DepthCue { on } => s.depth_cue == *on,
+            Objective::RegionAround {
+                value,
+                max_gradient,
+            } => s.regions.iter().any(|r| {
+                r.contains(*value, 0.0) && r.gradient[1] <= *max_gradient && r.opacity > 0.0
+            }),
+            Objective::PreviewCostView { view } => s.preview_cost_view == Some(view.as_str()),
+            Objective::SkipBlocks { on } => s.skip_blocks_shown == *on,
+            Objective::TradeMeasured => s.trade_measured,
+            Objective::ClipPlane { on } => s.clip.plane.is_some() == *on,
+            Objective::ClipPositionBetween { lo, hi } => s
+                .clip
+                .plane
+                .is_some_and(|p| p.position >= *lo && p.position <= *hi),
+            Objective::CropAtMost { fraction } => {
+                let kept = s.clip.crop_hi - s.clip.crop_lo;
+                kept.min_element() <= fraction + 1e-3
+            }
+            Objective::SelectCutRay => s.ray_selected && s.ray_cut,
+            Objective::Skipping { on } => s.skipping == *on,
+            Objective::CostViewed { view } => s.cost_view == Some(view.as_str()),
+            // A slider lands on 0.5 as 0.50000006: a thousandth is allowed.
+            Objective::PreviewScaleAtMost { scale } => s.preview_scale <= scale + 1e-3,
+            Objective::PreviewScaleAtLeast { scale } => s.preview_scale >= scale - 1e-3,
+            Objective::Preview { on } => s.preview_on == *on,
+            Objective::KnobMeasured { knob } => s.measured_knob == Some(knob.as_str()),
+            Objective::RayDensity {
+                source,
+                trace,
+                side_at_least,
+            } => s.ray_density.as_ref().is_some_and(|f| {
+                f.source == *source
+                    && f.side >= *side_at_least
+                    && trace.is_none_or(|t| f.trace == Some(t))
+            }),
+            Objective::RayView { view, on } => s.ray_views.contains(&view.as_str()) == *on,
+            Objective::StudyQuestion { trace, question } => {
+                s.studied.as_ref() == Some(&(*trace, question.clone()))
+            }
+            Objective::NameEffect { trace } => s
+                .named_effect
+                .is_some_and(|named| crate::rays::effects::Effect::same_kind(named, *trace)),
+        }
+    }
+}
+
+/// How many of `colors` differ from every other one by more than 0.1 in some channel (greedy:
+/// each colour counts if it is distinct from those already counted).
+pub fn distinct_colours(colors: &[[f32; 3]]) -> usize {
+    let mut kept: Vec<[f32; 3]> = Vec::new();
+    for c in colors {
+        let new = kept
+            .iter()
+            .all(|k| (0..3).any(|i| (k[i] - c[i]).abs() > 0.1));
+        if new {
+            kept.push(*c);
+        }
+    }
+    kept.len()
+}
+
+/// The name [`Objective::Classification`] uses for `c`.
+pub fn classification_mode(c: &crate::classify::Classification) -> &'static str {
+    match c {
+        crate::classify::Classification::Table => "table",
+        crate::classify::Classification::IsoContours { .. } => "iso-contours",
+        crate::classify::Classification::Boundaries { .. } => "boundaries",
+        crate::classify::Classification::ValueGradient { .. } => "value-gradient",
+    }
+}
