@@ -76,7 +76,13 @@ fn trace(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, pixel: vec2<u32>) -> vec
     if METHOD == #{METHOD_FIRST}u {
         return first(plan, o_v, d_v, view);
     }
-    return project(plan, o_v, d_v);
+    if METHOD == #{METHOD_AVERAGE}u || METHOD == #{METHOD_MAXIMUM}u
+        || METHOD == #{METHOD_MINIMUM}u || METHOD == #{METHOD_SUM}u {
+        return project(plan, o_v, d_v);
+    }
+    // A method code no branch names: magenta, which no method draws, instead of passing for
+    // another method (shaders.rs tests that every method has its branch).
+    return vec4(1.0, 0.0, 1.0, 1.0);
 }
 
 fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
@@ -231,6 +237,7 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
     if counted == 0u {
         return vec4(0.0);
     }
+    // Average unless another projection (trace() sends only these four here).
     var value = sum / f32(counted);
     if maximum {
         value = hi;

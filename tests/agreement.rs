@@ -192,7 +192,7 @@ fn sweep_agrees(names: &[&str], args: &[&str], suffix: &str) -> Outcome {
         let view = p.view.unwrap();
         let (lo, hi) = volume.bounds();
         let camera = Camera::framing(lo, hi, view.from, view.up).unwrap();
-        for (stem, s) in agreement_cases(&base, volume.volume()) {
+        for (stem, s) in agreement_cases(&base, volume.volume(), &p.transfer) {
             let scene = Scene::new(&volume, &p.transfer, &s, camera.forward()).unwrap();
             let (cpu, _) = render_with_threads(&scene, &camera, SIZE, SIZE, 2).unwrap();
             let cpu = LinearImage::from_rgb8(&cpu.to_rgb8());

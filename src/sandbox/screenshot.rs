@@ -93,10 +93,14 @@ fn take_screenshot(
     }
     let shots = plan.get_or_insert_with(|| {
         if request.sweep {
-            voxcast_core::settings::agreement_cases(&render.settings, volume.volume.volume())
-                .into_iter()
-                .map(|(name, s)| (request.path.join(format!("{name}.png")), s))
-                .collect()
+            voxcast_core::settings::agreement_cases(
+                &render.settings,
+                volume.volume.volume(),
+                &render.transfer,
+            )
+            .into_iter()
+            .map(|(name, s)| (request.path.join(format!("{name}.png")), s))
+            .collect()
         } else {
             vec![(request.path.clone(), render.settings.clone())]
         }

@@ -59,6 +59,21 @@ mod tests {
             .join(" ")
     }
 
+    /// Every compositing method has its own branch in the preview's dispatch: a method added
+    /// to the core without one would draw magenta, not pass for another.
+    #[test]
+    fn the_preview_dispatches_every_method_by_name() {
+        let trace = super::SOURCES
+            .iter()
+            .find(|(name, _)| *name == "trace.wgsl")
+            .map(|(_, source)| *source)
+            .unwrap();
+        for m in voxcast_core::composite::Method::ALL {
+            let branch = format!("METHOD == #{{METHOD_{}}}u", m.name().to_uppercase());
+            assert!(trace.contains(&branch), "trace.wgsl has no `{branch}`");
+        }
+    }
+
     /// A twin's Rust: its file, and the files of its folder where it has one (`skip.rs` and
     /// `skip/*.rs`), as one text.
     fn twin_source(path: &str) -> std::io::Result<String> {

@@ -225,6 +225,7 @@ impl RenderSettings {
 pub fn agreement_cases(
     base: &RenderSettings,
     volume: &crate::volume::Volume,
+    transfer: &crate::transfer::TransferFunction,
 ) -> Vec<(String, RenderSettings)> {
     let bounds = volume.bounds();
     let mut out = Vec::new();
@@ -374,6 +375,46 @@ pub fn agreement_cases(
             },
         ));
     }
+    // Levoy's two other classifications (the table's colour, their own opacity), and
+    // lighting from one side only (back faces dark, not flipped).
+    for (name, classification) in [
+        (
+            "iso_contours",
+            crate::classify::Classification::IsoContours {
+                isovalues: visible_isovalues(volume, transfer),
+                thickness_voxels: 1.5,
+            },
+        ),
+        (
+            "boundaries",
+            crate::classify::Classification::Boundaries {
+                full_gradient: None,
+            },
+        ),
+    ] {
+        out.push((
+            format!("accumulate_{name}"),
+            RenderSettings {
+                classification,
+                ..accumulate.clone()
+            },
+        ));
+    }
+    out.push((
+        if base.phong.two_sided {
+            "accumulate_one_sided"
+        } else {
+            "accumulate_two_sided"
+        }
+        .into(),
+        RenderSettings {
+            phong: Phong {
+                two_sided: !base.phong.two_sided,
+                ..base.phong.clone()
+            },
+            ..accumulate.clone()
+        },
+    ));
     out.push((
         "accumulate_uncorrected".into(),
         RenderSettings {
@@ -382,6 +423,26 @@ pub fn agreement_cases(
         },
     ));
     out
+}
+
+/// Two isovalues in `volume`'s range that the table makes visible (an isovalue's contour takes
+/// the table's opacity there, so an invisible one would draw an empty image that agrees
+/// trivially): a third and two thirds of the way through the visible values, or a third and
+/// two thirds of the range where none is visible.
+fn visible_isovalues(
+    volume: &crate::volume::Volume,
+    transfer: &crate::transfer::TransferFunction,
+) -> Vec<f32> {
+    let (lo, hi) = volume.value_range();
+    let range = (hi - lo).max(1e-6);
+    let visible: Vec<f32> = (0..64)
+        .map(|i| lo + range * (i as f32 + 0.5) / 64.0)
+        .filter(|&v| transfer.evaluate(v).w > 0.02)
+        .collect();
+    match visible.len() {
+        0 => vec![lo + range / 3.0, lo + 2.0 * range / 3.0],
+        n => vec![visible[n / 3], visible[2 * n / 3]],
+    }
 }
 
 /// Two overlapping rectangles over value × gradient magnitude for `volume`: low values at low
