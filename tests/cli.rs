@@ -580,6 +580,41 @@ fn a_closed_pipe_ends_quietly() {
     assert_ne!(o.status.code(), Some(101), "a panic's exit code: {err}");
 }
 
+/// RayVis's study questions answered from the traces, as level 18 checks them: trace 0's
+/// camera level in front of the box, trace 1's higher, the shadow rays (trace 4) from many
+/// points (no camera) and scarcest, of those that miss, on the back wall.
+#[test]
+fn rays_study_answers_the_studys_questions() {
+    let o = voxcast(&["rays", "study", "builtin:cornell", "--cell", "40"]);
+    let t = text(&o);
+    assert!(o.status.success(), "{t}");
+    let block = |id: u32| {
+        let start = t
+            .find(&format!("trace {id} ("))
+            .unwrap_or_else(|| panic!("{t}"));
+        let rest = &t[start..];
+        let end = rest[1..].find("\ntrace ").map_or(rest.len(), |e| e + 1);
+        rest[..end].to_string()
+    };
+    assert!(
+        block(0).contains("Where was the camera of trace 0? in front of the open side, level"),
+        "{t}"
+    );
+    assert!(block(1).contains("higher than the box's top"), "{t}");
+    let shadow = block(4);
+    assert!(
+        shadow.contains("Where was the camera of trace 4? no answer in this trace"),
+        "{shadow}"
+    );
+    assert!(
+        shadow.contains("the smallest share of the rays that start there miss? the back wall"),
+        "{shadow}"
+    );
+    let bad = voxcast(&["rays", "study", "builtin:cornell", "--trace", "9"]);
+    assert_eq!(bad.status.code(), Some(2), "{}", text(&bad));
+    assert!(text(&bad).contains("has traces"), "{}", text(&bad));
+}
+
 /// The help lists the methods with their descriptions; info's options all have help; the
 /// percentiles are data values (the 1 % of a volume mostly empty is 0, not a bin centre).
 #[test]

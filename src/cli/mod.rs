@@ -19,6 +19,8 @@ pub mod rays;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod rays_render;
 #[cfg(not(target_arch = "wasm32"))]
+pub mod rays_study;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod render;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod trace;

@@ -29,6 +29,9 @@ pub enum RaysCommand {
     Density(DensityArgs),
     /// Write the ray data as a .rayvis file (an RDF container RayVis reads).
     Export(ExportArgs),
+    /// RayVis's study questions about each trace (where its camera stood, where its hitting
+    /// rays start, where a density is particularly high or low), answered from the trace.
+    Study(super::rays_study::StudyArgs),
     /// The density over the scene as a PNG, as the sandbox shows it: each pixel's ray sums the
     /// rays per cell it passes (Sum), stopped where it meets the scene, coloured by inferno
     /// and laid over the scene.
@@ -139,6 +142,7 @@ pub fn run(a: &RaysArgs) -> Result<(), CliError> {
         RaysCommand::Density(d) => density(d),
         RaysCommand::Export(e) => export(e),
         RaysCommand::Render(r) => super::rays_render::render(r),
+        RaysCommand::Study(s) => super::rays_study::study(s),
     }
 }
 
@@ -163,7 +167,7 @@ pub(super) fn source(s: &SourceArg) -> Result<RayData, CliError> {
 }
 
 /// A trace's name in words, with its effect for the sets Voxcast traces itself.
-fn trace_words(source: &str, id: u32) -> String {
+pub(super) fn trace_words(source: &str, id: u32) -> String {
     match effect_of(id).filter(|_| source.starts_with("builtin:cornell")) {
         Some(e) => format!("trace {id} ({})", e.words()),
         None => format!("trace {id}"),

@@ -80,6 +80,14 @@ pub enum Question {
 }
 
 impl Question {
+    /// Every question, in the study's order.
+    pub const ALL: [Question; 4] = [
+        Question::Camera,
+        Question::Hits,
+        Question::DensityHigh,
+        Question::DensityLow,
+    ];
+
     /// Its key in a level's objective.
     pub fn parse(key: &str) -> Option<Self> {
         match key {
