@@ -192,8 +192,9 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
     }
     let maximum = METHOD == #{METHOD_MAXIMUM}u;
     let extreme = maximum || METHOD == #{METHOD_MINIMUM}u;
-    // The CPU's block skipping for Maximum and Minimum (trace.rs, `project_extreme`): a block
-    // whose range cannot beat the running extreme is passed without sampling.
+    // The CPU's block skipping for Maximum and Minimum (trace/skipping.rs,
+    // `project_extreme`): a block whose range cannot beat the running extreme is passed
+    // without sampling.
     let skip = params.skip_ranges != 0u && extreme;
     let ties = params.ties_skippable != 0u;
     let margin_t = params.skip_margin / length(d_v);
@@ -258,9 +259,9 @@ fn project(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>) -> vec4<f32> {
 
 fn first(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -> vec4<f32> {
     let target_value = params.target_value;
-    // The CPU's block skipping for First (trace.rs, `first_skipping`): a block whose values all
-    // lie below the target holds no hit; only its last sample is read, as the previous sample
-    // (the lower end of a later hit's bracket).
+    // The CPU's block skipping for First (trace/skipping.rs, `first_skipping`): a block
+    // whose values all lie below the target holds no hit; only its last sample is read, as
+    // the previous sample (the lower end of a later hit's bracket).
     let skip = params.skip_ranges != 0u;
     let margin_t = params.skip_margin / length(d_v);
     var checked = vec3(0xffffffffu);

@@ -7,7 +7,7 @@
 //!
 //! Rays grow outwards from the camera at an adjustable speed and samples appear as a ray passes
 //! them; the animation can be skipped. The lines themselves are painted over the preview by
-//! the inspector's overlay (`ui/inspector.rs`), so they stay readable inside the volume.
+//! the rays' overlay (`ui/ray_overlay.rs`), so they stay readable inside the volume.
 
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use super::virtual_camera::VirtualCamera;
