@@ -1,0 +1,228 @@
+//! The check of the current step's objective: what the player has done, gathered as the core's
+//! `Situation`, against `Objective::met`; and the answers the code computes for the questions
+//! a step asks (a predicted value, a study question).
+
+use super::*;
+
+/// The ray data the objectives read (absent in tests without the Ray data plugins).
+type RayState<'w> = (
+    Option<Res<'w, crate::sandbox::raydata::RayScene>>,
+    Option<Res<'w, crate::sandbox::raydata::RayChoices>>,
+    Option<Res<'w, crate::sandbox::rayviews::ViewReport>>,
+);
+
+/// Checks the current step's objective against what the player has done.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn check_objective(
+    mode: Res<State<Mode>>,
+    mut lessons: ResMut<Lessons>,
+    (render, volume): (Res<RenderState>, Res<VolumeState>),
+    cameras: Query<&VirtualCamera>,
+    (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
+    (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
+    (mut trade, preview, inspect): (
+        ResMut<StepTrade>,
+        Option<Res<PreviewSettings>>,
+        Option<Res<crate::sandbox::inspect::InspectSettings>>,
+    ),
+    (rays, ray_choices, ray_report): RayState,
+) {
+    let step = lessons.step_in(*mode.get()).cloned();
+    // A step about the step's trade measures the step, whatever knob was picked before.
+    if step
+        .as_ref()
+        .is_some_and(|s| s.objective == Objective::TradeMeasured)
+        && trade.knob != voxcast_core::knob::Knob::Step
+        && trade.progress().is_none()
+    {
+        trade.knob = voxcast_core::knob::Knob::Step;
+    }
+    let spot = step.as_ref().and_then(|s| s.control);
+    // A prediction step's answer: the reconstruction at its point, or the worked composite.
+    let (detail, composite) = match step.as_ref().map(|s| &s.objective) {
+        Some(Objective::PredictValue { point, .. }) => (
+            Some(detail_at(
+                &volume.volume,
+                Vec3::from_array(*point),
+                Interpolation::Trilinear,
+            )),
+            None,
+        ),
+        Some(Objective::PredictComposite { points, .. }) => (
+            None,
+            Some(voxcast_core::worked::back_to_front(
+                &volume.volume,
+                &render.transfer,
+                points,
+            )),
+        ),
+        _ => (None, None),
+    };
+    let met = step.is_some_and(|step| {
+        let mut sit = situation(
+            &render,
+            &volume,
+            cameras.single().ok(),
+            &selection,
+            &breakdown,
+            (&comparison, views.single().ok()),
+            (&trade, preview.as_deref(), inspect.as_deref()),
+        );
+        let truth = prediction_truth(detail.as_ref(), composite.as_deref());
+        if let (Some(truth), Ok(typed)) = (truth, parse_typed(&lessons.prediction)) {
+            sit.prediction = Some((typed, truth));
+        }
+        let shown = rays.as_ref().and_then(|r| r.on_show(&volume));
+        sit.ray_density = shown.map(|s| s.computed.facts.clone());
+        if shown.is_some() {
+            let drawn = ray_report.as_ref().is_some_and(|r| r.drawn);
+            let view = ray_choices
+                .as_ref()
+                .map(|c| c.view.clone())
+                .unwrap_or_default();
+            sit.ray_views = [
+                ("volume", sit.preview_on),
+                ("mesh", view.mesh && drawn),
+                ("field", view.field && drawn),
+            ]
+            .into_iter()
+            .filter_map(|(name, on)| on.then_some(name))
+            .collect();
+        }
+        sit.named_effect = lessons.named_effect;
+        sit.studied = lessons.studied.clone();
+        step.objective.met(&sit)
+    });
+    lessons.on_show = rays.as_ref().and_then(|r| r.on_show(&volume)).cloned();
+    let here = Some((*mode.get(), lessons.step));
+    let met = met || (lessons.met_for == here && lessons.met);
+    if met {
+        lessons.met_for = here;
+    }
+    (lessons.met, lessons.spot) = (met, spot);
+    (lessons.detail, lessons.composite) = (detail, composite);
+}
+
+/// The code's answer to study question `q` from the density on show (see
+/// [`Lessons::study_shown`]).
+pub fn study_truth(
+    shown: &crate::sandbox::raydata::Shown,
+    q: voxcast_core::rays::study::Question,
+) -> Option<String> {
+    let c = &shown.computed;
+    q.answer(&c.data.scene, &c.set, Some(&c.density))
+}
+
+/// What a prediction step's answer should be: the reconstructed value at its point, or the
+/// red of the worked composite after its last point.
+pub(super) fn prediction_truth(
+    detail: Option<&SampleDetail>,
+    composite: Option<&[voxcast_core::worked::WorkedPoint]>,
+) -> Option<f32> {
+    detail
+        .map(|d| d.value)
+        .or_else(|| composite?.last().map(|r| r.after[0]))
+}
+
+/// A number as a player types it: spaces around it and a decimal comma allowed.
+pub fn parse_typed(typed: &str) -> Result<f32, std::num::ParseFloatError> {
+    typed.trim().replace(',', ".").parse::<f32>()
+}
+
+/// What the player has done, as the objectives see it.
+fn situation(
+    render: &RenderState,
+    volume: &VolumeState,
+    vc: Option<&VirtualCamera>,
+    selection: &RaySelection,
+    breakdown: &BreakdownState,
+    (comparison, view): (&Comparison, Option<&View>),
+    (trade, preview, inspect): (
+        &StepTrade,
+        Option<&PreviewSettings>,
+        Option<&crate::sandbox::inspect::InspectSettings>,
+    ),
+) -> Situation {
+    let voxel = volume.volume.spacing().min_element();
+    let (lo, hi) = volume.volume.bounds();
+    let compared_max = comparison
+        .result
+        .as_ref()
+        .filter(|r| r.snapshot.is_current(view, render, volume))
+        .and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0));
+    let measured = trade.current(view, render, volume).map(|t| t.knob);
+    let lights = &render.settings.phong.lights;
+    let light_inside_volume = lights.iter().any(|l| {
+        matches!(l.light,
+            voxcast_core::shade::Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all())
+    });
+    let opened_sample_lights = breakdown
+        .opened
+        .and_then(|i| breakdown.trace.as_ref()?.samples.get(i)?.shading)
+        .filter(|t| t.lit)
+        .map(|t| t.light_count);
+    Situation {
+        method: Some(render.settings.method),
+        step_voxels: render.settings.step.voxels(voxel),
+        virtual_pixels_across: vc.map_or(0, |v| v.width),
+        ray_selected: selection.selected.is_some(),
+        ray_values: breakdown
+            .trace
+            .as_ref()
+            .map(|t| t.samples.iter().map(|s| s.reconstruction.value).collect())
+            .unwrap_or_default(),
+        opened_sample: breakdown.opened,
+        early_termination: render.settings.early_termination,
+        opacity_correction: render.settings.opacity_correction,
+        shading: render.settings.shading,
+        target: render.settings.target,
+        classification: voxcast_core::level::classification_mode(&render.settings.classification),
+        regions: match &render.settings.classification {
+            voxcast_core::classify::Classification::ValueGradient { regions } => regions.clone(),
+            _ => Vec::new(),
+        },
+        transfer: Some(render.transfer.clone()),
+        compared_max,
+        light_inside_volume,
+        prediction: None,
+        back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
+        light_kinds: lights.iter().map(|l| l.light.kind_label()).collect(),
+        spot_ambient: lights
+            .iter()
+            .any(|l| matches!(l.light, voxcast_core::shade::Light::Spot(_)) && l.ambient > 0.0),
+        emission: render.settings.phong.ke,
+        ka: render.settings.phong.ka,
+        depth_cue: render.settings.phong.depth_cue,
+        light_colors: lights.iter().map(|l| l.color.to_array()).collect(),
+        attenuated: lights.iter().any(|l| l.attenuated()),
+        levoy_highlight: render.settings.phong.highlight == voxcast_core::shade::Highlight::Levoy,
+        opened_sample_lights,
+        // The sampling levels measure the step's trade.
+        trade_measured: measured == Some(voxcast_core::knob::Knob::Step),
+        measured_knob: measured.map(|k| k.name()),
+        preview_on: preview.is_some_and(|p| p.enabled),
+        preview_scale: preview.map_or(1.0, |p| p.scale),
+        preview_cost_view: preview.and_then(|p| p.cost_view).map(|v| v.name()),
+        skip_blocks_shown: inspect.is_some_and(|i| i.show_blocks),
+        jitter: render.settings.jitter,
+        trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
+        supersampling: render.settings.supersampling,
+        clip: render.settings.clip.clone(),
+        skipping: render.settings.skipping,
+        cost_view: comparison
+            .result
+            .as_ref()
+            .filter(|r| r.snapshot.is_current(view, render, volume))
+            .and(comparison.cost_view)
+            .map(|v| v.name()),
+        ray_cut: breakdown
+            .trace
+            .as_ref()
+            .is_some_and(|t| t.cut_words().is_some()),
+        // Filled in by the caller, which sees the ray data.
+        ray_density: None,
+        ray_views: Vec::new(),
+        named_effect: None,
+        studied: None,
+    }
+}

@@ -1,0 +1,443 @@
+//! The levels' logic tested in a windowless app: commands, progress, studies, objectives.
+
+use super::*;
+use crate::sandbox::inspect::{Inspection, SampleSphere};
+use crate::sandbox::light::LightMarker;
+use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
+use bevy::window::FileDragAndDrop;
+use voxcast_core::composite::Method;
+
+/// The sandbox's level logic and spawners without a window or a GPU.
+fn app(progress: PathBuf) -> App {
+    AsyncComputeTaskPool::get_or_init(TaskPool::new);
+    let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
+    let mut app = App::new();
+    app.add_plugins((MinimalPlugins, bevy::state::app::StatesPlugin))
+        .insert_resource(volume)
+        .insert_resource(render)
+        .init_resource::<Assets<Mesh>>()
+        .init_resource::<Assets<StandardMaterial>>()
+        .add_message::<FileDragAndDrop>()
+        .init_resource::<PreviewSettings>()
+        .init_resource::<BreakdownState>()
+        .init_resource::<Comparison>()
+        .insert_resource(Lessons::new(ProgressStore::File(progress)))
+        .add_plugins((
+            crate::sandbox::mode::plugin,
+            crate::sandbox::loading::plugin,
+            crate::sandbox::inspect::plugin,
+            crate::sandbox::light::marker_plugin,
+            crate::sandbox::trade::plugin,
+            plugin,
+        ))
+        .add_systems(Update, crate::sandbox::virtual_camera::stage_camera);
+    app
+}
+
+/// Runs frames until `done` holds (a level's volume loads on the task pool).
+fn until(app: &mut App, done: impl Fn(&mut App) -> bool) {
+    for _ in 0..500 {
+        app.update();
+        if done(app) {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    panic!("not reached");
+}
+
+fn entities<C: Component>(app: &mut App) -> Vec<Entity> {
+    let mut q = app.world_mut().query_filtered::<Entity, With<C>>();
+    q.iter(app.world()).collect()
+}
+
+fn mode(app: &App) -> Mode {
+    *app.world().resource::<State<Mode>>().get()
+}
+
+fn level(app: &App, id: &str) -> usize {
+    let lessons = app.world().resource::<Lessons>();
+    lessons.levels.iter().position(|l| l.id == id).unwrap()
+}
+
+fn send(app: &mut App, c: LevelCommand) {
+    app.world_mut().write_message(c);
+    app.update();
+    app.update();
+}
+
+/// A prediction done and an effect named are kept as answers, with what the code
+/// computes, saved with the progress and exported as CSV.
+#[test]
+fn answers_are_kept_with_the_progress() {
+    let dir = std::env::temp_dir().join(format!("voxcast-answers-{}", std::process::id()));
+    let path = dir.join("progress.json");
+    let mut app = app(path.clone());
+    let trilinear = level(&app, "trilinear");
+    send(&mut app, LevelCommand::Start(trilinear));
+    until(&mut app, |a| {
+        a.world().resource::<VolumeState>().source == "builtin:voxel"
+    });
+    send(&mut app, LevelCommand::Next); // step 1 is read
+    app.world_mut().resource_mut::<Lessons>().prediction = "4,99".into();
+    until(&mut app, |a| a.world().resource::<Lessons>().met);
+    send(&mut app, LevelCommand::Next);
+    let lessons = app.world().resource::<Lessons>();
+    let [a] = &lessons.progress.answers[..] else {
+        panic!("{:?}", lessons.progress.answers)
+    };
+    assert_eq!((a.level.as_str(), a.step), ("trilinear", 2));
+    assert_eq!(a.question, "the value at (0.5, 0.5, 0.5)");
+    assert_eq!(
+        (a.answer.as_str(), a.expected.as_str(), a.correct),
+        ("4,99", "4.988", true)
+    );
+    // Naming an effect: a wrong choice and the right one, both kept.
+    let mut lessons = app.world_mut().resource_mut::<Lessons>();
+    lessons.name_effect(trilinear, 2, 1);
+    lessons.name_effect(trilinear, 1, 1);
+    let kept = &lessons.progress.answers;
+    assert_eq!(kept.len(), 3);
+    assert!(!kept[1].correct && kept[2].correct);
+    assert_eq!(kept[1].answer, "reflection rays");
+    assert_eq!(kept[1].expected, "primary rays");
+    let (saved, _) = Progress::load(&path);
+    assert_eq!(&saved.answers, kept);
+    let csv = saved.answers_csv();
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    let first = csv.lines().nth(1).unwrap();
+    let quoted = "trilinear,2,\"the value at (0.5, 0.5, 0.5)\",\"4,99\",4.988,yes,";
+    assert!(first.starts_with(quoted), "{csv}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A study plays the level twice: the preview held off in the first run (whatever the
+/// player turns on), on in the second, from the first step again; each answer is kept
+/// with its run's name; after the second run, free play. `--study` names a level by id or
+/// number.
+#[test]
+fn a_study_plays_the_level_with_the_preview_off_then_on() {
+    use voxcast_core::classify::{Classification, Region};
+    let dir = std::env::temp_dir().join(format!("voxcast-study-{}", std::process::id()));
+    let mut app = app(dir.join("progress.json"));
+    let l = level(&app, "value-gradient");
+    assert_eq!(level_named("value-gradient"), Ok(l));
+    assert_eq!(level_named(&(l + 1).to_string()), Ok(l));
+    assert!(level_named("nope").unwrap_err().contains("value-gradient"));
+    send(&mut app, LevelCommand::Study(l));
+    until(&mut app, |a| {
+        a.world().resource::<VolumeState>().source == "builtin:head"
+    });
+    let preview = |app: &App| app.world().resource::<PreviewSettings>().enabled;
+    let play_through = |app: &mut App| {
+        send(app, LevelCommand::Next); // read
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .classification = Classification::ValueGradient { regions: vec![] };
+        until(app, |a| a.world().resource::<Lessons>().met);
+        send(app, LevelCommand::Next);
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .classification = Classification::ValueGradient {
+            regions: vec![Region {
+                value: [100.0, 120.0],
+                gradient: [0.0, 30.0],
+                opacity: 0.6,
+            }],
+        };
+        until(app, |a| a.world().resource::<Lessons>().met);
+        app.world_mut()
+            .resource_mut::<Lessons>()
+            .name_effect(l, 1, 1);
+        send(app, LevelCommand::Next);
+    };
+    assert!(!preview(&app));
+    app.world_mut().resource_mut::<PreviewSettings>().enabled = true;
+    app.update();
+    assert!(!preview(&app), "held off in the first run");
+    play_through(&mut app);
+    let lessons = app.world().resource::<Lessons>();
+    assert_eq!(lessons.study, Some(StudyRun::PreviewOn));
+    assert_eq!((mode(&app), lessons.step), (Mode::Level(l), 0));
+    assert!(lessons.message.as_deref().unwrap().contains("run 2 of 2"));
+    assert!(preview(&app), "on in the second");
+    play_through(&mut app);
+    let lessons = app.world().resource::<Lessons>();
+    assert_eq!(mode(&app), Mode::FreePlay);
+    assert_eq!(lessons.study, None);
+    assert!(lessons.message.as_deref().unwrap().contains("both runs"));
+    let runs: Vec<Option<&str>> = lessons
+        .progress
+        .answers
+        .iter()
+        .map(|a| a.run.as_deref())
+        .collect();
+    assert_eq!(runs, [Some("preview off"), Some("preview on")]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A study question answered wrong, then right: both kept, and only the right one meets
+/// the step.
+#[test]
+fn study_answers_are_kept_and_only_the_right_one_counts() {
+    let mut lessons = Lessons::new(ProgressStore::Nowhere);
+    let l = lessons
+        .levels
+        .iter()
+        .position(|l| l.id == "which-effect")
+        .unwrap();
+    let camera = voxcast_core::rays::study::CameraPlace::FrontHigher.words();
+    lessons.answer_study(l, (1, "camera"), "inside the box", camera);
+    assert_eq!(lessons.studied, None);
+    lessons.answer_study(l, (1, "camera"), camera, camera);
+    assert_eq!(lessons.studied, Some((1, "camera".to_string())));
+    let kept: Vec<(bool, &str)> = lessons
+        .progress
+        .answers
+        .iter()
+        .map(|a| (a.correct, a.question.as_str()))
+        .collect();
+    let q = "where was the camera of trace 1";
+    assert_eq!(kept, [(false, q), (true, q)]);
+    let objective = Objective::StudyQuestion {
+        trace: 1,
+        question: "camera".into(),
+    };
+    let sit = Situation {
+        studied: lessons.studied.clone(),
+        ..Situation::default()
+    };
+    assert!(objective.met(&sit));
+}
+
+/// Levels are states: starting one spawns only what its scene holds, and what free play
+/// spawned (virtual camera, body, sample spheres, light marker) leaves; Next is refused
+/// until the objective is met by the state a control edits; the last Next records the
+/// progress on disk and returns to free play, which spawns its own scene again.
+#[test]
+fn a_level_spawns_its_scene_and_everything_leaves_with_it() {
+    let dir = std::env::temp_dir().join(format!("voxcast-levels-{}", std::process::id()));
+    let path = dir.join("progress.json");
+    let mut app = app(path.clone());
+    until(&mut app, |a| !entities::<SampleSphere>(a).is_empty());
+    assert_eq!(mode(&app), Mode::FreePlay);
+    let free: Vec<Entity> = [
+        entities::<VirtualCamera>(&mut app),
+        entities::<LightMarker>(&mut app),
+        entities::<SampleSphere>(&mut app),
+    ]
+    .concat();
+    assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
+    assert_eq!(
+        entities::<LightMarker>(&mut app).len(),
+        voxcast_core::shade::MAX_LIGHTS
+    );
+
+    // The trilinear level: the 2³ voxel, one ray, no preview, no light marker.
+    let trilinear = level(&app, "trilinear");
+    send(&mut app, LevelCommand::Start(trilinear));
+    until(&mut app, |a| {
+        a.world().resource::<VolumeState>().source == "builtin:voxel"
+            && !entities::<SampleSphere>(a).is_empty()
+    });
+    assert_eq!(mode(&app), Mode::Level(trilinear));
+    for e in &free {
+        assert!(
+            app.world().get_entity(*e).is_err(),
+            "{e} left with free play"
+        );
+    }
+    let vcs = entities::<VirtualCamera>(&mut app);
+    assert_eq!(vcs.len(), 1);
+    let vc = *app.world().get::<VirtualCamera>(vcs[0]).unwrap();
+    assert_eq!((vc.width, vc.height), (1, 1));
+    // It shoots the lecture's ray under the level's settings: one sample on each of P3,
+    // P2 and P1 and, composited back to front, the lecture's colour (0.540, 0.397, 0.375)
+    // and opacity 0.813.
+    assert_eq!(vc.view, voxcast_core::worked::lecture_ray());
+    let mut render = app.world().resource::<RenderState>().clone();
+    render.settings.order = voxcast_core::composite::Order::BackToFront;
+    let volume = app.world().resource::<VolumeState>().volume.clone();
+    let ray = vc.view.ray(0.5, 0.5, 1, 1);
+    let scene =
+        voxcast_core::trace::Scene::new(&volume, &render.transfer, &render.settings, ray.dir)
+            .unwrap();
+    let traced = voxcast_core::trace::trace_ray(&scene, &ray, [0, 0]);
+    // Back to front visits them from the far end: P1, P2, P3.
+    let at: Vec<Vec3> = traced
+        .samples
+        .iter()
+        .map(|s| Vec3::from(s.p_voxel))
+        .collect();
+    let lecture = voxcast_core::worked::LECTURE_POINTS.map(Vec3::from_array);
+    assert_eq!(at.len(), 3, "{at:?}");
+    assert!(at.iter().zip(lecture).all(|(a, p)| a.distance(p) < 1e-5));
+    let got = [
+        traced.color[0],
+        traced.color[1],
+        traced.color[2],
+        traced.opacity,
+    ];
+    for (g, quoted) in got.iter().zip([0.540, 0.397, 0.375, 0.813]) {
+        assert!((g - quoted).abs() < 2e-3, "{got:?}");
+    }
+    assert!(entities::<LightMarker>(&mut app).is_empty());
+    assert!(!app.world().resource::<PreviewSettings>().enabled);
+    assert_eq!(app.world().resource::<Inspection>().size, UVec2::ONE);
+    // Its panel: only the sections it names.
+    let lessons = app.world().resource::<Lessons>();
+    assert_eq!(
+        lessons.panel_in(mode(&app)),
+        Some(&[voxcast_core::level::Section::RayCasting][..])
+    );
+
+    // The methods level: no virtual camera at all, so nothing is inspected.
+    let methods = level(&app, "methods");
+    send(&mut app, LevelCommand::Start(methods));
+    until(&mut app, |a| {
+        a.world().resource::<VolumeState>().source == "builtin:brainsmall"
+    });
+    app.update();
+    assert!(entities::<VirtualCamera>(&mut app).is_empty());
+    assert!(entities::<SampleSphere>(&mut app).is_empty());
+    // Its own preset, over the volume's defaults: every method it teaches shows.
+    assert_eq!(
+        app.world().resource::<RenderState>().transfer.name,
+        "brainsmall-projections"
+    );
+    assert_eq!(app.world().resource::<Inspection>().size, UVec2::ZERO);
+    assert!(app.world().resource::<PreviewSettings>().enabled);
+    // Its steps: Next is refused until the method is chosen, as the panel's menu does.
+    let steps = app.world().resource::<Lessons>().levels[methods]
+        .steps
+        .clone();
+    let mut last = Method::Accumulate;
+    for (k, step) in steps.iter().enumerate() {
+        let method = match step.objective {
+            Objective::Read => {
+                send(&mut app, LevelCommand::Next);
+                assert_eq!(app.world().resource::<Lessons>().step, k + 1, "read on");
+                continue;
+            }
+            Objective::Method { method } => method,
+            _ => panic!("the methods level asks for methods"),
+        };
+        last = method;
+        assert!(
+            !app.world().resource::<Lessons>().met,
+            "step {k} met at once"
+        );
+        send(&mut app, LevelCommand::Next);
+        assert_eq!(app.world().resource::<Lessons>().step, k, "Next refused");
+        app.world_mut()
+            .resource_mut::<RenderState>()
+            .settings
+            .method = method;
+        app.update();
+        assert!(app.world().resource::<Lessons>().met);
+        send(&mut app, LevelCommand::Next);
+    }
+    // Done: back in free play, with its scene, and the progress saved.
+    assert_eq!(mode(&app), Mode::FreePlay);
+    assert_eq!(app.world().resource::<RenderState>().settings.method, last);
+    until(&mut app, |a| !entities::<SampleSphere>(a).is_empty());
+    assert_eq!(entities::<VirtualCamera>(&mut app).len(), 1);
+    assert_eq!(
+        entities::<LightMarker>(&mut app).len(),
+        voxcast_core::shade::MAX_LIGHTS
+    );
+    assert_eq!(
+        app.world().resource::<Lessons>().panel_in(mode(&app)),
+        None,
+        "free play shows all"
+    );
+    let saved = Progress::load(&path).0;
+    assert_eq!(saved.completed["methods"], steps.len());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// "At least 8 pixels across" reads the image's width: 12×4 meets it, 4×12 does not; once
+/// met, the step stays met.
+#[test]
+fn pixels_across_is_the_image_width() {
+    let dir = std::env::temp_dir().join(format!("voxcast-across-{}", std::process::id()));
+    let mut app = app(dir.join("progress.json"));
+    app.update();
+    let rays = level(&app, "rays");
+    send(&mut app, LevelCommand::Start(rays));
+    let k = app.world().resource::<Lessons>().levels[rays]
+        .steps
+        .iter()
+        .position(|s| matches!(s.objective, Objective::VirtualPixelsAtLeast { pixels: 8 }))
+        .expect("the rays level asks for 8 pixels across");
+    app.world_mut().resource_mut::<Lessons>().step = k;
+    until(&mut app, |a| !entities::<VirtualCamera>(a).is_empty());
+    // 4×12 is not 8 across; 12×4 is; shrinking it again does not take the step back.
+    for ((w, h), met) in [((4, 12), false), ((12, 4), true), ((4, 4), true)] {
+        let vc = entities::<VirtualCamera>(&mut app)[0];
+        let mut cam = app.world_mut().get_mut::<VirtualCamera>(vc).unwrap();
+        (cam.width, cam.height) = (w, h);
+        app.update();
+        assert_eq!(app.world().resource::<Lessons>().met, met, "{w}×{h}");
+    }
+    assert!(!dir.exists(), "nothing saved before a step is done");
+}
+
+/// A step about the step's trade picks the step knob, whatever was picked before.
+#[test]
+fn a_step_trade_step_measures_the_step() {
+    let dir = std::env::temp_dir().join(format!("voxcast-knob-{}", std::process::id()));
+    let mut app = app(dir.join("progress.json"));
+    app.update();
+    app.world_mut().resource_mut::<StepTrade>().knob = voxcast_core::knob::Knob::Cutoff;
+    let sampling = level(&app, "sampling");
+    send(&mut app, LevelCommand::Start(sampling));
+    let k = app.world().resource::<Lessons>().levels[sampling]
+        .steps
+        .iter()
+        .position(|s| s.objective == Objective::TradeMeasured)
+        .expect("the sampling level measures the step's trade");
+    app.world_mut().resource_mut::<Lessons>().step = k;
+    app.update();
+    assert_eq!(
+        app.world().resource::<StepTrade>().knob,
+        voxcast_core::knob::Knob::Step
+    );
+}
+
+/// Entering a level resets the settings to its volume's defaults, so a choice made in free
+/// play does not meet its objectives before the player acts.
+#[test]
+fn a_level_starts_from_its_volumes_defaults() {
+    let dir = std::env::temp_dir().join(format!("voxcast-reset-{}", std::process::id()));
+    let mut app = app(dir.join("progress.json"));
+    app.update();
+    app.world_mut()
+        .resource_mut::<RenderState>()
+        .settings
+        .method = Method::Maximum;
+    // The rays level shows the volume already loaded: reset at once.
+    let rays = level(&app, "rays");
+    assert_eq!(
+        app.world().resource::<Lessons>().levels[rays].scene.volume,
+        "builtin:bucky"
+    );
+    send(&mut app, LevelCommand::Start(rays));
+    let s = &app.world().resource::<RenderState>().settings;
+    assert_eq!(s.method, Method::Accumulate);
+    // Another volume: its load brings its defaults.
+    app.world_mut()
+        .resource_mut::<RenderState>()
+        .settings
+        .method = Method::Maximum;
+    let sampling = level(&app, "sampling");
+    send(&mut app, LevelCommand::Start(sampling));
+    until(&mut app, |a| {
+        a.world().resource::<VolumeState>().source == "builtin:blobs"
+    });
+    let s = &app.world().resource::<RenderState>().settings;
+    assert_eq!(s.method, Method::Accumulate);
+    assert!(!dir.exists(), "nothing saved before a step is done");
+}
