@@ -216,6 +216,21 @@ pub(super) fn check_folders<'p>(
     Ok(())
 }
 
+/// Trace `id` of `data` (read from `name`), or a usage error that lists the traces there are.
+pub(super) fn trace_named<'d>(
+    data: &'d RayData,
+    name: &str,
+    id: u32,
+) -> Result<&'d RaySet, CliError> {
+    data.trace(id).ok_or_else(|| {
+        let ids: Vec<String> = data.traces.iter().map(|t| t.trace_id.to_string()).collect();
+        CliError::usage(format!(
+            "--trace {id}: {name} has traces {}",
+            ids.join(", ")
+        ))
+    })
+}
+
 /// The density of the chosen rays, laid out densely, with progress and a report on stdout.
 pub(super) fn dense_density(
     data: &RayData,
@@ -224,13 +239,7 @@ pub(super) fn dense_density(
     g: &GridArgs,
 ) -> Result<DenseDensity, CliError> {
     let set: RaySet = match g.trace {
-        Some(id) => data.trace(id).cloned().ok_or_else(|| {
-            let ids: Vec<String> = data.traces.iter().map(|t| t.trace_id.to_string()).collect();
-            CliError::usage(format!(
-                "--trace {id}: {name} has traces {}",
-                ids.join(", ")
-            ))
-        })?,
+        Some(id) => trace_named(data, name, id)?.clone(),
         None => data.all_rays(),
     };
     let what = g

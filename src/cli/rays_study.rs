@@ -3,7 +3,7 @@
 //! student's answer against (`voxcast_core::rays::study`).
 
 use super::CliError;
-use super::rays::{SourceArg, source, trace_words};
+use super::rays::{SourceArg, source, trace_named, trace_words};
 use clap::Args;
 use std::sync::atomic::AtomicBool;
 use voxcast_core::rays::density::{DensityParams, MAX_BYTES, compute, estimate_within};
@@ -27,20 +27,14 @@ pub fn study(a: &StudyArgs) -> Result<(), CliError> {
     let data = source(&a.source)?;
     let name = &a.source.source;
     let sets: Vec<&RaySet> = match a.trace {
-        Some(id) => vec![data.trace(id).ok_or_else(|| {
-            let ids: Vec<String> = data.traces.iter().map(|t| t.trace_id.to_string()).collect();
-            CliError::usage(format!(
-                "--trace {id}: {name} has traces {}",
-                ids.join(", ")
-            ))
-        })?],
+        Some(id) => vec![trace_named(&data, name, id)?],
         None => data.traces.iter().collect(),
     };
     for set in sets {
         let id = set.trace_id;
         println!("{}:", trace_words(name, id));
         for q in Question::ALL {
-            let density = match q.density_filter() {
+            let density = match q.density_filter().filter(|_| q.reads_density()) {
                 Some(filter) => {
                     let params = DensityParams {
                         cell: a.cell,

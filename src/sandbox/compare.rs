@@ -6,7 +6,7 @@
 //! window keeps drawing. The preview is captured at full quality (its resting resolution and the
 //! settings' own step: see [`FullQuality`]) in the same frame as the view is taken for the CPU.
 
-use super::preview::{FullQuality, PreviewTarget};
+use super::preview::{FullQuality, PreviewTarget, scaled_size};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use super::tasks::in_slices;
 use bevy::camera::CameraUpdateSystems;
@@ -356,12 +356,7 @@ fn start_capture(
     // The CPU live view rests at the preview's resolution of the window (the main camera's
     // target, then, is the whole window: its lines are drawn sharp).
     let live_scale = preview.filter(|_| cpu_live).map(|p| p.scale);
-    let size = live_scale.map_or(target.size, |scale| {
-        (target.size.as_vec2() * scale)
-            .round()
-            .as_uvec2()
-            .max(UVec2::ONE)
-    });
+    let size = live_scale.map_or(target.size, |scale| scaled_size(target.size, scale));
     let snapshot = Snapshot {
         live: cpu_live,
         camera: view.0,

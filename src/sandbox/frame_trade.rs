@@ -13,7 +13,7 @@
 //! setting reads as one refresh).
 
 use super::live::{Backend, LiveFrame, LiveView, render_exact};
-use super::preview::{PreviewSettings, PreviewTarget, Viewport};
+use super::preview::{PreviewSettings, PreviewTarget, Viewport, scaled_size};
 use super::progressive::Progressive;
 use super::state::{MainCamera, View, VolumeState};
 use bevy::prelude::*;
@@ -79,27 +79,11 @@ pub fn stand_in(knob: Knob, preview: &PreviewSettings) -> Option<&'static str> {
     }
 }
 
-/// Who drew the timed images.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Drawer {
-    Gpu,
-    Cpu,
-}
-
-impl Drawer {
-    pub fn words(self) -> &'static str {
-        match self {
-            Drawer::Gpu => "GPU preview",
-            Drawer::Cpu => "CPU live view",
-        }
-    }
-}
-
 /// The preview's images timed: who drew them, at what size at full resolution (the
 /// viewport's pixels), and each setting's timing, the reference first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameTiming {
-    pub drawer: Drawer,
+    pub drawer: Backend,
     pub size: UVec2,
     pub timings: Vec<Timing>,
 }
@@ -117,7 +101,21 @@ impl FrameTiming {
             row.timing = *t;
             row.seconds = t.median;
         }
-        trade.runs = TIMED_RUNS;
+    }
+
+    /// How the times were taken, in words, for the table's footnote (`runs` timed images a
+    /// setting).
+    pub fn words(&self, runs: usize) -> String {
+        format!(
+            "time: one finished image of the {} at {}×{} pixels (full resolution), the median \
+             of {runs} after an untimed one, the settings in alternating order; samples and \
+             errors: the core's render at {}×{}",
+            self.drawer.words(),
+            self.size.x,
+            self.size.y,
+            crate::sandbox::trade::TRADE_SIZE.0,
+            crate::sandbox::trade::TRADE_SIZE.1
+        )
     }
 }
 
@@ -149,7 +147,7 @@ enum Waiting {
 /// A measurement of the preview's frames under way.
 pub struct FrameRun {
     tries: Vec<PreviewTry>,
-    drawer: Drawer,
+    drawer: Backend,
     /// The player's own setting (with adaptive quality, and whether the GPU preview drew only
     /// whole frames), put back at the end.
     own: PreviewTry,
@@ -171,10 +169,7 @@ impl FrameRun {
         let n = tries.len();
         Self {
             tries,
-            drawer: match preview.backend {
-                Backend::Gpu => Drawer::Gpu,
-                Backend::Cpu => Drawer::Cpu,
-            },
+            drawer: preview.backend,
             own: PreviewTry {
                 scale: preview.scale,
                 step_multiplier: preview.step_multiplier,
@@ -260,11 +255,7 @@ fn advance(run: &mut FrameRun, d: &mut Drawing) -> Option<Ended> {
             "the view moved while the preview was timed: measure again with the view still",
         );
     }
-    let drawer = match preview.backend {
-        Backend::Gpu => Drawer::Gpu,
-        Backend::Cpu => Drawer::Cpu,
-    };
-    if drawer != run.drawer || !preview.enabled || preview.cost_view.is_some() {
+    if preview.backend != run.drawer || !preview.enabled || preview.cost_view.is_some() {
         return stopped("the preview changed while it was timed: measure again");
     }
     let (Some(time), Some(volume)) = (d.time.as_ref(), d.volume.as_ref()) else {
@@ -294,7 +285,7 @@ fn advance(run: &mut FrameRun, d: &mut Drawing) -> Option<Ended> {
                 run.size = size;
             }
             run.waiting = match run.drawer {
-                Drawer::Gpu => {
+                Backend::Gpu => {
                     let Some(p) = d.progressive.as_deref_mut() else {
                         return stopped("the GPU preview draws nothing here");
                     };
@@ -304,21 +295,15 @@ fn advance(run: &mut FrameRun, d: &mut Drawing) -> Option<Ended> {
                     Waiting::Images {
                         last: p.passes(),
                         finished: Vec::new(),
-                        size: (size.as_vec2() * setting.scale)
-                            .round()
-                            .as_uvec2()
-                            .max(UVec2::ONE),
+                        size: scaled_size(size, setting.scale),
                     }
                 }
-                Drawer::Cpu => {
+                Backend::Cpu => {
                     let Some(key) = d.live.as_ref().and_then(|l| l.key()) else {
                         return stopped("the CPU live view has drawn nothing yet");
                     };
                     let mut key = key.clone();
-                    key.full = (size.as_vec2() * setting.scale)
-                        .round()
-                        .as_uvec2()
-                        .max(UVec2::ONE);
+                    key.full = scaled_size(size, setting.scale);
                     let spheres = setting.scale >= 1.0;
                     Waiting::Render(render_exact(key, volume.volume.clone(), spheres))
                 }
@@ -462,7 +447,7 @@ mod tests {
             threads: 2,
         };
         let frames = FrameTiming {
-            drawer: Drawer::Gpu,
+            drawer: Backend::Gpu,
             size: UVec2::new(640, 360),
             timings: vec![timing(40.0), timing(5.0), timing(12.0)],
         };

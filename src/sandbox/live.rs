@@ -18,7 +18,7 @@
 
 use super::inspect::SampleSphere;
 use super::light::LightMarker;
-use super::preview::{PreviewSettings, Viewport};
+use super::preview::{PreviewSettings, Viewport, scaled_size};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use super::tasks::in_slices;
 use bevy::platform::time::Instant;
@@ -48,6 +48,14 @@ pub enum Backend {
 }
 
 impl Backend {
+    /// Its name in words.
+    pub fn words(self) -> &'static str {
+        match self {
+            Backend::Gpu => "GPU preview",
+            Backend::Cpu => "CPU live view",
+        }
+    }
+
     /// The backend for an adapter: the CPU where the "GPU" is a software rasterizer.
     pub fn for_adapter(name: &str, device_type: &str) -> Self {
         let name = name.to_ascii_lowercase();
@@ -445,10 +453,7 @@ fn drive_live_view(
         return;
     };
     let (_, viewport_size) = Viewport::of(viewport.as_deref(), window);
-    let full = (viewport_size.as_vec2() * preview.scale)
-        .round()
-        .as_uvec2()
-        .max(UVec2::ONE);
+    let full = scaled_size(viewport_size, preview.scale);
     let key = LiveKey {
         camera: view.0,
         settings: render.settings.clone(),

@@ -238,17 +238,7 @@ pub(super) fn measure_knob(
         return;
     };
     let how = match &trade.timed_frames {
-        Some(f) => format!(
-            "time: one finished image of the {} at {}×{} pixels (full resolution), the median \
-             of {} after an untimed one, the settings in alternating order; samples and errors: \
-             the core's render at {}×{}",
-            f.drawer.words(),
-            f.size.x,
-            f.size.y,
-            t.runs,
-            super::trade::TRADE_SIZE.0,
-            super::trade::TRADE_SIZE.1
-        ),
+        Some(f) => f.words(t.runs),
         None => format!(
             "{}time: the core's render at {}×{} on {} threads, the median of {} after an \
              untimed one, the settings in alternating order",

@@ -237,6 +237,12 @@ impl Viewport {
     }
 }
 
+/// `size` pixels at `scale` of each edge, rounded, at least one pixel: the preview's target
+/// and the CPU live view's resting frame for a resolution fraction.
+pub fn scaled_size(size: UVec2, scale: f32) -> UVec2 {
+    (size.as_vec2() * scale).round().as_uvec2().max(UVec2::ONE)
+}
+
 /// The image the main camera renders into, and its size in pixels.
 #[derive(Resource)]
 pub struct PreviewTarget {
@@ -316,7 +322,7 @@ fn fit_preview_target(
     let Ok(window) = window.single() else { return };
     let scale = quality.scale();
     let (_, full) = Viewport::of(viewport.as_deref(), window);
-    let size = (full.as_vec2() * scale).round().as_uvec2().max(UVec2::ONE);
+    let size = scaled_size(full, scale);
     if target.as_ref().is_some_and(|t| t.size == size) {
         return;
     }

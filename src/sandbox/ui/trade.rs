@@ -207,14 +207,8 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
     });
     let words = match frames {
         Some(f) => format!(
-            "time: one finished image of the {} in this window ({}×{} pixels at full \
-             resolution), the median of {} after an untimed one, the settings taken in turn \
-             (hover a time for the fastest and slowest); samples and errors: the core's \
-             render of the view; speed-up against the reference",
-            f.drawer.words(),
-            f.size.x,
-            f.size.y,
-            t.runs
+            "{} (hover a time for the fastest and slowest); speed-up against the reference",
+            f.words(t.runs)
         ),
         None => format!(
             "{}time: the median of {} renders after an untimed one, the settings taken in turn \

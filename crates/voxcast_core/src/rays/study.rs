@@ -124,6 +124,12 @@ impl Question {
         }
     }
 
+    /// Whether [`Question::answer`] reads the density (the densest cell); the low question
+    /// is read from the density on show but answered from where the rays start.
+    pub fn reads_density(self) -> bool {
+        self == Question::DensityHigh
+    }
+
     /// The rays whose density the question is read from (the hitting rays', the missing
     /// rays'), where it asks about a density.
     pub fn density_filter(self) -> Option<Filter> {
@@ -156,38 +162,44 @@ impl Question {
                 Some(CameraPlace::of(eye, scene.bounds()?).words().into())
             }
             Question::Hits => {
-                let names = surfaces(scene);
-                let mut counts = vec![0usize; names.len()];
-                for r in set.rays.iter().filter(|r| r.is_hit(0.0)) {
-                    if let Some(name) = surface_of(scene, r.origin) {
-                        counts[names.iter().position(|n| *n == name)?] += 1;
-                    }
-                }
-                let (best, &n) = counts.iter().enumerate().max_by_key(|(_, n)| **n)?;
-                (n > 0).then(|| names[best].clone())
+                let (names, starts) = starts_by_surface(scene, set)?;
+                let (best, s) = starts.iter().enumerate().max_by_key(|(_, s)| s.hits)?;
+                (s.hits > 0).then(|| names[best].clone())
             }
             Question::DensityLow => {
-                let names = surfaces(scene);
-                // Per surface: the rays that start there, and those of them that miss.
-                let mut counts = vec![(0usize, 0usize); names.len()];
-                for r in &set.rays {
-                    if let Some(name) = surface_of(scene, r.origin) {
-                        let c = &mut counts[names.iter().position(|n| *n == name)?];
-                        c.0 += 1;
-                        c.1 += usize::from(!r.is_hit(0.0));
-                    }
-                }
-                let total: usize = counts.iter().map(|c| c.0).sum();
-                let share = |c: &(usize, usize)| c.1 as f64 / c.0 as f64;
-                let (best, _) = counts
+                let (names, starts) = starts_by_surface(scene, set)?;
+                let total: usize = starts.iter().map(|s| s.all).sum();
+                let missing = |s: &Starts| (s.all - s.hits) as f64 / s.all as f64;
+                let (best, _) = starts
                     .iter()
                     .enumerate()
-                    .filter(|(_, c)| c.0 > 0 && c.0 as f64 >= MIN_SHARE * total as f64)
-                    .min_by(|a, b| share(a.1).total_cmp(&share(b.1)))?;
+                    .filter(|(_, s)| s.all > 0 && s.all as f64 >= MIN_SHARE * total as f64)
+                    .min_by(|a, b| missing(a.1).total_cmp(&missing(b.1)))?;
                 Some(names[best].clone())
             }
         }
     }
+}
+
+/// The rays of a trace that start on one surface, and how many of them hit something.
+#[derive(Clone, Copy, Default)]
+struct Starts {
+    all: usize,
+    hits: usize,
+}
+
+/// [`surfaces`]' names and, for each, the rays of `set` that start on it ([`surface_of`]).
+fn starts_by_surface(scene: &TriangleScene, set: &RaySet) -> Option<(Vec<String>, Vec<Starts>)> {
+    let names = surfaces(scene);
+    let mut starts = vec![Starts::default(); names.len()];
+    for r in &set.rays {
+        if let Some(name) = surface_of(scene, r.origin) {
+            let s = &mut starts[names.iter().position(|n| *n == name)?];
+            s.all += 1;
+            s.hits += usize::from(r.is_hit(0.0));
+        }
+    }
+    Some((names, starts))
 }
 
 /// The centre of the densest cell (world units): the first of the highest counts, chunks in
@@ -343,6 +355,7 @@ mod tests {
         let shadow = d.trace(Effect::Shadow.id()).unwrap();
         let q = Question::DensityLow;
         assert_eq!(q.density_filter(), Some(crate::rays::set::Filter::Miss));
+        assert!(!q.reads_density() && Question::DensityHigh.reads_density());
         assert_eq!(
             q.answer(&d.scene, shadow, None).as_deref(),
             Some("the back wall")
