@@ -52,8 +52,8 @@ fn main() {
 
 /// The preview takes the core's accelerations for Accumulate — the cells' visibility with the
 /// bricks' distances (leaps), the lattice records (values and gradients from 8 texels) — before
-/// it is captured, and `--time-frames` times its full-size frames: what BENCHMARKS.md sets
-/// beside VTK's GPU mapper.
+/// it is captured, and `--time-frames` times its full-size frames, resting or orbiting: what
+/// BENCHMARKS.md sets beside VTK's GPU mapper.
 fn the_preview_leaps_reads_records_and_times_its_frames() -> Outcome {
     let dir = out_dir();
     std::fs::create_dir_all(&dir).unwrap();
@@ -74,8 +74,23 @@ fn the_preview_leaps_reads_records_and_times_its_frames() -> Outcome {
         .find(|l| l.starts_with("preview frame: median"))
         .unwrap_or_else(|| panic!("no frame time in {stdout}"));
     println!("{line}");
-    assert!(line.contains("over 3 frames at 96×64"), "{line}");
+    assert!(line.contains("over 3 frames at 96×64, resting"), "{line}");
     assert!(path.exists(), "the capture follows the timing");
+
+    // Orbiting: each timed frame turns the view, and the picture is taken where it ends.
+    let turned = dir.join("timed_orbit.png");
+    let mut command = Command::new(env!("CARGO_BIN_EXE_voxcast"));
+    command
+        .args(["--volume", "builtin:bunny", "--size", "96x64"])
+        .args(["--time-frames", "3", "--auto-orbit", "30", "--screenshot"])
+        .arg(&turned);
+    let (stdout, _) = match run_or_skip(&mut command) {
+        Ok(out) => out,
+        Err(skip) => return skip,
+    };
+    assert!(stdout.contains("orbiting 30° a frame"), "{stdout}");
+    let (a, b) = (image::open(&path).unwrap(), image::open(&turned).unwrap());
+    assert_ne!(a.as_bytes(), b.as_bytes(), "the orbit turned the view");
     Ok(Completion::Completed)
 }
 

@@ -352,6 +352,37 @@ fn bench_writes_its_table_and_plot() {
 }
 
 /// `--no-lanes` renders as a CPU without the lanes' vector units does, `--narrow-lanes` as an
+/// The transfer function `bench --peer` gives VTK, written for a peer run elsewhere
+/// (benches/gpu.sh): the peer's own file for a preset it has, else Voxcast's preset in the
+/// peer's format, which reads back as the same table.
+#[test]
+fn bench_writes_the_transfer_function_it_gives_the_peer() {
+    let dir = out_dir().join("peer");
+    std::fs::create_dir_all(dir.join("tf")).unwrap();
+    let own = "{\"color\": [[0, 1, 1, 1]], \"opacity\": [[0, 0.5]]}";
+    std::fs::write(dir.join("tf/bunny.json"), own).unwrap();
+    let written = dir.join("written.json");
+    let peer = dir.to_str().unwrap();
+    let write = |volume: &str| {
+        let o = voxcast(&[
+            "bench",
+            "--volume",
+            volume,
+            "--peer",
+            peer,
+            "--write-peer-tf",
+            written.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        std::fs::read_to_string(&written).unwrap()
+    };
+    assert_eq!(write("builtin:bunny"), own);
+    let ours = write("builtin:brainsmall");
+    let table = voxcast_core::peer::from_json(&ours).expect("the peer's format");
+    let preset = voxcast_core::preset::by_name("brainsmall").expect("a preset");
+    assert_eq!(table.transfer.points(), preset.transfer.points());
+}
+
 /// x86-64 without AVX: `bench` says so, and the images of `bench` and `render` are the widest
 /// lanes' bit for bit; the two switches together are refused.
 #[test]
@@ -513,6 +544,12 @@ fn bad_arguments_and_files_fail_clearly() {
         (&["trace", "--pixel", "600,0"], 2, "outside"),
         (&["info", "/no/such.nii"], 1, "/no/such.nii"),
         (&["--measure-knob", "speed"], 2, "preview-step-multiplier"),
+        (&["--auto-orbit", "2"], 2, "--time-frames"),
+        (
+            &["bench", "--write-peer-tf", "/tmp/never.json"],
+            2,
+            "--peer",
+        ),
     ];
     for (args, code, needle) in cases {
         let o = voxcast(args);

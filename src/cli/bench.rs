@@ -55,6 +55,11 @@ pub struct BenchArgs {
     /// The peer's transfer-function JSON (default: PEER/tf/<preset>.json).
     #[arg(long)]
     pub peer_tf: Option<PathBuf>,
+    /// Instead: write the transfer function the peer is given for this scene (`--peer-tf`, else
+    /// the peer's own file for the preset, else this run's in the peer's format) to this file —
+    /// for a run of the peer on another machine (benches/gpu.sh).
+    #[arg(long, value_name = "FILE", requires = "peer")]
+    pub write_peer_tf: Option<PathBuf>,
     /// The step (voxels) at which Voxcast and VTK are compared.
     #[arg(long, default_value_t = 0.5)]
     pub peer_step: f32,
@@ -131,13 +136,18 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
         eprintln!("note: {note}");
     }
     let camera = a.camera.camera(&loaded, resolved.preset.as_ref())?;
+    let voxel = loaded.volume.spacing().min_element();
+    if let (Some(file), Some(dir)) = (&a.write_peer_tf, &a.peer) {
+        let text = peer_transfer(a, dir, &resolved, voxel).map_err(CliError::failed)?;
+        return std::fs::write(file, text)
+            .map_err(|e| CliError::failed(format!("{}: {}", file.display(), io_words(&e))));
+    }
     if a.knobs {
         return super::knobs::report(a, &loaded, &resolved, &camera);
     }
     let threads = a
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let voxel = loaded.volume.spacing().min_element();
     if let Some(dir) = &a.images {
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;
@@ -284,6 +294,33 @@ fn save_image(a: &BenchArgs, name: &str, img: &LinearImage) -> Result<(), CliErr
     Ok(())
 }
 
+/// The transfer function the peer is given (JSON in its format): `--peer-tf`, else the peer's
+/// own file for the preset where it has one, else this run's transfer function and settings
+/// written in its format.
+fn peer_transfer(
+    a: &BenchArgs,
+    dir: &Path,
+    resolved: &super::args::Resolved,
+    voxel: f32,
+) -> Result<String, String> {
+    let own = resolved
+        .preset
+        .as_ref()
+        .map(|p| dir.join("tf").join(format!("{}.json", p.name)));
+    let file = match (&a.peer_tf, own) {
+        (Some(p), _) => p.clone(),
+        (None, Some(p)) if p.exists() => p,
+        _ => {
+            return Ok(voxcast_core::peer::to_json(
+                &resolved.transfer,
+                &resolved.settings,
+                voxel,
+            ));
+        }
+    };
+    std::fs::read_to_string(&file).map_err(|e| format!("{}: {}", file.display(), io_words(&e)))
+}
+
 /// Renders the same scene with VTK's fixed-point CPU ray caster and with Voxcast, alternating.
 #[allow(clippy::too_many_arguments)]
 fn compare_with_peer(
@@ -301,25 +338,9 @@ fn compare_with_peer(
         .unwrap_or_else(|| dir.join("venv/bin/python"));
     let out = std::env::temp_dir().join(format!("voxcast-peer-{}", std::process::id()));
     std::fs::create_dir_all(&out).map_err(|e| e.to_string())?;
-    // The peer's own file for the preset if it has one, else this run's transfer function and
-    // settings written in the peer's format.
-    let own = resolved
-        .preset
-        .as_ref()
-        .map(|p| dir.join("tf").join(format!("{}.json", p.name)));
-    let tf = match (&a.peer_tf, own) {
-        (Some(p), _) => p.clone(),
-        (None, Some(p)) if p.exists() => p,
-        _ => {
-            let p = out.join("tf.json");
-            std::fs::write(
-                &p,
-                voxcast_core::peer::to_json(&resolved.transfer, &resolved.settings, voxel),
-            )
-            .map_err(|e| e.to_string())?;
-            p
-        }
-    };
+    let tf = out.join("tf.json");
+    std::fs::write(&tf, peer_transfer(a, dir, resolved, voxel)?)
+        .map_err(|e| format!("{}: {}", tf.display(), io_words(&e)))?;
     let camera_file = a
         .camera
         .camera

@@ -94,8 +94,9 @@ pub struct SandboxArgs {
     #[arg(long, conflicts_with = "screenshot")]
     pub measure_frames: Option<u32>,
     /// With --measure-frames: orbit the camera this many degrees a frame (engages adaptive
-    /// quality).
-    #[arg(long, default_value_t = 0.0, requires = "measure_frames")]
+    /// quality). With --time-frames: turn the offscreen view this much each timed frame (full
+    /// quality; the picture is then taken where the orbit ends).
+    #[arg(long, default_value_t = 0.0)]
     pub auto_orbit: f32,
     /// With --measure-frames: turn adaptive quality off.
     #[arg(long, requires = "measure_frames")]
@@ -233,6 +234,12 @@ impl Start {
 
 /// Runs the sandbox (or takes the screenshot) and returns when it closes.
 pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
+    if args.auto_orbit != 0.0 && args.measure_frames.is_none() && args.time_frames.is_none() {
+        return Err(CliError::usage(
+            "--auto-orbit turns the camera while frames are measured: give it with \
+             --measure-frames or --time-frames",
+        ));
+    }
     args.cpu.apply();
     let start = Start::from_args(args)?;
     let mut app = App::new();
@@ -313,6 +320,7 @@ fn build_headless(app: &mut App, args: &SandboxArgs) -> Result<(), CliError> {
             path: path.clone(),
             sweep: args.sweep,
             time_frames: args.time_frames.unwrap_or(0),
+            orbit_degrees: args.auto_orbit,
         });
         if args.sweep {
             // The sweep is compared with the CPU render, which has no meshes: the preview is

@@ -5,13 +5,16 @@
 //! the volume's textures are on the GPU.
 
 use super::preview::PreviewTarget;
-use super::state::RenderState;
-use super::{InitialView, preview_camera};
+use super::state::{RenderState, View};
+use super::{InitialView, MainCamera, preview_camera};
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::render::renderer::RenderDevice;
+use bevy::render::{Render, RenderApp, RenderSystems};
+use bevy::render::render_resource::{PollType, TextureFormat, TextureUsages};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
 use std::path::PathBuf;
+
 use voxcast_core::settings::RenderSettings;
 
 /// Where to save the screenshot and its size; with `sweep`, `path` is a folder that receives
@@ -22,6 +25,8 @@ pub struct Request {
     pub sweep: bool,
     /// Frames to time before the capture (0: none).
     pub time_frames: u32,
+    /// Degrees the camera turns about the view's target each timed frame (0: resting).
+    pub orbit_degrees: f32,
 }
 
 /// Frames drawn before the first capture (textures uploaded, pipelines ready).
@@ -43,7 +48,39 @@ pub(super) fn image_camera_plugin(app: &mut App) {
 
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<Saved>()
-        .add_systems(Update, take_screenshot);
+        .init_resource::<Timed>()
+        .add_systems(Update, (take_screenshot, orbit_while_timed).chain());
+    let timing = app.world().resource::<Request>().time_frames > 0;
+    if let Some(render_app) = app.get_sub_app_mut(RenderApp).filter(|_| timing) {
+        render_app.add_systems(Render, wait_for_gpu.in_set(RenderSystems::Cleanup));
+    }
+}
+
+/// While frames are timed, each frame waits until the GPU has finished it: without a window
+/// nothing else holds the app back, and a frame timed as its submission alone would say how
+/// fast the CPU records commands, not how fast the GPU draws them.
+fn wait_for_gpu(device: Res<RenderDevice>) {
+    if let Err(e) = device.poll(PollType::wait_indefinitely()) {
+        eprintln!("warning: waiting for the GPU: {e}");
+    }
+}
+
+/// With `--auto-orbit`, turns the preview camera about the view's target while frames are
+/// timed, so each timed frame draws a new view (full quality: nothing adapts offscreen).
+fn orbit_while_timed(
+    request: Res<Request>,
+    timed: Res<Timed>,
+    view: Res<InitialView>,
+    mut views: Query<&mut View, With<MainCamera>>,
+) {
+    if request.orbit_degrees == 0.0 || timed.0.is_empty() || timed.done(&request) {
+        return;
+    }
+    let turn = Quat::from_axis_angle(view.0.up.normalize(), request.orbit_degrees.to_radians());
+    for mut view in &mut views {
+        let target = view.0.target;
+        view.0.eye = target + turn * (view.0.eye - target);
+    }
 }
 
 fn spawn_image_camera(
@@ -70,14 +107,20 @@ fn spawn_image_camera(
 }
 
 /// The frames timed so far (`--time-frames`), seconds each.
-#[derive(Default)]
+#[derive(Resource, Default)]
 struct Timed(Vec<f64>);
+
+impl Timed {
+    fn done(&self, request: &Request) -> bool {
+        self.0.len() >= request.time_frames as usize
+    }
+}
 
 #[allow(clippy::too_many_arguments)]
 fn take_screenshot(
     mut commands: Commands,
     mut frames: Local<u32>,
-    mut timed: Local<Timed>,
+    mut timed: ResMut<Timed>,
     time: Res<Time<Real>>,
     size: Res<ImageSize>,
     mut plan: Local<Option<Vec<(PathBuf, RenderSettings)>>>,
@@ -105,19 +148,25 @@ fn take_screenshot(
             vec![(request.path.clone(), render.settings.clone())]
         }
     });
-    if *frames >= WARM_UP_FRAMES && timed.0.len() < request.time_frames as usize {
-        // Full quality, at rest: every frame draws the whole preview.
+    if *frames >= WARM_UP_FRAMES && !timed.done(&request) {
+        // Full quality: every frame draws the whole preview.
         timed.0.push(time.delta_secs_f64());
-        if timed.0.len() == request.time_frames as usize {
+        if timed.done(&request) {
             let mut t = timed.0.clone();
             t.sort_by(f64::total_cmp);
             println!(
-                "preview frame: median {:.1} ms, fastest {:.1} ms over {} frames at {}×{}",
+                "preview frame: median {:.1} ms, fastest {:.1} ms, slowest {:.1} ms over {} \
+                 frames at {}×{}, {}",
                 t[t.len() / 2] * 1000.0,
                 t[0] * 1000.0,
+                t[t.len() - 1] * 1000.0,
                 t.len(),
                 size.0,
-                size.1
+                size.1,
+                match request.orbit_degrees {
+                    0.0 => "resting".to_string(),
+                    d => format!("orbiting {d}° a frame"),
+                }
             );
         }
         return;
