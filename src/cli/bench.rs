@@ -322,7 +322,6 @@ fn peer_transfer(
 }
 
 /// Renders the same scene with VTK's fixed-point CPU ray caster and with Voxcast, alternating.
-#[allow(clippy::too_many_arguments)]
 fn compare_with_peer(
     a: &BenchArgs,
     dir: &Path,

@@ -9,7 +9,6 @@
 use super::preview::{FullQuality, PreviewTarget, scaled_size};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use super::tasks::in_slices;
-use bevy::camera::CameraUpdateSystems;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
@@ -263,8 +262,7 @@ pub(super) fn plugin(app: &mut App) {
         PostUpdate,
         (forget_on_new_scene, start_capture, collect_result)
             .chain()
-            .after(CameraUpdateSystems)
-            .after(super::state::SyncSystems),
+            .in_set(super::Late::Views),
     );
 }
 
@@ -306,20 +304,33 @@ pub fn image_from_rows(data: &[u8], size: UVec2) -> Result<LinearImage, String> 
 
 /// Counts the settle frames down, then captures the preview and starts the CPU render of the
 /// same view in the same frame.
-#[allow(clippy::too_many_arguments)]
+/// What a capture waits for: the preview's target, its volume shown, its backend's settings,
+/// the progressive planner and the pipeline's compilation.
+#[derive(bevy::ecs::system::SystemParam)]
+struct PreviewReady<'w, 's> {
+    target: Option<Res<'w, PreviewTarget>>,
+    preview_visible: Query<'w, 's, &'static Visibility, With<super::state::VolumeBox>>,
+    preview: Option<Res<'w, super::preview::PreviewSettings>>,
+    progressive: Option<Res<'w, super::progressive::Progressive>>,
+    compiling: Res<'w, super::pipelines::Compiling>,
+}
+
 fn start_capture(
     mut commands: Commands,
     mut comparison: ResMut<Comparison>,
     mut full: ResMut<FullQuality>,
-    target: Option<Res<PreviewTarget>>,
     views: Query<&View, With<MainCamera>>,
     state: Res<VolumeState>,
     render_state: Res<RenderState>,
-    preview_visible: Query<&Visibility, With<super::state::VolumeBox>>,
-    preview: Option<Res<super::preview::PreviewSettings>>,
-    progressive: Option<Res<super::progressive::Progressive>>,
-    compiling: Res<super::pipelines::Compiling>,
+    ready: PreviewReady,
 ) {
+    let PreviewReady {
+        target,
+        preview_visible,
+        preview,
+        progressive,
+        compiling,
+    } = ready;
     let Some(left) = comparison.settling else {
         // Cancelled while settling: nothing will be captured, so nothing else resets it.
         if full.0 && comparison.job.is_none() {

@@ -165,12 +165,8 @@ impl CpuLines {
 }
 
 pub(super) fn plugin(app: &mut App) {
-    app.init_resource::<CpuLines>().add_systems(
-        PostUpdate,
-        drive_cpu_lines
-            .after(bevy::camera::CameraUpdateSystems)
-            .after(bevy::transform::TransformSystems::Propagate),
-    );
+    app.init_resource::<CpuLines>()
+        .add_systems(PostUpdate, drive_cpu_lines.in_set(super::Late::Views));
 }
 
 /// The thinning for a moving view: the smallest n for which every n-th item of the lists

@@ -3,12 +3,9 @@
 //! its axis. The settings' [`voxcast_core::clip::Clip`] is the single truth: the handles are
 //! drawn from it and a drag writes it, so the preview, the CPU render and the breakdown cut alike.
 
-use super::light::cursor_ray;
-use super::preview::Viewport;
+use super::pointer::{MouseHeld, Pointer};
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
-use bevy::window::PrimaryWindow;
-use bevy_egui::input::EguiWantsInput;
 use voxcast_core::clip::{Clip, ResolvedClip};
 use voxcast_core::marker::light_marker_radius;
 use voxcast_core::ray::Ray;
@@ -63,11 +60,12 @@ impl CutDrag {
 
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<CutDrag>()
+        .init_resource::<MouseHeld>()
         .init_resource::<CutHandles>()
         .add_systems(
             Update,
             (
-                drag_cut.in_set(super::Frame::Input),
+                (drag_cut, hold_mouse).chain().in_set(super::Frame::Grab),
                 draw_cut.in_set(super::Frame::Show),
             ),
         );
@@ -151,29 +149,23 @@ fn apply(render: &mut RenderState, handle: Handle, value: f32) {
 }
 
 /// Grabs a handle under the cursor and moves it while the left button is held.
-#[allow(clippy::too_many_arguments)]
 fn drag_cut(
-    buttons: Res<ButtonInput<MouseButton>>,
-    (window, viewport): (Query<&Window, With<PrimaryWindow>>, Option<Res<Viewport>>),
-    egui: Option<Res<EguiWantsInput>>,
+    pointer: Pointer,
     views: Query<&View, With<MainCamera>>,
     volume: Res<VolumeState>,
     shown: Res<CutHandles>,
     mut render: ResMut<RenderState>,
     mut drag: ResMut<CutDrag>,
 ) {
-    if !buttons.pressed(MouseButton::Left) {
+    if !pointer.buttons.pressed(MouseButton::Left) {
         drag.grab = None;
         return;
     }
-    let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
+    let Some(ray) = views.single().ok().and_then(|view| pointer.ray(view)) else {
         return;
     };
-    let Some(ray) = cursor_ray(window, viewport.as_deref(), view) else {
-        return;
-    };
-    if buttons.just_pressed(MouseButton::Left) {
-        if egui.is_some_and(|e| e.wants_any_pointer_input()) {
+    if pointer.buttons.just_pressed(MouseButton::Left) {
+        if pointer.panel_has_it() {
             return;
         }
         let bounds = volume.volume.bounds();
@@ -203,6 +195,11 @@ fn drag_cut(
             *render = edited;
         }
     }
+}
+
+/// Tells the orbit whether a handle of the cut is held.
+fn hold_mouse(drag: Res<CutDrag>, mut held: ResMut<MouseHeld>) {
+    held.hold("cut", drag.active());
 }
 
 /// Handles are rings this large (the light's marker size: easy to hit, small beside the volume).

@@ -376,18 +376,26 @@ fn color_key(rgba: [f32; 4], show_opacity: bool) -> [u8; 4] {
 }
 
 /// Puts a pooled sphere on every sample after a recomputation (or a change of look).
-#[allow(clippy::too_many_arguments)]
+/// The mesh and material stores the sample spheres are made in.
+#[derive(bevy::ecs::system::SystemParam)]
+struct SphereAssets<'w> {
+    meshes: ResMut<'w, Assets<Mesh>>,
+    materials: ResMut<'w, Assets<StandardMaterial>>,
+}
+
 fn place_spheres(
     mut commands: Commands,
-    inspection: Res<Inspection>,
-    settings: Res<InspectSettings>,
+    (inspection, settings): (Res<Inspection>, Res<InspectSettings>),
     volume: Res<VolumeState>,
     render_state: Res<RenderState>,
     mut pool: ResMut<Pool>,
     cameras: Query<Entity, With<VirtualCamera>>,
-    mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
+    assets: SphereAssets,
 ) {
+    let SphereAssets {
+        mut meshes,
+        mut materials,
+    } = assets;
     if !(inspection.is_changed() || settings.is_changed()) {
         return;
     }

@@ -221,13 +221,11 @@ pub(crate) fn plugin(app: &mut App) {
     app.add_message::<LevelCommand>().add_systems(
         Update,
         (
-            apply_commands,
-            set_up_scene,
-            level_preset_after_load.after(crate::sandbox::loading::finish_loading),
-            check_objective.after(crate::sandbox::breakdown::follow_selection),
-        )
-            .chain()
-            .in_set(crate::sandbox::Frame::Rules),
+            (apply_commands, set_up_scene, level_preset_after_load)
+                .chain()
+                .in_set(crate::sandbox::Frame::Rules),
+            check_objective.in_set(crate::sandbox::Frame::Check),
+        ),
     );
 }
 

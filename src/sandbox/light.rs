@@ -8,11 +8,10 @@
 //! it. It is hidden while a comparison captures the preview (the CPU render has no meshes).
 
 use super::mode::{Mode, Stage};
-use super::preview::{FullQuality, Viewport};
+use super::pointer::{MouseHeld, Pointer};
+use super::preview::FullQuality;
 use super::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
-use bevy::window::PrimaryWindow;
-use bevy_egui::input::EguiWantsInput;
 use voxcast_core::marker::{
     LIGHT_MARKER_COLOR, direction_from_marker, directional_marker_position, light_marker_radius,
 };
@@ -47,13 +46,18 @@ pub(crate) fn marker_plugin(app: &mut App) {
 
 /// Dragging and the gizmo (window only).
 pub(super) fn plugin(app: &mut App) {
-    app.init_resource::<LightDrag>().add_systems(
-        Update,
-        (
-            drag_light.before(place_marker).in_set(super::Frame::Input),
-            draw_ring.in_set(super::Frame::Show),
-        ),
-    );
+    app.init_resource::<LightDrag>()
+        .init_resource::<MouseHeld>()
+        .add_systems(
+            Update,
+            (
+                (drag_light, hold_mouse)
+                    .chain()
+                    .before(place_marker)
+                    .in_set(super::Frame::Grab),
+                draw_ring.in_set(super::Frame::Show),
+            ),
+        );
 }
 
 /// Where the marker of light `i` stands, `None` for a headlight (it moves with the camera) or
@@ -142,10 +146,9 @@ fn place_marker(
     }
 }
 
-/// The ray under the cursor, from the main camera's view (shown in the viewport).
-pub(super) fn cursor_ray(window: &Window, viewport: Option<&Viewport>, view: &View) -> Option<Ray> {
-    let (cursor, size) = Viewport::cursor(viewport, window)?;
-    Some(view.0.ray(cursor.x, cursor.y, size.x, size.y))
+/// Tells the orbit whether the light's marker is held.
+fn hold_mouse(drag: Res<LightDrag>, mut held: ResMut<MouseHeld>) {
+    held.hold("light", drag.active());
 }
 
 /// Whether `ray` meets the sphere at `centre` of `radius` ahead of it (or starts inside it):
@@ -159,30 +162,25 @@ fn hits_sphere(ray: &Ray, centre: Vec3, radius: f32) -> bool {
     sphere.hit(ray).is_some()
 }
 
-#[allow(clippy::too_many_arguments)]
-pub(super) fn drag_light(
-    buttons: Res<ButtonInput<MouseButton>>,
-    (window, viewport): (Query<&Window, With<PrimaryWindow>>, Option<Res<Viewport>>),
-    egui: Option<Res<EguiWantsInput>>,
+fn drag_light(
+    pointer: Pointer,
     views: Query<&View, With<MainCamera>>,
     markers: Query<(&LightMarker, &Transform, &Visibility)>,
     volume: Res<VolumeState>,
     mut render: ResMut<RenderState>,
     mut drag: ResMut<LightDrag>,
 ) {
-    if !buttons.pressed(MouseButton::Left) {
+    if !pointer.buttons.pressed(MouseButton::Left) {
         drag.plane = None;
         return;
     }
-    let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
+    let Some(ray) = views.single().ok().and_then(|view| pointer.ray(view)) else {
         return;
     };
-    let Some(ray) = cursor_ray(window, viewport.as_deref(), view) else {
-        return;
-    };
+    let view = views.single().expect("read above");
     let (lo, hi) = volume.volume.bounds();
-    if buttons.just_pressed(MouseButton::Left) {
-        if egui.is_some_and(|e| e.wants_any_pointer_input()) {
+    if pointer.buttons.just_pressed(MouseButton::Left) {
+        if pointer.panel_has_it() {
             return;
         }
         let radius = light_marker_radius(lo, hi) * GRAB_SLACK;
@@ -270,6 +268,7 @@ fn draw_ring(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use bevy::window::PrimaryWindow;
 
     #[test]
     fn sphere_hits_in_front_and_misses_beside_or_behind() {
@@ -310,6 +309,7 @@ mod tests {
             depth_termination: true,
         })
         .init_resource::<LightDrag>()
+        .init_resource::<MouseHeld>()
         .init_resource::<ButtonInput<MouseButton>>()
         .add_systems(Update, (drag_light, place_marker).chain());
         app.world_mut().spawn((MainCamera, View(camera)));

@@ -267,12 +267,7 @@ fn frame_image(frame: &LiveFrame) -> Image {
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<LiveView>()
         .add_systems(Update, choose_backend)
-        .add_systems(
-            PostUpdate,
-            drive_live_view
-                .after(bevy::camera::CameraUpdateSystems)
-                .after(bevy::transform::TransformSystems::Propagate),
-        );
+        .add_systems(PostUpdate, drive_live_view.in_set(super::Late::Views));
 }
 
 /// The GPU could not run the preview (a shader it cannot compile, a pipeline it refuses): why.
@@ -417,7 +412,6 @@ impl SceneSpheres<'_, '_> {
 }
 
 /// Starts, keeps or cancels the live render, and takes in a finished one.
-#[allow(clippy::too_many_arguments)]
 fn drive_live_view(
     mut live: ResMut<LiveView>,
     preview: Res<PreviewSettings>,

@@ -163,11 +163,9 @@ pub(crate) fn plugin(app: &mut App) {
         .add_systems(
             Update,
             (
-                (load_dropped_files, load_chosen_files),
-                finish_loading.in_set(super::SwapsVolume),
-            )
-                .chain()
-                .in_set(super::Frame::Rules),
+                (load_dropped_files, load_chosen_files).in_set(super::Frame::Input),
+                finish_loading.in_set(super::Frame::SwapVolume),
+            ),
         );
 }
 

@@ -2,7 +2,9 @@
 //! settings panel; or, with `--screenshot`, one frame of the preview saved to a PNG.
 //!
 //! One plugin per feature file; the ECS holds only what the scene needs: the main camera, the
-//! volume's box (carrying the material) and the settings as resources.
+//! volume's box (carrying the material) and the settings as resources. The frame's order is
+//! `schedule.rs`: [`Frame`] in `Update`, [`Paint`] in the egui pass, [`Late`] in `PostUpdate`;
+//! every feature puts its systems in those sets.
 
 mod blocks;
 mod breakdown;
@@ -26,10 +28,12 @@ mod orbit;
 mod overlay;
 mod pipelines;
 pub mod platform;
+mod pointer;
 mod preview;
 mod progressive;
 mod raydata;
 mod rayviews;
+mod schedule;
 pub mod screenshot;
 mod script;
 mod shaders;
@@ -56,6 +60,7 @@ use bevy_egui::EguiPlugin;
 use clap::Args;
 use material::VolumeMaterial;
 use orbit::Orbit;
+pub use schedule::{Frame, Late, Paint};
 use state::{MainCamera, RenderState, View, VolumeState};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -160,26 +165,6 @@ pub struct SandboxArgs {
     pub ray_glyphs: bool,
 }
 
-/// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): the player's
-/// input moves the view and the light, the rules react to what changed (levels, loading, the
-/// inspection, the breakdown), then what is shown is brought up to date.
-#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Frame {
-    /// Mouse and keyboard: orbit, the light's drag.
-    Input,
-    /// The sandbox's rules: levels, loading, the virtual camera's inspection, the breakdown.
-    Rules,
-    /// What is shown: the preview's target and quality, the live view, the overlay lines.
-    Show,
-}
-
-/// The systems that replace the volume (a load finishing, going back from a ray density).
-/// Whatever reacts to a new volume — the main camera's framing, and the virtual camera
-/// framed beside it — runs after them: it must see the new volume in the same frame as every
-/// other reaction, or it frames one of them for the old volume.
-#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct SwapsVolume;
-
 /// What every sandbox starts with, from the command line.
 struct Start {
     volume: VolumeState,
@@ -250,8 +235,8 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         build_window(&mut app, args, &start.render)?;
     }
     let background = start.render.settings.background;
-    app.configure_sets(Update, (Frame::Input, Frame::Rules, Frame::Show).chain())
-        .add_plugins(MaterialPlugin::<VolumeMaterial>::default())
+    schedule::configure(&mut app);
+    app.add_plugins(MaterialPlugin::<VolumeMaterial>::default())
         .add_plugins((
             shaders::plugin,
             pipelines::plugin,

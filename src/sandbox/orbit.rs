@@ -8,11 +8,10 @@
 //! remote desktops, VNC, Xvfb driven by xdotool and some touchpads move the cursor without
 //! sending raw motion.
 
-use super::light::LightDrag;
+use super::pointer::{MouseHeld, Pointer};
 use super::state::{MainCamera, View};
 use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll, MouseScrollUnit};
 use bevy::prelude::*;
-use bevy_egui::input::EguiWantsInput;
 
 /// Where the camera looks from: spherical coordinates around `focus`.
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -70,12 +69,8 @@ pub(super) fn plugin(app: &mut App) {
     app.add_systems(
         Update,
         (
-            orbit_camera
-                .after(super::light::drag_light)
-                .in_set(super::Frame::Input),
-            reframe_on_new_volume
-                .after(super::SwapsVolume)
-                .in_set(super::Frame::Rules),
+            orbit_camera.in_set(super::Frame::Input),
+            reframe_on_new_volume.in_set(super::Frame::Rules),
         ),
     );
 }
@@ -109,41 +104,28 @@ pub(super) fn reframe_on_new_volume(
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn orbit_camera(
-    buttons: Res<ButtonInput<MouseButton>>,
-    motion: Res<AccumulatedMouseMotion>,
-    scroll: Res<AccumulatedMouseScroll>,
-    (window, viewport): (
-        Query<&Window, With<bevy::window::PrimaryWindow>>,
-        Option<Res<super::preview::Viewport>>,
-    ),
+    pointer: Pointer,
+    (motion, scroll): (Res<AccumulatedMouseMotion>, Res<AccumulatedMouseScroll>),
     (mut last_cursor, mut grabbed): (Local<Option<Vec2>>, Local<bool>),
-    egui: Option<Res<EguiWantsInput>>,
-    light_drag: Option<Res<LightDrag>>,
-    cut_drag: Option<Res<super::cut::CutDrag>>,
+    held: Option<Res<MouseHeld>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
 ) {
-    let window = window.single().ok();
-    let cursor = window.and_then(|w| w.cursor_position());
+    let buttons = &pointer.buttons;
+    let cursor = pointer.cursor();
     let cursor_delta = match (*last_cursor, cursor) {
         (Some(a), Some(b)) => b - a,
         _ => Vec2::ZERO,
     };
     *last_cursor = cursor;
-    // Over the part of the window the panels leave to the scene.
-    let over_scene =
-        window.is_some_and(|w| super::preview::Viewport::cursor(viewport.as_deref(), w).is_some());
+    let over_scene = pointer.over_scene();
     let buttons_held = [MouseButton::Left, MouseButton::Right, MouseButton::Middle];
     if buttons.any_just_pressed(buttons_held) {
         *grabbed = over_scene;
     } else if !buttons.any_pressed(buttons_held) {
         *grabbed = false;
     }
-    if egui.is_some_and(|e| e.wants_any_pointer_input())
-        || light_drag.is_some_and(|d| d.active())
-        || cut_drag.is_some_and(|d| d.active())
-    {
+    if pointer.panel_has_it() || held.is_some_and(|h| h.by_anyone()) {
         return;
     }
     // Raw motion where it arrives; the cursor's own movement where it does not.

@@ -115,7 +115,7 @@ pub fn scene_painter(
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<OverlayLines>().add_systems(
         bevy_egui::EguiPrimaryContextPass,
-        paint_overlay.after(super::preview::paint_preview),
+        paint_overlay.in_set(super::Paint::Over),
     );
 }
 

@@ -29,7 +29,7 @@ impl Compiling {
 pub(super) fn window_plugin(app: &mut App) {
     app.add_systems(
         bevy_egui::EguiPrimaryContextPass,
-        say_compiling.after(super::preview::paint_preview),
+        say_compiling.in_set(super::Paint::Over),
     );
 }
 

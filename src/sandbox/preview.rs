@@ -268,7 +268,10 @@ pub(super) fn plugin(app: &mut App) {
                 .chain()
                 .in_set(super::Frame::Show),
         )
-        .add_systems(EguiPrimaryContextPass, paint_preview);
+        .add_systems(
+            EguiPrimaryContextPass,
+            paint_preview.in_set(super::Paint::Preview),
+        );
 }
 
 /// The window's camera: draws nothing but egui, which paints the preview image first. No
@@ -375,20 +378,34 @@ type MainOnly = (With<MainCamera>, Without<SharpCamera>);
 /// density's line lists are meshes this camera draws with the GPU, and the CPU draws them
 /// with the CPU live view: `cpu_lines`.) Only the GPU preview reads the depth prepass: with
 /// the CPU the camera has none (a software rasterizer would draw every sphere twice).
-#[allow(clippy::too_many_arguments)]
+/// What decides which camera draws the scene: the backend and its quality, the depth
+/// termination, the inspection's meshes, the planner and the live view.
+#[derive(bevy::ecs::system::SystemParam)]
+struct BackendChoice<'w> {
+    settings: Res<'w, PreviewSettings>,
+    quality: Quality<'w>,
+    render: Option<Res<'w, super::state::RenderState>>,
+    inspect: Option<Res<'w, super::inspect::InspectSettings>>,
+    progressive: Option<Res<'w, super::progressive::Progressive>>,
+    live: Option<Res<'w, LiveView>>,
+}
+
 fn camera_for_backend(
     mut commands: Commands,
     prepass: Query<(Entity, Has<DepthPrepass>), MainOnly>,
-    settings: Res<PreviewSettings>,
-    quality: Quality,
-    render: Option<Res<super::state::RenderState>>,
-    inspect: Option<Res<super::inspect::InspectSettings>>,
+    choice: BackendChoice,
     mut cameras: Query<(&mut Camera, &mut RenderLayers), MainOnly>,
     mut sharp: Query<&mut Camera, With<SharpCamera>>,
-    progressive: Option<Res<super::progressive::Progressive>>,
     mut beneath: ResMut<SharpBeneath>,
-    live: Option<Res<LiveView>>,
 ) {
+    let BackendChoice {
+        settings,
+        quality,
+        render,
+        inspect,
+        progressive,
+        live,
+    } = choice;
     let cpu = settings.cpu_live();
     // With rays passing through geometry the CPU image has no spheres: the camera draws them.
     let through = render.is_some_and(|r| !r.depth_termination);
@@ -466,20 +483,34 @@ fn camera_for_backend(
 /// spheres; at rest with a slow GPU, the progressive pass's images). Beneath a GPU preview drawn below full
 /// resolution, the sharp camera's meshes, again beneath each new strip (a strip is
 /// transparent where no volume is in front of them).
-#[allow(clippy::too_many_arguments)]
+/// What the viewport is painted from: the preview's and the sharp camera's targets, where the
+/// viewport is, and what the backend and the planner say is drawn.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(super) struct PaintSources<'w> {
+    target: Option<Res<'w, PreviewTarget>>,
+    settings: Option<Res<'w, PreviewSettings>>,
+    viewport: Option<Res<'w, Viewport>>,
+    beneath: Res<'w, SharpBeneath>,
+    sharp_target: Option<Res<'w, SharpTarget>>,
+    progressive: Option<Res<'w, super::progressive::Progressive>>,
+}
+
 pub(super) fn paint_preview(
     mut contexts: EguiContexts,
-    target: Option<Res<PreviewTarget>>,
-    settings: Option<Res<PreviewSettings>>,
-    viewport: Option<Res<Viewport>>,
+    sources: PaintSources,
     mut live: Option<ResMut<LiveView>>,
     cameras: Query<&Camera, With<MainCamera>>,
-    beneath: Res<SharpBeneath>,
-    sharp_target: Option<Res<SharpTarget>>,
-    progressive: Option<Res<super::progressive::Progressive>>,
     mut images: ResMut<Assets<Image>>,
     mut cpu_lines: Option<ResMut<super::cpu_lines::CpuLines>>,
 ) -> Result {
+    let PaintSources {
+        target,
+        settings,
+        viewport,
+        beneath,
+        sharp_target,
+        progressive,
+    } = sources;
     let Some(target) = target else { return Ok(()) };
     let camera_drew = cameras.iter().any(|c| c.is_active);
     let id = contexts.add_image(EguiTextureHandle::Weak(target.image.id()));

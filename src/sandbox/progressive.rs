@@ -218,13 +218,10 @@ fn pass_image(images: &mut Assets<Image>, size: UVec2) -> Handle<Image> {
 /// Gives the main camera this frame's work: the whole preview target, or the next strip of the
 /// resting pass (the camera's viewport and sub-view select its rows; its output is written into
 /// the pass's image without clearing the rows drawn before).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn give_camera_its_work(
     mut p: ResMut<Progressive>,
     time: Res<Time<Real>>,
-    settings: Res<PreviewSettings>,
-    motion: Res<Motion>,
-    full: Res<FullQuality>,
+    (settings, motion, full): (Res<PreviewSettings>, Res<Motion>, Res<FullQuality>),
     target: Option<Res<PreviewTarget>>,
     mut images: ResMut<Assets<Image>>,
     mut cameras: Query<(&mut Camera, &mut RenderTarget), With<MainCamera>>,

@@ -398,7 +398,10 @@ pub(super) fn plugin(app: &mut App) {
         .init_resource::<RangeFit>()
         .add_systems(
             Update,
-            (estimate, go_back.in_set(super::SwapsVolume), fit_range).in_set(super::Frame::Rules),
+            (
+                go_back.in_set(super::Frame::SwapVolume),
+                (estimate, fit_range).in_set(super::Frame::Rules),
+            ),
         );
 }
 

@@ -9,10 +9,10 @@ use super::state::{RenderState, View};
 use super::{InitialView, MainCamera, preview_camera};
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
-use bevy::render::renderer::RenderDevice;
-use bevy::render::{Render, RenderApp, RenderSystems};
 use bevy::render::render_resource::{PollType, TextureFormat, TextureUsages};
+use bevy::render::renderer::RenderDevice;
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
+use bevy::render::{Render, RenderApp, RenderSystems};
 use std::path::PathBuf;
 
 use voxcast_core::settings::RenderSettings;
@@ -116,21 +116,40 @@ impl Timed {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
+/// The pictures to take: each file and the settings it is taken with (made on the first
+/// frame that may take one).
+type Plan = Option<Vec<(PathBuf, RenderSettings)>>;
+
+/// What the screenshot is of and when it may be taken: the request, the image and its size,
+/// the volume, and whether the cells' upload and the pipeline are done.
+#[derive(bevy::ecs::system::SystemParam)]
+struct Shot<'w> {
+    request: Res<'w, Request>,
+    target: Res<'w, Target>,
+    size: Res<'w, ImageSize>,
+    volume: Res<'w, super::state::VolumeState>,
+    cells: Res<'w, super::state::CellsUpload>,
+    compiling: Res<'w, super::pipelines::Compiling>,
+    time: Res<'w, Time<Real>>,
+}
+
 fn take_screenshot(
     mut commands: Commands,
     mut frames: Local<u32>,
+    mut plan: Local<Plan>,
     mut timed: ResMut<Timed>,
-    time: Res<Time<Real>>,
-    size: Res<ImageSize>,
-    mut plan: Local<Option<Vec<(PathBuf, RenderSettings)>>>,
     mut render: ResMut<RenderState>,
-    target: Res<Target>,
-    request: Res<Request>,
-    cells: Res<super::state::CellsUpload>,
-    compiling: Res<super::pipelines::Compiling>,
-    volume: Res<super::state::VolumeState>,
+    shot: Shot,
 ) {
+    let Shot {
+        request,
+        target,
+        size,
+        volume,
+        cells,
+        compiling,
+        time,
+    } = shot;
     if cells.pending() || compiling.now() {
         return; // the preview as it will be: cells uploaded, its pipeline compiled
     }

@@ -72,12 +72,8 @@ enum Phase {
 }
 
 pub(super) fn plugin(app: &mut App) {
-    app.init_resource::<Run>().add_systems(
-        Update,
-        drive
-            .after(super::levels::check_objective)
-            .in_set(super::Frame::Rules),
-    );
+    app.init_resource::<Run>()
+        .add_systems(Update, drive.in_set(super::Frame::Drive));
 }
 
 impl Hands<'_, '_> {
@@ -125,7 +121,6 @@ struct Hands<'w, 's> {
     ray_choices: ResMut<'w, super::raydata::RayChoices>,
 }
 
-#[allow(clippy::too_many_arguments)]
 fn drive(
     mut commands: Commands,
     mut run: ResMut<Run>,

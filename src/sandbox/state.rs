@@ -49,11 +49,6 @@ pub struct MainCamera;
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct View(pub voxcast_core::camera::Camera);
 
-/// The systems that write the material: after the camera's projection is updated for this
-/// frame (so the uniform's rays use this frame's view and target size).
-#[derive(SystemSet, Debug, Clone, PartialEq, Eq, Hash)]
-pub struct SyncSystems;
-
 pub(super) fn plugin(app: &mut App) {
     app.init_resource::<CellsUpload>()
         .add_systems(Update, spawn_volume)
@@ -61,8 +56,7 @@ pub(super) fn plugin(app: &mut App) {
             PostUpdate,
             (sync_volume_material, upload_visible_cells, upload_records)
                 .chain()
-                .in_set(SyncSystems)
-                .after(bevy::camera::CameraUpdateSystems),
+                .in_set(super::Late::Sync),
         );
 }
 

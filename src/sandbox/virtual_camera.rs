@@ -92,11 +92,11 @@ pub(super) fn plugin(app: &mut App) {
         Update,
         (
             // Beside the main camera as it is framed for the new volume or mode.
-            stage_camera.after(super::orbit::reframe_on_new_volume),
-            place_body,
+            (stage_camera, place_body)
+                .chain()
+                .in_set(super::Frame::Follow),
             draw_lines.in_set(super::Frame::Show),
-        )
-            .chain(),
+        ),
     );
 }
 
@@ -301,12 +301,9 @@ mod tests {
                 .init_resource::<AccumulatedMouseMotion>()
                 .init_resource::<AccumulatedMouseScroll>()
                 .init_resource::<super::super::overlay::OverlayLines>()
-                .add_message::<bevy::window::FileDragAndDrop>()
-                .configure_sets(
-                    Update,
-                    (super::super::Frame::Input, super::super::Frame::Rules).chain(),
-                )
-                .add_plugins(super::super::mode::plugin);
+                .add_message::<bevy::window::FileDragAndDrop>();
+            super::super::schedule::configure(&mut app);
+            app.add_plugins(super::super::mode::plugin);
             for i in order {
                 plugins[i](&mut app);
             }

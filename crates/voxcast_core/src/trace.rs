@@ -423,8 +423,12 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     /// Takes sample `k` (at `t`, voxel position `pv`, in `cell` if already located, seen as
     /// `viewing` describes) into the accumulation; returns true when early termination stops
     /// the ray.
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
+    // Many arguments, kept (here and in the march's other per-sample functions: lanes.rs,
+    // record.rs, skipping.rs): they are inlined into the per-sample loop whose speed
+    // BENCHMARKS.md measures, and the ray's running state travels as values the optimiser keeps
+    // in registers; a struct of borrowed state was not tried against the benchmarks.
+    #[allow(clippy::too_many_arguments)]
     fn accumulate_sample<R: Recorder>(
         &self,
         viewing: &Viewing<'_>,
@@ -484,8 +488,8 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
     /// Composites evaluated sample `k` (at `t`, voxel position `pv`): its opacity corrected
     /// for its segment, then the running colour and opacity; returns true when early
     /// termination stops the ray.
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // the march's per-sample hot path: see trace.rs
     fn composite_sample<R: Recorder>(
         &self,
         plan: &StepPlan,

@@ -148,24 +148,14 @@ pub enum TradeError {
 
 /// The step's trade: [`trade`] of [`Knob::Step`] at `steps` (voxels; sorted coarsest first,
 /// duplicates dropped).
-#[allow(clippy::too_many_arguments)]
 pub fn step_trade(
-    volume: &Prepared,
-    transfer: &TransferFunction,
+    view: &View,
     settings: &RenderSettings,
-    camera: &Camera,
-    size: (u32, u32),
     steps: &[f32],
     progress: &(dyn Fn(usize, usize) + Sync),
     cancel: &AtomicBool,
 ) -> Result<Trade, TradeError> {
-    let view = View {
-        volume,
-        transfer,
-        camera,
-        size,
-    };
-    trade(&view, settings, Knob::Step, steps, progress, cancel)
+    trade(view, settings, Knob::Step, steps, progress, cancel)
 }
 
 /// What a trade renders: a volume and transfer function seen by a camera at a size.
@@ -360,11 +350,13 @@ mod tests {
         let (v, transfer, mut s, cam) = bucky_scene();
         s.interpolation = interpolation;
         step_trade(
-            &v,
-            &transfer,
+            &View {
+                volume: &v,
+                transfer: &transfer,
+                camera: &cam,
+                size: (48, 48),
+            },
             &s,
-            &cam,
-            (48, 48),
             steps,
             &|_, _| {},
             &AtomicBool::new(false),
@@ -401,11 +393,13 @@ mod tests {
         let (lo, hi) = v.bounds();
         let cam = Camera::framing(lo, hi, glam::Vec3::Z, glam::Vec3::Y).unwrap();
         let r = step_trade(
-            &v,
-            &tf,
+            &View {
+                volume: &v,
+                transfer: &tf,
+                camera: &cam,
+                size: (8, 8),
+            },
             &RenderSettings::default(),
-            &cam,
-            (8, 8),
             &STEPS,
             &|_, _| {},
             &AtomicBool::new(true),
@@ -515,11 +509,13 @@ mod tests {
         );
         let (v, transfer, s, cam) = bucky_scene();
         let t = step_trade(
-            &v,
-            &transfer,
+            &View {
+                volume: &v,
+                transfer: &transfer,
+                camera: &cam,
+                size: (64, 64),
+            },
             &s,
-            &cam,
-            (64, 64),
             &STEPS,
             &|_, _| {},
             &AtomicBool::new(false),

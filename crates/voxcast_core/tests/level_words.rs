@@ -166,11 +166,13 @@ fn halving_the_step_doubles_the_samples() {
     let cam = Camera::framing(lo, hi, Vec3::new(1.0, 0.8, 1.4), Vec3::Y).unwrap();
     let cancel = std::sync::atomic::AtomicBool::new(false);
     let trade = voxcast_core::trade::step_trade(
-        &v,
-        &p.transfer,
+        &voxcast_core::trade::View {
+            volume: &v,
+            transfer: &p.transfer,
+            camera: &cam,
+            size: (32, 32),
+        },
         &s,
-        &cam,
-        (32, 32),
         &[2.0, 1.0, 0.5, 0.25],
         &|_, _| {},
         &cancel,

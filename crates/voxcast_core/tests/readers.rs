@@ -458,6 +458,7 @@ fn malformed_nrrd_files_give_clear_errors() {
 }
 
 /// A NIfTI-1 header (348 bytes) in the given byte order.
+// Kept with many arguments: one per header field the tests vary, in the header's own order.
 #[allow(clippy::too_many_arguments)]
 fn nifti_header(
     dims: &[u16],

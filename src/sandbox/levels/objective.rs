@@ -4,29 +4,45 @@
 
 use super::*;
 
-/// The ray data the objectives read (absent in tests without the Ray data plugins).
-type RayState<'w> = (
-    Option<Res<'w, crate::sandbox::raydata::RayScene>>,
-    Option<Res<'w, crate::sandbox::raydata::RayChoices>>,
-    Option<Res<'w, crate::sandbox::rayviews::ViewReport>>,
-);
+/// What the player has done that an objective can ask about, each feature's state as it
+/// publishes it (the ray data and the panels' are absent in tests without their plugins).
+#[derive(bevy::ecs::system::SystemParam)]
+pub(crate) struct Done<'w, 's> {
+    render: Res<'w, RenderState>,
+    volume: Res<'w, VolumeState>,
+    cameras: Query<'w, 's, &'static VirtualCamera>,
+    selection: Res<'w, RaySelection>,
+    breakdown: Res<'w, BreakdownState>,
+    comparison: Res<'w, Comparison>,
+    views: Query<'w, 's, &'static View, With<MainCamera>>,
+    preview: Option<Res<'w, PreviewSettings>>,
+    inspect: Option<Res<'w, crate::sandbox::inspect::InspectSettings>>,
+    rays: Option<Res<'w, crate::sandbox::raydata::RayScene>>,
+    ray_choices: Option<Res<'w, crate::sandbox::raydata::RayChoices>>,
+    ray_report: Option<Res<'w, crate::sandbox::rayviews::ViewReport>>,
+}
 
 /// Checks the current step's objective against what the player has done.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn check_objective(
     mode: Res<State<Mode>>,
     mut lessons: ResMut<Lessons>,
-    (render, volume): (Res<RenderState>, Res<VolumeState>),
-    cameras: Query<&VirtualCamera>,
-    (selection, breakdown): (Res<RaySelection>, Res<BreakdownState>),
-    (comparison, views): (Res<Comparison>, Query<&View, With<MainCamera>>),
-    (mut trade, preview, inspect): (
-        ResMut<StepTrade>,
-        Option<Res<PreviewSettings>>,
-        Option<Res<crate::sandbox::inspect::InspectSettings>>,
-    ),
-    (rays, ray_choices, ray_report): RayState,
+    mut trade: ResMut<StepTrade>,
+    done: Done,
 ) {
+    let Done {
+        render,
+        volume,
+        cameras,
+        selection,
+        breakdown,
+        comparison,
+        views,
+        preview,
+        inspect,
+        rays,
+        ray_choices,
+        ray_report,
+    } = done;
     let step = lessons.step_in(*mode.get()).cloned();
     // A step about the step's trade measures the step, whatever knob was picked before.
     if step

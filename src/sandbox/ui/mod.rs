@@ -125,8 +125,8 @@ pub(super) fn plugin(app: &mut App) {
                     record_viewport,
                 )
                     .chain()
-                    .before(super::preview::paint_preview),
-                ray_overlay::ray_overlay.after(super::preview::paint_preview),
+                    .in_set(super::Paint::Panels),
+                ray_overlay::ray_overlay.in_set(super::Paint::Over),
             ),
         )
         .add_message::<super::files::FilesChosen>()
@@ -134,7 +134,7 @@ pub(super) fn plugin(app: &mut App) {
     #[cfg(target_arch = "wasm32")]
     app.add_systems(
         EguiPrimaryContextPass,
-        page::publish_status.after(record_viewport),
+        page::publish_status.in_set(super::Paint::Over),
     );
 }
 

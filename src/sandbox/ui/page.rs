@@ -13,24 +13,38 @@ use crate::sandbox::web::publish;
 use bevy::prelude::*;
 use bevy_egui::EguiContexts;
 
+/// What the page reports, each feature's state as it publishes it.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(super) struct Reported<'w> {
+    mode: Res<'w, State<Mode>>,
+    lessons: Res<'w, Lessons>,
+    volume: Res<'w, VolumeState>,
+    loading: Res<'w, Loading>,
+    comparison: Res<'w, Comparison>,
+    preview: Res<'w, PreviewSettings>,
+    viewport: Option<Res<'w, Viewport>>,
+    live: Option<Res<'w, LiveView>>,
+    progressive: Option<Res<'w, crate::sandbox::progressive::Progressive>>,
+}
+
 /// Publishes this frame's state for the page.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn publish_status(
     mut contexts: EguiContexts,
-    mode: Res<State<Mode>>,
-    lessons: Res<Lessons>,
-    volume: Res<VolumeState>,
-    loading: Res<Loading>,
-    comparison: Res<Comparison>,
-    preview: Res<PreviewSettings>,
-    viewport: Option<Res<Viewport>>,
-    (live, progressive): (
-        Option<Res<LiveView>>,
-        Option<Res<crate::sandbox::progressive::Progressive>>,
-    ),
+    reported: Reported,
     mut render_started: Local<Option<bevy::platform::time::Instant>>,
     mut render_wall: Local<Option<f64>>,
 ) -> Result {
+    let Reported {
+        mode,
+        lessons,
+        volume,
+        loading,
+        comparison,
+        preview,
+        viewport,
+        live,
+        progressive,
+    } = reported;
     // Render image's time on the wall clock, from the click to the result (the slices and the
     // frames drawn between them).
     match (comparison.busy(), *render_started) {

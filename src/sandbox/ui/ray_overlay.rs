@@ -13,21 +13,35 @@ use bevy_egui::egui::{self, Color32, Pos2, Stroke, vec2};
 use voxcast_core::breakdown::SampleRecord;
 
 /// Paints the rays (and an opened sample's cell) over the preview, beneath every window.
-#[allow(clippy::too_many_arguments)]
+/// What the overlay draws the rays from: the inspection, how it is shown and animated, the
+/// two cameras, the breakdown's ray, the volume and the viewport.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(super) struct RaysShown<'w, 's> {
+    inspection: Res<'w, Inspection>,
+    settings: Res<'w, InspectSettings>,
+    animation: Res<'w, RayAnimation>,
+    views: Query<'w, 's, &'static View, With<MainCamera>>,
+    cameras: Query<'w, 's, &'static VirtualCamera>,
+    breakdown: Res<'w, BreakdownState>,
+    volume: Res<'w, VolumeState>,
+    viewport: Option<Res<'w, crate::sandbox::preview::Viewport>>,
+}
+
 pub(super) fn ray_overlay(
     mut contexts: EguiContexts,
-    inspection: Res<Inspection>,
     mut selection: ResMut<RaySelection>,
-    settings: Res<InspectSettings>,
-    animation: Res<RayAnimation>,
-    views: Query<&View, With<MainCamera>>,
-    cameras: Query<&VirtualCamera>,
-    breakdown: Res<BreakdownState>,
-    (volume, viewport): (
-        Res<VolumeState>,
-        Option<Res<crate::sandbox::preview::Viewport>>,
-    ),
+    shown: RaysShown,
 ) -> Result {
+    let RaysShown {
+        inspection,
+        settings,
+        animation,
+        views,
+        cameras,
+        breakdown,
+        volume,
+        viewport,
+    } = shown;
     let (Ok(view), Ok(vc)) = (views.single(), cameras.single()) else {
         return Ok(());
     };

@@ -217,7 +217,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// [`Marcher::accumulate_skipping`] on the fast path; `None` where this ray cannot take it
     /// (a light straight behind the viewer has no half vector: the scalar code then derives
     /// one per sample). Otherwise the index of the sample that stopped the ray, if one did.
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // the march's per-sample hot path: see trace.rs
     pub(super) fn accumulate_lanes(
         &self,
         lanes: &Lanes<'_>,

@@ -77,7 +77,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         )
     }
 
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // the march's per-sample hot path: see trace.rs
     pub(super) fn record(
         &self,
         k: u32,

@@ -23,8 +23,8 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// seen. The samples passed over lie in cells the transfer function makes transparent, so
     /// the image is the plain march's. Returns the index of the sample that stopped the ray, if
     /// one did.
-    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)] // the march's per-sample hot path: see trace.rs
     pub(super) fn accumulate_skipping(
         &self,
         cells: &VisibleCells,

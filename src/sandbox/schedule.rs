@@ -1,0 +1,141 @@
+//! The order of a frame, in one place: [`Frame`] for the sandbox's work in `Update`, [`Paint`]
+//! for the egui pass that paints the window, [`Late`] for `PostUpdate`. Features put their systems in these sets and
+//! never order themselves after another file's function.
+
+use bevy::prelude::*;
+use bevy_egui::EguiPrimaryContextPass;
+
+/// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): who holds the
+/// mouse, the player's input, a volume replaced, the rules that react to what changed, what
+/// stands beside the main camera, the checks of the level's objective, the scripted players,
+/// then what is shown.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Frame {
+    /// Who holds the mouse this frame: the light's drag and the cut's drag take it before the
+    /// orbit reads it.
+    Grab,
+    /// Mouse, keyboard and dropped files: the orbit, the shortcuts, files to load.
+    Input,
+    /// The systems that replace the volume (a load finishing, going back from a ray density).
+    /// Whatever reacts to a new volume runs after them: it must see the new volume in the same
+    /// frame as every other reaction, or it frames one of them for the old volume.
+    SwapVolume,
+    /// The sandbox's rules: the main camera's framing, levels' commands and presets, the
+    /// virtual camera's inspection, the breakdown's selection, ray data.
+    Rules,
+    /// What stands beside the main camera once it is framed: the virtual camera.
+    Follow,
+    /// The level's objective, checked once the rules have settled this frame's state.
+    Check,
+    /// Scripted players (the levels' play-through, measurements): they act on what the check
+    /// saw.
+    Drive,
+    /// What is shown: the preview's target and quality, the live view, gizmos and lines.
+    Show,
+}
+
+impl Frame {
+    /// Every set in the order a frame runs them.
+    pub const ALL: [Frame; 8] = [
+        Frame::Grab,
+        Frame::Input,
+        Frame::SwapVolume,
+        Frame::Rules,
+        Frame::Follow,
+        Frame::Check,
+        Frame::Drive,
+        Frame::Show,
+    ];
+}
+
+/// The order of the egui pass: the panels lay themselves out around the viewport, the preview
+/// is painted into what is left, then what is drawn over it.
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Paint {
+    /// The docked panels and windows, and the viewport they leave.
+    Panels,
+    /// The preview's image in the viewport.
+    Preview,
+    /// Over the preview: overlay lines, the rays' overlay, the compiling note, the page's
+    /// status.
+    Over,
+}
+
+impl Paint {
+    /// Every set in the order the pass runs them.
+    pub const ALL: [Paint; 3] = [Paint::Panels, Paint::Preview, Paint::Over];
+}
+
+/// The order of `PostUpdate`'s sandbox work, after the engine has placed the cameras (their
+/// transforms propagated, their projections updated for this frame).
+#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Late {
+    /// The material written from the settings, the view and the volume: the uniform's rays use
+    /// this frame's view and target size.
+    Sync,
+    /// What reads the written material and the placed cameras: Render image's capture, the CPU
+    /// live view, the CPU-drawn lines.
+    Views,
+}
+
+impl Late {
+    /// Every set in the order `PostUpdate` runs them.
+    pub const ALL: [Late; 2] = [Late::Sync, Late::Views];
+}
+
+/// Orders the sets of all three schedules; every app of the sandbox (and the tests that build one)
+/// calls this once.
+pub fn configure(app: &mut App) {
+    let [a, b, c, d, e, f, g, h] = Frame::ALL;
+    app.configure_sets(Update, (a, b, c, d, e, f, g, h).chain());
+    let [p, q, r] = Paint::ALL;
+    app.configure_sets(EguiPrimaryContextPass, (p, q, r).chain());
+    let [s, v] = Late::ALL;
+    app.configure_sets(
+        PostUpdate,
+        (s, v)
+            .chain()
+            .after(bevy::camera::CameraUpdateSystems)
+            .after(bevy::transform::TransformSystems::Propagate),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bevy::ecs::schedule::ScheduleLabel;
+
+    #[derive(Resource, Default)]
+    struct Ran(Vec<String>);
+
+    /// A system that notes its set's name.
+    fn note(name: String) -> impl FnMut(ResMut<Ran>) {
+        move |mut ran: ResMut<Ran>| ran.0.push(name.clone())
+    }
+
+    /// Runs `schedule` once with one noting system per set, added in reverse order so that
+    /// only the sets' configuration can put them in order.
+    fn order<S: SystemSet + Copy + std::fmt::Debug>(
+        schedule: impl ScheduleLabel + Clone,
+        sets: &[S],
+    ) -> Vec<String> {
+        let mut app = App::new();
+        app.init_resource::<Ran>();
+        configure(&mut app);
+        for set in sets.iter().rev() {
+            app.add_systems(schedule.clone(), note(format!("{set:?}")).in_set(*set));
+        }
+        app.world_mut().run_schedule(schedule);
+        app.world_mut().remove_resource::<Ran>().unwrap().0
+    }
+
+    #[test]
+    fn a_frame_runs_its_sets_in_the_enums_order() {
+        let want: Vec<String> = Frame::ALL.iter().map(|s| format!("{s:?}")).collect();
+        assert_eq!(order(Update, &Frame::ALL), want);
+        let want: Vec<String> = Paint::ALL.iter().map(|s| format!("{s:?}")).collect();
+        assert_eq!(order(EguiPrimaryContextPass, &Paint::ALL), want);
+        let want: Vec<String> = Late::ALL.iter().map(|s| format!("{s:?}")).collect();
+        assert_eq!(order(PostUpdate, &Late::ALL), want);
+    }
+}
