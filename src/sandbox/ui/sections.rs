@@ -1,0 +1,456 @@
+//! The settings panel's sections: dataset, ray casting, shading, presets, the virtual camera
+//! and the preview.
+
+use super::*;
+
+/// The volume's name and description, the embedded list and the path field; returns the
+/// source to load, if one was chosen.
+pub(super) fn dataset_section(
+    ui: &mut egui::Ui,
+    panel: &mut PanelState,
+    volume: &VolumeState,
+    loading: &mut Loading,
+) -> Option<String> {
+    let mut load = None;
+    ui.label(format!("{} ({})", volume.volume.name(), volume.source));
+    if let Some(p) = &volume.preset {
+        ui.label(egui::RichText::new(&p.description).small());
+    }
+    egui::ComboBox::from_label("Embedded")
+        .selected_text("choose…")
+        .show_ui(ui, |ui| {
+            for (name, what) in DATASETS {
+                if ui
+                    .selectable_label(false, *name)
+                    .on_hover_text(*what)
+                    .clicked()
+                {
+                    load = Some(format!("builtin:{name}"));
+                }
+            }
+            ui.separator();
+            ui.label(egui::RichText::new("Ray densities of the Cornell box").small());
+            let traces = std::iter::once((None, "every ray".to_string())).chain(
+                voxcast_core::rays::effects::Effect::ALL
+                    .iter()
+                    .map(|e| (Some(e.id()), e.words().to_string())),
+            );
+            for (id, words) in traces {
+                let tip = "How many of the box's rays pass through each cell of a 128-cell grid \
+                           (RayVis's ray-density volume), shown with Sum and inferno";
+                if ui
+                    .selectable_label(false, &words)
+                    .on_hover_text(tip)
+                    .clicked()
+                {
+                    load = Some(match id {
+                        Some(id) => format!("density:builtin:cornell@trace={id}"),
+                        None => "density:builtin:cornell".into(),
+                    });
+                }
+            }
+        });
+    if crate::sandbox::files::PICKS_FILES {
+        // A page reads no paths: the browser's picker (or a file dropped on the page).
+        if ui
+            .button("Open a volume file…")
+            .on_hover_text(
+                "A .nrrd, .nii, .nii.gz or .raw file from this computer (or drop one on the \
+                 page); a detached .nhdr or a .hdr with its data file: choose both together",
+            )
+            .clicked()
+        {
+            crate::sandbox::files::pick(crate::sandbox::files::Purpose::Volume);
+        }
+    } else {
+        ui.horizontal(|ui| {
+            ui.text_edit_singleline(&mut panel.path).on_hover_text(
+                "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); \
+                 or a ray density: density:FILE.rayvis or density:builtin:cornell, optionally \
+                 followed by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
+            );
+            if ui.button("Load").clicked() {
+                load = Some(panel.path.clone());
+            }
+        });
+    }
+    if let Some((what, seconds)) = loading.under_way() {
+        let mut cancel = false;
+        ui.horizontal(|ui| {
+            ui.spinner();
+            ui.label(format!("loading {what} … {seconds:.1} s"));
+            cancel = ui.button("Cancel").clicked();
+        });
+        if cancel {
+            loading.cancel();
+        }
+    }
+    if let Some(e) = &loading.error {
+        ui.colored_label(egui::Color32::LIGHT_RED, e);
+    }
+    if let Some(note) = &loading.note {
+        ui.label(egui::RichText::new(note).small());
+    }
+    load
+}
+
+/// Method, step, interpolation, opacity correction, termination, jitter and the target.
+pub(super) fn ray_section(
+    ui: &mut egui::Ui,
+    s: &mut RenderSettings,
+    volume: &VolumeState,
+    spot: Spot,
+) {
+    marked(ui, spot, Control::Method, |ui| {
+        egui::ComboBox::from_label("Method")
+            .selected_text(s.method.name())
+            .show_ui(ui, |ui| {
+                for m in Method::ALL {
+                    ui.selectable_value(&mut s.method, m, m.name())
+                        .on_hover_text(m.doc());
+                }
+            })
+    });
+    let voxel = volume.volume.spacing().min_element();
+    let mut step = s.step.voxels(voxel);
+    if marked(ui, spot, Control::Step, |ui| {
+        slider(ui, &mut step, &t::STEP, 0.05..=4.0, true)
+    }) {
+        s.step = Length::Voxels(step);
+    }
+    if let Some(warning) = s.cap_warning(&volume.volume) {
+        ui.colored_label(egui::Color32::YELLOW, warning);
+    }
+    let mut trilinear = s.interpolation == Interpolation::Trilinear;
+    if marked(ui, spot, Control::Interpolation, |ui| {
+        ui.checkbox(&mut trilinear, "Trilinear interpolation")
+            .on_hover_text(
+                "Blend the 8 surrounding lattice points (off: the nearest point's value)",
+            )
+            .changed()
+    }) {
+        s.interpolation = if trilinear {
+            Interpolation::Trilinear
+        } else {
+            Interpolation::Nearest
+        };
+    }
+    // Controls that do not apply to the method are greyed out, their tooltip saying why.
+    let opacity = s.method.uses_opacity();
+    applies(ui, opacity, |ui| {
+        marked(ui, spot, Control::OpacityCorrection, |ui| {
+            checkbox(ui, &mut s.opacity_correction, &t::OPACITY_CORRECTION)
+        });
+        let mut reference = s.reference_step.voxels(voxel);
+        if slider(ui, &mut reference, &t::REFERENCE_STEP, 0.05..=4.0, true) {
+            s.reference_step = Length::Voxels(reference);
+        }
+        marked(ui, spot, Control::EarlyTermination, |ui| {
+            checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION)
+        });
+        marked(ui, spot, Control::Order, |ui| {
+            egui::ComboBox::from_label("Order")
+                .selected_text(s.order.name())
+                .show_ui(ui, |ui| {
+                    for o in [Order::FrontToBack, Order::BackToFront] {
+                        ui.selectable_value(&mut s.order, o, o.name())
+                            .on_hover_text(o.doc());
+                    }
+                })
+        });
+    });
+    let cutoff_applies = opacity.and(if !s.early_termination {
+        Err("Early ray termination is off: no ray stops at the cutoff")
+    } else if s.order == Order::BackToFront {
+        Err("Back to front visits every sample: early termination needs front to back")
+    } else {
+        Ok(())
+    });
+    applies(ui, cutoff_applies, |ui| {
+        slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
+    });
+    marked(ui, spot, Control::Skipping, |ui| {
+        checkbox(ui, &mut s.skipping, &t::SKIPPING)
+    });
+    marked(ui, spot, Control::Jitter, |ui| {
+        checkbox(ui, &mut s.jitter, &t::JITTER)
+    });
+    marked(ui, spot, Control::Supersampling, |ui| {
+        // Whole rays: an integer slider (1 to 4: 16 rays a pixel is already 16 times the work).
+        ui.add(egui::Slider::new(&mut s.supersampling, 1..=4).text(t::SUPERSAMPLING.label))
+            .on_hover_text(t::SUPERSAMPLING.doc)
+    });
+    let (lo, hi) = volume.volume.value_range();
+    let mut target = s.target.unwrap_or(0.5 * (lo + hi));
+    applies(ui, s.method.uses_target(), |ui| {
+        if marked(ui, spot, Control::Target, |ui| {
+            slider(ui, &mut target, &t::TARGET, lo..=hi, false)
+        }) {
+            s.target = Some(target);
+        }
+    });
+    applies(ui, s.method.uses_sum_range(), |ui| {
+        marked(ui, spot, Control::SumRange, |ui| {
+            sum_range(ui, &mut s.sum_range, &volume.volume)
+        });
+    });
+}
+
+/// Sum's range: two ends, each on a logarithmic slider up to four times the default top (the
+/// most a ray along the longest side can gather); the low end stays below the high end.
+pub(super) fn sum_range(
+    ui: &mut egui::Ui,
+    range: &mut Option<(f32, f32)>,
+    volume: &voxcast_core::Volume,
+) -> egui::Response {
+    let default = voxcast_core::scene::default_sum_range(volume);
+    let (mut a, mut b) = range.unwrap_or(default);
+    let top = 4.0 * default.1.max(b);
+    let tiny = top * 1e-6;
+    ui.vertical(|ui| {
+        ui.label(t::SUM_RANGE.label).on_hover_text(t::SUM_RANGE.doc);
+        let high = ui
+            .add(
+                egui::Slider::new(&mut b, tiny..=top)
+                    .logarithmic(true)
+                    .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32))
+                    .text("high end"),
+            )
+            .on_hover_text(t::SUM_RANGE.doc);
+        let (floor, log) = (0.0f32.min(a), a >= 0.0);
+        let low = ui
+            .add(
+                egui::Slider::new(&mut a, floor..=b - tiny)
+                    .logarithmic(log)
+                    .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32))
+                    .text("low end"),
+            )
+            .on_hover_text(t::SUM_RANGE.doc);
+        if high.changed() || low.changed() {
+            a = a.min(b - tiny);
+            *range = Some((a, b));
+        }
+        high | low
+    })
+    .inner
+}
+
+/// Phong's coefficients and the light.
+pub(super) fn shading_section(
+    ui: &mut egui::Ui,
+    s: &mut RenderSettings,
+    volume: &VolumeState,
+    spot: Spot,
+) {
+    let shades = s.method.uses_shading();
+    applies(ui, shades, |ui| {
+        marked(ui, spot, Control::Shading, |ui| {
+            checkbox(ui, &mut s.shading, &t::SHADING)
+        });
+    });
+    let p = &mut s.phong;
+    slider(ui, &mut p.ke, &t::EMISSION, 0.0..=1.0, false);
+    slider(
+        ui,
+        &mut p.global_ambient,
+        &t::GLOBAL_AMBIENT,
+        0.0..=1.0,
+        false,
+    );
+    slider(ui, &mut p.ka, &t::AMBIENT, 0.0..=1.0, false);
+    slider(ui, &mut p.kd, &t::DIFFUSE, 0.0..=1.0, false);
+    slider(ui, &mut p.ks, &t::SPECULAR, 0.0..=1.0, false);
+    slider(ui, &mut p.shininess, &t::SHININESS, 1.0..=256.0, true);
+    checkbox(ui, &mut p.two_sided, &t::TWO_SIDED);
+    let (lo, hi) = volume.volume.bounds();
+    marked(ui, spot, Control::Light, |ui| {
+        light::light_controls(ui, p, lo, hi)
+    });
+}
+
+/// The presets: each sets the transfer function and the settings it was made for; inferno is
+/// spread over the loaded volume's values.
+pub(super) fn preset_menu(
+    ui: &mut egui::Ui,
+    edited: &mut RenderState,
+    volume: &voxcast_core::Volume,
+) {
+    use voxcast_core::colormap::{INFERNO_DOC, INFERNO_PRESET, inferno_transfer};
+    egui::ComboBox::from_label("Preset")
+        .selected_text(edited.transfer.name.clone())
+        .show_ui(ui, |ui| {
+            if ui
+                .selectable_label(false, INFERNO_PRESET)
+                .on_hover_text(INFERNO_DOC)
+                .clicked()
+            {
+                let (lo, hi) = volume.value_range();
+                edited.transfer = inferno_transfer(lo, hi);
+            }
+            for pr in preset::all() {
+                if ui
+                    .selectable_label(false, &pr.name)
+                    .on_hover_text(&pr.description)
+                    .clicked()
+                {
+                    if let Ok(settings) = pr.settings_over(&edited.settings) {
+                        edited.settings = settings;
+                    }
+                    edited.transfer = pr.transfer.clone();
+                }
+            }
+        });
+}
+
+/// The virtual camera: shown or not, its resolution and field of view, and where it stands.
+pub(super) fn virtual_camera_section(
+    ui: &mut egui::Ui,
+    (vc, settings): (&mut Mut<VirtualCamera>, &mut RenderSettings),
+    main: Option<voxcast_core::camera::Camera>,
+    volume: &VolumeState,
+    spot: Spot,
+) {
+    let mut edited = **vc;
+    ui.checkbox(&mut edited.shown, "Show the virtual camera")
+        .on_hover_text("Its body, frustum and pixel grid in the scene");
+    let range = t::VIRTUAL_RESOLUTION.min as u32..=t::VIRTUAL_RESOLUTION.max as u32;
+    marked(ui, spot, Control::VirtualPixels, |ui| {
+        for (value, axis) in [(&mut edited.width, "across"), (&mut edited.height, "down")] {
+            ui.add(egui::Slider::new(value, range.clone()).text(format!("pixels {axis}")))
+                .on_hover_text(t::VIRTUAL_RESOLUTION.doc);
+        }
+    });
+    if let Some(mut fov) = crate::sandbox::virtual_camera::fov(&edited.view) {
+        let changed = ui
+            .add(egui::Slider::new(&mut fov, 5.0..=120.0).text("field of view (°)"))
+            .on_hover_text("The virtual camera's vertical opening angle")
+            .changed();
+        if changed
+            && let Ok(v) = voxcast_core::camera::Camera::new(
+                edited.view.eye,
+                edited.view.target,
+                edited.view.up,
+                voxcast_core::camera::Projection::Perspective { fov_y_deg: fov },
+            )
+        {
+            edited.view = v;
+        }
+    }
+    ui.horizontal(|ui| {
+        if let Some(view) = main
+            && ui
+                .button("Place at the main camera")
+                .on_hover_text("Move the virtual camera to where you are looking from")
+                .clicked()
+        {
+            edited.view = view;
+        }
+        if ui
+            .button("Reset")
+            .on_hover_text("Frame the volume from the default side")
+            .clicked()
+            && let Some(framed) = VirtualCamera::framing(volume, main.as_ref())
+        {
+            edited.view = framed.view;
+        }
+    });
+    // On the lecture's voxel: its worked ray, to click and follow in the breakdown.
+    if volume.source == LECTURE_VOXEL
+        && ui
+            .button("The lecture's ray")
+            .on_hover_text(
+                "One pixel whose ray runs from P3 towards P1, the far end, with one sample on \
+                 each of P3, P2 and P1 (no opacity correction, no shading): click its pixel to \
+                 see the lecture's numbers",
+            )
+            .clicked()
+    {
+        edited.view = voxcast_core::worked::lecture_ray();
+        (edited.width, edited.height) = (1, 1);
+        *settings = voxcast_core::worked::lecture_ray_settings(settings);
+    }
+    if edited != **vc {
+        **vc = edited;
+    }
+}
+
+/// The preview's quality controls and depth termination.
+pub(super) fn preview_section(
+    ui: &mut egui::Ui,
+    preview: &mut PreviewSettings,
+    live: Option<&crate::sandbox::live::LiveView>,
+    (depth, method): (&mut bool, Method),
+    spot: Spot,
+) {
+    let mut q = preview.clone();
+    marked(ui, spot, Control::PreviewOn, |ui| {
+        ui.checkbox(&mut q.enabled, "Show the preview")
+            .on_hover_text("Turn the live preview off (Render image still works)")
+    });
+    ui.horizontal(|ui| {
+        ui.label(t::PREVIEW_BACKEND.label)
+            .on_hover_text(t::PREVIEW_BACKEND.doc);
+        for (backend, name) in [
+            (crate::sandbox::live::Backend::Gpu, "GPU"),
+            (crate::sandbox::live::Backend::Cpu, "CPU"),
+        ] {
+            ui.selectable_value(&mut q.backend, backend, name)
+                .on_hover_text(t::PREVIEW_BACKEND.doc);
+        }
+    });
+    cost_view::choice(ui, &cost_view::PREVIEW, &mut q.cost_view, method);
+    if let Some(view) = q.cost_view {
+        let words = live
+            .and_then(|l| l.shown.as_ref())
+            .filter(|f| f.key.cost_view == Some(view))
+            .and_then(|f| f.legend.as_deref());
+        cost_view::legend(ui, view, words);
+    }
+    if let (true, Some(live)) = (q.cpu_live(), live) {
+        ui.label(format!("Live view: {}", live.status()));
+    }
+    marked(ui, spot, Control::PreviewScale, |ui| {
+        slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false)
+    });
+    let gpu = q.backend == crate::sandbox::live::Backend::Gpu;
+    let why = "The CPU live view always uses the settings' own step: it refines to the exact \
+               render";
+    ui.add_enabled_ui(gpu, |ui| {
+        slider(
+            ui,
+            &mut q.step_multiplier,
+            &t::PREVIEW_STEP_MULTIPLIER,
+            1.0..=16.0,
+            true,
+        );
+    })
+    .response
+    .on_disabled_hover_text(why);
+    checkbox(ui, &mut q.adaptive, &t::ADAPTIVE_QUALITY);
+    ui.add_enabled_ui(gpu, |ui| {
+        slider(ui, &mut q.moving_scale, &t::MOVING_SCALE, 0.05..=1.0, false);
+        slider(
+            ui,
+            &mut q.moving_step_multiplier,
+            &t::MOVING_STEP_MULTIPLIER,
+            1.0..=16.0,
+            true,
+        );
+    })
+    .response
+    .on_disabled_hover_text(
+        "The CPU live view sizes its frames while moving from its measured speed",
+    );
+    if q != *preview {
+        *preview = q;
+    }
+    let tip = if crate::sandbox::preview::GPU_READS_DEPTH {
+        "Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume"
+    } else {
+        "Preview rays end where an opaque mesh stands inside the volume: in the CPU live view and \
+         Render image. In this browser (WebGL2) the GPU preview cannot read the depth prepass: \
+         its rays pass through the meshes, drawn over it (WebGPU can)"
+    };
+    ui.checkbox(depth, "Stop rays at scene geometry")
+        .on_hover_text(tip);
+}

@@ -1,0 +1,118 @@
+//! The panel's tests: its words, its glyphs and its widgets' behaviour.
+
+use super::*;
+
+/// Every string the settings panel's sections draw (for every method: the greyed-out
+/// reasons change with it; every classification) has a glyph in the window's font.
+#[test]
+fn every_panel_string_can_be_drawn() {
+    let (volume, render) = crate::sandbox::inspect::tests::scene("head");
+    for method in Method::ALL {
+        let mut s = render.settings.clone();
+        s.method = method;
+        let mut preview = PreviewSettings {
+            backend: crate::sandbox::live::Backend::Cpu,
+            ..Default::default()
+        };
+        let mut panel = PanelState::default();
+        let mut loading = Loading::default();
+        let mut edited = render.clone();
+        let mut depth = true;
+        let live = crate::sandbox::live::LiveView::default();
+        let mut step_trade = crate::sandbox::trade::StepTrade::default();
+        let (lo, hi) = volume.volume.value_range();
+        let mut classifications = [
+            voxcast_core::classify::Classification::default(),
+            voxcast_core::classify::Classification::IsoContours {
+                isovalues: vec![40.0, 140.0],
+                thickness_voxels: 1.0,
+            },
+            voxcast_core::classify::Classification::Boundaries {
+                full_gradient: Some(10.0),
+            },
+            voxcast_core::classify::Classification::ValueGradient {
+                regions: vec![voxcast_core::classify::Region {
+                    value: [lo, hi],
+                    gradient: [0.0, 1.0],
+                    opacity: 0.5,
+                }],
+            },
+        ];
+        let missing = missing_glyphs(|ui| {
+            dataset_section(ui, &mut panel, &volume, &mut loading);
+            ray_section(ui, &mut s, &volume, None);
+            shading_section(ui, &mut s, &volume, None);
+            preset_menu(ui, &mut edited, &volume.volume);
+            panel
+                .editor
+                .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
+            for (i, c) in classifications.iter_mut().enumerate() {
+                ui.push_id(i, |ui| {
+                    classify::classification_controls(
+                        ui,
+                        c,
+                        &mut panel.classify,
+                        &volume.volume,
+                        &volume.source,
+                    )
+                });
+            }
+            trade::trade_section(ui, &mut step_trade, false, 0.5, None);
+            preview_section(
+                ui,
+                &mut preview,
+                Some(&live),
+                (&mut depth, Method::First),
+                None,
+            );
+            let mut handles = crate::sandbox::cut::CutHandles { crop: true };
+            s.clip.plane = Some(voxcast_core::clip::ClipPlane {
+                normal: Vec3::X,
+                position: 0.2,
+            });
+            cut::cut_section(ui, &mut s.clip, &mut handles, Some(Vec3::Z), None);
+        });
+        assert!(missing.is_empty(), "{method:?}: no glyph for {missing:?}");
+    }
+}
+
+/// Whether `s`'s body is drawn under `guide` (closed by default).
+fn drawn(s: Section, guide: Guide) -> bool {
+    let ctx = egui::Context::default();
+    let mut drawn = false;
+    ctx.run_ui(egui::RawInput::default(), |ui| {
+        section(ui, s, false, guide, |_| drawn = true)
+    })
+    .drop_without_applying_deltas();
+    drawn
+}
+
+/// A section opens for every control it holds (the light's too), and a level's panel hides
+/// the sections it does not name.
+#[test]
+fn sections_open_for_their_controls_and_hide_outside_the_levels_panel() {
+    let all = Guide {
+        spot: None,
+        panel: None,
+    };
+    assert!(!drawn(Section::ShadingAndLight, all), "closed by default");
+    for (c, s) in [
+        (Control::Light, Section::ShadingAndLight),
+        (Control::Shading, Section::ShadingAndLight),
+        (Control::StepTrade, Section::SpeedAccuracy),
+        (Control::VirtualPixels, Section::VirtualCamera),
+        (Control::ClipPlane, Section::LookingInside),
+        (Control::CropBox, Section::LookingInside),
+    ] {
+        let guide = Guide {
+            spot: Some(c),
+            panel: None,
+        };
+        assert!(drawn(s, guide), "{c:?} opens {s:?}");
+        let hidden = Guide {
+            spot: Some(c),
+            panel: Some(&[Section::RayCasting]),
+        };
+        assert!(!drawn(s, hidden), "{s:?} outside the level's panel");
+    }
+}

@@ -1,0 +1,117 @@
+//! The panel's small widgets: sections a level can open and mark, sliders and checkboxes whose
+//! tooltips are the core's tunable docs, colours.
+
+use super::*;
+
+/// Display colour of linear-as-stored values (the core's values are display values).
+pub(super) fn color32(c: [f32; 3]) -> egui::Color32 {
+    let [r, g, b] = voxcast_core::image_out::to_u8(Vec3::from_array(c));
+    egui::Color32::from_rgb(r, g, b)
+}
+
+/// The section's title in the panel.
+pub(super) fn title(s: Section) -> &'static str {
+    match s {
+        Section::Dataset => "Dataset",
+        Section::RayCasting => "Ray casting",
+        Section::SpeedAccuracy => "Speed against accuracy",
+        Section::ShadingAndLight => "Shading and light",
+        Section::TransferFunction => "Transfer function",
+        Section::VirtualCamera => "Virtual camera",
+        Section::Preview => "Preview (slow hardware)",
+        Section::LookingInside => "Looking inside (crop and clip)",
+        Section::RayData => "Ray data (RayVis)",
+    }
+}
+
+/// What the current level asks of the panel: the control its step is about and the sections
+/// it shows (`None`: all).
+#[derive(Clone, Copy)]
+pub(super) struct Guide<'a> {
+    pub(super) spot: Spot,
+    pub(super) panel: Option<&'a [Section]>,
+}
+
+/// A collapsible section of the panel, drawn when the level shows it and opened when it holds
+/// the control the step is about (`Control::section`).
+pub(super) fn section(
+    ui: &mut egui::Ui,
+    s: Section,
+    open: bool,
+    guide: Guide,
+    body: impl FnOnce(&mut egui::Ui),
+) {
+    if guide.panel.is_some_and(|p| !p.contains(&s)) {
+        return;
+    }
+    let mut header = egui::CollapsingHeader::new(title(s)).default_open(open);
+    if guide.spot.and_then(Control::section) == Some(s) {
+        header = header.open(Some(true));
+    }
+    header.show(ui, body);
+}
+
+/// The control the current level step is about, if any.
+pub(super) type Spot = Option<Control>;
+
+/// Draws `add` and, when it is the control `spot` names, a frame around it.
+pub(super) fn marked<R>(
+    ui: &mut egui::Ui,
+    spot: Spot,
+    c: Control,
+    add: impl FnOnce(&mut egui::Ui) -> R,
+) -> R {
+    let r = ui.scope(add);
+    if spot == Some(c) {
+        ui.painter().rect_stroke(
+            r.response.rect.expand(2.0),
+            3.0,
+            egui::Stroke::new(2.0, egui::Color32::YELLOW),
+            egui::StrokeKind::Outside,
+        );
+    }
+    r.inner
+}
+
+/// Draws `add` enabled when `why_not` is `Ok`, else greyed out with the reason as tooltip.
+pub(super) fn applies(
+    ui: &mut egui::Ui,
+    why_not: Result<(), &'static str>,
+    add: impl FnOnce(&mut egui::Ui),
+) {
+    let response = ui.add_enabled_ui(why_not.is_ok(), add).response;
+    if let Err(why) = why_not {
+        response.on_disabled_hover_text(why);
+    }
+}
+
+/// A slider for a tunable, with its documentation as tooltip.
+pub(super) fn slider(
+    ui: &mut egui::Ui,
+    value: &mut f32,
+    tunable: &Tunable,
+    range: std::ops::RangeInclusive<f32>,
+    log: bool,
+) -> bool {
+    ui.add(
+        egui::Slider::new(value, range)
+            .logarithmic(log)
+            .text(tunable.label),
+    )
+    .on_hover_text(tunable.doc)
+    .changed()
+}
+
+/// A grid's header row: each title in bold, then the row's end.
+pub(super) fn header_row(ui: &mut egui::Ui, titles: &[&str]) {
+    for title in titles {
+        ui.strong(*title);
+    }
+    ui.end_row();
+}
+
+pub(super) fn checkbox(ui: &mut egui::Ui, value: &mut bool, tunable: &Tunable) -> bool {
+    ui.checkbox(value, tunable.label)
+        .on_hover_text(tunable.doc)
+        .changed()
+}
