@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Regenerates the measured tables of BENCHMARKS.md: the speed/accuracy trade on every shared
-# volume, with VTK's CPU ray caster measured in the same run.
+# Regenerates the measured tables of BENCHMARKS.md (and its opening table, benches/today.py):
+# the speed/accuracy trade on every shared volume, with VTK's CPU ray caster measured in the
+# same run.
 #
 #   bash benches/bench.sh [PEER_DIR] [DATA_DIR]
 #
@@ -28,3 +29,5 @@ run mri_mni152 "$DATA/mri_mni152.nii.gz" 2,1,0.5,0.25
 run mri_brainsmall "$DATA/mri_brainsmall.nrrd" 2,1,0.5,0.25
 run bunny_sdf "$DATA/bunny_sdf.nrrd" 2,1,0.5,0.25
 run mri_ch2 "$(ch2)" 2,1,0.5,0.25 benches/cams/mri_ch2.json --tf mri_brain
+# The opening table of BENCHMARKS.md, from the sections just written.
+python3 benches/today.py

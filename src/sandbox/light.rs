@@ -378,6 +378,62 @@ mod tests {
         marker_at(app, 0).expect("the first light's marker is shown")
     }
 
+    fn main_view(app: &mut App) -> View {
+        let mut q = app.world_mut().query_filtered::<&View, With<MainCamera>>();
+        *q.single(app.world()).unwrap()
+    }
+
+    fn drag(app: &mut App, from: Vec2, by: Vec2) {
+        set_cursor(app, from);
+        press(app, true);
+        app.update();
+        app.world_mut()
+            .resource_mut::<bevy::input::mouse::AccumulatedMouseMotion>()
+            .delta = by;
+        set_cursor(app, from + by);
+        press(app, true); // held: no longer just pressed
+        app.update();
+        app.world_mut()
+            .resource_mut::<bevy::input::mouse::AccumulatedMouseMotion>()
+            .delta = Vec2::ZERO;
+        press(app, false);
+        app.update();
+    }
+
+    /// While the light's marker is dragged the orbit leaves the view alone: it reads who holds
+    /// the mouse (`MouseHeld`), not the light's state. A drag that starts off the marker turns
+    /// the view.
+    #[test]
+    fn dragging_the_marker_does_not_orbit_the_view() {
+        use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
+        let start = Vec3::new(120.0, 130.0, 110.0);
+        let (mut app, camera) = app(Light::Point(start));
+        app.init_resource::<AccumulatedMouseMotion>()
+            .init_resource::<AccumulatedMouseScroll>()
+            .add_systems(
+                Update,
+                (hold_mouse, crate::sandbox::orbit::orbit_camera)
+                    .chain()
+                    .after(drag_light),
+            );
+        let mut q = app.world_mut().query_filtered::<Entity, With<MainCamera>>();
+        let main = q.single(app.world()).unwrap();
+        app.world_mut().entity_mut(main).insert((
+            crate::sandbox::orbit::Orbit::looking_at(camera.eye, camera.target, camera.up),
+            Transform::default(),
+        ));
+        let before = main_view(&mut app);
+        drag(&mut app, pixel_of(&camera, start), Vec2::new(40.0, 0.0));
+        assert_ne!(light(&app), Light::Point(start), "the marker was dragged");
+        assert_eq!(
+            main_view(&mut app),
+            before,
+            "the view stayed while the marker was held"
+        );
+        drag(&mut app, Vec2::new(5.0, 5.0), Vec2::new(40.0, 0.0));
+        assert_ne!(main_view(&mut app), before, "a drag off the marker orbits");
+    }
+
     #[test]
     fn dragging_the_marker_moves_the_point_light_in_the_facing_plane() {
         let start = Vec3::new(120.0, 130.0, 110.0);

@@ -104,7 +104,7 @@ pub(super) fn reframe_on_new_volume(
     }
 }
 
-fn orbit_camera(
+pub(super) fn orbit_camera(
     pointer: Pointer,
     (motion, scroll): (Res<AccumulatedMouseMotion>, Res<AccumulatedMouseScroll>),
     (mut last_cursor, mut grabbed): (Local<Option<Vec2>>, Local<bool>),
