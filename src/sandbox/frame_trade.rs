@@ -23,6 +23,10 @@ use voxcast_core::knob::{Knob, Try};
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::trade::{TIMED_RUNS, Timing, Trade, timed_order};
 
+/// The size of the core's measured image, in a step's trade and beside the preview's timed
+/// frames: small, so the five renders and the reference take moments.
+pub const TRADE_SIZE: (u32, u32) = (192, 108);
+
 /// A GPU visit times finished images until this many seconds have passed (at least one image),
 /// so that a setting drawn whole every frame is the mean of several frames, not one.
 const MIN_TIMED_S: f64 = 0.3;
@@ -113,8 +117,8 @@ impl FrameTiming {
             self.drawer.words(),
             self.size.x,
             self.size.y,
-            crate::sandbox::trade::TRADE_SIZE.0,
-            crate::sandbox::trade::TRADE_SIZE.1
+            TRADE_SIZE.0,
+            TRADE_SIZE.1
         )
     }
 }

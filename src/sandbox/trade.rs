@@ -23,8 +23,7 @@ use voxcast_core::trade::{
     STEPS, Trade, TradeError, TradeJob, TradeSlices, View as TradeView, trade_in,
 };
 
-/// The measured image's size: small, so the five renders and the reference take moments.
-pub const TRADE_SIZE: (u32, u32) = (192, 108);
+pub use super::frame_trade::TRADE_SIZE;
 
 /// What a trade measured: the view, the settings but their step, the transfer function and
 /// the volume.
