@@ -53,13 +53,36 @@ pub struct FilesChosen {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
+/// In a browser: the files the page handed over, as this feature's messages (a purpose it
+/// does not know is dropped).
+#[cfg(target_arch = "wasm32")]
+pub(crate) fn plugin(app: &mut App) {
+    app.add_message::<FilesChosen>()
+        .add_systems(PreUpdate, take_handed); // the page's files arrive in First
+}
+
+#[cfg(target_arch = "wasm32")]
+fn take_handed(
+    mut handed: MessageReader<super::web::FilesHanded>,
+    mut chosen: MessageWriter<FilesChosen>,
+) {
+    for h in handed.read() {
+        if let Some(purpose) = Purpose::parse(&h.purpose) {
+            chosen.write(FilesChosen {
+                purpose,
+                files: h.files.clone(),
+            });
+        }
+    }
+}
+
 /// Whether opening asks the browser's picker (a page cannot read paths) rather than a path.
 pub const PICKS_FILES: bool = cfg!(target_arch = "wasm32");
 
 /// Asks the browser for files for `purpose` (nothing on the desktop, where paths are typed).
 pub fn pick(purpose: Purpose) {
     #[cfg(target_arch = "wasm32")]
-    super::web::pick_files(purpose, &purpose.accept());
+    super::web::pick_files(purpose.name(), &purpose.accept());
     #[cfg(not(target_arch = "wasm32"))]
     let _ = purpose;
 }

@@ -348,7 +348,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         app.add_plugins(fit::plugin);
     }
     #[cfg(target_arch = "wasm32")]
-    app.add_plugins(web::plugin);
+    app.add_plugins((web::plugin, files::plugin));
     let free_play = mode::FreePlay(mode::Stage {
         rays: Some(args.rays),
         rays_shown: !args.no_rays,

@@ -179,14 +179,17 @@ pub fn voxcast_status() -> String {
     STATUS.with(|s| serde_json::to_string(&*s.borrow()).unwrap_or_default())
 }
 
-/// Files the page handed over, waiting for the next frame.
-struct Handed {
-    purpose: String,
-    files: Vec<(String, Vec<u8>)>,
+/// Files the page handed over: what they are for, as the page names it (the name the picker
+/// was asked with), and each file's name and bytes. Written at the start of a frame; the files
+/// feature turns them into its own messages.
+#[derive(Message, Clone, Debug)]
+pub struct FilesHanded {
+    pub purpose: String,
+    pub files: Vec<(String, Vec<u8>)>,
 }
 
 thread_local! {
-    static HANDED: RefCell<Vec<Handed>> = const { RefCell::new(Vec::new()) };
+    static HANDED: RefCell<Vec<FilesHanded>> = const { RefCell::new(Vec::new()) };
 }
 
 /// The page hands over files a student picked or dropped (`web/voxcast.js`): their names and
@@ -198,12 +201,12 @@ pub fn voxcast_receive_files(purpose: String, names: Vec<String>, files: Vec<js_
         .zip(files)
         .map(|(name, bytes)| (name, bytes.to_vec()))
         .collect();
-    HANDED.with(|h| h.borrow_mut().push(Handed { purpose, files }));
+    HANDED.with(|h| h.borrow_mut().push(FilesHanded { purpose, files }));
 }
 
 /// Asks the page for files: the browser's file picker, offering `accept` (`.nrrd,.nii,…`);
-/// what the student chooses arrives as a [`super::files::FilesChosen`] message.
-pub fn pick_files(purpose: super::files::Purpose, accept: &str) {
+/// what the student chooses arrives as a [`FilesHanded`] message with this `purpose`.
+pub fn pick_files(purpose: &str, accept: &str) {
     let Some(window) = web_sys::window() else {
         return;
     };
@@ -214,7 +217,7 @@ pub fn pick_files(purpose: super::files::Purpose, accept: &str) {
         Some(pick) => {
             let _ = pick.call2(
                 &JsValue::NULL,
-                &JsValue::from_str(purpose.name()),
+                &JsValue::from_str(purpose),
                 &JsValue::from_str(accept),
             );
         }
@@ -223,20 +226,15 @@ pub fn pick_files(purpose: super::files::Purpose, accept: &str) {
 }
 
 pub(crate) fn plugin(app: &mut App) {
-    app.add_message::<super::files::FilesChosen>()
+    app.add_message::<FilesHanded>()
         .add_systems(First, hand_over_files)
         .add_systems(Last, count_frames);
 }
 
 /// Turns the files the page handed over into messages.
-fn hand_over_files(mut chosen: MessageWriter<super::files::FilesChosen>) {
-    for handed in HANDED.with(|h| std::mem::take(&mut *h.borrow_mut())) {
-        if let Some(purpose) = super::files::Purpose::parse(&handed.purpose) {
-            chosen.write(super::files::FilesChosen {
-                purpose,
-                files: handed.files,
-            });
-        }
+fn hand_over_files(mut handed: MessageWriter<FilesHanded>) {
+    for files in HANDED.with(|h| std::mem::take(&mut *h.borrow_mut())) {
+        handed.write(files);
     }
 }
 
