@@ -303,10 +303,12 @@ pub fn sum_to_value(s: f32, (a, b): (f32, f32), (lo, hi): (f32, f32)) -> f32 {
 ///
 /// The sum is kept in f64 here; the GPU preview (`shaders/trace.wgsl`, `projection`) adds the
 /// same values in the same order in f32. Adding n values of magnitude at most M in f32 is off
-/// from the exact sum by at most (n − 1)·u·n·M (u = 2⁻²⁴), so the mean (and Sum's value,
-/// relative to its range) by at most (n − 1)·u·M: for the longest ray of a 1024³ volume at ¼
-/// voxel (7 100 samples) 4·10⁻⁴·M, a tenth of an 8-bit level of a table spread over 0 … M —
-/// well inside the preview's agreement (2/255). `long_rays_f32_sum_stays_within_its_bound`
+/// from the exact sum by at most (n − 1)·u·n·M (u = 2⁻²⁴), so the mean by at most
+/// (n − 1)·u·M: for the longest ray of a 1024³ volume at ¼ voxel (7 100 samples) 4·10⁻⁴·M, a
+/// tenth of an 8-bit level of a table spread over 0 … M — well inside the preview's agreement
+/// (2/255). Sum's value is off by the same share of the largest sum, a tenth of a level where
+/// its range reaches that sum (the fitted range does); a range set far narrower than the sums
+/// magnifies it. `long_rays_f32_sum_stays_within_its_bound`
 /// checks the bound on such rays.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct ValueStats {
