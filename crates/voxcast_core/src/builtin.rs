@@ -24,9 +24,6 @@ use glam::{UVec3, Vec3};
 use std::f32::consts::PI;
 use std::path::Path;
 
-/// The dataset the sandbox and the CLI open when given none.
-pub const DEFAULT: &str = "bunny";
-
 /// Every embedded dataset's name, with a one-line description.
 pub const DATASETS: &[(&str, &str)] = &[
     (

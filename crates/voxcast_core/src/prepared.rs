@@ -73,6 +73,7 @@ impl Prepared {
     }
 
     /// Whether the block ranges have been computed (no render has had to wait for them since).
+    #[cfg(test)]
     pub fn has_block_ranges(&self) -> bool {
         self.blocks.get().is_some()
     }

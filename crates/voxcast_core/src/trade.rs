@@ -28,6 +28,7 @@ use web_time::Instant;
 /// The steps (voxels) the sampling level measures, besides the player's own.
 pub const STEPS: [f32; 4] = [2.0, 1.0, 0.5, 0.25];
 /// The reference step (voxels): sixteen samples per voxel.
+#[cfg(test)]
 pub const REFERENCE: f32 = crate::knob::REFERENCE_STEP;
 /// Timed renders of each setting, after one untimed (see the module docs).
 pub const TIMED_RUNS: usize = 5;

@@ -208,24 +208,6 @@ pub fn compute_spec_in(
     finish_set(data, set, &what, params, density).map(Step::Done)
 }
 
-/// The density of `set` (rays of `data`, described as `what`) through the grid of `params`
-/// (`cell` 0: chosen from the scene), as a volume.
-pub fn compute_set(
-    data: RayData,
-    set: RaySet,
-    what: &str,
-    params: DensityParams,
-    progress: &(dyn Fn(usize, usize) + Sync),
-    cancel: &AtomicBool,
-) -> Result<RayDensity, String> {
-    let params = grid_for(&data, &set, params)?;
-    let mut slices = DensitySlices::within(MAX_BYTES, &params);
-    let density = density_in(&set, &params, &mut slices, progress, cancel, Deadline::NONE)
-        .map_err(|_| "cancelled".to_string())?
-        .whole();
-    finish_set(data, set, what, params, density)
-}
-
 /// `params` with the cell chosen from the scene where it is 0, checked.
 pub fn grid_for(
     data: &RayData,

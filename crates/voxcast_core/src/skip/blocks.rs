@@ -160,6 +160,7 @@ impl EmptyBlocks {
     }
 
     /// The fraction of blocks marked empty.
+    #[cfg(test)]
     pub fn empty_fraction(&self) -> f32 {
         self.empty.iter().filter(|&&e| e).count() as f32 / self.empty.len() as f32
     }
