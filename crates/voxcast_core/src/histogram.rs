@@ -39,7 +39,8 @@ impl Histogram {
         (self.hi - self.lo) / self.counts.len() as f32
     }
 
-    /// The bin a value falls in, clamped to the histogram.
+    /// The bin a value falls in, clamped to the histogram. Public: the inverse of a bin's
+    /// range, which a caller drawing the histogram over a transfer function needs.
     pub fn bin_of(&self, value: f32) -> usize {
         bin_index(value, self.lo, self.hi, self.counts.len())
     }
@@ -58,6 +59,7 @@ impl Histogram {
     }
 
     /// The value below which `fraction` of the voxels lie (bin resolution), for summaries.
+    /// Public: a library's caller picks a window or an isovalue with it.
     pub fn percentile(&self, fraction: f64) -> f32 {
         let total: u64 = self.counts.iter().sum();
         let target = (fraction.clamp(0.0, 1.0) * total as f64).ceil() as u64;

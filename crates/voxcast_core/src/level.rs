@@ -1,6 +1,6 @@
 //! Tutorial levels as data (`assets/levels/*.json`): what a level's scene holds, its steps'
 //! text, the control each step is about, and the objective that unlocks the next step
-//! ([`objective`]: the checks) — plus the player's saved progress ([`progress`]).
+//! (`objective.rs`: the checks) — plus the player's saved progress (`progress.rs`).
 //!
 //! Text never contradicts the code: a step's text may quote a tunable as `{tunable:KEY}` (its
 //! default) and is filled in from `crate::tunables` when the level is read; an unknown key is

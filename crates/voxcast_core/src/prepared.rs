@@ -61,7 +61,8 @@ impl Prepared {
         &self.volume
     }
 
-    /// The volume back, its caches dropped.
+    /// The volume back, its caches dropped. Public: the way out of [`Prepared`] for a caller
+    /// that edits the volume.
     pub fn into_volume(self) -> Volume {
         self.volume
     }

@@ -19,7 +19,8 @@ pub struct Mismatch {
 }
 
 /// Checks every numeric equation in `text`; returns how many were checked, or the first that
-/// does not add up.
+/// does not add up. Public for the integration tests that check the levels' and docs' texts
+/// (`cfg(test)` would hide it from them) and for anyone checking a text of their own.
 pub fn check_equations(text: &str) -> Result<usize, Mismatch> {
     let mut checked = 0;
     for line in text.lines() {

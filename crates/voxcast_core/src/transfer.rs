@@ -255,7 +255,8 @@ impl Lut {
         self.entries.iter().all(|e| e.w == 0.0)
     }
 
-    /// The largest opacity of the table for values in `[a, b]` (data units).
+    /// The largest opacity of the table for values in `[a, b]` (data units). Public: the
+    /// question empty-space skipping asks of a block's range, for a caller's own skipping.
     pub fn max_alpha_in(&self, a: f32, b: f32) -> f32 {
         let (i, _) = self.locate(a.min(b));
         let (j, _) = self.locate(a.max(b));

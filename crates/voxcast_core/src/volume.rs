@@ -365,6 +365,7 @@ impl Volume {
     }
 
     /// The value of lattice point `(i, j, k)` in data units, or `None` outside the lattice.
+    /// Public: the one checked way to read a voxel by its index.
     pub fn value_at(&self, i: u32, j: u32, k: u32) -> Option<f32> {
         if i >= self.dims.x || j >= self.dims.y || k >= self.dims.z {
             return None;

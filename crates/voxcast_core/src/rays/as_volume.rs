@@ -144,7 +144,7 @@ pub struct RayDensity {
 }
 
 /// The counts of `spec`'s rays as a volume, with what was done in words (rays, grid, where
-/// the volume sits). Progress and cancel as [`compute`].
+/// the volume sits). Progress and cancel as [`compute_spec`].
 pub fn load(
     spec: &DensitySpec,
     progress: &(dyn Fn(usize, usize) + Sync),

@@ -122,7 +122,7 @@ pub fn second_camera() -> crate::camera::Camera {
 /// wall.
 pub const LIGHT: Vec3 = Vec3::new(-0.35, -0.55, 1.0);
 
-/// [`LIGHT`] as a unit vector.
+/// [`LIGHT`] as a unit vector (public beside [`LIGHT`], for a caller lighting the box).
 pub fn light_direction() -> Vec3 {
     LIGHT.normalize()
 }
