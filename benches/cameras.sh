@@ -11,8 +11,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # shellcheck source=benches/peer.sh
 source benches/peer.sh "$@"
-# shellcheck source=benches/common.sh
-source benches/common.sh
+# shellcheck source=benches/tables.sh
+source benches/tables.sh
 table=$(mktemp)
 cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
 family=$(lscpu | sed -n 's/^CPU family: *//p' | head -1)
@@ -27,20 +27,7 @@ model=$(lscpu | sed -n 's/^Model: *//p' | head -1)
             out=$("$bin" bench --volume "$file" --camera "benches/cams/${scene}_$camera.json" \
                 --peer "$PEER" --threads "$THREADS" --repeat 1 --peer-rounds 5 --steps 0.5 \
                 --reference 0.25 $extra 2>/dev/null)
-            python3 - "$scene" "$camera" <<PY
-import re, sys
-text = """$out"""
-m = re.search(r": ([0-9.]+) s per frame, Voxcast ([0-9.]+) s .*?per round ([0-9./, ]+);", text, re.S)
-rmse = re.search(r"Voxcast vs VTK: ([0-9.]+)/255", text)
-if not m:
-    print("| %s | %s | – | – | not measured | – | – |" % tuple(sys.argv[1:3]))
-else:
-    vtk, ours = float(m.group(1)), float(m.group(2))
-    rounds = [float(a) / float(b) for a, b in (r.split("/") for r in m.group(3).split(", "))]
-    print("| %s | %s | %.3f | %.3f | **%.2f×** | %.2f–%.2f× | %s/255 |" % (
-        sys.argv[1], sys.argv[2], vtk, ours, vtk / ours, min(rounds), max(rounds),
-        rmse.group(1) if rmse else "–"))
-PY
+            echo "$out" | python3 benches/peer_line.py "$scene" "$camera"
         done
     done <<SCENES
 ct_cranium $DATA/ct_cranium.nrrd

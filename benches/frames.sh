@@ -25,7 +25,6 @@ render_ms() {
     "$bin" render --volume "$VOLUME" "$@" --repeat 5 --out /tmp/voxcast_frames.png 2>/dev/null |
         sed -n 's/.* in \([0-9.]*\) s (median.*/\1/p' | awk '{ printf "%.0f", $1 * 1000 }'
 }
-fps() { awk -v ms="$1" 'BEGIN { if (ms > 0) printf "%.0f", 1000 / ms; else print "–" }'; }
 
 run --size 64x64 --measure-frames 1 >/dev/null
 adapter=$(sed -n 's/.*AdapterInfo { name: "\([^"]*\)".*/\1/p' /tmp/voxcast_frames.log | head -1)

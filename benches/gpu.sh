@@ -41,6 +41,8 @@ RESULTS=${RESULTS:-$tmp/results}
 mkdir -p "$tmp" "$RESULTS"
 export XDG_RUNTIME_DIR=${XDG_RUNTIME_DIR:-$(mktemp -d)}
 part() { [[ " $PARTS " == *" $1 "* ]]; }
+# shellcheck source=benches/tables.sh
+source benches/tables.sh
 
 # The CT at 512³ (nearest neighbour, spacing scaled; about 256 MiB, written once).
 ct512="$tmp/ct_cranium_512.nrrd"
@@ -142,7 +144,6 @@ fi
 
 # One figure from RESULTS, or – where it was not measured.
 figure() { local v; v=$(cat "$RESULTS/$1" 2>/dev/null || true); echo "${v:-–}"; }
-fps() { awk -v ms="$1" 'BEGIN { if (ms + 0 > 0) printf "%.0f", 1000 / ms; else print "–" }'; }
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a + 0 > 0 && b + 0 > 0) printf "%.1f×", a / b; else print "–" }'; }
 table=$(mktemp)
 {
@@ -177,7 +178,5 @@ table=$(mktemp)
 } >"$table"
 cat "$table"
 if [ "$WRITE" = 1 ]; then
-    # shellcheck source=benches/common.sh
-    source benches/common.sh
     write_section gpu "The preview on a real GPU (benches/gpu.sh)" "$table"
 fi

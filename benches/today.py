@@ -7,8 +7,12 @@ ratio over the alternating rounds, with the date, the CPU and the thread count.
 """
 import datetime
 import re
+import os
 import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from peer_line import parse  # noqa: E402
 
 SCENES = [
     ("ct_cranium", "ct_cranium, ct_skin_bone"),
@@ -17,14 +21,6 @@ SCENES = [
     ("bunny_sdf", "bunny_sdf, bunny"),
     ("mri_ch2", "ch2, mri_brain, an oblique camera nobody tuned for"),
 ]
-PEER = re.compile(
-    r"VTK peer \(vtkFixedPointVolumeRayCastMapper, (\d+) threads.*?: ([0-9.]+) s per frame, "
-    r"Voxcast ([0-9.]+) s \(medians over (\d+) alternating rounds; VTK/Voxcast per round "
-    r"([0-9./, ]+);",
-    re.S,
-)
-
-
 def section(text, name):
     m = re.search(r"<!-- bench:%s -->(.*?)<!-- /bench:%s -->" % (name, name), text, re.S)
     return m.group(1) if m else ""
@@ -45,13 +41,11 @@ def main():
         cpu_name = measured.group(1)  # the run's own words for its CPU
     rows, threads, rounds = [], "?", "?"
     for name, label in SCENES:
-        m = PEER.search(section(text, name))
-        if not m:
+        figures = parse(section(text, name))
+        if not figures:
             rows.append("| %s | – | – | not measured | – |" % label)
             continue
-        threads, vtk, ours, rounds = m.group(1), float(m.group(2)), float(m.group(3)), m.group(4)
-        per_round = [float(a) / float(b) for a, b in
-                     (r.split("/") for r in m.group(5).split(", ") if "/" in r)]
+        threads, vtk, ours, rounds, per_round, _ = figures
         rows.append("| %s | %.3f | %.3f | **%.2f×** | %.2f–%.2f× |" % (
             label, vtk, ours, vtk / ours, min(per_round), max(per_round)))
     table = "\n".join([

@@ -161,9 +161,8 @@ fn drag_cut(
         drag.grab = None;
         return;
     }
-    let Some(ray) = views.single().ok().and_then(|view| pointer.ray(view)) else {
-        return;
-    };
+    let Ok(view) = views.single() else { return };
+    let Some(ray) = pointer.ray(view) else { return };
     if pointer.buttons.just_pressed(MouseButton::Left) {
         if pointer.panel_has_it() {
             return;

@@ -61,16 +61,18 @@ pub(crate) fn plugin(app: &mut App) {
         .add_systems(PreUpdate, take_handed); // the page's files arrive in First
 }
 
+/// Takes the handed files out of their messages (this is their one reader), so a volume's
+/// bytes are not copied.
 #[cfg(target_arch = "wasm32")]
 fn take_handed(
-    mut handed: MessageReader<super::web::FilesHanded>,
+    mut handed: ResMut<Messages<super::web::FilesHanded>>,
     mut chosen: MessageWriter<FilesChosen>,
 ) {
-    for h in handed.read() {
+    for h in handed.drain() {
         if let Some(purpose) = Purpose::parse(&h.purpose) {
             chosen.write(FilesChosen {
                 purpose,
-                files: h.files.clone(),
+                files: h.files,
             });
         }
     }

@@ -174,10 +174,8 @@ fn drag_light(
         drag.plane = None;
         return;
     }
-    let Some(ray) = views.single().ok().and_then(|view| pointer.ray(view)) else {
-        return;
-    };
-    let view = views.single().expect("read above");
+    let Ok(view) = views.single() else { return };
+    let Some(ray) = pointer.ray(view) else { return };
     let (lo, hi) = volume.volume.bounds();
     if pointer.buttons.just_pressed(MouseButton::Left) {
         if pointer.panel_has_it() {
