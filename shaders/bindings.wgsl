@@ -1,13 +1,13 @@
 // The preview's resources: the uniform, the volume as a 3-D texture read texel by texel (the
 // core's exact trilinear weights, whatever the device's filtering precision; 8-bit data as
 // R8Unorm, everything else as R32Float, which holds 16-bit integers exactly), and the baked
-// transfer-function table (Rgba32Float, one row). Twin: src/sandbox/material.rs (`VolumeMaterial`).
+// transfer-function table (Rgba32Float, one row). Twin: src/sandbox/gpu/material.rs (`VolumeMaterial`).
 #define_import_path voxcast::bindings
 
 #import voxcast::types::VolumeUniform
 
 @group(#{MATERIAL_BIND_GROUP}) @binding(0) var<uniform> params: VolumeUniform;
-/// The pipeline's variant, compiled in (src/sandbox/uniform.rs, `PreviewVariant`): the uniform's
+/// The pipeline's variant, compiled in (src/sandbox/gpu/uniform.rs, `PreviewVariant`): the uniform's
 /// flags, method, classification and skip switch as constants, so each pipeline holds only the
 /// branches its settings take. The uniform's own members carry the same values.
 const FLAGS: u32 = #{VARIANT_FLAGS}u;

@@ -28,7 +28,7 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
 var<private> difference_undefined: bool;
 
 /// Whether a raw texel holds no data: non-finite voxels are uploaded as the largest float
-/// (src/sandbox/material.rs), above every value that is data. The core reads NaN and ±∞ as
+/// (src/sandbox/gpu/material.rs), above every value that is data. The core reads NaN and ±∞ as
 /// they are; WGSL need not keep NaN, so the preview marks them so instead.
 fn is_no_data(raw: f32) -> bool {
     return raw > params.no_data_above;

@@ -1,4 +1,4 @@
-// Twin: src/sandbox/uniform.rs (`VolumeUniform`) and the conventions in crates/voxcast_core/src/lib.rs.
+// Twin: src/sandbox/gpu/uniform.rs (`VolumeUniform`) and the conventions in crates/voxcast_core/src/lib.rs.
 //
 // Conventions (as in the core): voxel (i, j, k) sits at world (i·sx, j·sy, k·sz); the box spans
 // [0, (n−1)·s] (one spacing of thickness around a one-point axis); voxel space is world space

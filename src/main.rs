@@ -4,7 +4,7 @@
 //! settings panel). The subcommands are the command line over the pure core
 //! (`crates/voxcast_core`): render an image, trace one ray step by step, describe a volume,
 //! measure speed against accuracy. In a browser (wasm32) there is no command line: the page
-//! opens the sandbox with the options its address gives (`sandbox::web`).
+//! opens the sandbox with the options its address gives (`sandbox::page`).
 
 mod cli;
 mod sandbox;
@@ -51,13 +51,13 @@ enum Command {
 
 #[cfg(target_arch = "wasm32")]
 fn main() {
-    sandbox::web::main();
+    sandbox::page::run();
 }
 
 #[cfg(not(target_arch = "wasm32"))]
 fn main() {
     restore_sigpipe();
-    sandbox::platform::ensure_runtime_dir();
+    sandbox::shared::platform::ensure_runtime_dir();
     let cli = Cli::parse();
     let result = match &cli.command {
         None => sandbox::run(&cli.sandbox),

@@ -157,7 +157,7 @@ fn preview_matches_the_cpu_render() -> Outcome {
     sweep_agrees(&names, &[], "")
 }
 
-/// WebGL2's preview (`src/sandbox/preview.rs`, `GPU_READS_DEPTH`): compiled without the
+/// WebGL2's preview (`src/sandbox/shared/quality.rs`, `GPU_READS_DEPTH`): compiled without the
 /// `DEPTH_PREPASS` shader def, its rays never reading the scene's depth. The sandbox compiles
 /// the same variant on any GPU when rays pass through geometry (`--no-depth-termination`: no
 /// depth prepass), which this sweep draws on lavapipe.

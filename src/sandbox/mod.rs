@@ -1,67 +1,60 @@
 //! The sandbox: a Bevy scene with the volume's live GPU preview, an orbit camera and the
 //! settings panel; or, with `--screenshot`, one frame of the preview saved to a PNG.
 //!
-//! One plugin per feature file; the ECS holds only what the scene needs: the main camera, the
-//! volume's box (carrying the material) and the settings as resources. The frame's order is
-//! `schedule.rs`: [`Frame`] in `Update`, [`Paint`] in the egui pass, [`Late`] in `PostUpdate`;
-//! every feature puts its systems in those sets.
+//! **Layers.** Each folder is a layer, and a file imports only from its own folder and the
+//! folders below it (`tests/layers.rs` reads every file's paths and fails on an import that
+//! runs upward or a circle of files). Bottom to top:
+//!
+//! 1. `shared/` — the state every feature reads: the volume and its settings, the frame's
+//!    order, the preview's settings, the viewport and the mouse, render layers and markers
+//!    (`Solid`, `Occluder`), the mode, background tasks, files, the page;
+//! 2. `gpu/` — the preview's material, its uniform, the shaders, pipeline compilation;
+//! 3. `scene/` — the orbit camera, lights, the crop box and clip plane, lattice, overlay lines,
+//!    the meshes kept sharp;
+//! 4. `inspect/` — the virtual camera, its rays and samples, skip blocks, the ray's breakdown;
+//! 5. `data/` — loading volumes; RayVis's ray data sets and their views;
+//! 6. `preview/` — the GPU preview and the CPU live view, their quality, the paint;
+//! 7. `checks/` — Render image and Measure;
+//! 8. `levels/` — the guided levels' logic;
+//! 9. `drivers/` — screenshot, comparison, frame-time measurement and play-through runs;
+//! 10. `ui/` — the panels.
+//!
+//! This file, on top of them all, builds the app. Features talk through components,
+//! resources and messages. The frame's order is `shared/schedule.rs`: [`Frame`] in `Update`,
+//! [`Paint`] in the egui pass, [`Late`] in `PostUpdate`; every feature puts its systems in
+//! those sets.
 
-mod blocks;
-mod breakdown;
-mod compare;
-mod compare_cli;
-mod cpu_lines;
-mod cut;
-mod files;
-mod fit;
-mod frame_trade;
-mod inspect;
-mod lattice;
+pub mod checks;
+pub mod data;
+pub mod drivers;
+pub mod gpu;
+pub mod inspect;
 pub(crate) mod levels;
-mod light;
-mod live;
-mod loading;
-mod material;
-mod measure;
-pub mod mode;
-mod orbit;
-mod overlay;
-mod pipelines;
-pub mod platform;
-mod pointer;
-mod preview;
-mod progressive;
-mod raydata;
-mod rayviews;
-mod schedule;
-pub mod screenshot;
-mod script;
-mod shaders;
-mod sharp;
-mod shortcuts;
-mod state;
-mod tasks;
-mod trade;
+pub mod preview;
+pub mod scene;
+pub mod shared;
 mod ui;
-pub mod uniform;
-mod virtual_camera;
-#[cfg(target_arch = "wasm32")]
-pub mod web;
 
 use crate::cli::CliError;
 use crate::cli::args::{CameraArgs, SettingsArgs, VolumeArgs, parse_size};
-use bevy::core_pipeline::prepass::DepthPrepass;
-use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
 use bevy::diagnostic::FrameTimeDiagnosticsPlugin;
 use bevy::prelude::*;
 use bevy::render::RenderPlugin;
 use bevy::window::WindowResolution;
 use bevy_egui::EguiPlugin;
+use checks::{compare, trade};
 use clap::Args;
-use material::VolumeMaterial;
-use orbit::Orbit;
-pub use schedule::{Frame, Late, Paint};
-use state::{MainCamera, RenderState, View, VolumeState};
+use data::{choices, cpu_lines, estimate, loading, shortcuts, source, views};
+use drivers::{compare_cli, measure, screenshot, script};
+use gpu::material::VolumeMaterial;
+use gpu::{pipelines, shaders};
+use inspect::{blocks, breakdown, virtual_camera};
+use preview::camera::{InitialView, preview_camera, with_depth};
+use preview::{live, paint, progressive, sync};
+use scene::orbit::Orbit;
+use scene::{cut, lattice, light, overlay, sharp};
+use shared::state::{RenderState, VolumeState};
+use shared::{fit, mode, platform, quality, schedule};
 use std::path::PathBuf;
 use std::sync::Arc;
 use voxcast_core::error::io_words;
@@ -170,7 +163,7 @@ struct Start {
     volume: VolumeState,
     render: RenderState,
     camera: voxcast_core::camera::Camera,
-    rays: raydata::RayScene,
+    rays: source::RayScene,
 }
 
 impl Start {
@@ -178,7 +171,7 @@ impl Start {
         // A ray density keeps what it was computed from, for RayVis's views.
         let never = std::sync::atomic::AtomicBool::new(false);
         let (loaded, computed) =
-            match raydata::compute_source(&args.volume.volume, &|_, _| {}, &never) {
+            match source::compute_source(&args.volume.volume, &|_, _| {}, &never) {
                 Some(outcome) => {
                     let outcome = outcome.map_err(CliError::failed)?;
                     (outcome.loaded.into(), outcome.rays)
@@ -195,9 +188,9 @@ impl Start {
             source: args.volume.volume.clone(),
             preset: resolved.preset,
         };
-        let rays = raydata::RayScene {
+        let rays = source::RayScene {
             current: computed.map(|computed| {
-                Arc::new(raydata::Shown {
+                Arc::new(source::Shown {
                     computed,
                     volume: volume.volume.clone(),
                 })
@@ -240,7 +233,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
         .add_plugins((
             shaders::plugin,
             pipelines::plugin,
-            state::plugin,
+            sync::plugin,
             mode::plugin,
             light::marker_plugin,
         ))
@@ -310,13 +303,13 @@ fn build_headless(app: &mut App, args: &SandboxArgs) -> Result<(), CliError> {
         if args.sweep {
             // The sweep is compared with the CPU render, which has no meshes: the preview is
             // captured as Render image captures it (full quality, no light markers).
-            app.insert_resource(preview::FullQuality(true));
+            app.insert_resource(quality::FullQuality(true));
         }
         app.add_plugins(screenshot::plugin);
     }
     if let Some(path) = &args.compare {
         app.insert_resource(compare_cli::CompareRequest(path.clone()))
-            .init_resource::<preview::FullQuality>()
+            .init_resource::<quality::FullQuality>()
             .add_plugins((compare::plugin, compare_cli::plugin));
     }
     Ok(())
@@ -335,7 +328,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             // In a browser: the page's canvas, as large as the page gives it, keeping the
             // page's own handling of keys and the wheel away from it.
             #[cfg(target_arch = "wasm32")]
-            canvas: Some(web::CANVAS.into()),
+            canvas: Some(shared::web::CANVAS.into()),
             #[cfg(target_arch = "wasm32")]
             fit_canvas_to_parent: true,
             #[cfg(target_arch = "wasm32")]
@@ -348,7 +341,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         app.add_plugins(fit::plugin);
     }
     #[cfg(target_arch = "wasm32")]
-    app.add_plugins((web::plugin, files::plugin));
+    app.add_plugins((shared::web::plugin, shared::files::plugin));
     let free_play = mode::FreePlay(mode::Stage {
         rays: Some(args.rays),
         rays_shown: !args.no_rays,
@@ -362,16 +355,16 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         })
         .insert_resource(levels::Lessons::new(levels::ProgressStore::players()))
         .add_plugins((
-            (preview::plugin, pipelines::window_plugin),
+            (paint::plugin, pipelines::window_plugin),
             ui::plugin,
             levels::plugin,
             breakdown::plugin,
-            orbit::plugin,
+            scene::orbit::plugin,
             compare::plugin,
             (light::plugin, cut::plugin),
             loading::plugin,
             virtual_camera::plugin,
-            inspect::plugin,
+            inspect::rays::plugin,
             trade::plugin,
             (lattice::plugin, blocks::plugin),
             live::plugin,
@@ -379,15 +372,16 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             (
                 progressive::plugin,
                 sharp::plugin,
-                raydata::plugin,
-                rayviews::plugin,
+                choices::plugin,
+                estimate::plugin,
+                views::plugin,
                 cpu_lines::plugin,
                 shortcuts::plugin,
             ),
         ))
         .insert_resource(free_play)
         .insert_resource(free_play.0)
-        .insert_resource(inspect::InspectSettings {
+        .insert_resource(inspect::rays::InspectSettings {
             budget: args.sample_budget,
             ..default()
         })
@@ -439,7 +433,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
                 args.whole_frames,
             ));
     }
-    let mut choices = raydata::RayChoices::default();
+    let mut choices = choices::RayChoices::default();
     choices.view.mesh = args.ray_view.iter().any(|v| v == "mesh");
     choices.view.field = args.ray_view.iter().any(|v| v == "field");
     if let Some(stride) = args.ray_stride {
@@ -453,10 +447,10 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
     }
     choices.view.glyphs = args.ray_glyphs;
     app.insert_resource(choices);
-    app.insert_resource(preview::PreviewSettings {
+    app.insert_resource(quality::PreviewSettings {
         backend: match args.preview_backend.as_deref() {
-            Some("cpu") => live::Backend::Cpu,
-            _ => live::Backend::Gpu,
+            Some("cpu") => quality::Backend::Cpu,
+            _ => quality::Backend::Gpu,
         },
         backend_chosen: args.preview_backend.is_some(),
         adaptive: !args.no_adaptive,
@@ -485,54 +479,54 @@ fn parse_preview_scale(s: &str) -> Result<f32, String> {
     }
 }
 
-/// The view the sandbox opens with (also the screenshot's).
-#[derive(Resource, Clone, Copy)]
-pub struct InitialView(pub voxcast_core::camera::Camera);
-
-/// The camera components every view of the preview uses: no tonemapping or dithering (the
-/// preview's values must equal the CPU's), no MSAA. A view whose rays stop at scene geometry
-/// adds a [`DepthPrepass`] ([`with_depth`]); without one the preview is compiled without
-/// `DEPTH_PREPASS`, as WebGL2 always compiles it.
-pub fn preview_camera(view: &voxcast_core::camera::Camera) -> impl Bundle {
-    let projection = match view.projection {
-        voxcast_core::camera::Projection::Perspective { fov_y_deg } => {
-            Projection::Perspective(PerspectiveProjection {
-                fov: fov_y_deg.to_radians(),
-                ..default()
-            })
-        }
-        voxcast_core::camera::Projection::Orthographic { height } => {
-            Projection::Orthographic(OrthographicProjection {
-                scaling_mode: bevy::camera::ScalingMode::FixedVertical {
-                    viewport_height: height,
-                },
-                ..OrthographicProjection::default_3d()
-            })
-        }
-    };
-    (
-        Camera3d::default(),
-        projection,
-        Msaa::Off,
-        Tonemapping::None,
-        DebandDither::Disabled,
-        sharp::everything(),
-        MainCamera,
-        View(*view),
-        Transform::from_translation(view.eye).looking_at(view.target, view.up),
-    )
-}
-
-/// A depth prepass for a view of the preview whose rays stop at scene geometry (where the GPU
-/// can read it: see [`preview::GPU_READS_DEPTH`]).
-pub fn with_depth(mut camera: EntityCommands<'_>, stops_at_geometry: bool) {
-    if stops_at_geometry && preview::GPU_READS_DEPTH {
-        camera.insert(DepthPrepass);
-    }
-}
-
 fn spawn_main_camera(mut commands: Commands, view: Res<InitialView>, render: Res<RenderState>) {
     let v = view.0;
     let camera = commands.spawn((preview_camera(&v), Orbit::looking_at(v.eye, v.target, v.up)));
     with_depth(camera, render.depth_termination);
+}
+
+/// The sandbox in a browser: its options from the page's address, then [`run`].
+#[cfg(target_arch = "wasm32")]
+pub mod page {
+    use super::{SandboxArgs, shared};
+
+    /// The sandbox's options as the page's address gives them: `?volume=builtin:head&no-rays` is
+    /// `--volume builtin:head --no-rays`, the same names as the command line's.
+    #[derive(clap::Parser, Debug)]
+    #[command(name = "voxcast", no_binary_name = true)]
+    struct PageOptions {
+        #[command(flatten)]
+        sandbox: SandboxArgs,
+    }
+
+    /// Starts the sandbox in the page (the wasm module's `main`).
+    pub fn run() {
+        let args = address_options();
+        let options = match <PageOptions as clap::Parser>::try_parse_from(&args) {
+            Ok(o) => o,
+            Err(e) => {
+                let text = e.to_string();
+                shared::web::show_error(&format!(
+                    "The page's address has options the sandbox does not know: {text}"
+                ));
+                return;
+            }
+        };
+        if let Err(e) = super::run(&options.sandbox) {
+            shared::web::show_error(&e.to_string());
+        }
+    }
+
+    /// The page's query string as command-line options.
+    fn address_options() -> Vec<String> {
+        let Some(search) = web_sys::window().and_then(|w| w.location().search().ok()) else {
+            return Vec::new();
+        };
+        crate::cli::args::query_to_args(&search, |s| {
+            js_sys::decode_uri_component(s)
+                .ok()
+                .and_then(|v| v.as_string())
+                .unwrap_or_else(|| s.to_owned())
+        })
+    }
 }

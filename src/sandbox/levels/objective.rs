@@ -16,10 +16,10 @@ pub(crate) struct Done<'w, 's> {
     comparison: Res<'w, Comparison>,
     views: Query<'w, 's, &'static View, With<MainCamera>>,
     preview: Option<Res<'w, PreviewSettings>>,
-    inspect: Option<Res<'w, crate::sandbox::inspect::InspectSettings>>,
-    rays: Option<Res<'w, crate::sandbox::raydata::RayScene>>,
-    ray_choices: Option<Res<'w, crate::sandbox::raydata::RayChoices>>,
-    ray_report: Option<Res<'w, crate::sandbox::rayviews::ViewReport>>,
+    inspect: Option<Res<'w, crate::sandbox::inspect::rays::InspectSettings>>,
+    rays: Option<Res<'w, crate::sandbox::data::source::RayScene>>,
+    ray_choices: Option<Res<'w, crate::sandbox::data::choices::RayChoices>>,
+    ray_report: Option<Res<'w, crate::sandbox::data::choices::ViewReport>>,
 }
 
 /// Checks the current step's objective against what the player has done.
@@ -122,7 +122,7 @@ pub(crate) fn check_objective(
 /// The code's answer to study question `q` from the density on show (see
 /// [`Lessons::study_shown`]).
 pub fn study_truth(
-    shown: &crate::sandbox::raydata::Shown,
+    shown: &crate::sandbox::data::source::Shown,
     q: voxcast_core::rays::study::Question,
 ) -> Option<String> {
     let c = &shown.computed;
@@ -156,7 +156,7 @@ fn situation(
     (trade, preview, inspect): (
         &StepTrade,
         Option<&PreviewSettings>,
-        Option<&crate::sandbox::inspect::InspectSettings>,
+        Option<&crate::sandbox::inspect::rays::InspectSettings>,
     ),
 ) -> Situation {
     let voxel = volume.volume.spacing().min_element();

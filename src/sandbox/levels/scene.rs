@@ -14,8 +14,8 @@ pub(super) fn set_up_scene(
     (volume, mut render): (Res<VolumeState>, ResMut<RenderState>),
     (mut loading, mut preview): (ResMut<Loading>, ResMut<PreviewSettings>),
     (ray_choices, inspect): (
-        Option<ResMut<crate::sandbox::raydata::RayChoices>>,
-        Option<ResMut<crate::sandbox::inspect::InspectSettings>>,
+        Option<ResMut<crate::sandbox::data::choices::RayChoices>>,
+        Option<ResMut<crate::sandbox::inspect::rays::InspectSettings>>,
     ),
 ) {
     if let Some(run) = lessons.study

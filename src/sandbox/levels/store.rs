@@ -33,7 +33,7 @@ impl ProgressStore {
             Self::Nowhere => (Progress::default(), None),
             Self::File(path) => Progress::load(path),
             #[cfg(target_arch = "wasm32")]
-            Self::Browser(key) => match crate::sandbox::web::stored(key) {
+            Self::Browser(key) => match crate::sandbox::shared::web::stored(key) {
                 None => (Progress::default(), None),
                 Some(text) => Progress::from_text(
                     &text,
@@ -49,7 +49,7 @@ impl ProgressStore {
             Self::Nowhere => Ok(()),
             Self::File(path) => progress.save(path).map_err(|e| e.to_string()),
             #[cfg(target_arch = "wasm32")]
-            Self::Browser(key) => crate::sandbox::web::store(key, &progress.to_text()),
+            Self::Browser(key) => crate::sandbox::shared::web::store(key, &progress.to_text()),
         }
     }
 }

@@ -1,8 +1,8 @@
 //! The levels' logic tested in a windowless app: commands, progress, studies, objectives.
 
 use super::*;
-use crate::sandbox::inspect::{Inspection, SampleSphere};
-use crate::sandbox::light::LightMarker;
+use crate::sandbox::inspect::rays::{Inspection, SampleSphere};
+use crate::sandbox::scene::light::LightMarker;
 use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
 use bevy::window::FileDragAndDrop;
 use voxcast_core::composite::Method;
@@ -10,7 +10,7 @@ use voxcast_core::composite::Method;
 /// The sandbox's level logic and spawners without a window or a GPU.
 fn app(progress: PathBuf) -> App {
     AsyncComputeTaskPool::get_or_init(TaskPool::new);
-    let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
+    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("bucky");
     let mut app = App::new();
     app.add_plugins((MinimalPlugins, bevy::state::app::StatesPlugin))
         .insert_resource(volume)
@@ -23,14 +23,17 @@ fn app(progress: PathBuf) -> App {
         .init_resource::<Comparison>()
         .insert_resource(Lessons::new(ProgressStore::File(progress)))
         .add_plugins((
-            crate::sandbox::mode::plugin,
-            crate::sandbox::loading::plugin,
-            crate::sandbox::inspect::plugin,
-            crate::sandbox::light::marker_plugin,
-            crate::sandbox::trade::plugin,
+            crate::sandbox::shared::mode::plugin,
+            crate::sandbox::data::loading::plugin,
+            crate::sandbox::inspect::rays::plugin,
+            crate::sandbox::scene::light::marker_plugin,
+            crate::sandbox::checks::trade::plugin,
             plugin,
         ))
-        .add_systems(Update, crate::sandbox::virtual_camera::stage_camera);
+        .add_systems(
+            Update,
+            crate::sandbox::inspect::virtual_camera::stage_camera,
+        );
     app
 }
 

@@ -3,8 +3,8 @@
 //! the 8 corners of an opened one — exported as JSON or CSV, the same text as `voxcast trace`.
 
 use super::color32;
-use crate::sandbox::breakdown::BreakdownState;
-use crate::sandbox::inspect::RaySelection;
+use crate::sandbox::inspect::breakdown::BreakdownState;
+use crate::sandbox::inspect::rays::RaySelection;
 use bevy::prelude::*;
 use bevy_egui::EguiContexts;
 use bevy_egui::egui::{self, Color32, Sense, vec2};
@@ -332,21 +332,21 @@ fn save(t: &RayTrace, path: &str, ext: &str) -> Result<String, String> {
     } else {
         (breakdown::to_csv(t), "text/csv")
     };
-    crate::sandbox::files::save(&base.with_extension(ext), text.as_bytes(), mime)
+    crate::sandbox::shared::files::save(&base.with_extension(ext), text.as_bytes(), mime)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sandbox::breakdown::pixel_trace;
-    use crate::sandbox::inspect::{Inspection, compute};
-    use crate::sandbox::virtual_camera::VirtualCamera;
+    use crate::sandbox::inspect::breakdown::pixel_trace;
+    use crate::sandbox::inspect::rays::{Inspection, compute};
+    use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 
     /// Every string the breakdown draws — summary, formula, the sample table and an opened
     /// sample — has a glyph in the window's font, for every method and both orders.
     #[test]
     fn every_breakdown_string_can_be_drawn() {
-        let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
+        let (volume, render) = crate::sandbox::inspect::rays::tests::scene("bucky");
         let vc = VirtualCamera::framing(&volume, None).unwrap();
         for method in voxcast_core::composite::Method::ALL {
             for order in [
@@ -375,7 +375,7 @@ mod tests {
 
     #[test]
     fn the_breakdown_is_the_cores_trace_and_exports_as_the_cli_does() {
-        let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
+        let (volume, render) = crate::sandbox::inspect::rays::tests::scene("bucky");
         let mut vc = VirtualCamera::framing(&volume, None).unwrap();
         (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();

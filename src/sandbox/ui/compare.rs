@@ -2,9 +2,11 @@
 //! progress with Cancel, then the preview's capture, the render and their difference heat-map
 //! side by side with the figures, and saves them as PNGs.
 
-use crate::sandbox::compare::{Compared, Comparison, HEAT_FULL_SCALE, Part, save_png, save_pngs};
-use crate::sandbox::files::PICKS_FILES;
-use crate::sandbox::state::{MainCamera, RenderState, View, VolumeState};
+use crate::sandbox::checks::compare::{
+    Compared, Comparison, HEAT_FULL_SCALE, Part, save_png, save_pngs,
+};
+use crate::sandbox::shared::files::PICKS_FILES;
+use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
 use voxcast_core::cost::CostView;
@@ -47,9 +49,16 @@ pub(super) fn compare_window(
     mut comparison: ResMut<Comparison>,
     views: Query<&View, With<MainCamera>>,
     (render, volume): (Res<RenderState>, Res<VolumeState>),
-    viewport: Option<Res<crate::sandbox::preview::Viewport>>,
-    mode: Res<State<crate::sandbox::mode::Mode>>,
+    viewport: Option<Res<crate::sandbox::shared::viewport::Viewport>>,
+    // The mode (a new one closes the window) and the requests to open or close it.
+    (mode, mut shows): (
+        Res<State<crate::sandbox::shared::mode::Mode>>,
+        MessageReader<crate::sandbox::checks::compare::ShowRenderImage>,
+    ),
 ) -> Result {
+    if let Some(show) = shows.read().last() {
+        window.open = show.0;
+    }
     // A new level (or free play) brings its own scene: the last render is of another.
     if mode.is_changed() && !mode.is_added() {
         window.open = false;
@@ -60,7 +69,7 @@ pub(super) fn compare_window(
     let ctx = contexts.ctx_mut()?.clone();
     let mut open = window.open;
     // Over the scene, below the level's text.
-    let scene = crate::sandbox::preview::Viewport::rect(viewport.as_deref(), &ctx);
+    let scene = crate::sandbox::shared::viewport::Viewport::rect(viewport.as_deref(), &ctx);
     // Inside the scene's part of the window, which it never leaves, movable and shrinkable.
     let window_frame = egui::Window::new("Render image")
         .open(&mut open)
@@ -337,7 +346,7 @@ mod tests {
                 ..Default::default()
             };
             let mut comparison = Comparison::default();
-            comparison.result = Some(crate::sandbox::compare::tests::example(capture));
+            comparison.result = Some(crate::sandbox::checks::compare::tests::example(capture));
             comparison.message = Some("the preview had not drawn the volume yet".into());
             for view in [None, Some(CostView::Samples), Some(CostView::Stops)] {
                 comparison.cost_view = view;

@@ -1,9 +1,9 @@
 //! The panel's "Looking inside" section: the crop box (a lower and an upper side per axis) and
 //! the clip plane (orientation, flip, position); the same cut is dragged in the scene
-//! (`crate::sandbox::cut`).
+//! (`crate::sandbox::scene::cut`).
 
 use super::{Spot, marked, slider};
-use crate::sandbox::cut::CutHandles;
+use crate::sandbox::scene::cut::CutHandles;
 use bevy::math::Vec3;
 use bevy_egui::egui;
 use voxcast_core::clip::{Clip, ClipPlane};

@@ -159,9 +159,15 @@ pub(super) fn layout_strip(
     mut layout: ResMut<Layout>,
     mut dock: ResMut<super::Dock>,
     lessons: Res<crate::sandbox::levels::Lessons>,
-    cameras: Query<&crate::sandbox::virtual_camera::VirtualCamera>,
-    mode: Res<State<crate::sandbox::mode::Mode>>,
-    mut last: Local<Option<(egui::Vec2, Option<Control>, crate::sandbox::mode::Mode)>>,
+    cameras: Query<&crate::sandbox::inspect::virtual_camera::VirtualCamera>,
+    mode: Res<State<crate::sandbox::shared::mode::Mode>>,
+    mut last: Local<
+        Option<(
+            egui::Vec2,
+            Option<Control>,
+            crate::sandbox::shared::mode::Mode,
+        )>,
+    >,
 ) -> Result {
     let ctx = contexts.ctx_mut()?.clone();
     let size = ctx.content_rect().size();

@@ -4,7 +4,7 @@
 //! in `levels`.
 
 use crate::sandbox::levels::{Lessons, LevelCommand};
-use crate::sandbox::mode::Mode;
+use crate::sandbox::shared::mode::Mode;
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, egui};
 use voxcast_core::level::{Control, Objective};
@@ -166,7 +166,7 @@ fn export_answers(ui: &mut egui::Ui, lessons: &mut Lessons) {
         let path = path.as_path();
         let csv = lessons.progress.answers_csv();
         lessons.message = Some(
-            match crate::sandbox::files::save(path, csv.as_bytes(), "text/csv") {
+            match crate::sandbox::shared::files::save(path, csv.as_bytes(), "text/csv") {
                 Ok(done) => format!(
                     "{count} answer{}: {done}",
                     if count == 1 { "" } else { "s" }

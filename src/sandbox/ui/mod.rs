@@ -21,12 +21,12 @@ mod transfer;
 mod value_gradient;
 mod widgets;
 
-use super::compare::Comparison;
-use super::levels;
-use super::loading::Loading;
-use super::preview::PreviewSettings;
-use super::state::{MainCamera, RenderState, View, VolumeState};
-use super::virtual_camera::VirtualCamera;
+use crate::sandbox::checks::compare::Comparison;
+use crate::sandbox::data::loading::Loading;
+use crate::sandbox::inspect::virtual_camera::VirtualCamera;
+use crate::sandbox::levels;
+use crate::sandbox::shared::quality::PreviewSettings;
+use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
 use bevy_egui::{EguiContexts, EguiPrimaryContextPass, egui};
@@ -114,6 +114,7 @@ pub(super) fn plugin(app: &mut App) {
         .init_resource::<Dock>()
         .init_resource::<layout::Layout>()
         .init_resource::<compare::CompareWindow>()
+        .add_message::<crate::sandbox::checks::compare::ShowRenderImage>()
         .init_resource::<breakdown_panel::ExportState>()
         .add_systems(
             EguiPrimaryContextPass,
@@ -131,27 +132,30 @@ pub(super) fn plugin(app: &mut App) {
                     record_viewport,
                 )
                     .chain()
-                    .in_set(super::Paint::Panels),
-                ray_overlay::ray_overlay.in_set(super::Paint::Over),
+                    .in_set(crate::sandbox::shared::schedule::Paint::Panels),
+                ray_overlay::ray_overlay.in_set(crate::sandbox::shared::schedule::Paint::Over),
             ),
         )
-        .add_message::<super::files::FilesChosen>()
-        .add_systems(Update, take_chosen_transfer.in_set(super::Frame::Rules));
+        .add_message::<crate::sandbox::shared::files::FilesChosen>()
+        .add_systems(
+            Update,
+            take_chosen_transfer.in_set(crate::sandbox::shared::schedule::Frame::Rules),
+        );
     #[cfg(target_arch = "wasm32")]
     app.add_systems(
         EguiPrimaryContextPass,
-        page::publish_status.in_set(super::Paint::Over),
+        page::publish_status.in_set(crate::sandbox::shared::schedule::Paint::Over),
     );
 }
 
 /// A transfer function the browser handed over (Open… in the editor).
 fn take_chosen_transfer(
-    mut chosen: MessageReader<super::files::FilesChosen>,
+    mut chosen: MessageReader<crate::sandbox::shared::files::FilesChosen>,
     mut panel: ResMut<PanelState>,
-    mut render: ResMut<super::state::RenderState>,
+    mut render: ResMut<crate::sandbox::shared::state::RenderState>,
 ) {
     for c in chosen.read() {
-        if c.purpose != super::files::Purpose::Transfer {
+        if c.purpose != crate::sandbox::shared::files::Purpose::Transfer {
             continue;
         }
         if let Some((name, bytes)) = c.files.first() {
@@ -167,11 +171,11 @@ fn take_chosen_transfer(
 fn record_viewport(
     mut contexts: EguiContexts,
     dock: Res<Dock>,
-    viewport: Option<ResMut<super::preview::Viewport>>,
+    viewport: Option<ResMut<crate::sandbox::shared::viewport::Viewport>>,
     mut commands: Commands,
 ) -> Result {
     let ctx = contexts.ctx_mut()?;
-    let v = super::preview::Viewport {
+    let v = crate::sandbox::shared::viewport::Viewport {
         rect: dock.free(ctx),
         pixels_per_point: ctx.pixels_per_point(),
     };

@@ -2,14 +2,16 @@
 //! the page's test and by `#voxcast-step`, which a screen reader speaks): the mode, the level's
 //! step, where the named controls and the scene are, the volume, Render image's state.
 
-use crate::sandbox::compare::Comparison;
+use crate::sandbox::checks::compare::Comparison;
+use crate::sandbox::data::loading::Loading;
 use crate::sandbox::levels::Lessons;
-use crate::sandbox::live::{Backend, LiveView};
-use crate::sandbox::loading::Loading;
-use crate::sandbox::mode::Mode;
-use crate::sandbox::preview::{PreviewSettings, Viewport};
-use crate::sandbox::state::VolumeState;
-use crate::sandbox::web::publish;
+use crate::sandbox::preview::live::LiveView;
+use crate::sandbox::shared::mode::Mode;
+use crate::sandbox::shared::quality::Backend;
+use crate::sandbox::shared::quality::PreviewSettings;
+use crate::sandbox::shared::state::VolumeState;
+use crate::sandbox::shared::viewport::Viewport;
+use crate::sandbox::shared::web::publish;
 use bevy::prelude::*;
 use bevy_egui::EguiContexts;
 
@@ -24,7 +26,7 @@ pub(super) struct Reported<'w> {
     preview: Res<'w, PreviewSettings>,
     viewport: Option<Res<'w, Viewport>>,
     live: Option<Res<'w, LiveView>>,
-    progressive: Option<Res<'w, crate::sandbox::progressive::Progressive>>,
+    progressive: Option<Res<'w, crate::sandbox::preview::progressive::Progressive>>,
 }
 
 /// Publishes this frame's state for the page.

@@ -3,11 +3,13 @@
 //! it, and the views — the density volume, the ray mesh, the vector field and the scene.
 
 use super::{Spot, marked};
-use crate::sandbox::loading::Loading;
-use crate::sandbox::raydata::{Estimator, RayChoices, RayScene, SourceKind};
-use crate::sandbox::rayviews::ViewReport;
-use crate::sandbox::state::{RenderState, VolumeState};
-use crate::sandbox::virtual_camera::VirtualCamera;
+use crate::sandbox::data::choices::RayChoices;
+use crate::sandbox::data::choices::ViewReport;
+use crate::sandbox::data::estimate::Estimator;
+use crate::sandbox::data::loading::Loading;
+use crate::sandbox::data::source::{RayScene, SourceKind};
+use crate::sandbox::inspect::virtual_camera::VirtualCamera;
+use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy_egui::egui;
 use voxcast_core::level::Control;
 use voxcast_core::numbers::sig;
@@ -31,7 +33,7 @@ pub(crate) struct RayPanel<'a> {
     pub preview_on: &'a mut bool,
     /// Set when the volume before the densities is to come back.
     pub back: &'a mut bool,
-    pub fit: &'a mut crate::sandbox::raydata::RangeFit,
+    pub fit: &'a mut crate::sandbox::data::estimate::RangeFit,
     /// Name the box's traces by number only (a level asks which effect each holds).
     pub hide_effects: bool,
 }
@@ -147,9 +149,9 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
         .selected_text(c.source.words())
         .show_ui(ui, |ui| {
             // A page reads no paths, and opening a .rayvis file there is not built yet.
-            let offered = SourceKind::ALL
-                .into_iter()
-                .filter(|s| !(crate::sandbox::files::PICKS_FILES && *s == SourceKind::File));
+            let offered = SourceKind::ALL.into_iter().filter(|s| {
+                !(crate::sandbox::shared::files::PICKS_FILES && *s == SourceKind::File)
+            });
             for s in offered {
                 ui.selectable_value(&mut c.source, s, s.words())
                     .on_hover_text(s.doc());
@@ -339,7 +341,7 @@ fn view_controls(
     }
     ui.checkbox(&mut v.field, "Vector field")
         .on_hover_text("An arrow per sample cube along the rays' mean direction");
-    ui.label(egui::RichText::new(crate::sandbox::shortcuts::SHORTCUTS).small())
+    ui.label(egui::RichText::new(crate::sandbox::data::shortcuts::SHORTCUTS).small())
         .on_hover_text("Over the scene (not while typing in a field)");
     if v.field {
         ui.indent("field", |ui| {

@@ -2,11 +2,13 @@
 //! growing with the animation — picked by a click near their line, and an opened sample's cell
 //! with its 8 corners drawn in the scene.
 
-use crate::sandbox::breakdown::BreakdownState;
-use crate::sandbox::inspect::{InspectSettings, Inspection, RayAnimation, RaySelection, ray_pixel};
-use crate::sandbox::overlay::{Projector, scene_painter};
-use crate::sandbox::state::{MainCamera, View, VolumeState};
-use crate::sandbox::virtual_camera::VirtualCamera;
+use crate::sandbox::inspect::breakdown::BreakdownState;
+use crate::sandbox::inspect::rays::{
+    InspectSettings, Inspection, RayAnimation, RaySelection, ray_pixel,
+};
+use crate::sandbox::inspect::virtual_camera::VirtualCamera;
+use crate::sandbox::scene::overlay::{Projector, scene_painter};
+use crate::sandbox::shared::state::{MainCamera, View, VolumeState};
 use bevy::prelude::*;
 use bevy_egui::EguiContexts;
 use bevy_egui::egui::{self, Color32, Pos2, Stroke, vec2};
@@ -24,7 +26,7 @@ pub(super) struct RaysShown<'w, 's> {
     cameras: Query<'w, 's, &'static VirtualCamera>,
     breakdown: Res<'w, BreakdownState>,
     volume: Res<'w, VolumeState>,
-    viewport: Option<Res<'w, crate::sandbox::preview::Viewport>>,
+    viewport: Option<Res<'w, crate::sandbox::shared::viewport::Viewport>>,
 }
 
 pub(super) fn ray_overlay(

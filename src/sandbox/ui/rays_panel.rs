@@ -3,8 +3,8 @@
 //! ray, click selects it and opens its breakdown.
 
 use super::color32;
-use crate::sandbox::inspect::{InspectSettings, Inspection, RayAnimation, RaySelection};
-use crate::sandbox::virtual_camera::VirtualCamera;
+use crate::sandbox::inspect::rays::{InspectSettings, Inspection, RayAnimation, RaySelection};
+use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use bevy::prelude::*;
 use bevy_egui::EguiContexts;
 use bevy_egui::egui::{self, Color32, Pos2, Sense, Stroke, pos2, vec2};
@@ -102,7 +102,7 @@ fn contents(
     if edited.show_blocks
         && let Some(traffic) = &inspection.blocks
     {
-        ui.label(egui::RichText::new(crate::sandbox::blocks::summary(traffic)).small());
+        ui.label(egui::RichText::new(crate::sandbox::inspect::blocks::summary(traffic)).small());
     }
     let mut budget = edited.budget as f32;
     ui.label(t::SAMPLE_BUDGET.label)
@@ -207,13 +207,13 @@ fn pixel_grid(ui: &mut egui::Ui, inspection: &Inspection, selection: &mut RaySel
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sandbox::inspect::compute;
+    use crate::sandbox::inspect::rays::compute;
 
     /// The pixel grid driven by the pointer events egui receives from a user: moving over a
     /// pixel hovers its ray, a click selects it, a second click lets it go.
     #[test]
     fn pointer_events_on_the_pixel_grid_hover_and_select_rays() {
-        let (volume, render) = crate::sandbox::inspect::tests::scene("bucky");
+        let (volume, render) = crate::sandbox::inspect::rays::tests::scene("bucky");
         let mut vc = VirtualCamera::framing(&volume, None).unwrap();
         (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();
@@ -258,7 +258,7 @@ mod tests {
     /// has a glyph in the window's font.
     #[test]
     fn every_rays_panel_string_can_be_drawn() {
-        let (volume, render) = crate::sandbox::inspect::tests::scene("head");
+        let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
         let mut vc = VirtualCamera::framing(&volume, None).unwrap();
         (vc.width, vc.height) = (6, 4);
         for budget in [1_000_000, 10] {

@@ -50,7 +50,7 @@ pub(super) fn dataset_section(
                 }
             }
         });
-    if crate::sandbox::files::PICKS_FILES {
+    if crate::sandbox::shared::files::PICKS_FILES {
         // A page reads no paths: the browser's picker (or a file dropped on the page).
         if ui
             .button("Open a volume file…")
@@ -60,7 +60,7 @@ pub(super) fn dataset_section(
             )
             .clicked()
         {
-            crate::sandbox::files::pick(crate::sandbox::files::Purpose::Volume);
+            crate::sandbox::shared::files::pick(crate::sandbox::shared::files::Purpose::Volume);
         }
     } else {
         ui.horizontal(|ui| {
@@ -320,7 +320,7 @@ pub(super) fn virtual_camera_section(
                 .on_hover_text(t::VIRTUAL_RESOLUTION.doc);
         }
     });
-    if let Some(mut fov) = crate::sandbox::virtual_camera::fov(&edited.view) {
+    if let Some(mut fov) = crate::sandbox::inspect::virtual_camera::fov(&edited.view) {
         let changed = ui
             .add(egui::Slider::new(&mut fov, 5.0..=120.0).text("field of view (°)"))
             .on_hover_text("The virtual camera's vertical opening angle")
@@ -378,7 +378,7 @@ pub(super) fn virtual_camera_section(
 pub(super) fn preview_section(
     ui: &mut egui::Ui,
     preview: &mut PreviewSettings,
-    live: Option<&crate::sandbox::live::LiveView>,
+    live: Option<&crate::sandbox::preview::live::LiveView>,
     (depth, method): (&mut bool, Method),
     spot: Spot,
 ) {
@@ -391,8 +391,8 @@ pub(super) fn preview_section(
         ui.label(t::PREVIEW_BACKEND.label)
             .on_hover_text(t::PREVIEW_BACKEND.doc);
         for (backend, name) in [
-            (crate::sandbox::live::Backend::Gpu, "GPU"),
-            (crate::sandbox::live::Backend::Cpu, "CPU"),
+            (crate::sandbox::shared::quality::Backend::Gpu, "GPU"),
+            (crate::sandbox::shared::quality::Backend::Cpu, "CPU"),
         ] {
             ui.selectable_value(&mut q.backend, backend, name)
                 .on_hover_text(t::PREVIEW_BACKEND.doc);
@@ -412,7 +412,7 @@ pub(super) fn preview_section(
     marked(ui, spot, Control::PreviewScale, |ui| {
         slider(ui, &mut q.scale, &t::PREVIEW_SCALE, 0.05..=1.0, false)
     });
-    let gpu = q.backend == crate::sandbox::live::Backend::Gpu;
+    let gpu = q.backend == crate::sandbox::shared::quality::Backend::Gpu;
     let why = "The CPU live view always uses the settings' own step: it refines to the exact \
                render";
     ui.add_enabled_ui(gpu, |ui| {
@@ -444,7 +444,7 @@ pub(super) fn preview_section(
     if q != *preview {
         *preview = q;
     }
-    let tip = if crate::sandbox::preview::GPU_READS_DEPTH {
+    let tip = if crate::sandbox::shared::quality::GPU_READS_DEPTH {
         "Depth-prepass termination: preview rays end where an opaque mesh stands inside the volume"
     } else {
         "Preview rays end where an opaque mesh stands inside the volume: in the CPU live view and \

@@ -4,11 +4,11 @@ use super::*;
 
 /// What the Ray data section reads and edits.
 pub(super) type RayParams<'w> = (
-    ResMut<'w, crate::sandbox::raydata::RayChoices>,
-    Res<'w, crate::sandbox::raydata::RayScene>,
-    Res<'w, crate::sandbox::raydata::Estimator>,
-    Res<'w, crate::sandbox::rayviews::ViewReport>,
-    ResMut<'w, crate::sandbox::raydata::RangeFit>,
+    ResMut<'w, crate::sandbox::data::choices::RayChoices>,
+    Res<'w, crate::sandbox::data::source::RayScene>,
+    Res<'w, crate::sandbox::data::estimate::Estimator>,
+    Res<'w, crate::sandbox::data::choices::ViewReport>,
+    ResMut<'w, crate::sandbox::data::estimate::RangeFit>,
 );
 
 pub(super) fn settings_panel(
@@ -18,17 +18,17 @@ pub(super) fn settings_panel(
         Res<VolumeState>,
         ResMut<Loading>,
         Res<levels::Lessons>,
-        Res<State<crate::sandbox::mode::Mode>>,
+        Res<State<crate::sandbox::shared::mode::Mode>>,
     ),
     (mut render, mut step_trade, mut cut_handles): (
         ResMut<RenderState>,
-        ResMut<crate::sandbox::trade::StepTrade>,
-        ResMut<crate::sandbox::cut::CutHandles>,
+        ResMut<crate::sandbox::checks::trade::StepTrade>,
+        ResMut<crate::sandbox::scene::cut::CutHandles>,
     ),
     (diagnostics, mut preview, live, rays): (
         Res<DiagnosticsStore>,
         ResMut<PreviewSettings>,
-        Option<Res<crate::sandbox::live::LiveView>>,
+        Option<Res<crate::sandbox::preview::live::LiveView>>,
         RayParams,
     ),
     mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
@@ -45,15 +45,17 @@ pub(super) fn settings_panel(
     let spot: Spot = lessons.spot;
     // A level that asks which effect a trace holds names traces by number only.
     let hide_effects = match *mode.get() {
-        crate::sandbox::mode::Mode::Level(l) => lessons.levels.get(l).is_some_and(|level| {
-            level.steps.iter().any(|s| {
-                matches!(
-                    s.objective,
-                    voxcast_core::level::Objective::NameEffect { .. }
-                )
+        crate::sandbox::shared::mode::Mode::Level(l) => {
+            lessons.levels.get(l).is_some_and(|level| {
+                level.steps.iter().any(|s| {
+                    matches!(
+                        s.objective,
+                        voxcast_core::level::Objective::NameEffect { .. }
+                    )
+                })
             })
-        }),
-        crate::sandbox::mode::Mode::FreePlay => false,
+        }
+        crate::sandbox::shared::mode::Mode::FreePlay => false,
     };
     let guide = Guide {
         spot,

@@ -6,20 +6,20 @@ use super::*;
 /// reasons change with it; every classification) has a glyph in the window's font.
 #[test]
 fn every_panel_string_can_be_drawn() {
-    let (volume, render) = crate::sandbox::inspect::tests::scene("head");
+    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
     for method in Method::ALL {
         let mut s = render.settings.clone();
         s.method = method;
         let mut preview = PreviewSettings {
-            backend: crate::sandbox::live::Backend::Cpu,
+            backend: crate::sandbox::shared::quality::Backend::Cpu,
             ..Default::default()
         };
         let mut panel = PanelState::default();
         let mut loading = Loading::default();
         let mut edited = render.clone();
         let mut depth = true;
-        let live = crate::sandbox::live::LiveView::default();
-        let mut step_trade = crate::sandbox::trade::StepTrade::default();
+        let live = crate::sandbox::preview::live::LiveView::default();
+        let mut step_trade = crate::sandbox::checks::trade::StepTrade::default();
         let (lo, hi) = volume.volume.value_range();
         let mut classifications = [
             voxcast_core::classify::Classification::default(),
@@ -65,7 +65,7 @@ fn every_panel_string_can_be_drawn() {
                 (&mut depth, Method::First),
                 None,
             );
-            let mut handles = crate::sandbox::cut::CutHandles { crop: true };
+            let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
             s.clip.plane = Some(voxcast_core::clip::ClipPlane {
                 normal: Vec3::X,
                 position: 0.2,

@@ -5,8 +5,8 @@
 //! the trade is read as numbers; the player's own step is the highlighted row.
 
 use super::{Spot, marked};
-use crate::sandbox::frame_trade::FrameTiming;
-use crate::sandbox::trade::{StepTrade, TRADE_SIZE};
+use crate::sandbox::checks::frame_trade::FrameTiming;
+use crate::sandbox::checks::trade::{StepTrade, TRADE_SIZE};
 use bevy_egui::egui;
 use voxcast_core::knob::Knob;
 use voxcast_core::level::Control;

@@ -6,7 +6,7 @@
 //! Every edit goes through the core's `TransferFunction::with_point_*`, so the editor can only
 //! produce a valid function.
 
-use crate::sandbox::files;
+use crate::sandbox::shared::files;
 use bevy_egui::egui::{self, Color32, Pos2, Rect, Sense, Stroke, pos2, vec2};
 use voxcast_core::error::io_words;
 use voxcast_core::histogram::{Histogram, HistogramScale};

@@ -1,0 +1,207 @@
+//! Before computing a density: the memory it would take ([`Estimator`]) and the value range
+//! that fits the rays' counts ([`RangeFit`]), both worked out on the background pool.
+
+use crate::sandbox::data::choices::RayChoices;
+use crate::sandbox::data::source::RayScene;
+use crate::sandbox::shared::schedule::Frame;
+use crate::sandbox::shared::state::{RenderState, VolumeState};
+use bevy::prelude::*;
+use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use std::sync::Arc;
+use voxcast_core::camera::Camera as CoreCamera;
+use voxcast_core::rays::as_volume::DensitySpec;
+use voxcast_core::rays::source::RayData;
+use voxcast_core::scene::Scene;
+
+pub(crate) fn plugin(app: &mut App) {
+    app.init_resource::<Estimator>()
+        .init_resource::<RangeFit>()
+        .add_systems(Update, (estimate, fit_range).in_set(Frame::Rules));
+}
+
+/// The memory a density would take, estimated before computing it (the rays are walked
+/// through chunk-sized cells: which chunks would be stored). The data set is read once per
+/// source and kept.
+#[derive(Resource, Default)]
+pub struct Estimator {
+    /// The source, trace and grid the estimate is (or is being made) for.
+    key: Option<DensitySpec>,
+    /// The last data set read, by source.
+    data: Option<(String, Arc<RayData>)>,
+    task: Option<Task<EstimateResult>>,
+    /// The last estimate, or why there is none.
+    pub result: Option<Result<EstimateWords, String>>,
+}
+
+/// A finished estimate and the data set it read, or why there is none.
+type EstimateResult = Result<(Arc<RayData>, EstimateWords), String>;
+
+/// An estimate as the panel shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EstimateWords {
+    pub rays: usize,
+    pub cell: f32,
+    pub chunks: usize,
+    pub bytes: usize,
+}
+
+impl Estimator {
+    /// Whether an estimate is being made.
+    pub fn busy(&self) -> bool {
+        self.task.is_some()
+    }
+}
+
+/// Starts an estimate when the chosen source or grid changes, and picks up finished ones.
+fn estimate(choices: Res<RayChoices>, mut est: ResMut<Estimator>) {
+    if let Some(task) = est.task.as_mut()
+        && let Some(result) = check_ready(task)
+    {
+        est.task = None;
+        est.result = Some(result.map(|(data, words)| {
+            let source = est
+                .key
+                .as_ref()
+                .map(|k| k.source.clone())
+                .unwrap_or_default();
+            est.data = Some((source, data));
+            words
+        }));
+    }
+    let Some(spec) = choices.spec() else {
+        est.key = None;
+        est.result = None;
+        return;
+    };
+    if spec.source.is_empty() || est.key.as_ref() == Some(&spec) {
+        return;
+    }
+    est.key = Some(spec.clone());
+    let cached = est
+        .data
+        .as_ref()
+        .filter(|(s, _)| *s == spec.source)
+        .map(|(_, d)| d.clone());
+    est.task = Some(AsyncComputeTaskPool::get().spawn(async move {
+        let data = match cached {
+            Some(d) => d,
+            None => {
+                Arc::new(voxcast_core::rays::source::load(&spec.source).map_err(|e| e.to_string())?)
+            }
+        };
+        let set = match spec.trace {
+            Some(id) => data
+                .trace(id)
+                .cloned()
+                .ok_or_else(|| format!("{} has no trace {id}", spec.source))?,
+            None => data.all_rays(),
+        };
+        let mut p = spec.params;
+        if p.cell == 0.0 {
+            p.cell = voxcast_core::rays::as_volume::default_cell(&data, &set);
+        }
+        p.check()?;
+        let e = voxcast_core::rays::density::estimate_within(
+            &set,
+            &p,
+            voxcast_core::rays::density::MAX_BYTES,
+        )
+        .ok_or_else(|| {
+            format!(
+                "more than {} MiB: choose a larger cell",
+                voxcast_core::rays::density::MAX_BYTES >> 20
+            )
+        })?;
+        let rays = set.selected(p.filter, p.tolerance, 1).count();
+        Ok((
+            data.clone(),
+            EstimateWords {
+                rays,
+                cell: p.cell,
+                chunks: e.chunks,
+                bytes: e.bytes,
+            },
+        ))
+    }));
+}
+
+/// The Sum range fitted to the view (`voxcast_core::rays::layered::DensityView::fit_sum_range`),
+/// on the background pool: once for every new density, and when the panel asks.
+#[derive(Resource, Default)]
+pub struct RangeFit {
+    /// The density the range was (or is being) fitted for.
+    fitted_for: Option<usize>,
+    task: Option<Task<Option<(f32, f32)>>>,
+    /// The panel asked for a fit of the view on screen.
+    pub asked: bool,
+}
+
+impl RangeFit {
+    pub fn busy(&self) -> bool {
+        self.task.is_some()
+    }
+}
+
+/// Starts a fit for a new density (or when asked) and sets the range when it arrives.
+fn fit_range(
+    rays: Res<RayScene>,
+    volume: Res<VolumeState>,
+    mut render: ResMut<RenderState>,
+    choices: Res<RayChoices>,
+    views: Query<
+        (&crate::sandbox::shared::state::View, &Camera),
+        With<crate::sandbox::shared::state::MainCamera>,
+    >,
+    mut fit: ResMut<RangeFit>,
+) {
+    let Some(shown) = rays.on_show(&volume).cloned() else {
+        *fit = RangeFit::default();
+        return;
+    };
+    let id = Arc::as_ptr(&shown) as usize;
+    if let Some(task) = fit.task.as_mut()
+        && let Some(range) = check_ready(task)
+    {
+        fit.task = None;
+        if fit.fitted_for == Some(id)
+            && let Some(r) = range
+            && render.settings.method == voxcast_core::composite::Method::Sum
+        {
+            render.settings.sum_range = Some(r);
+        }
+    }
+    // A new volume is framed this frame: fit the view it is framed in, the next.
+    if fit.task.is_some() || (fit.fitted_for == Some(id) && !fit.asked) || volume.is_changed() {
+        return;
+    }
+    let Ok((view, camera)) = views.single() else {
+        return;
+    };
+    let size = camera
+        .physical_target_size()
+        .unwrap_or(UVec2::new(640, 360));
+    fit.asked = false;
+    fit.fitted_for = Some(id);
+    let (render, shading, view) = (render.clone(), choices.view.shading, view.0);
+    fit.task = Some(AsyncComputeTaskPool::get().spawn(async move {
+        let c = &shown.computed;
+        let mut settings = render.settings.clone();
+        settings.sum_range = None;
+        let scene =
+            Scene::plain(&shown.volume, &render.transfer, &settings, view.forward()).ok()?;
+        // The view is in the volume's coordinates; the fit takes the world's.
+        let world = CoreCamera {
+            eye: view.eye + c.origin,
+            target: view.target + c.origin,
+            ..view
+        };
+        voxcast_core::rays::layered::DensityView {
+            volume_scene: &scene,
+            origin: c.origin,
+            triangles: &c.data.scene,
+            shading,
+            camera: &world,
+        }
+        .fit_sum_range((size.x.max(1), size.y.max(1)))
+    }));
+}

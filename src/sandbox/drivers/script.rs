@@ -1,0 +1,698 @@
+//! `voxcast --play-levels DIR`: plays every level to the end in the real window, as a player
+//! would — the Levels panel's commands (start, Next), then for each step the change its
+//! control makes (a method chosen, a slider moved, a ray clicked, a point added to the transfer
+//! function, Render image pressed) — and takes a window screenshot of each level's first step
+//! (`DIR/NN_id.png`), of the steps that open a ray's breakdown, compare Render image with the
+//! preview, crop the volume, show a cost view or measure a knob once they are done (`DIR/NN_id_stepK.png`), and of free play at the end
+//! (`DIR/free_play.png`). It checks that no objective is met before the player acts and that
+//! each is met after; `DIR/report.txt` lists every step, and the exit code is non-zero on a
+//! failure.
+
+use crate::sandbox::checks::compare::Comparison;
+use crate::sandbox::checks::trade::StepTrade;
+use crate::sandbox::data::loading::Loading;
+use crate::sandbox::inspect::breakdown::BreakdownState;
+use crate::sandbox::inspect::rays::{Inspection, RayAnimation, RaySelection};
+use crate::sandbox::inspect::virtual_camera::VirtualCamera;
+use crate::sandbox::levels::{Lessons, LevelCommand};
+use crate::sandbox::shared::mode::Mode;
+use crate::sandbox::shared::state::{RenderState, VolumeState};
+use bevy::prelude::*;
+use bevy::render::view::screenshot::{Screenshot, save_to_disk};
+use std::path::PathBuf;
+use voxcast_core::classify::Classification;
+use voxcast_core::level::Objective;
+use voxcast_core::shade::{Light, LightSource};
+use voxcast_core::step::Length;
+
+/// Frames a new scene is drawn before its screenshot (pipelines compile synchronously here).
+const SETTLE_FRAMES: u32 = 8;
+/// Frames a done step waits before its picture (the panel's new textures and glyphs).
+const STEP_SHOT_DELAY: u32 = 10;
+/// Frames a screenshot is given to arrive.
+const SHOT_FRAMES: u32 = 4;
+/// Frames an objective is given to be met after acting (a comparison renders meanwhile).
+const MET_FRAMES: u32 = 600;
+
+/// Where the screenshots and the report go.
+#[derive(Resource)]
+pub struct PlayLevels(pub PathBuf);
+
+/// Where the run is.
+#[derive(Resource, Default)]
+struct Run {
+    level: usize,
+    phase: Phase,
+    frames: u32,
+    report: Vec<String>,
+    failed: bool,
+    /// When the run started (the report gives each level's seconds).
+    started: Option<bevy::platform::time::Instant>,
+    /// When the current level was asked for (the report gives how long its scene took).
+    asked: Option<bevy::platform::time::Instant>,
+    /// The frame a done step's screenshot was asked for (Next waits for it).
+    step_shot: Option<u32>,
+    /// The frame the current step was first seen met.
+    met_at: Option<u32>,
+    /// Frames spent in free play after the last level (for its screenshot).
+    ending: u32,
+}
+
+#[derive(Default, Clone, Copy, PartialEq, Debug)]
+enum Phase {
+    /// Ask for the level.
+    #[default]
+    Start,
+    /// Wait for its scene, then screenshot.
+    Settle,
+    /// Wait for the screenshot.
+    Shot,
+    /// Check the step is not met yet, then act until it is.
+    Act { acted: bool },
+}
+
+pub(crate) fn plugin(app: &mut App) {
+    app.init_resource::<Run>().add_systems(
+        Update,
+        drive.in_set(crate::sandbox::shared::schedule::Frame::Drive),
+    );
+}
+
+impl Hands<'_, '_> {
+    /// Whether the CPU live view draws the volume.
+    fn live_view_on(&self) -> bool {
+        self.preview.as_ref().is_some_and(|p| p.cpu_live())
+    }
+
+    /// Whether the volume is on screen at full quality: the CPU live view's exact render, or
+    /// the GPU preview at rest with its progressive pass (if any) finished.
+    fn full_quality(&self) -> bool {
+        if self.live_view_on() {
+            self.live.as_ref().is_none_or(|l| l.showing_exact())
+        } else {
+            !self.motion.as_ref().is_some_and(|m| m.moving)
+                && self
+                    .progressive
+                    .as_ref()
+                    .is_none_or(|p| p.full_quality_shown())
+        }
+    }
+}
+
+/// What the player's hands change.
+#[derive(bevy::ecs::system::SystemParam)]
+struct Hands<'w, 's> {
+    render: ResMut<'w, RenderState>,
+    selection: ResMut<'w, RaySelection>,
+    breakdown: ResMut<'w, BreakdownState>,
+    comparison: ResMut<'w, Comparison>,
+    show_render_image: MessageWriter<'w, crate::sandbox::checks::compare::ShowRenderImage>,
+    animation: ResMut<'w, RayAnimation>,
+    trade: ResMut<'w, StepTrade>,
+    cameras: Query<'w, 's, &'static mut VirtualCamera>,
+    inspection: Res<'w, Inspection>,
+    live: Option<Res<'w, crate::sandbox::preview::live::LiveView>>,
+    preview: Option<ResMut<'w, crate::sandbox::shared::quality::PreviewSettings>>,
+    inspect: ResMut<'w, crate::sandbox::inspect::rays::InspectSettings>,
+    progressive: Option<Res<'w, crate::sandbox::preview::progressive::Progressive>>,
+    motion: Option<Res<'w, crate::sandbox::shared::quality::Motion>>,
+    volume: Res<'w, VolumeState>,
+    main_view: Query<
+        'w,
+        's,
+        &'static crate::sandbox::shared::state::View,
+        With<crate::sandbox::shared::state::MainCamera>,
+    >,
+    loading: ResMut<'w, Loading>,
+    rays: Res<'w, crate::sandbox::data::source::RayScene>,
+    ray_choices: ResMut<'w, crate::sandbox::data::choices::RayChoices>,
+}
+
+fn drive(
+    mut commands: Commands,
+    mut run: ResMut<Run>,
+    mut lessons: ResMut<Lessons>,
+    mode: Res<State<Mode>>,
+    request: Res<PlayLevels>,
+    mut hands: Hands,
+    (mut send, mut exit): (MessageWriter<LevelCommand>, MessageWriter<AppExit>),
+) {
+    let run = &mut *run;
+    run.frames += 1;
+    if run.level >= lessons.levels.len() {
+        // Free play again: its screenshot, then the report.
+        run.ending += 1;
+        let shot = request.0.join("free_play.png");
+        if run.ending == SETTLE_FRAMES {
+            hands.animation.skip();
+            commands
+                .spawn(Screenshot::primary_window())
+                .observe(save_to_disk(shot));
+        } else if run.ending >= SETTLE_FRAMES + SHOT_FRAMES
+            && (shot.exists() || run.ending > SETTLE_FRAMES + MET_FRAMES)
+        {
+            // The picture is written on another thread: wait for it before exiting.
+            finish(run, &request.0, &mut exit);
+        }
+        return;
+    }
+    let level = lessons.levels[run.level].clone();
+    match run.phase {
+        Phase::Start => {
+            run.started
+                .get_or_insert_with(bevy::platform::time::Instant::now);
+            send.write(LevelCommand::Start(run.level));
+            run.asked = Some(bevy::platform::time::Instant::now());
+            (run.phase, run.frames) = (Phase::Settle, 0);
+        }
+        Phase::Settle => {
+            let ready = *mode.get() == Mode::Level(run.level)
+                && hands.volume.source == level.scene.volume
+                && hands.loading.under_way().is_none();
+            if !ready {
+                run.frames = 0;
+                return;
+            }
+            if let Some(asked) = run.asked.take() {
+                run.report.push(format!(
+                    "{}: scene set up in {:.2} s",
+                    level.id,
+                    asked.elapsed().as_secs_f32()
+                ));
+            }
+            // The rays drawn whole, not growing.
+            hands.animation.skip();
+            // The picture waits (a little) for the volume at full quality.
+            let drawn = hands.full_quality();
+            if run.frames >= SETTLE_FRAMES && (drawn || run.frames >= MET_FRAMES / 4) {
+                let path = request
+                    .0
+                    .join(format!("{:02}_{}.png", run.level + 1, level.id));
+                commands
+                    .spawn(Screenshot::primary_window())
+                    .observe(save_to_disk(path));
+                (run.phase, run.frames) = (Phase::Shot, 0);
+            }
+        }
+        Phase::Shot => {
+            if run.frames >= SHOT_FRAMES {
+                (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
+            }
+        }
+        Phase::Act { acted } => {
+            // Leaving the level (its last Next) ends it.
+            if *mode.get() != Mode::Level(run.level) {
+                let seconds = run
+                    .started
+                    .get_or_insert_with(bevy::platform::time::Instant::now)
+                    .elapsed();
+                run.report.push(format!(
+                    "{}: done at {:.1} s",
+                    level.id,
+                    seconds.as_secs_f32()
+                ));
+                run.level += 1;
+                (run.phase, run.frames) = (Phase::Start, 0);
+                return;
+            }
+            let Some(step) = level.steps.get(lessons.step).cloned() else {
+                return;
+            };
+            let what = format!("{} step {}", level.id, lessons.step + 1);
+            if !acted && run.frames < 2 {
+                // The check runs once the scene is set: give it a frame.
+                return;
+            }
+            if !acted {
+                if lessons.met && step.objective != Objective::Read {
+                    run.report
+                        .push(format!("{what}: FAILED, met before the player acted"));
+                    run.failed = true;
+                }
+                run.phase = Phase::Act { acted: true };
+                run.frames = 0;
+            }
+            if lessons.met {
+                // The breakdown, Render image, crop, lights and cost steps are pictured once
+                // done.
+                let pictured = matches!(
+                    step.objective,
+                    Objective::OpenHighestSample
+                        | Objective::Compared { .. }
+                        | Objective::CropAtMost { .. }
+                        | Objective::CostViewed { .. }
+                        | Objective::KnobMeasured { .. }
+                        | Objective::OpenLitSample { .. }
+                        | Objective::LevoyHighlight { .. }
+                        | Objective::FullModel
+                        | Objective::DepthCue { on: true }
+                        | Objective::RegionAround { .. }
+                        | Objective::SkipBlocks { .. }
+                        | Objective::Skipping { on: true }
+                        | Objective::PreviewCostView { .. }
+                        | Objective::RayDensity { .. }
+                        | Objective::RayView { .. }
+                );
+                let met_at = *run.met_at.get_or_insert(run.frames);
+                match run.step_shot {
+                    // A few frames for the panels' new textures and glyphs to arrive.
+                    None if pictured && run.frames < met_at + STEP_SHOT_DELAY => return,
+                    None if pictured => {
+                        let path = request.0.join(format!(
+                            "{:02}_{}_step{}.png",
+                            run.level + 1,
+                            level.id,
+                            lessons.step + 1
+                        ));
+                        commands
+                            .spawn(Screenshot::primary_window())
+                            .observe(save_to_disk(path));
+                        run.step_shot = Some(run.frames);
+                        return;
+                    }
+                    Some(at) if run.frames < at + SHOT_FRAMES => return,
+                    _ => run.step_shot = None,
+                }
+                run.met_at = None;
+                run.report
+                    .push(format!("{what}: ok after {} frames", run.frames));
+                if step.objective == Objective::TradeMeasured
+                    && let Some((t, _)) = &hands.trade.result
+                {
+                    run.report.extend(trade_lines(t));
+                }
+                if matches!(
+                    step.objective,
+                    Objective::Compared { .. } | Objective::CostViewed { .. }
+                ) {
+                    // Done comparing: the player closes the window.
+                    hands
+                        .show_render_image
+                        .write(crate::sandbox::checks::compare::ShowRenderImage(false));
+                }
+                send.write(LevelCommand::Next);
+                (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
+                return;
+            }
+            if run.frames > MET_FRAMES {
+                run.report
+                    .push(format!("{what}: FAILED, not met after acting ({step:?})"));
+                run.failed = true;
+                send.write(LevelCommand::FreePlay);
+                return;
+            }
+            act(&step.objective, &mut hands, &mut lessons);
+        }
+    }
+}
+
+/// Does what the objective asks, through the state the step's control edits. Called every
+/// frame until the objective is met (each action is idempotent).
+fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
+    let s = &mut hands.render.settings;
+    let (lo, hi) = hands.volume.volume.bounds();
+    let centre = (lo + hi) * 0.5;
+    match objective {
+        Objective::Read => {}
+        Objective::SelectRay => select_centre(hands),
+        Objective::VirtualPixelsAtLeast { pixels } => {
+            for mut vc in &mut hands.cameras {
+                (vc.width, vc.height) = (*pixels, *pixels);
+            }
+        }
+        Objective::StepAtMost { voxels } | Objective::StepAtLeast { voxels } => {
+            s.step = Length::Voxels(*voxels)
+        }
+        Objective::Jitter { on } => s.jitter = *on,
+        Objective::SupersamplingAtLeast { rays } => s.supersampling = *rays,
+        Objective::ClipPlane { on } => {
+            if s.clip.plane.is_some() != *on {
+                // "Face the camera" for the virtual camera: its rays cross the plane.
+                let normal = hands
+                    .cameras
+                    .iter()
+                    .next()
+                    .map_or(Vec3::X, |vc| -vc.view.forward());
+                s.clip.plane = on.then_some(voxcast_core::clip::ClipPlane {
+                    normal,
+                    position: 0.0,
+                });
+            }
+        }
+        Objective::ClipPositionBetween { lo, hi } => {
+            let normal = s.clip.plane.map_or(Vec3::X, |p| p.normal);
+            s.clip.plane = Some(voxcast_core::clip::ClipPlane {
+                normal,
+                position: 0.5 * (lo + hi),
+            });
+        }
+        Objective::CropAtMost { fraction } => {
+            s.clip.crop_hi.x = (s.clip.crop_lo.x + fraction).min(1.0);
+        }
+        Objective::SelectCutRay => select_centre(hands),
+        Objective::Skipping { on } => s.skipping = *on,
+        Objective::CostViewed { view } => {
+            // Render image pressed (again, if the settings changed), then the view chosen.
+            hands
+                .show_render_image
+                .write(crate::sandbox::checks::compare::ShowRenderImage(true));
+            let current = hands.comparison.result.as_ref().is_some_and(|r| {
+                r.snapshot
+                    .is_current(hands.main_view.single().ok(), &hands.render, &hands.volume)
+            });
+            if !current && !hands.comparison.busy() {
+                hands.comparison.start();
+            }
+            hands.comparison.cost_view = voxcast_core::cost::CostView::parse(view);
+        }
+        Objective::Interpolation { trilinear } => {
+            s.interpolation = if *trilinear {
+                voxcast_core::sample::Interpolation::Trilinear
+            } else {
+                voxcast_core::sample::Interpolation::Nearest
+            }
+        }
+        Objective::Method { method } => s.method = *method,
+        Objective::OpenHighestSample => {
+            // Click a ray, then the row of its highest value.
+            let highest = hands.breakdown.trace.as_ref().and_then(|t| {
+                (0..t.samples.len()).max_by(|&a, &b| {
+                    let v = |i: usize| t.samples[i].reconstruction.value;
+                    v(a).total_cmp(&v(b))
+                })
+            });
+            match highest {
+                Some(i) => hands.breakdown.opened = Some(i),
+                None => select_centre(hands),
+            }
+        }
+        Objective::EarlyTermination { on } => s.early_termination = *on,
+        Objective::OpacityCorrection { on } => s.opacity_correction = *on,
+        Objective::Shading { on } => s.shading = *on,
+        Objective::TargetBetween { lo, hi } => s.target = Some(0.5 * (lo + hi)),
+        Objective::Classification { mode } => {
+            s.classification = match mode.as_str() {
+                "iso-contours" => Classification::IsoContours {
+                    isovalues: vec![s.target.unwrap_or(128.0)],
+                    thickness_voxels: 1.0,
+                },
+                "boundaries" => Classification::Boundaries {
+                    full_gradient: None,
+                },
+                "value-gradient" => Classification::ValueGradient {
+                    regions: Vec::new(),
+                },
+                _ => Classification::Table,
+            }
+        }
+        Objective::RegionAround {
+            value,
+            max_gradient,
+        } => {
+            // A rectangle dragged around the value, from the bottom to three quarters of the
+            // highest gradient allowed.
+            let (lo_v, hi_v) = hands.volume.volume.value_range();
+            let half = 0.05 * (hi_v - lo_v);
+            s.classification = Classification::ValueGradient {
+                regions: vec![voxcast_core::classify::Region {
+                    value: [value - half, value + half],
+                    gradient: [0.0, 0.75 * max_gradient],
+                    opacity: 0.6,
+                }],
+            };
+        }
+        Objective::TfAlphaAtMost { value, alpha } => {
+            if let Ok((t, _)) = hands.render.transfer.with_point_added(*value, *alpha) {
+                hands.render.transfer = t;
+            }
+        }
+        Objective::TfColorNear {
+            value,
+            color,
+            alpha,
+            ..
+        } => {
+            if let Ok((t, i)) = hands.render.transfer.with_point_added(*value, *alpha)
+                && let Ok(t) = t.with_point_color(i, *color)
+            {
+                hands.render.transfer = t;
+            }
+        }
+        Objective::Compared { .. } => {
+            // As the button does: the window opens and the comparison starts.
+            hands
+                .show_render_image
+                .write(crate::sandbox::checks::compare::ShowRenderImage(true));
+            if !hands.comparison.busy() {
+                hands.comparison.start();
+            }
+        }
+        Objective::LightInsideVolume => first_light(s).light = Light::Point(centre),
+        Objective::PredictValue { .. } => {
+            // The player works the lecture's formula out; here the core's answer is typed.
+            if let Some(d) = &lessons.detail {
+                lessons.prediction = d.value.to_string();
+            }
+        }
+        Objective::PredictComposite { .. } => {
+            if let Some(last) = lessons.composite.as_ref().and_then(|rows| rows.last()) {
+                lessons.prediction = last.after[0].to_string();
+            }
+        }
+        Objective::BackToFront { on } => {
+            s.order = if *on {
+                voxcast_core::composite::Order::BackToFront
+            } else {
+                voxcast_core::composite::Order::FrontToBack
+            }
+        }
+        Objective::LightKind { light } => {
+            first_light(s).light = match light.as_str() {
+                "point" => Light::Point(hi + (hi - lo) * 0.25),
+                "directional" => Light::Directional(Vec3::new(-1.0, -1.0, -1.0).normalize()),
+                _ => Light::Headlight,
+            }
+        }
+        Objective::Attenuated => {
+            let l = first_light(s);
+            if !matches!(l.light, Light::Point(_)) {
+                l.light = Light::Point(hi + (hi - lo) * 0.25);
+            }
+            l.kl = 0.5 / (hi - lo).length();
+        }
+        Objective::LightsAtLeast { count } => {
+            // "Add a light" pressed until there are enough.
+            while s.phong.lights.len() < *count && s.phong.add_light() {}
+        }
+        Objective::DistinctLightColours { count } => {
+            const PALETTE: [Vec3; 4] = [
+                Vec3::new(1.0, 0.45, 0.3),
+                Vec3::new(0.3, 0.55, 1.0),
+                Vec3::new(0.4, 1.0, 0.4),
+                Vec3::new(1.0, 1.0, 1.0),
+            ];
+            for (l, c) in s.phong.lights.iter_mut().zip(PALETTE).take(*count) {
+                l.color = c;
+            }
+        }
+        Objective::OpenLitSample { lights } => {
+            // Click a ray, then a row the lights shaded.
+            let lit = hands.breakdown.trace.as_ref().and_then(|t| {
+                t.samples.iter().position(|x| {
+                    x.shading
+                        .is_some_and(|sh| sh.lit && sh.light_count >= *lights)
+                        && x.alpha > 0.0
+                })
+            });
+            match lit {
+                Some(i) => hands.breakdown.opened = Some(i),
+                None => select_centre(hands),
+            }
+        }
+        Objective::FullModel => {
+            // Emission raised, the last light made a spot aimed at the centre with an ambient
+            // share, as a student would in the Shading and light panel.
+            s.phong.ke = 0.15;
+            s.phong.ka = s.phong.ka.max(0.2);
+            let at = hi + (hi - lo) * Vec3::new(0.2, 0.5, 0.3);
+            let spot = Light::Spot(voxcast_core::shade::Spot {
+                position: at,
+                direction: (lo + hi) * 0.5 - at,
+                ..Default::default()
+            });
+            if s.phong.lights.is_empty() {
+                s.phong.lights.push(LightSource::new(spot));
+            }
+            if let Some(l) = s.phong.lights.last_mut() {
+                l.light = spot;
+                l.ambient = 0.4;
+            }
+        }
+        Objective::DepthCue { on } => {
+            s.phong.depth_cue = *on;
+            s.phong.depth_kl = 2.0 / (hi - lo).length();
+        }
+        Objective::LevoyHighlight { on } => {
+            s.phong.highlight = if *on {
+                voxcast_core::shade::Highlight::Levoy
+            } else {
+                voxcast_core::shade::Highlight::White
+            }
+        }
+        Objective::TradeMeasured => {
+            if hands.trade.progress().is_none() {
+                hands.trade.request();
+            }
+        }
+        Objective::KnobMeasured { knob } => {
+            if let Some(k) = voxcast_core::knob::Knob::parse(knob) {
+                hands.trade.knob = k;
+            }
+            if hands.trade.progress().is_none() {
+                hands.trade.request();
+            }
+        }
+        Objective::PreviewScaleAtMost { scale } | Objective::PreviewScaleAtLeast { scale } => {
+            if let Some(p) = hands.preview.as_mut() {
+                p.enabled = true;
+                p.scale = *scale;
+            }
+        }
+        Objective::Preview { on } => {
+            if let Some(p) = hands.preview.as_mut() {
+                p.enabled = *on;
+            }
+        }
+        Objective::PreviewCostView { view } => {
+            if let Some(p) = hands.preview.as_mut() {
+                p.cost_view = voxcast_core::cost::CostView::parse(view);
+            }
+        }
+        Objective::SkipBlocks { on } => hands.inspect.show_blocks = *on,
+        Objective::RayDensity {
+            source,
+            trace,
+            side_at_least,
+        } => compute_density(hands, source, *trace, *side_at_least),
+        Objective::RayView { view, on } => match view.as_str() {
+            "mesh" => hands.ray_choices.view.mesh = *on,
+            "field" => hands.ray_choices.view.field = *on,
+            _ => {
+                if let Some(p) = hands.preview.as_mut() {
+                    p.enabled = *on;
+                }
+            }
+        },
+        // The player judges the pictures; here the level's answer is chosen.
+        Objective::NameEffect { trace } => lessons.named_effect = Some(*trace),
+        Objective::StudyQuestion { trace, question } => {
+            // The trace computed first, as the step asks; then the answer the code finds in
+            // it, as a student who reads the density right would give it.
+            use voxcast_core::rays::set::Filter;
+            use voxcast_core::rays::study::Question;
+            let Some(q) = Question::parse(question) else {
+                return;
+            };
+            let Some(shown) = lessons.study_shown(*trace, q) else {
+                hands.ray_choices.params.filter = q.density_filter().unwrap_or(Filter::All);
+                compute_density(hands, "builtin:cornell", Some(*trace), 0);
+                return;
+            };
+            let level = lessons
+                .levels
+                .iter()
+                .position(|l| l.steps.iter().any(|s| s.objective == *objective));
+            if let Some(l) = level
+                && let Some(truth) = crate::sandbox::levels::study_truth(&shown, q)
+            {
+                lessons.answer_study(l, (*trace, question), &truth, &truth);
+            }
+        }
+    }
+}
+
+/// The measured trade, a line per step and one for the reference.
+fn trade_lines(t: &voxcast_core::trade::Trade) -> Vec<String> {
+    let mut lines: Vec<String> = t
+        .rows
+        .iter()
+        .map(|r| {
+            format!(
+                "trade step {}: {:.2} ms, {} samples, max {:.1}/255, RMSE {:.2}/255",
+                r.step_voxels,
+                r.seconds * 1e3,
+                r.samples,
+                r.max_error * 255.0,
+                r.rmse * 255.0
+            )
+        })
+        .collect();
+    lines.push(format!(
+        "trade reference {}: {:.2} ms, {} samples",
+        t.reference_voxels,
+        t.reference_seconds * 1e3,
+        t.reference_samples
+    ));
+    lines
+}
+
+/// Clicks the pixel in the middle of the virtual camera's image.
+/// The light the panel's first row edits (a headlight added if there is none).
+fn first_light(s: &mut voxcast_core::settings::RenderSettings) -> &mut LightSource {
+    if s.phong.lights.is_empty() {
+        s.phong.lights.push(LightSource::default());
+    }
+    &mut s.phong.lights[0]
+}
+
+/// Chooses the density `source` (`camera` or a ray data source), `trace` and at least `side`
+/// rays across in the Ray data section and presses Compute, unless it is on show or under way.
+fn compute_density(hands: &mut Hands, source: &str, trace: Option<u32>, side: u32) {
+    use crate::sandbox::data::source::SourceKind;
+    if hands.loading.under_way().is_some() {
+        return;
+    }
+    let c = &mut hands.ray_choices;
+    c.source = match source {
+        "camera" => SourceKind::Camera,
+        "builtin:cornell" => SourceKind::Cornell,
+        "builtin:cornell-1m" => SourceKind::CornellMillion,
+        path => {
+            c.path = path.to_string();
+            SourceKind::File
+        }
+    };
+    c.trace = trace;
+    c.camera_side = c.camera_side.max(side);
+    let choices = c.clone();
+    let vc = hands.cameras.single().ok().copied();
+    choices.compute(
+        &mut hands.loading,
+        &hands.rays,
+        &hands.volume,
+        &hands.render,
+        vc.as_ref(),
+    );
+}
+
+fn select_centre(hands: &mut Hands) {
+    let size = hands.inspection.size;
+    if size != UVec2::ZERO && hands.selection.selected.is_none() {
+        hands.selection.selected = Some(size / 2);
+    }
+}
+
+/// Writes the report and exits (non-zero on a failure).
+fn finish(run: &mut Run, dir: &std::path::Path, exit: &mut MessageWriter<AppExit>) {
+    let text = run.report.join("\n") + "\n";
+    print!("{text}");
+    let written = std::fs::write(dir.join("report.txt"), &text);
+    if let Err(e) = &written {
+        eprintln!("error: cannot write the report: {e}");
+    }
+    exit.write(if run.failed || written.is_err() {
+        AppExit::from_code(1)
+    } else {
+        AppExit::Success
+    });
+}

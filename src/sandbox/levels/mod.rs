@@ -1,0 +1,353 @@
+//! Guided levels, the logic: the levels and the player's progress, the commands the Levels
+//! window sends (start a level, Next, free play), the scene each mode sets up, and the check of
+//! the current step's objective — the core's `Objective::met` against what the player did.
+//! The mode itself is the [`Mode`] state; what a level spawned leaves with it. Progress is saved
+//! after every step, to the config directory (atomically) or, in a browser, to its local
+//! storage; a damaged file or entry starts afresh with a message.
+
+mod objective;
+mod scene;
+mod store;
+pub(crate) use objective::check_objective;
+use objective::prediction_truth;
+pub use objective::{parse_typed, study_truth};
+use scene::{level_preset_after_load, set_up_scene};
+pub use store::ProgressStore;
+
+use crate::sandbox::checks::compare::Comparison;
+use crate::sandbox::checks::trade::StepTrade;
+use crate::sandbox::data::loading::{Loading, reset_to_defaults};
+use crate::sandbox::inspect::breakdown::BreakdownState;
+use crate::sandbox::inspect::rays::RaySelection;
+use crate::sandbox::inspect::virtual_camera::VirtualCamera;
+use crate::sandbox::shared::mode::{FreePlay, Mode, Stage};
+use crate::sandbox::shared::quality::PreviewSettings;
+use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
+use bevy::prelude::*;
+use std::path::PathBuf;
+use voxcast_core::level::{
+    Answer, Control, Level, Objective, Progress, Section, Situation, Step, StudyRun,
+};
+use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
+
+/// The levels, the step being played and the player's progress.
+#[derive(Resource)]
+pub struct Lessons {
+    pub levels: Vec<Level>,
+    /// The step being played in the current level (the level is the [`Mode`]).
+    pub step: usize,
+    pub progress: Progress,
+    /// Where progress is kept.
+    store: ProgressStore,
+    pub message: Option<String>,
+    /// What the player typed as a prediction.
+    pub prediction: String,
+    /// The effect (trace id) the player named.
+    pub named_effect: Option<u32>,
+    /// Whether the current step's objective is met (checked every frame; once met it stays
+    /// met until the step changes, so closing a window or undoing a change never takes a
+    /// finished step back).
+    pub met: bool,
+    /// The mode and step `met` was last found true for.
+    met_for: Option<(Mode, usize)>,
+    /// The control the current step is about (framed in the panel).
+    pub spot: Option<Control>,
+    /// For a prediction step: the core's reconstruction at the step's point.
+    pub detail: Option<SampleDetail>,
+    /// For a composite prediction step: the worked composite, point by point.
+    pub composite: Option<Vec<voxcast_core::worked::WorkedPoint>>,
+    /// The study question answered right in this step: its trace and key.
+    pub studied: Option<(u32, String)>,
+    /// The ray density on show (what a study question is asked about).
+    pub on_show: Option<std::sync::Arc<crate::sandbox::data::source::Shown>>,
+    /// The run of the study under way (the level played twice, preview off then on).
+    pub study: Option<StudyRun>,
+    /// The levels list's choice: a level clicked starts as a study.
+    pub study_next: bool,
+    /// The scene is set up again on the next frame (a study's second run, same mode).
+    set_up_again: bool,
+}
+
+/// What the Levels panel asks for (a scripted run sends the same).
+#[derive(Message, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LevelCommand {
+    /// Start level `i` at its first step.
+    Start(usize),
+    /// Start level `i` as a study: played to its end with the preview off, then again with
+    /// it on, each run's answers kept with the run's name.
+    Study(usize),
+    /// The current step is done (refused unless its objective is met).
+    Next,
+    /// Leave the level for free play.
+    FreePlay,
+}
+
+impl Lessons {
+    /// The embedded levels with the progress kept in `store`.
+    pub fn new(store: ProgressStore) -> Self {
+        let (progress, message) = store.load();
+        Self {
+            met_for: None,
+            levels: Level::all(),
+            step: 0,
+            progress,
+            store,
+            message,
+            prediction: String::new(),
+            named_effect: None,
+            met: false,
+            spot: None,
+            detail: None,
+            composite: None,
+            studied: None,
+            on_show: None,
+            study: None,
+            study_next: false,
+            set_up_again: false,
+        }
+    }
+
+    /// The step being played in `mode`.
+    pub fn step_in(&self, mode: Mode) -> Option<&Step> {
+        match mode {
+            Mode::Level(l) => self.levels.get(l)?.steps.get(self.step),
+            Mode::FreePlay => None,
+        }
+    }
+
+    /// The panel sections `mode` shows (`None`: all, as in free play).
+    pub fn panel_in(&self, mode: Mode) -> Option<&[Section]> {
+        match mode {
+            Mode::Level(l) => self.levels.get(l)?.scene.panel.as_deref(),
+            Mode::FreePlay => None,
+        }
+    }
+
+    /// Records the current step of level `l` as done, with its answer where it asked for one
+    /// (the prediction it was done with), and saves.
+    fn record(&mut self, l: usize) {
+        let id = self.levels[l].id.clone();
+        let step = self.levels[l]
+            .steps
+            .get(self.step)
+            .map(|s| s.objective.clone());
+        let truth = prediction_truth(self.detail.as_ref(), self.composite.as_deref());
+        let question = match step {
+            Some(Objective::PredictValue { point, .. }) => Some(format!(
+                "the value at ({}, {}, {})",
+                point[0], point[1], point[2]
+            )),
+            Some(Objective::PredictComposite { .. }) => {
+                Some("the red of C after the last point".to_string())
+            }
+            _ => None,
+        };
+        if let (Some(question), Some(truth)) = (question, truth) {
+            let answer = (
+                self.prediction.trim().to_string(),
+                voxcast_core::numbers::sig(truth),
+                true,
+            );
+            let a = Answer::now(&id, self.step + 1, question, answer);
+            self.keep(a);
+        }
+        self.progress.record(&id, self.step + 1);
+        self.save();
+    }
+
+    /// Names effect `chosen` as the one that cast trace `trace` (step of level `l`): kept as an
+    /// answer, right or wrong, and saved.
+    pub fn name_effect(&mut self, l: usize, chosen: u32, trace: u32) {
+        use voxcast_core::rays::effects::Effect;
+        self.named_effect = Some(chosen);
+        let words = |id: u32| Effect::of(id).map_or("?", |e| e.kind());
+        let answer = (
+            words(chosen).to_string(),
+            words(trace).to_string(),
+            Effect::same_kind(chosen, trace),
+        );
+        let question = format!("which effect cast trace {trace}");
+        let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
+        self.keep(a);
+        self.save();
+    }
+
+    /// Answers study question `key` about `trace` (step of level `l`) with `chosen`, against
+    /// what the code finds in the trace on show (`truth`): kept as an answer, right or wrong.
+    pub fn answer_study(&mut self, l: usize, (trace, key): (u32, &str), chosen: &str, truth: &str) {
+        let question = voxcast_core::rays::study::Question::parse(key)
+            .map_or(key.to_string(), |q| q.words(trace));
+        let correct = chosen == truth;
+        if correct {
+            self.studied = Some((trace, key.to_string()));
+        }
+        let answer = (chosen.to_string(), truth.to_string(), correct);
+        let a = Answer::now(&self.levels[l].id, self.step + 1, question, answer);
+        self.keep(a);
+        self.save();
+    }
+
+    /// The ray density on show, if it is the one study question `q` about `trace` is asked
+    /// of: that trace of the Cornell box, its hitting rays only where `q` reads them.
+    pub fn study_shown(
+        &self,
+        trace: u32,
+        q: voxcast_core::rays::study::Question,
+    ) -> Option<std::sync::Arc<crate::sandbox::data::source::Shown>> {
+        self.on_show.clone().filter(|s| {
+            let f = &s.computed.facts;
+            f.source.starts_with("builtin:cornell")
+                && f.trace == Some(trace)
+                && q.density_filter()
+                    .is_none_or(|f| s.computed.density.params.filter == f)
+        })
+    }
+
+    /// Keeps an answer, with the study's run where one is under way.
+    fn keep(&mut self, mut a: Answer) {
+        a.run = self.study.map(|r| r.words().to_string());
+        self.progress.answers.push(a);
+    }
+
+    fn save(&mut self) {
+        if let Err(e) = self.store.save(&self.progress) {
+            self.message = Some(format!("progress not saved: {e}"));
+        }
+    }
+}
+
+/// The logic, without the window: commands, scene set-up and the objective check.
+pub(crate) fn plugin(app: &mut App) {
+    app.add_message::<LevelCommand>().add_systems(
+        Update,
+        (
+            (apply_commands, set_up_scene, level_preset_after_load)
+                .chain()
+                .in_set(crate::sandbox::shared::schedule::Frame::Rules),
+            check_objective.in_set(crate::sandbox::shared::schedule::Frame::Check),
+        ),
+    );
+}
+
+/// Carries out the window's commands: the next mode and its stage, progress.
+fn apply_commands(
+    mut commands: MessageReader<LevelCommand>,
+    mut lessons: ResMut<Lessons>,
+    mode: Res<State<Mode>>,
+    (mut next, mut stage, free): (ResMut<NextState<Mode>>, ResMut<Stage>, Res<FreePlay>),
+) {
+    for command in commands.read() {
+        match *command {
+            LevelCommand::Start(i) | LevelCommand::Study(i) => {
+                let Some(level) = lessons.levels.get(i) else {
+                    continue;
+                };
+                *stage = Stage::of(&level.scene);
+                let title = level.title.clone();
+                lessons.step = 0;
+                lessons.met = false;
+                lessons.met_for = None;
+                lessons.study =
+                    matches!(command, LevelCommand::Study(_)).then_some(StudyRun::PreviewOff);
+                lessons.message = lessons.study.map(|r| study_words(r, &title));
+                // Set up afresh even when this level is already the mode.
+                lessons.set_up_again = *mode.get() == Mode::Level(i);
+                next.set(Mode::Level(i));
+            }
+            LevelCommand::Next => {
+                let Mode::Level(l) = *mode.get() else {
+                    continue;
+                };
+                if !lessons.met || lessons.step >= lessons.levels[l].steps.len() {
+                    continue;
+                }
+                lessons.record(l);
+                lessons.met = false;
+                lessons.met_for = None;
+                lessons.step += 1;
+                if lessons.step == lessons.levels[l].steps.len() {
+                    let title = lessons.levels[l].title.clone();
+                    match lessons.study.and_then(StudyRun::next) {
+                        // The study's next run: the same level from its first step.
+                        Some(run) => {
+                            lessons.study = Some(run);
+                            lessons.step = 0;
+                            lessons.set_up_again = true;
+                            lessons.message = Some(study_words(run, &title));
+                        }
+                        None => {
+                            lessons.message = Some(if lessons.study.take().is_some() {
+                                format!(
+                                    "“{title}” studied: both runs' answers are kept (Export \
+                                     answers)"
+                                )
+                            } else {
+                                format!("“{title}” done!")
+                            });
+                            *stage = free.0;
+                            next.set(Mode::FreePlay);
+                        }
+                    }
+                }
+            }
+            LevelCommand::FreePlay => {
+                lessons.study = None;
+                *stage = free.0;
+                next.set(Mode::FreePlay);
+            }
+        }
+        lessons.prediction.clear();
+        lessons.named_effect = None;
+        lessons.studied = None;
+    }
+}
+
+/// A study to start once the window runs (`--study`).
+#[derive(Resource)]
+pub struct StartStudy(pub Option<usize>);
+
+/// Starts the study `--study` asked for, on the first frame.
+pub fn start_study(mut start: ResMut<StartStudy>, mut commands: MessageWriter<LevelCommand>) {
+    if let Some(i) = start.0.take() {
+        commands.write(LevelCommand::Study(i));
+    }
+}
+
+/// The index of the level `name` names: its id, or its number in the list (from 1).
+pub fn level_named(name: &str) -> Result<usize, String> {
+    let levels = Level::all();
+    let by_number = name
+        .parse::<usize>()
+        .ok()
+        .filter(|&n| (1..=levels.len()).contains(&n))
+        .map(|n| n - 1);
+    by_number
+        .or_else(|| levels.iter().position(|l| l.id == name))
+        .ok_or_else(|| {
+            let ids: Vec<&str> = levels.iter().map(|l| l.id.as_str()).collect();
+            format!(
+                "--study {name}: no such level; give a number from 1 to {} or one of: {}",
+                levels.len(),
+                ids.join(", ")
+            )
+        })
+}
+
+/// What the player reads as a study's run begins.
+fn study_words(run: StudyRun, title: &str) -> String {
+    format!(
+        "Study of “{title}”, run {} of 2: the preview is {} for this run{}",
+        run.number(),
+        if run.preview() { "on" } else { "off" },
+        if run.preview() {
+            "; the same steps again"
+        } else {
+            "; then the same level again with it on. Where a step asks you to look at the \
+             volume, press Render image at the top of the settings: the exact picture, drawn \
+             by the CPU"
+        }
+    )
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,181 @@
+//! Files the student saves and opens, the same on the desktop and in a browser: a save is a file
+//! written atomically (a temporary beside it, renamed over it) on the desktop and a download in
+//! a browser; files a browser hands the page (picked or dropped) arrive as a [`FilesChosen`]
+//! message, their names and bytes, which each feature reads as it reads a path on the desktop.
+
+use bevy::prelude::*;
+use std::path::Path;
+
+/// What files were chosen for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Purpose {
+    /// A volume to look at (NRRD, NIfTI, raw; a detached header with its data file).
+    Volume,
+    /// A transfer function (JSON).
+    Transfer,
+}
+
+#[cfg(any(test, target_arch = "wasm32"))]
+impl Purpose {
+    /// The name the page uses for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Purpose::Volume => "volume",
+            Purpose::Transfer => "transfer",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Self> {
+        [Purpose::Volume, Purpose::Transfer]
+            .into_iter()
+            .find(|p| p.name() == name)
+    }
+
+    /// The file types a picker offers for it.
+    pub fn accept(self) -> String {
+        match self {
+            Purpose::Volume => {
+                // A raw file's data, or a detached header's, may end in anything.
+                let mut types = voxcast_core::io::VOLUME_SUFFIXES.join(",");
+                types.push_str(",.img,.gz,.raw");
+                types
+            }
+            Purpose::Transfer => ".json".into(),
+        }
+    }
+}
+
+/// Files the student chose in a browser (the desktop reads paths instead).
+#[derive(Message, Clone, Debug)]
+pub struct FilesChosen {
+    pub purpose: Purpose,
+    /// Each file's name and bytes.
+    pub files: Vec<(String, Vec<u8>)>,
+}
+
+/// In a browser: the files the page handed over, as this feature's messages (a purpose it
+/// does not know is dropped).
+#[cfg(target_arch = "wasm32")]
+pub(crate) fn plugin(app: &mut App) {
+    app.add_message::<FilesChosen>()
+        .add_systems(PreUpdate, take_handed); // the page's files arrive in First
+}
+
+/// Takes the handed files out of their messages (this is their one reader), so a volume's
+/// bytes are not copied.
+#[cfg(target_arch = "wasm32")]
+fn take_handed(
+    mut handed: ResMut<Messages<crate::sandbox::shared::web::FilesHanded>>,
+    mut chosen: MessageWriter<FilesChosen>,
+) {
+    for h in handed.drain() {
+        if let Some(purpose) = Purpose::parse(&h.purpose) {
+            chosen.write(FilesChosen {
+                purpose,
+                files: h.files,
+            });
+        }
+    }
+}
+
+/// Whether opening asks the browser's picker (a page cannot read paths) rather than a path.
+pub const PICKS_FILES: bool = cfg!(target_arch = "wasm32");
+
+/// Asks the browser for files for `purpose` (nothing on the desktop, where paths are typed).
+pub fn pick(purpose: Purpose) {
+    #[cfg(target_arch = "wasm32")]
+    crate::sandbox::shared::web::pick_files(purpose.name(), &purpose.accept());
+    #[cfg(not(target_arch = "wasm32"))]
+    let _ = purpose;
+}
+
+/// Saves `bytes` as `path` (`mime` is its type for a browser): on the desktop through a
+/// temporary file and a rename, so a failed write loses nothing; in a browser as a download
+/// named like the path's last part. Says what was done, or why not.
+pub fn save(path: &Path, bytes: &[u8], mime: &str) -> Result<String, String> {
+    let Some(name) = path.file_name() else {
+        return Err("give a file name".into());
+    };
+    #[cfg(target_arch = "wasm32")]
+    return {
+        let name = name.to_string_lossy();
+        crate::sandbox::shared::web::download(&name, bytes, mime)
+            .map(|()| format!("downloaded {name}"))
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        let _ = (name, mime);
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".tmp");
+        std::fs::write(&tmp, bytes)
+            .and_then(|_| std::fs::rename(&tmp, path))
+            .map_err(|e| {
+                format!(
+                    "cannot save {}: {}",
+                    path.display(),
+                    voxcast_core::error::io_words(&e)
+                )
+            })?;
+        Ok(format!("saved {}", path.display()))
+    }
+}
+
+/// The file of `files` a reader starts from: a header (which names its data file) before
+/// anything else, then any volume file, else the first (whose format the reader then names).
+pub fn volume_entry(files: &[(String, Vec<u8>)]) -> Option<&str> {
+    let lower = |n: &String| n.to_ascii_lowercase();
+    let header = |n: &String| {
+        let n = lower(n);
+        n.ends_with(".nhdr") || n.ends_with(".hdr")
+    };
+    files
+        .iter()
+        .map(|(n, _)| n)
+        .find(|n| header(n))
+        .or_else(|| {
+            files
+                .iter()
+                .map(|(n, _)| n)
+                .find(|n| voxcast_core::io::is_volume_name(n))
+        })
+        .or(files.first().map(|(n, _)| n))
+        .map(String::as_str)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_header_is_read_first_whatever_the_order() {
+        let f = |names: &[&str]| -> Vec<(String, Vec<u8>)> {
+            names.iter().map(|n| (n.to_string(), vec![])).collect()
+        };
+        assert_eq!(volume_entry(&f(&["d.raw", "h.NHDR"])), Some("h.NHDR"));
+        assert_eq!(volume_entry(&f(&["s.img", "s.hdr"])), Some("s.hdr"));
+        assert_eq!(
+            volume_entry(&f(&["notes.txt", "a.nii.gz"])),
+            Some("a.nii.gz")
+        );
+        assert_eq!(volume_entry(&f(&["notes.txt"])), Some("notes.txt"));
+        assert_eq!(volume_entry(&[]), None);
+        assert_eq!(Purpose::parse("volume"), Some(Purpose::Volume));
+        assert!(Purpose::Volume.accept().contains(".nii.gz"));
+    }
+
+    #[test]
+    fn a_save_replaces_the_file_whole_or_says_why_not() {
+        let dir = std::env::temp_dir().join(format!("voxcast-save-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("a.json");
+        assert_eq!(
+            save(&path, b"{}", "application/json").unwrap(),
+            format!("saved {}", path.display())
+        );
+        assert_eq!(std::fs::read(&path).unwrap(), b"{}");
+        let nowhere = dir.join("no/such/folder/b.json");
+        assert!(save(&nowhere, b"{}", "application/json").is_err());
+        assert!(save(Path::new(""), b"", "").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
