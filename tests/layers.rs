@@ -10,10 +10,6 @@ const LAYERS: [&str; 10] = [
     "shared", "gpu", "scene", "inspect", "data", "preview", "checks", "levels", "drivers", "ui",
 ];
 
-fn sandbox_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("src/sandbox")
-}
-
 /// Every `.rs` file below `dir`, as its module path below the sandbox (`["preview", "live"]`).
 fn modules(dir: &Path, prefix: &[String], out: &mut BTreeMap<Vec<String>, PathBuf>) {
     let mut entries: Vec<_> = std::fs::read_dir(dir)
@@ -37,15 +33,26 @@ fn modules(dir: &Path, prefix: &[String], out: &mut BTreeMap<Vec<String>, PathBu
     }
 }
 
-/// The sandbox-relative paths a file's code names (comments left out): each resolved against
-/// the file's module, `super` by `super`, and cut at the longest prefix that is a file.
+/// How a tree of files is read: the path its files write to one another from the crate's root
+/// (`crate::sandbox`, `crate`), and whether test code counts.
+struct Tree {
+    prefix: &'static str,
+    with_tests: bool,
+}
+
+/// The paths a file's code names to other files of its tree (comments left out): each resolved
+/// against the file's module, `super` by `super` (or a child's name), and cut at the longest
+/// prefix that is a file.
 fn targets(
+    tree: &Tree,
     source: &str,
     module: &[String],
     files: &BTreeMap<Vec<String>, PathBuf>,
 ) -> BTreeSet<Vec<String>> {
     let mut found = BTreeSet::new();
     let mut inline = 0usize;
+    let mut last_code = "";
+    let prefix_segs = tree.prefix.split("::").count();
     for line in source.lines() {
         let code = line.trim_start();
         if code.starts_with("//") {
@@ -57,42 +64,51 @@ fn targets(
             at.is_some_and(|i| words.get(i + 2) == Some(&"{"))
         };
         if opens_inline {
+            if !tree.with_tests && last_code == "#[cfg(test)]" {
+                break;
+            }
             inline += 1;
             continue;
         }
+        if !code.is_empty() {
+            last_code = code.trim_end();
+        }
         let mut scope: Vec<String> = module.to_vec();
         scope.extend(std::iter::repeat_n("<inline>".to_string(), inline));
-        for (start, _) in line
-            .match_indices("crate::sandbox")
-            .chain(line.match_indices("super::"))
-        {
-            // Only where a path starts (not the `super::` inside `super::super::`).
-            let before = line[..start].chars().last();
-            if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
-                continue;
+        for (start, _) in line.match_indices("::") {
+            // Where a path starts: the run of names and `::` this `::` belongs to.
+            let begin = line[..start]
+                .rfind(|c: char| !(c.is_alphanumeric() || c == '_' || c == ':'))
+                .map_or(0, |i| i + 1);
+            if line[begin..start].contains("::") {
+                continue; // not the path's first `::`
             }
-            let path: String = line[start..]
+            let path: String = line[begin..]
                 .chars()
                 .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':' || *c == '{')
                 .collect();
             let mut segs: Vec<&str> = path.split("::").collect();
-            let mut base: Vec<String> = if segs[0] == "crate" {
-                segs.drain(..2);
+            let head = segs[0];
+            let mut base: Vec<String> = if path.starts_with(&format!("{}::", tree.prefix)) {
+                segs.drain(..prefix_segs);
                 Vec::new()
-            } else {
+            } else if head == "super" {
                 let ups = segs.iter().take_while(|s| **s == "super").count();
                 segs.drain(..ups);
                 if ups > scope.len() {
                     continue;
                 }
                 scope[..scope.len() - ups].to_vec()
+            } else if inline == 0 && files.contains_key(&[module, &[head.to_string()]].concat()) {
+                module.to_vec() // a child of this file's module, by its name
+            } else {
+                continue;
             };
-            // A group (`{a, b::c}`): its first member is enough to find the file it lies in
-            // when the group sits below a file; at a folder, each member is read.
+            // A group (`{a, b::c}`): each member is read.
             let mut members = vec![Vec::new()];
             for s in segs {
                 if let Some(rest) = s.strip_prefix('{') {
-                    let group = &line[line.find(&path).unwrap() + path.len() - rest.len() - 1..];
+                    let group = &line[begin + path.len() - rest.len() - 1..];
                     let group = group[1..group.find('}').unwrap_or(group.len())].to_string();
                     members = group
                         .split(',')
@@ -189,16 +205,31 @@ fn circles(graph: &BTreeMap<Vec<String>, BTreeSet<Vec<String>>>) -> Vec<Vec<Vec<
     s.out
 }
 
-/// The import graph: each file's paths to other files, less those to its own ancestors (a
-/// child module sees its parent: `use super::*` in a test).
-fn graph() -> BTreeMap<Vec<String>, BTreeSet<Vec<String>>> {
+/// The sandbox, test code included.
+const SANDBOX: (&str, Tree) = (
+    "src/sandbox",
+    Tree {
+        prefix: "crate::sandbox",
+        with_tests: true,
+    },
+);
+
+/// The import graph of the files below `dir`: each file's paths to other files, less those to
+/// its own ancestors (a child module sees its parent: `use super::*` in a test). Without test
+/// code, a module named `tests` is left out too.
+fn graph((dir, tree): &(&str, Tree)) -> BTreeMap<Vec<String>, BTreeSet<Vec<String>>> {
     let mut files = BTreeMap::new();
-    modules(&sandbox_dir(), &[], &mut files);
+    modules(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join(dir),
+        &[],
+        &mut files,
+    );
     files
         .iter()
+        .filter(|(module, _)| tree.with_tests || !module.iter().any(|m| m == "tests"))
         .map(|(module, path)| {
             let source = std::fs::read_to_string(path).unwrap();
-            let edges = targets(&source, module, &files)
+            let edges = targets(tree, &source, module, &files)
                 .into_iter()
                 .filter(|t| !module.starts_with(t))
                 .collect();
@@ -217,7 +248,7 @@ fn name(module: &[String]) -> String {
 
 #[test]
 fn every_folder_imports_only_its_own_and_those_below() {
-    let graph = graph();
+    let graph = graph(&SANDBOX);
     assert!(graph.len() > 40, "the sandbox's files were not found");
     let mut upward = Vec::new();
     for (from, tos) in &graph {
@@ -242,26 +273,71 @@ fn every_folder_imports_only_its_own_and_those_below() {
     );
 }
 
-#[test]
-fn no_files_import_each_other_in_a_circle() {
-    let found = circles(&graph());
-    let words: Vec<String> = found
+/// The circles among a tree's files, in words (none: empty).
+fn circles_in(tree: &(&str, Tree)) -> Vec<String> {
+    circles(&graph(tree))
         .iter()
         .map(|c| c.iter().map(|m| name(m)).collect::<Vec<_>>().join(", "))
-        .collect();
-    assert!(words.is_empty(), "circles:\n{}", words.join("\n"));
+        .collect()
 }
 
-/// The checks can fail: a path upward and a circle are found in a made-up pair of files.
+#[test]
+fn no_files_of_the_sandbox_import_each_other_in_a_circle() {
+    let found = circles_in(&SANDBOX);
+    assert!(found.is_empty(), "circles:\n{}", found.join("\n"));
+}
+
+/// The core and the command line: no circle among their files' own code (a test may use what
+/// lies above the code it tests).
+#[test]
+fn no_files_of_the_core_or_the_command_line_import_each_other_in_a_circle() {
+    let core = (
+        "crates/voxcast_core/src",
+        Tree {
+            prefix: "crate",
+            with_tests: false,
+        },
+    );
+    let cli = (
+        "src/cli",
+        Tree {
+            prefix: "crate::cli",
+            with_tests: false,
+        },
+    );
+    for tree in [core, cli] {
+        assert!(graph(&tree).len() > 10, "{}: no files found", tree.0);
+        let found = circles_in(&tree);
+        assert!(
+            found.is_empty(),
+            "{}: circles:\n{}",
+            tree.0,
+            found.join("\n")
+        );
+    }
+}
+
+/// The checks can fail: a path upward and a circle are found in a made-up pair of files, a
+/// child named by its name, and test code only where it counts.
 #[test]
 fn the_checks_see_an_upward_path_and_a_circle() {
     let mut files = BTreeMap::new();
-    for m in [vec!["shared", "state"], vec!["ui", "panel"]] {
+    for m in [
+        vec!["shared", "state"],
+        vec!["ui", "panel"],
+        vec!["ui", "panel", "parts"],
+    ] {
         files.insert(m.iter().map(|s| s.to_string()).collect(), PathBuf::new());
     }
-    let state: Vec<String> = vec!["shared".into(), "state".into()];
-    let panel: Vec<String> = vec!["ui".into(), "panel".into()];
+    let module = |m: &[&str]| -> Vec<String> { m.iter().map(|s| s.to_string()).collect() };
+    let (state, panel, parts) = (
+        module(&["shared", "state"]),
+        module(&["ui", "panel"]),
+        module(&["ui", "panel", "parts"]),
+    );
+    let sandbox = &SANDBOX.1;
     let up = targets(
+        sandbox,
         "use crate::sandbox::ui::panel::{Panel, draw};\n",
         &state,
         &files,
@@ -269,6 +345,7 @@ fn the_checks_see_an_upward_path_and_a_circle() {
     assert_eq!(up, BTreeSet::from([panel.clone()]));
     assert!(layer_of(&panel) > layer_of(&state));
     let back = targets(
+        sandbox,
         "    let x = super::super::shared::state::VolumeState;\n",
         &panel,
         &files,
@@ -276,7 +353,22 @@ fn the_checks_see_an_upward_path_and_a_circle() {
     assert_eq!(back, BTreeSet::from([state.clone()]));
     let graph = BTreeMap::from([(state.clone(), up), (panel.clone(), back)]);
     assert_eq!(circles(&graph).len(), 1);
-    // Comments are not imports.
-    let none = targets("//! see [`crate::sandbox::ui::panel`]\n", &state, &files);
+    // Comments are not imports; a child is found by its name.
+    let none = targets(
+        sandbox,
+        "//! see [`crate::sandbox::ui::panel`]\n",
+        &state,
+        &files,
+    );
     assert!(none.is_empty());
+    let child = targets(sandbox, "    parts::draw(ui);\n", &panel, &files);
+    assert_eq!(child, BTreeSet::from([parts]));
+    // Test code counts only where the tree says so.
+    let test = "#[cfg(test)]\nmod tests {\n    use crate::sandbox::ui::panel::Panel;\n}\n";
+    assert_eq!(targets(sandbox, test, &state, &files).len(), 1);
+    let without = Tree {
+        prefix: "crate::sandbox",
+        with_tests: false,
+    };
+    assert!(targets(&without, test, &state, &files).is_empty());
 }

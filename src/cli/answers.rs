@@ -36,7 +36,7 @@ pub fn run(a: &AnswersArgs) -> Result<(), CliError> {
     let csv = progress.answers_csv();
     match &a.out {
         Some(out) => {
-            super::rays::check_folders([out])?;
+            super::rays_input::check_folders([out])?;
             std::fs::write(out, &csv)
                 .map_err(|e| CliError::failed(format!("cannot write {}: {e}", out.display())))?;
             eprintln!(

@@ -143,7 +143,7 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::failed(format!("{}: {}", file.display(), io_words(&e))));
     }
     if a.knobs {
-        return super::knobs::report(a, &loaded, &resolved, &camera);
+        return knobs_report(a, &loaded, &resolved, &camera);
     }
     let threads = a
         .threads
@@ -240,6 +240,38 @@ pub fn run(a: &BenchArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::failed(format!("{}: {e}", path.display())))?;
     }
     Ok(())
+}
+
+/// `--knobs`: every knob's table, printed or written into the report's section.
+fn knobs_report(
+    a: &BenchArgs,
+    loaded: &super::args::Opened,
+    resolved: &super::args::Resolved,
+    camera: &voxcast_core::camera::Camera,
+) -> Result<(), CliError> {
+    let view = voxcast_core::trade::View {
+        volume: &loaded.volume,
+        transfer: &resolved.transfer,
+        camera,
+        size: a.size,
+    };
+    let words = format!(
+        "{} ({}), {}",
+        loaded.volume.name(),
+        resolved.settings.method.name(),
+        super::knobs::camera_words(camera)
+    );
+    let text = super::knobs::tables(&view, &resolved.settings, &words)?;
+    match &a.report {
+        Some(path) => {
+            print!("{text}");
+            write_report(path, a.section.as_deref(), &text)
+        }
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
 }
 
 /// Writes `report` to `path`, or with `section` only into that section of it.

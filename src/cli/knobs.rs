@@ -104,38 +104,6 @@ pub fn camera_words(c: &Camera) -> String {
     )
 }
 
-/// `--knobs`: every knob's table, printed or written into the report's section.
-pub fn report(
-    a: &super::bench::BenchArgs,
-    loaded: &super::args::Opened,
-    resolved: &super::args::Resolved,
-    camera: &voxcast_core::camera::Camera,
-) -> Result<(), CliError> {
-    let view = voxcast_core::trade::View {
-        volume: &loaded.volume,
-        transfer: &resolved.transfer,
-        camera,
-        size: a.size,
-    };
-    let words = format!(
-        "{} ({}), {}",
-        loaded.volume.name(),
-        resolved.settings.method.name(),
-        camera_words(camera)
-    );
-    let text = tables(&view, &resolved.settings, &words)?;
-    match &a.report {
-        Some(path) => {
-            print!("{text}");
-            super::bench::write_report(path, a.section.as_deref(), &text)
-        }
-        None => {
-            print!("{text}");
-            Ok(())
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::cpu_words;

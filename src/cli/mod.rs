@@ -17,6 +17,8 @@ pub mod progress;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod rays;
 #[cfg(not(target_arch = "wasm32"))]
+pub mod rays_input;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod rays_render;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod rays_study;

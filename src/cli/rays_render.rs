@@ -4,7 +4,9 @@
 
 use super::CliError;
 use super::progress::Progress;
-use super::rays::{RenderArgs, check_folders, dense_density, grid_params, source};
+use super::rays_input::{GridArgs, SourceArg, check_folders, dense_density, grid_params, source};
+use clap::Args;
+use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use voxcast_core::camera::{Camera, Projection};
@@ -13,12 +15,44 @@ use voxcast_core::composite::Method;
 use voxcast_core::glam::Vec3;
 use voxcast_core::numbers::sig;
 use voxcast_core::rays::cornell;
+use voxcast_core::rays::data::RayData;
 use voxcast_core::rays::grid::DenseDensity;
 use voxcast_core::rays::layered::{DensityView, SceneShading};
-use voxcast_core::rays::source::RayData;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::step::Length;
 use voxcast_core::trace::Scene;
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub source: SourceArg,
+    #[command(flatten)]
+    pub grid: GridArgs,
+    /// Image size in pixels.
+    #[arg(long, value_name = "WxH", default_value = "512x512", value_parser = super::args::parse_size)]
+    pub size: (u32, u32),
+    /// eye=X,Y,Z,target=X,Y,Z,up=X,Y,Z,fov=DEG[,ortho=HEIGHT] in world units. Default: the
+    /// Cornell box's own camera for builtin:cornell, else the scene seen from the front.
+    #[arg(long, value_name = "SPEC")]
+    pub camera: Option<String>,
+    /// Samples per cell along each ray (RayVis's "step size as fractions of the cell size"):
+    /// the step is 1/K of a cell.
+    #[arg(long, value_name = "K", default_value_t = 2.0)]
+    pub samples_per_cell: f32,
+    /// The Sum range (rays per cell times cells along a pixel's ray) spread over inferno.
+    /// Default: fitted to the view, 0 to the sum that 95 % of a 32 × 32 grid of the view's
+    /// rays (those that gather any) stay below.
+    #[arg(long, value_name = "LOW,HIGH", value_parser = super::args::parse_range, allow_negative_numbers = true)]
+    pub sum_range: Option<(f32, f32)>,
+    /// How the scene is drawn under the density: grey (RayVis's default), colour (each mesh's
+    /// own), instance (a colour per mesh instance), normals, barycentrics, or hidden (the
+    /// density alone; meshes do not stop the rays).
+    #[arg(long, default_value = "grey", value_parser = ["grey", "colour", "color", "instance", "normals", "barycentrics", "hidden"])]
+    pub scene: String,
+    /// The PNG to write.
+    #[arg(long, value_name = "FILE.png")]
+    pub out: PathBuf,
+}
 
 /// The most samples per cell accepted (a thousand already costs a thousand times one).
 const MAX_SAMPLES_PER_CELL: f32 = 1000.0;

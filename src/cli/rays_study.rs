@@ -3,7 +3,7 @@
 //! student's answer against (`voxcast_core::rays::study`).
 
 use super::CliError;
-use super::rays::{SourceArg, source, trace_named, trace_words};
+use super::rays_input::{SourceArg, source, trace_named, trace_words};
 use clap::Args;
 use std::sync::atomic::AtomicBool;
 use voxcast_core::rays::density::{DensityParams, MAX_BYTES, compute, estimate_within};

@@ -147,7 +147,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
                 path.display()
             )));
         }
-        super::rays::check_folders([path])?;
+        super::rays_input::check_folders([path])?;
     }
     let t_prep = Instant::now();
     let scene = Scene::new(

@@ -91,8 +91,9 @@ fn density(c: &mut Criterion) {
 
 fn cornell(c: &mut Criterion) {
     use voxcast_core::rays::cornell;
+    use voxcast_core::rays::data::RayData;
     use voxcast_core::rays::effects::{camera, trace_effects};
-    use voxcast_core::rays::source::{CORNELL_1M, RayData};
+    use voxcast_core::rays::source::CORNELL_1M;
     let scene = cornell::scene();
     let cam = camera(
         cornell::CAMERA_EYE,

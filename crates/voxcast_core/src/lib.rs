@@ -78,6 +78,7 @@ pub mod traffic;
 pub mod transfer;
 pub mod transfer_edit;
 pub mod tunables;
+pub mod vectors;
 pub mod volume;
 pub mod worked;
 

@@ -200,7 +200,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(for_loaded(&v), None);
-        let d = v.with_name(crate::rays::as_volume::NAME_PREFIX);
+        let d = v.with_name(crate::rays::grid::NAME_PREFIX);
         let p = for_loaded(&d).unwrap();
         let s = p.settings_over(&RenderSettings::default()).unwrap();
         assert_eq!(s.method, crate::composite::Method::Sum);

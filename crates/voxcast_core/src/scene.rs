@@ -73,7 +73,7 @@ pub struct Scene<'a> {
     /// where the CPU has the instructions for it (AVX2, SSE 4.1, NEON) — the same pixels, bit for bit
     /// (`crate::trace`'s lanes); the widest by default (unless [`crate::trace::set_vectors`]
     /// said otherwise), narrower or off to compare.
-    pub simd: crate::trace::Vectors,
+    pub simd: crate::vectors::Vectors,
 }
 
 /// Sum's default range: from 0 to twice what a ray along the longest side gathers through
@@ -148,7 +148,7 @@ impl<'a> Scene<'a> {
             blocks: None,
             bricks: None,
             superblocks: None,
-            simd: crate::trace::vectors(),
+            simd: crate::vectors::vectors(),
             volume,
             classifier,
             lights: settings.phong.resolve(view_forward),

@@ -42,10 +42,8 @@ mod dispatch;
 mod extreme;
 mod first;
 mod record;
-pub use dispatch::{
-    Vectors, lane_instructions, set_vectors, uses_lanes, uses_value_lanes, value_lane_instructions,
-    vectors,
-};
+pub use crate::vectors::{Vectors, set_vectors, vectors};
+pub use dispatch::{lane_instructions, uses_lanes, uses_value_lanes, value_lane_instructions};
 pub use record::trace_ray;
 #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
 mod lanes;

@@ -9,11 +9,11 @@ use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::prelude::*;
 use voxcast_core::level::RayDensityFacts;
 use voxcast_core::rays::as_volume::{DensitySpec, finish_set, grid_for};
+use voxcast_core::rays::data::RayData;
 use voxcast_core::rays::density::{DensityParams, DensitySlices, density_in};
 use voxcast_core::rays::field::ArrowScale;
 use voxcast_core::rays::layered::SceneShading;
 use voxcast_core::rays::mesh::TriangleScene;
-use voxcast_core::rays::source::RayData;
 use voxcast_core::scene::Scene;
 use voxcast_core::tunables as t;
 

@@ -10,7 +10,7 @@ use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
 use std::sync::Arc;
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::rays::as_volume::DensitySpec;
-use voxcast_core::rays::source::RayData;
+use voxcast_core::rays::data::RayData;
 use voxcast_core::scene::Scene;
 
 pub(crate) fn plugin(app: &mut App) {

@@ -11,9 +11,9 @@ use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::io::Loaded;
 use voxcast_core::level::RayDensityFacts;
 use voxcast_core::rays::as_volume::{RayDensity, is_density};
+use voxcast_core::rays::data::RayData;
 use voxcast_core::rays::density::Density;
 use voxcast_core::rays::set::RaySet;
-use voxcast_core::rays::source::RayData;
 
 /// What a density was computed from.
 pub struct Computed {

@@ -11,11 +11,11 @@
 //! voxel `(0, 0, 0)` is the first cell's centre, so its coordinates are the world's shifted by
 //! that point (the loader's note says where it is).
 
+use super::data::RayData;
 use super::density::{Density, DensityParams, DensitySlices, MAX_BYTES, density_in};
 use super::effects::TraceSlices;
-use super::grid::DenseDensity;
+use super::grid::{DenseDensity, NAME_PREFIX};
 use super::set::{Filter, RaySet};
-use super::source::RayData;
 use crate::slices::{Deadline, Step};
 use crate::volume::Volume;
 use glam::Vec3;
@@ -23,9 +23,6 @@ use std::sync::atomic::AtomicBool;
 
 /// What starts a density source.
 pub const PREFIX: &str = "density:";
-
-/// How a density volume's name begins (the sandbox picks Sum and inferno for it).
-pub const NAME_PREFIX: &str = "ray density";
 
 /// Cells along the longest side when no `cell` is given (the 128³ grid).
 pub const DEFAULT_CELLS: f32 = 128.0;

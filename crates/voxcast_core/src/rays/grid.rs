@@ -11,6 +11,9 @@
 use super::density::Density;
 use glam::{IVec3, UVec3, Vec3};
 
+/// How a density volume's name begins (the sandbox picks Sum and inferno for it).
+pub const NAME_PREFIX: &str = "ray density";
+
 /// The most cells a dense grid may hold (a sparse density with chunks far apart can span a
 /// box far larger than what it stores).
 pub const MAX_DENSE_CELLS: u64 = 1 << 28;
@@ -88,7 +91,7 @@ impl DenseDensity {
     /// cell's centre to the last's (half a cell short of the chunks' faces).
     pub fn to_volume(&self) -> Result<crate::volume::Volume, crate::error::VolumeError> {
         crate::volume::Volume::new(
-            super::as_volume::NAME_PREFIX,
+            NAME_PREFIX,
             self.dims,
             Vec3::splat(self.cell),
             crate::volume::VoxelData::F32(self.counts.iter().map(|&c| c as f32).collect()),

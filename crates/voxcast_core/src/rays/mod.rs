@@ -17,6 +17,7 @@
 pub mod as_volume;
 pub mod camera;
 pub mod cornell;
+pub mod data;
 pub mod density;
 pub mod effects;
 pub mod field;

@@ -21,10 +21,10 @@
 //! group's root (`rootNodeId`) through every parent; a node no parent names is placed from its
 //! own matrix, as a root, and a cycle (a node reached twice) is an error.
 
+use super::data::RayData;
 use super::mesh::{Mesh, TriangleScene};
 use super::rdf::{self, Chunk, RdfError};
 use super::set::{RayRecord, RaySet};
-use super::source::RayData;
 use glam::{Mat4, Vec3, Vec4};
 
 /// The chunk identifiers.

@@ -162,7 +162,7 @@ impl VisibleCells {
     /// face on axis `a`, `2a + 1` the upper); found on the first call.
     pub fn surface_bricks(&self) -> &[([u32; 3], u8)] {
         self.surface
-            .get_or_init(|| crate::entry::surface_bricks(self.bricks, &self.bits))
+            .get_or_init(|| surface_bricks(self.bricks, &self.bits))
     }
 
     /// [`VisibleCells::leap_exit`] with the brick's distance already read (the distance of
@@ -404,3 +404,77 @@ pub enum Cell {
 
 /// How far inside an empty brick (in voxels) a sample must lie for the brick to be skipped.
 pub const BRICK_MARGIN: f32 = 1e-3;
+
+/// The bricks (of `bricks` per axis, one visibility word each in `words`, x fastest) that
+/// hold a visible cell and have a face on the volume's border or next to a brick without one,
+/// with those faces as bits (`2a` for the lower face on axis `a`, `2a + 1` for the upper).
+pub(crate) fn surface_bricks(bricks: [usize; 3], words: &[u64]) -> Vec<([u32; 3], u8)> {
+    let [nx, ny, nz] = bricks;
+    let visible = |x: usize, y: usize, z: usize| words[x + nx * (y + ny * z)] != 0;
+    let mut out = Vec::new();
+    for z in 0..nz {
+        for y in 0..ny {
+            for x in 0..nx {
+                if !visible(x, y, z) {
+                    continue;
+                }
+                let open = [
+                    x == 0 || !visible(x - 1, y, z),
+                    x + 1 == nx || !visible(x + 1, y, z),
+                    y == 0 || !visible(x, y - 1, z),
+                    y + 1 == ny || !visible(x, y + 1, z),
+                    z == 0 || !visible(x, y, z - 1),
+                    z + 1 == nz || !visible(x, y, z + 1),
+                ];
+                let faces = open
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |f, (i, &o)| f | u8::from(o) << i);
+                if faces != 0 {
+                    out.push(([x as u32, y as u32, z as u32], faces));
+                }
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The surface bricks and their open faces against their definition, brick by brick.
+    #[test]
+    fn surface_bricks_are_the_visible_ones_with_open_faces() {
+        let bricks = [5, 4, 3];
+        let words: Vec<u64> = (0..60u64).map(|i| u64::from(i % 7 != 3)).collect();
+        let surface = surface_bricks(bricks, &words);
+        let at = |x: i64, y: i64, z: i64| {
+            let inside = (0..5).contains(&x) && (0..4).contains(&y) && (0..3).contains(&z);
+            inside && words[(x + 5 * (y + 4 * z)) as usize] != 0
+        };
+        let steps = [
+            (-1, 0, 0),
+            (1, 0, 0),
+            (0, -1, 0),
+            (0, 1, 0),
+            (0, 0, -1),
+            (0, 0, 1),
+        ];
+        let mut expected = Vec::new();
+        for z in 0..3i64 {
+            for y in 0..4i64 {
+                for x in 0..5i64 {
+                    let faces = steps.iter().enumerate().fold(0u8, |f, (i, (a, b, c))| {
+                        f | u8::from(!at(x + a, y + b, z + c)) << i
+                    });
+                    if at(x, y, z) && faces != 0 {
+                        expected.push(([x as u32, y as u32, z as u32], faces));
+                    }
+                }
+            }
+        }
+        assert_eq!(surface, expected);
+        assert!(surface.len() < words.iter().filter(|w| **w != 0).count());
+    }
+}
