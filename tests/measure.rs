@@ -15,7 +15,90 @@ fn main() {
             || measured(),
         ),
         ("a_backend_that_does_not_draw_a_knob_says_so", stood_in),
+        ("a_measured_frame_is_told_part_by_part", frame_parts),
     ])
+}
+
+/// `--measure-frames` in a real window says where a frame goes: every part of the main world
+/// and of the render world, each a number of milliseconds, the render world's parts ending in
+/// presenting, and no part longer than the frames it belongs to allow.
+fn frame_parts() -> Outcome {
+    let Some(mut command) = windowed(env!("CARGO_BIN_EXE_voxcast")) else {
+        assert!(!gpu_required(), "no X display and no xvfb-run");
+        return Ok(Completion::ignored_with(
+            "no X display and no xvfb-run here (package xvfb)",
+        ));
+    };
+    command
+        .args(["--measure-frames", "10", "--auto-orbit", "5", "--no-rays"])
+        .args(["--size", "480x270", "--volume", "builtin:bucky"])
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir());
+    let output = command.output().expect("the binary runs");
+    let out = String::from_utf8_lossy(&output.stdout);
+    let err = String::from_utf8_lossy(&output.stderr);
+    if !output.status.success()
+        && let Some(skip) = support::skipped_for_want_of_a_gpu(&err)
+    {
+        return skip;
+    }
+    assert!(output.status.success(), "{out}\n{err}");
+    let line = out
+        .lines()
+        .find(|l| l.contains("frame time"))
+        .expect("a frame time");
+    let median: f64 = line
+        .split("median ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no median in {line}"));
+    let parts = line
+        .split("where a frame goes (medians, ms): ")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no parts in {line}"));
+    let (main, render) = parts.split_once("; render world ").expect("both worlds");
+    let number = |text: &str, name: &str| -> f64 {
+        let at = text
+            .find(name)
+            .unwrap_or_else(|| panic!("no {name} in {text}"));
+        let rest = &text[at + name.len()..].trim_start();
+        rest.split([' ', ',', ')'])
+            .next()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("{name} has no number in {text}"))
+    };
+    for name in [
+        "main world",
+        "input and time",
+        "the sandbox's systems",
+        "egui's UI",
+        "egui's tessellation",
+        "the rest",
+    ] {
+        let ms = number(main, name);
+        assert!(
+            (0.0..=10.0 * median).contains(&ms),
+            "{name} {ms} ms: {line}"
+        );
+    }
+    for name in [
+        "asset uploads",
+        "the window's next image",
+        "queue and prepare",
+        "recording the passes",
+        "submitting them",
+        "presenting",
+    ] {
+        let ms = number(render, name);
+        assert!(
+            (0.0..=10.0 * median).contains(&ms),
+            "{name} {ms} ms: {line}"
+        );
+    }
+    // The render world's total is the sum of its parts, as printed.
+    let total: f64 = render.split(' ').next().unwrap().parse().unwrap();
+    assert!(total > 0.0, "{line}");
+    Ok(Completion::Completed)
 }
 
 /// `voxcast --measure-knob KNOB --preview-backend BACKEND` in a small window: its output, or

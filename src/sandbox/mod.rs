@@ -410,7 +410,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
     if let Some(frames) = args.measure_frames {
         // Draw every frame even without focus (a virtual display never gives it).
         app.insert_resource(bevy::winit::WinitSettings::continuous());
-        app.add_plugins(measure::plugin)
+        app.add_plugins((measure::plugin, drivers::frame_parts::plugin))
             .insert_resource(measure::MeasureRequest {
                 frames,
                 orbit_degrees: args.auto_orbit,

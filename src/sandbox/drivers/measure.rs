@@ -29,6 +29,8 @@ struct Stopped {
     at: f64,
     live: Option<(f64, UVec2)>,
     lines: Option<(f64, usize)>,
+    /// Where the measured frames went, in words (`frame_parts`).
+    parts: Option<String>,
 }
 
 /// Frames drawn before measuring (pipelines compiled, textures uploaded, quality settled).
@@ -67,7 +69,8 @@ type LiveParams<'w> = (
 
 fn measure_frames(
     request: Res<MeasureRequest>,
-    time: Res<Time<Real>>,
+    // Real time, and the clock of each frame's parts.
+    (time, clock): (Res<Time<Real>>, Option<Res<super::frame_parts::FrameClock>>),
     mut m: Local<Measured>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut exit: MessageWriter<AppExit>,
@@ -116,6 +119,9 @@ fn measure_frames(
         m.samples.push(time.delta_secs() * 1000.0);
         if m.samples.len() as u32 == request.frames {
             m.stopped = Some(Stopped {
+                parts: clock
+                    .as_ref()
+                    .and_then(|c| super::frame_parts::words(c, request.frames as usize)),
                 at: now,
                 live: live.as_ref().zip(m.live_start).map(|(l, (g0, t0))| {
                     let size = l.shown.as_ref().map_or(UVec2::ZERO, |f| f.size);
@@ -184,9 +190,14 @@ fn measure_frames(
         ),
         None => String::new(),
     };
+    let parts_text = m
+        .stopped
+        .as_ref()
+        .and_then(|s| s.parts.as_ref())
+        .map_or(String::new(), |w| format!("; {w}"));
     let text = format!(
         "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} \
-             frames{live_text}{lines_text}",
+             frames{live_text}{lines_text}{parts_text}",
         request.label,
         1000.0 / median,
         sorted.len()

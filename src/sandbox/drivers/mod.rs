@@ -3,6 +3,7 @@
 //! Imports the layers below (`shared/` to `levels/`).
 
 pub mod compare_cli;
+pub mod frame_parts;
 pub mod measure;
 pub mod screenshot;
 pub mod script;

@@ -35,6 +35,12 @@ use voxcast_core::settings::RenderSettings;
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
 
+/// The nice value of the live view's moving threads (Linux; 0 is the window's, 19 the lowest):
+/// on a software rasterizer the window's drawing needs every core, and the frame waited on
+/// the live view's thread (BENCHMARKS.md, "The window's own cost").
+#[cfg(target_os = "linux")]
+const LIVE_NICE: i32 = 19;
+
 /// How long a frame's worth of CPU rendering may take while the view moves, seconds.
 pub const MOVING_BUDGET_S: f64 = 1.0 / 30.0;
 
@@ -503,9 +509,21 @@ fn moving_pool() -> &'static rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()
             .num_threads(cores.saturating_sub(1).max(1))
             .thread_name(|i| format!("voxcast-live-{i}"))
+            .start_handler(|_| yield_to_the_window())
             .build()
             .expect("a thread pool can be built")
     })
+}
+
+/// Lowers the calling thread's priority (Linux: its nice value, per thread) so the window's
+/// threads — the frame, the rasterizer's — take a core first when they need it.
+#[cfg(not(target_arch = "wasm32"))]
+fn yield_to_the_window() {
+    #[cfg(target_os = "linux")]
+    // SAFETY: setpriority on the calling thread (who = 0) touches no memory.
+    unsafe {
+        libc::setpriority(libc::PRIO_PROCESS, 0, LIVE_NICE);
+    }
 }
 
 /// The live view's threads at rest: two for each core, so the exact render gets most of

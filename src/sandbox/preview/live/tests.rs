@@ -271,3 +271,15 @@ fn refinement_goes_to_full_when_it_is_quick() {
     assert_eq!(refined_size(quick, full, None), UVec2::new(640, 360));
     assert_eq!(refined_size(UVec2::new(1000, 600), full, None), full);
 }
+
+/// The live view's moving threads yield to the window's: they run at the lowest priority
+/// (Linux), the resting pool's exact render at the window's own.
+#[cfg(target_os = "linux")]
+#[test]
+fn the_moving_threads_run_below_the_window() {
+    // SAFETY: getpriority on the calling thread reads its nice value and touches no memory.
+    let nice = || unsafe { libc::getpriority(libc::PRIO_PROCESS, 0) };
+    let window = nice();
+    assert_eq!(moving_pool().install(nice), LIVE_NICE);
+    assert_eq!(resting_pool().install(nice), window);
+}
