@@ -319,7 +319,6 @@ fn start(key: LinesKey) -> LinesJob {
 mod tests {
     use super::*;
     use crate::sandbox::shared::quality::Backend;
-    use bevy::window::{PrimaryWindow, WindowResolution};
 
     /// A windowless app with the CPU live view, a 64×48 window, and `lists` to draw seen from
     /// `camera`.
@@ -338,13 +337,7 @@ mod tests {
             .resource_mut::<CpuLines>()
             .set(lists, offset);
         app.world_mut().spawn((MainCamera, View(camera)));
-        app.world_mut().spawn((
-            Window {
-                resolution: WindowResolution::new(64, 48).with_scale_factor_override(1.0),
-                ..default()
-            },
-            PrimaryWindow,
-        ));
+        crate::sandbox::shared::viewport::spawn_test_window(app.world_mut(), 64, 48);
         app
     }
 

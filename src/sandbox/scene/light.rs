@@ -271,7 +271,6 @@ fn draw_ring(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use bevy::window::PrimaryWindow;
 
     #[test]
     fn sphere_hits_in_front_and_misses_beside_or_behind() {
@@ -284,7 +283,6 @@ mod tests {
     }
 
     use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
-    use bevy::window::WindowResolution;
     use std::sync::Arc;
     use voxcast_core::camera::Camera;
     use voxcast_core::settings::RenderSettings;
@@ -320,13 +318,7 @@ mod tests {
             app.world_mut()
                 .spawn((LightMarker(i), Transform::default(), Visibility::Hidden));
         }
-        app.world_mut().spawn((
-            Window {
-                resolution: WindowResolution::new(W, H).with_scale_factor_override(1.0),
-                ..default()
-            },
-            PrimaryWindow,
-        ));
+        crate::sandbox::shared::viewport::spawn_test_window(app.world_mut(), W, H);
         app.update(); // places the marker
         (app, camera)
     }

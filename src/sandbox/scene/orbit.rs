@@ -222,7 +222,6 @@ mod tests {
     /// of it) and a camera framing a 10-unit cube; and the camera's orbit.
     fn orbit_app(viewport: Option<crate::sandbox::shared::viewport::Viewport>) -> (App, Orbit) {
         use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
-        use bevy::window::{PrimaryWindow, WindowResolution};
         let mut app = App::new();
         app.init_resource::<ButtonInput<MouseButton>>()
             .init_resource::<AccumulatedMouseMotion>()
@@ -237,13 +236,7 @@ mod tests {
         let start = Orbit::looking_at(view.eye, view.target, view.up);
         app.world_mut()
             .spawn((MainCamera, View(view), start, start.transform()));
-        app.world_mut().spawn((
-            Window {
-                resolution: WindowResolution::new(400, 300).with_scale_factor_override(1.0),
-                ..default()
-            },
-            PrimaryWindow,
-        ));
+        crate::sandbox::shared::viewport::spawn_test_window(app.world_mut(), 400, 300);
         (app, start)
     }
 

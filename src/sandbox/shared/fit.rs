@@ -81,19 +81,10 @@ mod tests {
     /// In an app: the primary window shrinks to its primary monitor, once it is reported.
     #[test]
     fn the_window_shrinks_once_the_monitor_is_known() {
-        use bevy::window::WindowResolution;
         let mut app = App::new();
         app.add_plugins(plugin);
-        let window = app
-            .world_mut()
-            .spawn((
-                Window {
-                    resolution: WindowResolution::new(1280, 720).with_scale_factor_override(1.0),
-                    ..default()
-                },
-                PrimaryWindow,
-            ))
-            .id();
+        let window =
+            crate::sandbox::shared::viewport::spawn_test_window(app.world_mut(), 1280, 720);
         app.update();
         let size = |app: &App| {
             let w = app.world().get::<Window>(window).unwrap();

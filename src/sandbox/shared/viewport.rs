@@ -46,3 +46,19 @@ impl Viewport {
         }
     }
 }
+
+/// A test's primary window of `w` × `h` pixels at one pixel per point (no display needed):
+/// what the features that read the window's size and cursor are tested against.
+#[cfg(test)]
+pub fn spawn_test_window(world: &mut World, w: u32, h: u32) -> Entity {
+    world
+        .spawn((
+            Window {
+                resolution: bevy::window::WindowResolution::new(w, h)
+                    .with_scale_factor_override(1.0),
+                ..default()
+            },
+            bevy::window::PrimaryWindow,
+        ))
+        .id()
+}

@@ -1,7 +1,6 @@
 //! The CPU live view's tests in a windowless app: frames, refinement, cost and depth views.
 
 use super::*;
-use bevy::window::{PrimaryWindow, WindowResolution};
 
 /// A windowless app with the live view on the CPU, a 64×48 window and the bunny.
 fn app() -> App {
@@ -20,13 +19,7 @@ fn app() -> App {
         .init_resource::<Assets<StandardMaterial>>()
         .add_plugins(plugin);
     app.world_mut().spawn((MainCamera, View(view)));
-    app.world_mut().spawn((
-        Window {
-            resolution: WindowResolution::new(64, 48).with_scale_factor_override(1.0),
-            ..default()
-        },
-        PrimaryWindow,
-    ));
+    crate::sandbox::shared::viewport::spawn_test_window(app.world_mut(), 64, 48);
     app
 }
 
