@@ -255,11 +255,30 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
 }
 
 /// The engine's plugins, with the log as the sandbox wants it and `window` as the primary one.
+/// Threads of Bevy's `AsyncComputeTaskPool`, at least (Bevy gives a quarter of the cores, at
+/// least one): a live view's frame waits there for its own threads, which yield to the
+/// window's (`preview/live.rs`), so on two cores a second thread keeps the virtual camera's
+/// rays, loads and Render image from queueing behind it.
+const ASYNC_THREADS_MIN: usize = 2;
+
 fn engine(app: &mut App, window: Option<Window>, synchronous: bool) {
+    let async_compute = bevy::app::TaskPoolThreadAssignmentPolicy {
+        min_threads: ASYNC_THREADS_MIN,
+        max_threads: 4,
+        percent: 0.25,
+        on_thread_spawn: None,
+        on_thread_destroy: None,
+    };
     let plugins = DefaultPlugins
         .set(RenderPlugin {
             synchronous_pipeline_compilation: synchronous,
             ..default()
+        })
+        .set(TaskPoolPlugin {
+            task_pool_options: TaskPoolOptions {
+                async_compute,
+                ..default()
+            },
         })
         .set(platform::log_plugin());
     match window {
