@@ -20,9 +20,10 @@
 //! 10. `ui/` — the panels.
 //!
 //! This file, on top of them all, builds the app. Features talk through components,
-//! resources and messages. The frame's order is `shared/schedule.rs`: [`Frame`] in `Update`,
-//! [`Paint`] in the egui pass, [`Late`] in `PostUpdate`; every feature puts its systems in
-//! those sets.
+//! resources and messages. The frame's order is one enum, [`Frame`](shared::schedule::Frame)
+//! (`shared/schedule.rs`: its sets in `Update`, then in `PostUpdate`), with
+//! [`Paint`](shared::schedule::Paint) for the egui pass; every feature
+//! puts its systems in those sets.
 
 pub mod checks;
 pub mod data;

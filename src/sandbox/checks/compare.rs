@@ -269,7 +269,7 @@ pub(crate) fn plugin(app: &mut App) {
             PostUpdate,
             (forget_on_new_scene, start_capture, collect_result)
                 .chain()
-                .in_set(crate::sandbox::shared::schedule::Late::Views),
+                .in_set(crate::sandbox::shared::schedule::Frame::Views),
         );
 }
 

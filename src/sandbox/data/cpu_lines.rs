@@ -168,7 +168,7 @@ impl CpuLines {
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<CpuLines>().add_systems(
         PostUpdate,
-        drive_cpu_lines.in_set(crate::sandbox::shared::schedule::Late::Views),
+        drive_cpu_lines.in_set(crate::sandbox::shared::schedule::Frame::Views),
     );
 }
 

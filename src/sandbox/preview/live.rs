@@ -233,7 +233,7 @@ pub(crate) fn plugin(app: &mut App) {
         .add_systems(Update, choose_backend)
         .add_systems(
             PostUpdate,
-            drive_live_view.in_set(crate::sandbox::shared::schedule::Late::Views),
+            drive_live_view.in_set(crate::sandbox::shared::schedule::Frame::Views),
         );
 }
 

@@ -23,7 +23,7 @@ pub(crate) fn plugin(app: &mut App) {
             PostUpdate,
             (sync_volume_material, upload_visible_cells, upload_records)
                 .chain()
-                .in_set(crate::sandbox::shared::schedule::Late::Sync),
+                .in_set(crate::sandbox::shared::schedule::Frame::Sync),
         );
 }
 

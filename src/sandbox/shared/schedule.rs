@@ -1,14 +1,16 @@
-//! The order of a frame, in one place: [`Frame`] for the sandbox's work in `Update`, [`Paint`]
-//! for the egui pass that paints the window, [`Late`] for `PostUpdate`. Features put their systems in these sets and
-//! never order themselves after another file's function.
+//! The order of a frame, in one place: [`Frame`] for the sandbox's work in `Update` and then in
+//! `PostUpdate`, [`Paint`] for the egui pass that paints the window. Features put their systems
+//! in these sets and never order themselves after another file's function.
 
 use bevy::prelude::*;
 use bevy_egui::EguiPrimaryContextPass;
 
-/// The order of a frame's work in `Update` (as bevy_new_2d orders its frame): who holds the
+/// The order of a frame's work (as bevy_new_2d orders its frame). In `Update`: who holds the
 /// mouse, the player's input, a volume replaced, the rules that react to what changed, what
 /// stands beside the main camera, the checks of the level's objective, the scripted players,
-/// then what is shown.
+/// then what is shown. In `PostUpdate`, once the engine has placed the cameras (their
+/// transforms propagated, their projections updated for this frame): the GPU's material
+/// synced, then the views that read it.
 #[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Frame {
     /// Who holds the mouse this frame: the light's drag and the cut's drag take it before the
@@ -32,11 +34,17 @@ pub enum Frame {
     Drive,
     /// What is shown: the preview's target and quality, the live view, gizmos and lines.
     Show,
+    /// `PostUpdate`: the material written from the settings, the view and the volume (the
+    /// uniform's rays use this frame's view and target size).
+    Sync,
+    /// `PostUpdate`: what reads the written material and the placed cameras: Render image's
+    /// capture, the CPU live view, the CPU-drawn lines.
+    Views,
 }
 
 impl Frame {
-    /// Every set in the order a frame runs them.
-    pub const ALL: [Frame; 8] = [
+    /// The sets of `Update`, in the order a frame runs them.
+    pub const UPDATE: [Frame; 8] = [
         Frame::Grab,
         Frame::Input,
         Frame::SwapVolume,
@@ -46,6 +54,8 @@ impl Frame {
         Frame::Drive,
         Frame::Show,
     ];
+    /// The sets of `PostUpdate`, in order.
+    pub const POST_UPDATE: [Frame; 2] = [Frame::Sync, Frame::Views];
 }
 
 /// The order of the egui pass: the panels lay themselves out around the viewport, the preview
@@ -66,31 +76,14 @@ impl Paint {
     pub const ALL: [Paint; 3] = [Paint::Panels, Paint::Preview, Paint::Over];
 }
 
-/// The order of `PostUpdate`'s sandbox work, after the engine has placed the cameras (their
-/// transforms propagated, their projections updated for this frame).
-#[derive(SystemSet, Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Late {
-    /// The material written from the settings, the view and the volume: the uniform's rays use
-    /// this frame's view and target size.
-    Sync,
-    /// What reads the written material and the placed cameras: Render image's capture, the CPU
-    /// live view, the CPU-drawn lines.
-    Views,
-}
-
-impl Late {
-    /// Every set in the order `PostUpdate` runs them.
-    pub const ALL: [Late; 2] = [Late::Sync, Late::Views];
-}
-
-/// Orders the sets of all three schedules; every app of the sandbox (and the tests that build one)
-/// calls this once.
+/// Orders the sets of all three schedules; every app of the sandbox (and the tests that build
+/// one) calls this once.
 pub fn configure(app: &mut App) {
-    let [a, b, c, d, e, f, g, h] = Frame::ALL;
+    let [a, b, c, d, e, f, g, h] = Frame::UPDATE;
     app.configure_sets(Update, (a, b, c, d, e, f, g, h).chain());
     let [p, q, r] = Paint::ALL;
     app.configure_sets(EguiPrimaryContextPass, (p, q, r).chain());
-    let [s, v] = Late::ALL;
+    let [s, v] = Frame::POST_UPDATE;
     app.configure_sets(
         PostUpdate,
         (s, v)
@@ -131,11 +124,14 @@ mod tests {
 
     #[test]
     fn a_frame_runs_its_sets_in_the_enums_order() {
-        let want: Vec<String> = Frame::ALL.iter().map(|s| format!("{s:?}")).collect();
-        assert_eq!(order(Update, &Frame::ALL), want);
+        let want: Vec<String> = Frame::UPDATE.iter().map(|s| format!("{s:?}")).collect();
+        assert_eq!(order(Update, &Frame::UPDATE), want);
         let want: Vec<String> = Paint::ALL.iter().map(|s| format!("{s:?}")).collect();
         assert_eq!(order(EguiPrimaryContextPass, &Paint::ALL), want);
-        let want: Vec<String> = Late::ALL.iter().map(|s| format!("{s:?}")).collect();
-        assert_eq!(order(PostUpdate, &Late::ALL), want);
+        let want: Vec<String> = Frame::POST_UPDATE
+            .iter()
+            .map(|s| format!("{s:?}"))
+            .collect();
+        assert_eq!(order(PostUpdate, &Frame::POST_UPDATE), want);
     }
 }
