@@ -46,8 +46,37 @@ struct Clock {
 #[derive(Resource, Clone, Default)]
 pub struct FrameClock(Arc<Mutex<Clock>>);
 
-fn ms(a: Option<Instant>, b: Option<Instant>) -> Option<f64> {
-    Some(b?.saturating_duration_since(a?).as_secs_f64() * 1000.0)
+/// Each main-world part as the spans between its marks (the rest: two spans).
+const MAIN_SPANS: [&[(usize, usize)]; 5] = [
+    &[(0, 1)],
+    &[(1, 2)],
+    &[(3, 4)],
+    &[(4, 5)],
+    &[(2, 3), (5, 6)],
+];
+/// Each render-world part: the span between consecutive marks.
+const RENDER_SPANS: [&[(usize, usize)]; 6] = [
+    &[(0, 1)],
+    &[(1, 2)],
+    &[(2, 3)],
+    &[(3, 4)],
+    &[(4, 5)],
+    &[(5, 6)],
+];
+
+/// A frame's parts from its marks, in milliseconds (`None` if a mark is missing: a frame the
+/// clock joined halfway).
+fn parts<const M: usize, const P: usize>(
+    marks: &[Option<Instant>; M],
+    spans: [&[(usize, usize)]; P],
+) -> Option<[f64; P]> {
+    let mut out = [0.0; P];
+    for (part, spans) in out.iter_mut().zip(spans) {
+        for &(a, b) in spans {
+            *part += marks[b]?.saturating_duration_since(marks[a]?).as_secs_f64() * 1000.0;
+        }
+    }
+    Some(out)
 }
 
 /// Mark `K` of the main world's frame; the last one closes the frame.
@@ -55,18 +84,7 @@ fn main_mark<const K: usize>(clock: Res<FrameClock>) {
     let Ok(mut c) = clock.0.lock() else { return };
     c.main[K] = Some(Instant::now());
     if K == 6 {
-        let m = c.main;
-        let part = |a: usize, b: usize| ms(m[a], m[b]);
-        let parts = (|| {
-            Some([
-                part(0, 1)?,
-                part(1, 2)?,
-                part(3, 4)?,
-                part(4, 5)?,
-                part(2, 3)? + part(5, 6)?,
-            ])
-        })();
-        if let Some(p) = parts {
+        if let Some(p) = parts(&c.main, MAIN_SPANS) {
             c.main_frames.push(p);
         }
         c.main = [None; 7];
@@ -78,19 +96,7 @@ fn render_mark<const K: usize>(clock: Res<FrameClock>) {
     let Ok(mut c) = clock.0.lock() else { return };
     c.render[K] = Some(Instant::now());
     if K == 6 {
-        let r = c.render;
-        let part = |a: usize, b: usize| ms(r[a], r[b]);
-        let parts = (|| {
-            Some([
-                part(0, 1)?,
-                part(1, 2)?,
-                part(2, 3)?,
-                part(3, 4)?,
-                part(4, 5)?,
-                part(5, 6)?,
-            ])
-        })();
-        if let Some(p) = parts {
+        if let Some(p) = parts(&c.render, RENDER_SPANS) {
             c.render_frames.push(p);
         }
         c.render = [None; 7];
@@ -215,5 +221,22 @@ mod tests {
         assert_eq!(m, [2.0, 8.0]);
         assert_eq!(medians(&[[1.0], [5.0], [4.0]], 2), Some([5.0]));
         assert_eq!(medians::<1>(&[], 2), None);
+    }
+
+    /// A part is the time between its marks; the main world's rest adds two spans; a frame
+    /// with a missing mark has no parts.
+    #[test]
+    fn parts_are_the_spans_between_marks() {
+        let t0 = Instant::now();
+        let at = |ms: u64| Some(t0 + std::time::Duration::from_millis(ms));
+        let marks = [at(0), at(1), at(4), at(10), at(13), at(15), at(20)];
+        let p = parts(&marks, MAIN_SPANS).unwrap();
+        let round = p.map(|v| (v * 1000.0).round() / 1000.0);
+        assert_eq!(round, [1.0, 3.0, 3.0, 2.0, 6.0 + 5.0]);
+        let r = parts(&marks, RENDER_SPANS).unwrap();
+        assert!((r.iter().sum::<f64>() - 20.0).abs() < 1e-6);
+        let mut missing = marks;
+        missing[3] = None;
+        assert_eq!(parts(&missing, MAIN_SPANS), None);
     }
 }
