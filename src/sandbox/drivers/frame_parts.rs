@@ -79,13 +79,26 @@ fn parts<const M: usize, const P: usize>(
     Some(out)
 }
 
+/// Frames kept per world: more than a measurement asks for (one of more frames gets the parts
+/// of its last 2048 at least), and a page that goes on after reporting (`--measure-frames` in a
+/// browser) does not grow without end.
+const KEPT: usize = 4096;
+
+/// Adds a frame's parts, dropping the oldest half once [`KEPT`] are held.
+fn keep<const P: usize>(frames: &mut Vec<[f64; P]>, parts: [f64; P]) {
+    if frames.len() >= KEPT {
+        frames.drain(..KEPT / 2);
+    }
+    frames.push(parts);
+}
+
 /// Mark `K` of the main world's frame; the last one closes the frame.
 fn main_mark<const K: usize>(clock: Res<FrameClock>) {
     let Ok(mut c) = clock.0.lock() else { return };
     c.main[K] = Some(Instant::now());
     if K == 6 {
         if let Some(p) = parts(&c.main, MAIN_SPANS) {
-            c.main_frames.push(p);
+            keep(&mut c.main_frames, p);
         }
         c.main = [None; 7];
     }
@@ -97,7 +110,7 @@ fn render_mark<const K: usize>(clock: Res<FrameClock>) {
     c.render[K] = Some(Instant::now());
     if K == 6 {
         if let Some(p) = parts(&c.render, RENDER_SPANS) {
-            c.render_frames.push(p);
+            keep(&mut c.render_frames, p);
         }
         c.render = [None; 7];
     }
@@ -238,5 +251,17 @@ mod tests {
         let mut missing = marks;
         missing[3] = None;
         assert_eq!(parts(&missing, MAIN_SPANS), None);
+    }
+
+    /// A clock that runs on keeps its latest frames only.
+    #[test]
+    fn the_clock_keeps_its_latest_frames() {
+        let mut frames = Vec::new();
+        for i in 0..KEPT + 10 {
+            keep(&mut frames, [i as f64]);
+        }
+        assert!(frames.len() <= KEPT);
+        assert_eq!(frames.last(), Some(&[(KEPT + 9) as f64]));
+        assert_eq!(medians(&frames, 1), Some([(KEPT + 9) as f64]));
     }
 }
