@@ -148,6 +148,16 @@ impl Lanes<'_> {
             lerp(s, a[2], bb[2], f),
             lerp(s, a[3], bb[3], f),
         ];
+        if s.bits(opaque) == 0 {
+            // No lane has opacity (neither entry has any): the composite passes over every
+            // lane, so there is nothing to shade or correct.
+            return Evaluated {
+                alpha: [0.0; LANES],
+                opaque: 0,
+                rgb: [[0.0; LANES]; 3],
+                corrected: false,
+            };
+        }
         let alpha = s.and(opaque, rgba[3]);
         let color = [rgba[0], rgba[1], rgba[2]];
         let shaded = self.shade(s, color, grad, rl);
