@@ -195,8 +195,12 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
             )));
             ui.end_row();
         }
-        ui.label(format!("{} (ref.)", t.reference))
-            .on_hover_text("The exact setting every row is measured against");
+        // The reference's setting is spelt out below the table: in its first column it
+        // widened the side panel past the window's room.
+        ui.label("reference").on_hover_text(format!(
+            "{}: the exact setting every row is measured against",
+            t.reference
+        ));
         ui.label(ms(t.reference_seconds))
             .on_hover_text(spread(&t.reference_timing));
         ui.label(t.reference_samples.to_string());
@@ -224,7 +228,7 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
             if t.threads == 1 { "" } else { "s" }
         ),
     };
-    ui.label(egui::RichText::new(words).small());
+    ui.label(egui::RichText::new(format!("reference: {}; {words}", t.reference)).small());
 }
 
 /// A timing's spread, in words.
