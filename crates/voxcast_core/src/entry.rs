@@ -290,7 +290,7 @@ mod tests {
             ..RenderSettings::default()
         };
         let scene = crate::scene::Scene::new(volume, &tf, &s, camera.forward()).unwrap();
-        let Some((_, cells)) = &scene.empty else {
+        let Some((_, cells)) = scene.empty.as_deref() else {
             return 0;
         };
         let rays = camera.rays(w, h);
@@ -375,7 +375,7 @@ mod tests {
         let tf = TransferFunction::ramp(100.0, 255.0, 1.0).unwrap();
         let s = RenderSettings::default();
         let scene = crate::scene::Scene::new(&v, &tf, &s, camera.forward()).unwrap();
-        let (_, cells) = scene.empty.as_ref().unwrap();
+        let (_, cells) = scene.empty.as_deref().unwrap();
         let b = EntryBounds::new(cells, v.spacing(), &camera.rays(40, 30), (40, 30)).unwrap();
         assert_eq!(b.at(0, 0), f32::INFINITY, "a corner ray misses the ball");
         // The ball's front is 8 voxels before its centre; its visible cells reach a voxel out,

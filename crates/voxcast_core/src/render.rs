@@ -405,12 +405,14 @@ impl Job<'_, '_> {
         let n = scene.settings.supersampling.max(1);
         let rays = self.camera.rays(width, height);
         // Where each pixel's rays can first meet a visible cell, for the march that uses it.
-        let entry = slices.entry.get_or_insert_with(|| match &scene.empty {
-            Some((_, cells)) if marcher.reads_entry_bounds() => {
-                EntryBounds::new(cells, spacing, &rays, (width, height))
-            }
-            _ => None,
-        });
+        let entry = slices
+            .entry
+            .get_or_insert_with(|| match scene.empty.as_deref() {
+                Some((_, cells)) if marcher.reads_entry_bounds() => {
+                    EntryBounds::new(cells, spacing, &rays, (width, height))
+                }
+                _ => None,
+            });
         if slices.tiles.len() != total {
             slices.tiles = vec![None; total];
         }

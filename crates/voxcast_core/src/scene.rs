@@ -11,7 +11,7 @@ use crate::hash::jitter_fraction;
 use crate::prepared::Prepared;
 use crate::settings::RenderSettings;
 use crate::shade::ResolvedLights;
-use crate::skip::{BlockRanges, EmptyBlocks, VisibleCells};
+use crate::skip::BlockRanges;
 use crate::transfer::{Lut, TransferFunction};
 use crate::volume::Volume;
 use glam::Vec3;
@@ -55,7 +55,7 @@ pub struct Scene<'a> {
     /// The crop box and clip plane in world units ([`crate::clip`]).
     pub clip: ResolvedClip,
     /// Blocks and cells the transfer function makes transparent, where skipping them is exact.
-    pub empty: Option<(EmptyBlocks, VisibleCells)>,
+    pub empty: Option<crate::prepared::EmptySpace>,
     /// Whether Maximum, Minimum and First may skip blocks that cannot change their result.
     pub block_skipping: bool,
     /// Whether Sum may pass over blocks of exact zeros (CPU only: the GPU marches them, to
@@ -101,12 +101,7 @@ impl<'a> Scene<'a> {
     ) -> Result<Self, SettingsError> {
         let mut scene = Self::plain(volume.volume(), tf, settings, view_forward)?;
         let lut = &scene.lut;
-        scene.empty = scene.skips_empty().then(|| {
-            (
-                EmptyBlocks::new(volume.block_ranges(), lut),
-                VisibleCells::new(volume, lut),
-            )
-        });
+        scene.empty = scene.skips_empty().then(|| volume.empty_space(lut));
         let needs_gradient = settings.shading || scene.classifier != Classifier::Table;
         if needs_gradient {
             scene.differences = volume.lattice_differences();

@@ -348,7 +348,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let skip = if R::ACTIVE || back_to_front {
             None
         } else {
-            self.s.empty.as_ref()
+            self.s.empty.as_deref()
         };
         if from == f32::INFINITY && skip.is_some() {
             // No visible cell along the ray (its pixel's entry bound): nothing to composite,

@@ -80,7 +80,7 @@ pub fn block_traffic(scene: &Scene<'_>, rays: &[(Ray, [u32; 2])]) -> BlockTraffi
         None => crate::skip::block_grid(scene.volume.dims()),
     };
     let blocks = UVec3::new(grid[0] as u32, grid[1] as u32, grid[2] as u32);
-    let empty = scene.empty.as_ref().map(|(e, _)| e.flags());
+    let empty = scene.empty.as_deref().map(|(e, _)| e.flags());
     let mut crossed = vec![0u32; grid[0] * grid[1] * grid[2]];
     let mut sampled = crossed.clone();
     let inv_spacing = 1.0 / scene.volume.spacing();

@@ -111,7 +111,7 @@ impl<'s> Lanes<'s> {
         if g.dims[0] < 2 {
             return None; // a cell's two x corners are then one record, not two side by side
         }
-        let (_, cells) = s.empty.as_ref()?;
+        let (_, cells) = s.empty.as_deref()?;
         // Indices stay in i32 (gathers take 32-bit offsets, records are read as two halves).
         if records.len() >= (i32::MAX / 4) as usize
             || cells.words().len() >= (i32::MAX / 4) as usize
