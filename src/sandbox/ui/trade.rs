@@ -83,19 +83,22 @@ pub(super) fn trade_section(
                     .color(egui::Color32::YELLOW),
             );
         }
-        table(ui, t, step_voxels, trade.timed_frames.as_ref());
-        plot(ui, t);
+        let frames = trade.timed_frames.as_ref();
+        let seconds = Seconds::of(t, frames.is_none());
+        table(ui, t, &seconds, step_voxels, frames);
+        plot(ui, t, &seconds);
     }
 }
 
 /// Error against time, one point per row (the reference at zero error): the trade's curve.
 /// Time on a logarithmic axis, as the settings' costs span orders of magnitude.
-fn plot(ui: &mut egui::Ui, t: &Trade) {
+fn plot(ui: &mut egui::Ui, t: &Trade, seconds: &Seconds) {
     let points: Vec<(f64, f32, &str)> = t
         .rows
         .iter()
-        .map(|r| (r.seconds, r.rmse * 255.0, r.label.as_str()))
-        .chain([(t.reference_seconds, 0.0, "ref.")])
+        .zip(&seconds.rows)
+        .map(|(r, &s)| (s, r.rmse * 255.0, r.label.as_str()))
+        .chain([(seconds.reference, 0.0, "ref.")])
         .collect();
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
         (lo.min(p.0.max(1e-6)), hi.max(p.0))
@@ -160,7 +163,34 @@ fn plot(ui: &mut egui::Ui, t: &Trade) {
     );
 }
 
-fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTiming>) {
+/// The times the table and the plot show: each setting's fastest run where the core's renders
+/// were timed in this window (the window draws all the while on the same computer, and the
+/// fastest run is the one it disturbed least: medians of 2-ms renders came out in any order),
+/// else the medians (the preview's timed frames, which are the window's own).
+struct Seconds {
+    reference: f64,
+    rows: Vec<f64>,
+}
+
+impl Seconds {
+    fn of(t: &Trade, fastest: bool) -> Self {
+        let pick = |timing: &voxcast_core::trade::Timing, median: f64| {
+            if fastest { timing.fastest } else { median }
+        };
+        Self {
+            reference: pick(&t.reference_timing, t.reference_seconds),
+            rows: t.rows.iter().map(|r| pick(&r.timing, r.seconds)).collect(),
+        }
+    }
+}
+
+fn table(
+    ui: &mut egui::Ui,
+    t: &Trade,
+    seconds: &Seconds,
+    step_voxels: f32,
+    frames: Option<&FrameTiming>,
+) {
     egui::Grid::new("trade").striped(true).show(ui, |ui| {
         let knob = match t.knob {
             Knob::Step => "step",
@@ -174,7 +204,8 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
             &[knob, "time", "samples", "max err", "RMSE", "speed-up"],
         );
         let ms = |s: f64| format!("{:.1} ms", s * 1e3);
-        for r in &t.rows {
+        let reference_seconds = seconds.reference;
+        for (r, &seconds) in t.rows.iter().zip(&seconds.rows) {
             let text = |s: String| {
                 let rich = egui::RichText::new(s);
                 if t.knob == Knob::Step && (r.step_voxels - step_voxels).abs() < 1e-4 {
@@ -184,14 +215,13 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
                 }
             };
             ui.label(text(r.label.clone()));
-            ui.label(text(ms(r.seconds)))
-                .on_hover_text(spread(&r.timing));
+            ui.label(text(ms(seconds))).on_hover_text(spread(&r.timing));
             ui.label(text(r.samples.to_string()));
             ui.label(text(format!("{:.1}/255", r.max_error * 255.0)));
             ui.label(text(format!("{:.2}/255", r.rmse * 255.0)));
             ui.label(text(format!(
                 "×{:.1}",
-                t.reference_seconds / r.seconds.max(1e-9)
+                reference_seconds / seconds.max(1e-9)
             )));
             ui.end_row();
         }
@@ -201,7 +231,7 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
             "{}: the exact setting every row is measured against",
             t.reference
         ));
-        ui.label(ms(t.reference_seconds))
+        ui.label(ms(reference_seconds))
             .on_hover_text(spread(&t.reference_timing));
         ui.label(t.reference_samples.to_string());
         ui.label("0");
@@ -215,9 +245,10 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
             f.words(t.runs)
         ),
         None => format!(
-            "{}time: the median of {} renders after an untimed one, the settings taken in turn \
-             (hover a time for the fastest and slowest), each on {} thread{}, sharing the \
-             computer with this window; speed-up against the reference",
+            "{}time: the fastest of {} renders after an untimed one, the settings taken in turn \
+             (hover a time for the median and the slowest), each on {} thread{}; the window \
+             draws all the while on the same computer, and the fastest run is the one it \
+             disturbed least; speed-up against the reference",
             if t.knob == Knob::Step {
                 "step in voxels; your step is in blue; "
             } else {
@@ -234,8 +265,54 @@ fn table(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTi
 /// A timing's spread, in words.
 fn spread(t: &voxcast_core::trade::Timing) -> String {
     format!(
-        "fastest {:.1} ms, slowest {:.1} ms",
+        "fastest {:.1} ms, median {:.1} ms, slowest {:.1} ms",
         t.fastest * 1e3,
+        t.median * 1e3,
         t.slowest * 1e3
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use voxcast_core::trade::{Timing, TradeRow};
+
+    #[test]
+    fn the_core_s_renders_show_their_fastest_run_and_the_window_s_frames_their_median() {
+        let timing = |fastest: f64| Timing {
+            median: 2.0 * fastest,
+            fastest,
+            slowest: 3.0 * fastest,
+        };
+        let row = |fastest: f64| TradeRow {
+            label: "1".into(),
+            step_voxels: 1.0,
+            seconds: 2.0 * fastest,
+            timing: timing(fastest),
+            samples: 1,
+            max_error: 0.0,
+            rmse: 0.0,
+        };
+        let t = Trade {
+            knob: Knob::Step,
+            reference: "step 0.0625 voxel".into(),
+            reference_voxels: 0.0625,
+            reference_seconds: 0.016,
+            reference_timing: timing(0.008),
+            reference_samples: 8,
+            rows: vec![row(0.001), row(0.002)],
+            runs: 5,
+            threads: 2,
+        };
+        let fastest = Seconds::of(&t, true);
+        assert_eq!(
+            (fastest.reference, fastest.rows),
+            (0.008, vec![0.001, 0.002])
+        );
+        let medians = Seconds::of(&t, false);
+        assert_eq!(
+            (medians.reference, medians.rows),
+            (0.016, vec![0.002, 0.004])
+        );
+    }
 }
