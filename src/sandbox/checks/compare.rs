@@ -12,7 +12,7 @@ use crate::sandbox::shared::tasks::in_slices;
 use bevy::prelude::*;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::view::screenshot::{Screenshot, ScreenshotCaptured};
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -440,7 +440,7 @@ fn start_capture(
             cancel.clone(),
         );
         let live_slot = gpu.clone();
-        AsyncComputeTaskPool::get().spawn(async move {
+        crate::sandbox::shared::tasks::spawn(async move {
             let s = &snapshot;
             let scene = Scene::new(&volume, &s.transfer, &s.settings, s.camera.forward())
                 .map_err(|e| e.to_string())?;

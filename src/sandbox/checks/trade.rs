@@ -12,7 +12,7 @@ use crate::sandbox::shared::quality::PreviewSettings;
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use crate::sandbox::shared::tasks::in_slices;
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use voxcast_core::camera::Camera as CoreCamera;
@@ -119,6 +119,7 @@ impl StepTrade {
 
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<StepTrade>()
+        .add_message::<crate::sandbox::shared::pacing::KeepDrawing>()
         .add_systems(Update, (start, finish, time_frames).chain());
 }
 
@@ -161,7 +162,7 @@ fn start(
             view.0,
         );
         let (done, cancel) = (done.clone(), cancel.clone());
-        AsyncComputeTaskPool::get().spawn(async move {
+        crate::sandbox::shared::tasks::spawn(async move {
             let report = |d: usize, total: usize| {
                 done.0.store(d, Ordering::Relaxed);
                 done.1.store(total, Ordering::Relaxed);
@@ -223,10 +224,16 @@ fn finish(mut trade: ResMut<StepTrade>, preview: Option<Res<PreviewSettings>>) {
 }
 
 /// Times a preview's knob as the preview's images, once the core has rendered its errors.
-fn time_frames(mut trade: ResMut<StepTrade>, mut drawing: Drawing) {
+fn time_frames(
+    mut trade: ResMut<StepTrade>,
+    mut drawing: Drawing,
+    mut keep: MessageWriter<crate::sandbox::shared::pacing::KeepDrawing>,
+) {
     let Some((_, _, run)) = trade.frames.as_mut() else {
         return;
     };
+    // The preview's frames are being timed: every one of them is wanted.
+    keep.write(crate::sandbox::shared::pacing::KeepDrawing);
     let Some(ended) = drive(run, &mut drawing) else {
         return;
     };
@@ -248,7 +255,7 @@ fn time_frames(mut trade: ResMut<StepTrade>, mut drawing: Drawing) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use bevy::tasks::TaskPool;
+    use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
     use voxcast_core::composite::Method;
 
     /// Measure runs in the background; the result stays current while only the step changes

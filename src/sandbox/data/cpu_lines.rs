@@ -11,7 +11,7 @@ use crate::sandbox::shared::state::{MainCamera, View};
 use crate::sandbox::shared::viewport::Viewport;
 use bevy::platform::time::Instant;
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use voxcast_core::camera::Camera as CoreCamera;
@@ -241,7 +241,7 @@ fn start(key: LinesKey) -> LinesJob {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     let job_key = key.clone();
-    let task = AsyncComputeTaskPool::get().spawn(async move {
+    let task = crate::sandbox::shared::tasks::spawn(async move {
         let started = Instant::now();
         let mut image = LineImage::new(job_key.size.x, job_key.size.y);
         // Segments looked at (drawn or not: projecting them is the work).

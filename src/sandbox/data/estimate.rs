@@ -6,7 +6,7 @@ use crate::sandbox::data::source::RayScene;
 use crate::sandbox::shared::schedule::Frame;
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
 use voxcast_core::camera::Camera as CoreCamera;
 use voxcast_core::rays::as_volume::DensitySpec;
@@ -82,7 +82,7 @@ fn estimate(choices: Res<RayChoices>, mut est: ResMut<Estimator>) {
         .as_ref()
         .filter(|(s, _)| *s == spec.source)
         .map(|(_, d)| d.clone());
-    est.task = Some(AsyncComputeTaskPool::get().spawn(async move {
+    est.task = Some(crate::sandbox::shared::tasks::spawn(async move {
         let data = match cached {
             Some(d) => d,
             None => {
@@ -183,7 +183,7 @@ fn fit_range(
     fit.asked = false;
     fit.fitted_for = Some(id);
     let (render, shading, view) = (render.clone(), choices.view.shading, view.0);
-    fit.task = Some(AsyncComputeTaskPool::get().spawn(async move {
+    fit.task = Some(crate::sandbox::shared::tasks::spawn(async move {
         let c = &shown.computed;
         let mut settings = render.settings.clone();
         settings.sum_range = None;

@@ -14,7 +14,7 @@ use crate::sandbox::shared::files::{FilesChosen, Purpose, volume_entry};
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::platform::time::Instant;
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use bevy::window::FileDragAndDrop;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -116,7 +116,7 @@ impl Loading {
         self.cancel();
         let progress = Arc::new(Progress::default());
         let cancel = Arc::new(AtomicBool::new(false));
-        let task = AsyncComputeTaskPool::get().spawn(work(progress.clone(), cancel.clone()));
+        let task = crate::sandbox::shared::tasks::spawn(work(progress.clone(), cancel.clone()));
         self.job = Some(Job {
             source: label,
             keep_choices,
@@ -274,7 +274,7 @@ fn defaults_for(volume: &Volume) -> (TransferFunction, Option<RenderSettings>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use bevy::tasks::TaskPool;
+    use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
 
     fn app() -> App {
         AsyncComputeTaskPool::get_or_init(TaskPool::new);
@@ -503,7 +503,6 @@ mod tests {
     fn a_loaded_volume_puts_the_virtual_camera_beside_the_reframed_main_camera() {
         use crate::sandbox::shared::state::{MainCamera, View};
         use bevy::input::mouse::{AccumulatedMouseMotion, AccumulatedMouseScroll};
-        use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
         AsyncComputeTaskPool::get_or_init(TaskPool::new);
         type Plugin = fn(&mut App);
         let plugins: [Plugin; 3] = [

@@ -18,7 +18,7 @@ use bevy::asset::RenderAssetUsages;
 use bevy::camera::visibility::RenderLayers;
 use bevy::mesh::PrimitiveTopology;
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
 use voxcast_core::rays::field::{Arrow, arrows};
 use voxcast_core::rays::layered::{AMBIENT, SceneShading};
@@ -257,7 +257,9 @@ fn build_lines(
     }
     let view = choices.view.clone();
     let shown = root.0.clone();
-    building.task = Some(AsyncComputeTaskPool::get().spawn(async move { geometry(&shown, &view) }));
+    building.task = Some(crate::sandbox::shared::tasks::spawn(async move {
+        geometry(&shown, &view)
+    }));
     building.wanted = Some(key);
     report.building = true;
 }

@@ -12,7 +12,7 @@
 use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::collections::HashMap;
 use std::sync::atomic::AtomicBool;
 use voxcast_core::clip::clip_interval;
@@ -148,6 +148,7 @@ pub(crate) fn plugin(app: &mut App) {
         .init_resource::<RayAnimation>()
         .init_resource::<Pool>()
         .init_resource::<InspectJob>()
+        .add_message::<crate::sandbox::shared::pacing::KeepDrawing>()
         .add_systems(
             Update,
             (
@@ -206,7 +207,7 @@ fn recompute(
     job.replay |= vc.is_changed() || volume.is_changed();
     let (volume, render_state, vc) = ((*volume).clone(), (*render_state).clone(), *vc);
     let (budget, generation) = (settings.budget, inspection.generation);
-    job.task = Some(AsyncComputeTaskPool::get().spawn(async move {
+    job.task = Some(crate::sandbox::shared::tasks::spawn(async move {
         let mut next = Inspection {
             generation,
             ..default()
@@ -495,16 +496,33 @@ fn place_spheres(
     }
 }
 
-/// Grows the rays while the animation runs.
+/// How far the rays are drawn from their origins (the virtual camera's `eye` looking at
+/// `target`): past the far side of the volume's box `(lo, hi)`.
+pub fn reach(eye: Vec3, target: Vec3, (lo, hi): (Vec3, Vec3)) -> f32 {
+    (target - eye).length() + (hi - lo).length()
+}
+
+/// Grows the rays while the animation runs, and keeps the window drawing until they reach
+/// their full length.
 fn grow_rays(
     time: Res<Time>,
     settings: Res<InspectSettings>,
     volume: Res<VolumeState>,
+    cameras: Query<&VirtualCamera>,
     mut animation: ResMut<RayAnimation>,
+    mut keep: MessageWriter<crate::sandbox::shared::pacing::KeepDrawing>,
 ) {
     if animation.distance.is_finite() {
         let (lo, hi) = volume.volume.bounds();
         animation.distance += settings.speed * (hi - lo).length() * time.delta_secs();
+        let growing = cameras.single().is_ok_and(|vc| {
+            settings.shown
+                && vc.shown
+                && animation.distance < reach(vc.view.eye, vc.view.target, (lo, hi))
+        });
+        if growing {
+            keep.write(crate::sandbox::shared::pacing::KeepDrawing);
+        }
     }
 }
 

@@ -23,7 +23,7 @@ use crate::sandbox::shared::tasks::in_slices;
 use crate::sandbox::shared::viewport::Viewport;
 use bevy::platform::time::Instant;
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use voxcast_core::camera::Camera as CoreCamera;
@@ -230,11 +230,24 @@ fn frame_image(frame: &LiveFrame) -> Image {
 
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<LiveView>()
-        .add_systems(Update, choose_backend)
+        .add_message::<crate::sandbox::shared::pacing::KeepDrawing>()
+        .add_systems(Update, (choose_backend, keep_drawing_until_exact))
         .add_systems(
             PostUpdate,
             drive_live_view.in_set(crate::sandbox::shared::schedule::Frame::Views),
         );
+}
+
+/// The window keeps drawing until the CPU live view shows the exact render of the view (its
+/// frames arrive from tasks, and the exact one is painted a frame after it arrives).
+fn keep_drawing_until_exact(
+    live: Res<LiveView>,
+    settings: Res<PreviewSettings>,
+    mut keep: MessageWriter<crate::sandbox::shared::pacing::KeepDrawing>,
+) {
+    if settings.cpu_live() && !live.showing_exact() {
+        keep.write(crate::sandbox::shared::pacing::KeepDrawing);
+    }
 }
 
 /// The GPU could not run the preview (a shader it cannot compile, a pipeline it refuses): why.
@@ -568,7 +581,7 @@ fn start(
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     let job_key = key.clone();
-    let task = AsyncComputeTaskPool::get().spawn(async move {
+    let task = crate::sandbox::shared::tasks::spawn(async move {
         let started = Instant::now();
         let scene = Scene::new(
             &volume,

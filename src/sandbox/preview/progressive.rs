@@ -205,7 +205,20 @@ impl Progressive {
 }
 
 pub(crate) fn plugin(app: &mut App) {
-    app.init_resource::<Progressive>();
+    app.init_resource::<Progressive>()
+        .add_message::<crate::sandbox::shared::pacing::KeepDrawing>()
+        .add_systems(Update, keep_drawing_until_full_quality);
+}
+
+/// The resting view is drawn in strips, a few a frame: the window keeps drawing until the
+/// last strip is on screen.
+fn keep_drawing_until_full_quality(
+    p: Res<Progressive>,
+    mut keep: MessageWriter<crate::sandbox::shared::pacing::KeepDrawing>,
+) {
+    if !p.full_quality_shown() {
+        keep.write(crate::sandbox::shared::pacing::KeepDrawing);
+    }
 }
 
 /// A target image for the resting passes.

@@ -10,7 +10,7 @@ use crate::sandbox::gpu::uniform::{FLAG_RECORDS, FLAG_SKIP_CELLS, VolumeUniform}
 use crate::sandbox::preview::quality::Quality;
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeBox, VolumeState};
 use bevy::prelude::*;
-use bevy::tasks::{AsyncComputeTaskPool, Task, futures::check_ready};
+use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
 use voxcast_core::skip::VisibleCells;
 use voxcast_core::trace::Scene;
@@ -199,7 +199,7 @@ fn upload_records(
             Some((k, task)) if *k == key => check_ready(task),
             _ => {
                 let volume = state.volume.clone();
-                let task = AsyncComputeTaskPool::get().spawn(async move {
+                let task = crate::sandbox::shared::tasks::spawn(async move {
                     let count = volume.voxel_count();
                     if count.saturating_mul(8) > MAX_RECORD_BYTES {
                         return None;
@@ -280,8 +280,9 @@ fn upload_visible_cells(
             Some((k, task)) if *k == key => check_ready(task),
             _ => {
                 let volume = state.volume.clone();
-                let task = AsyncComputeTaskPool::get()
-                    .spawn(async move { VisibleCells::new(&volume, &lut) });
+                let task = crate::sandbox::shared::tasks::spawn(async move {
+                    VisibleCells::new(&volume, &lut)
+                });
                 upload.task = Some((key.clone(), task));
                 None
             }

@@ -6,6 +6,7 @@ pub mod files;
 pub mod fit;
 pub mod layers;
 pub mod mode;
+pub mod pacing;
 pub mod platform;
 pub mod pointer;
 pub mod quality;

@@ -6,7 +6,46 @@
 //! (Render image's progress and Cancel work as on the desktop).
 
 use bevy::platform::time::Instant;
+use bevy::tasks::{AsyncComputeTaskPool, ConditionalSend, Task};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use voxcast_core::slices::{Deadline, Step};
+
+/// Tasks [`spawn`]ed and not yet finished or dropped.
+static IN_FLIGHT: AtomicUsize = AtomicUsize::new(0);
+
+/// One task counted in [`IN_FLIGHT`] while it lives.
+struct Counted;
+
+impl Counted {
+    fn new() -> Self {
+        IN_FLIGHT.fetch_add(1, Ordering::Relaxed);
+        Counted
+    }
+}
+
+impl Drop for Counted {
+    fn drop(&mut self) {
+        IN_FLIGHT.fetch_sub(1, Ordering::Relaxed);
+    }
+}
+
+/// Starts `work` on Bevy's `AsyncComputeTaskPool`, counted while it runs: the window keeps
+/// drawing every frame while any task is under way, so its result shows the frame it is ready
+/// (`pacing.rs`).
+pub fn spawn<T: ConditionalSend + 'static>(
+    work: impl Future<Output = T> + ConditionalSend + 'static,
+) -> Task<T> {
+    let counted = Counted::new();
+    AsyncComputeTaskPool::get().spawn(async move {
+        let _counted = counted;
+        work.await
+    })
+}
+
+/// How many [`spawn`]ed tasks are under way.
+pub fn in_flight() -> usize {
+    IN_FLIGHT.load(Ordering::Relaxed)
+}
 
 /// How long a slice of work runs in a browser before the page may draw a frame: short enough
 /// that the page answers a click within a frame or two, long enough that the frames between

@@ -52,8 +52,8 @@ pub(super) fn ray_overlay(
     }
     let ctx = contexts.ctx_mut()?;
     let (projector, painter) = scene_painter(ctx, viewport.as_deref(), view);
-    let (lo, hi) = volume.volume.bounds();
-    let reach = (vc.view.target - vc.view.eye).length() + (hi - lo).length();
+    let reach =
+        crate::sandbox::inspect::rays::reach(vc.view.eye, vc.view.target, volume.volume.bounds());
     let selected = selection.selected_index(inspection.size);
     let hovered = selection.hovered_index(inspection.size);
     let grown = animation.distance;

@@ -13,7 +13,11 @@ pub(super) type RayParams<'w> = (
 
 pub(super) fn settings_panel(
     mut contexts: EguiContexts,
-    (mut panel, mut dock): (ResMut<PanelState>, ResMut<Dock>),
+    (mut panel, mut dock, pacing): (
+        ResMut<PanelState>,
+        ResMut<Dock>,
+        Option<Res<crate::sandbox::shared::pacing::Pacing>>,
+    ),
     (volume, mut loading, lessons, mode): (
         Res<VolumeState>,
         ResMut<Loading>,
@@ -80,11 +84,21 @@ pub(super) fn settings_panel(
                 let fps = diagnostics
                     .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
                     .and_then(|d| d.smoothed());
+                let resting = pacing.as_ref().is_some_and(|p| p.resting);
                 ui.horizontal(|ui| {
-                    ui.label(format!(
-                        "frame time: {}",
-                        fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
-                    ));
+                    if resting {
+                        ui.label("frame time: at rest").on_hover_text(format!(
+                            "Nothing moves and nothing is under way, so the window draws only \
+                             when something changes (and at least every {} s), leaving the \
+                             computer free; the frame time shows again once something moves.",
+                            crate::sandbox::shared::pacing::REST_WAIT.as_secs_f32()
+                        ));
+                    } else {
+                        ui.label(format!(
+                            "frame time: {}",
+                            fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
+                        ));
+                    }
                     let clicked = marked(ui, spot, Control::RenderImage, |ui| {
                         target(ui.button("Render image…"), "render image")
                             .on_hover_text(
