@@ -200,6 +200,13 @@ fn page(graphics: &str) -> Outcome {
         "the damaged file left the volume"
     );
     page.save_screenshot("dropped")?;
+    // Nothing moves and nothing is under way: the page comes to rest (it draws only on input
+    // or now and then); the clicks below wake it.
+    let rested = browser.wait_for(
+        "return window.voxcastStatus().resting || null",
+        Duration::from_secs(60),
+    );
+    assert!(rested.is_ok(), "the page did not rest: {}", page.status()?);
 
     // Level 1, started with a click (from the levels menu where the list is folded), shows its
     // first step.

@@ -43,6 +43,8 @@ pub struct Pacing {
     last_active: f64,
     /// Whether the window is at rest (drawing only on input, requests and [`REST_WAIT`]).
     pub resting: bool,
+    /// What last kept the window drawing, in words.
+    pub woken_by: &'static str,
 }
 
 impl Default for Pacing {
@@ -51,22 +53,21 @@ impl Default for Pacing {
             awake: None,
             last_active: 0.0,
             resting: false,
+            woken_by: "starting",
         }
     }
 }
 
-/// The message and the pace's state everywhere; the pacing itself on the desktop (the page is
-/// drawn as the browser paces it).
 pub fn plugin(app: &mut App) {
-    app.add_message::<KeepDrawing>().init_resource::<Pacing>();
-    if cfg!(not(target_arch = "wasm32")) {
-        app.add_systems(Last, pace).add_systems(
+    app.add_message::<KeepDrawing>()
+        .init_resource::<Pacing>()
+        .add_systems(Last, pace)
+        .add_systems(
             PreUpdate,
             drop_unchanged_modifiers
                 .after(EguiPreUpdateSet::ProcessInput)
                 .before(EguiPreUpdateSet::BeginPass),
         );
-    }
 }
 
 /// bevy_egui tells egui the modifier keys' state as an event every frame, changed or not, and
@@ -112,18 +113,24 @@ pub struct Activity<'w, 's> {
 }
 
 impl Activity<'_, '_> {
-    fn any(&mut self) -> bool {
+    /// What asked for frames this frame, in words, if anything did.
+    fn reason(&mut self) -> Option<&'static str> {
         // Every reader is drained: a message left unread would count again next frame.
         let messages = [
-            self.keep.read().count(),
-            self.keys.read().count(),
-            self.buttons.read().count(),
-            self.wheel.read().count(),
-            self.cursor.read().count(),
+            (self.keep.read().count(), "a feature asked for frames"),
+            (self.keys.read().count(), "a key"),
+            (self.buttons.read().count(), "a mouse button"),
+            (self.wheel.read().count(), "the mouse wheel"),
+            (self.cursor.read().count(), "the pointer moved"),
         ];
-        messages.iter().any(|&n| n > 0)
-            || self.motion.as_ref().is_some_and(|m| m.moving)
-            || super::tasks::in_flight() > 0
+        let message = messages.iter().find(|(n, _)| *n > 0).map(|(_, why)| *why);
+        message
+            .or(self
+                .motion
+                .as_ref()
+                .is_some_and(|m| m.moving)
+                .then_some("the view moves"))
+            .or((super::tasks::in_flight() > 0).then_some("a task runs"))
     }
 }
 
@@ -142,8 +149,9 @@ fn pace(
     if continuous(&awake) {
         return;
     }
-    if activity.any() {
+    if let Some(why) = activity.reason() {
         pacing.last_active = now;
+        pacing.woken_by = why;
     }
     let resting = now - pacing.last_active >= KEEP_DRAWING.as_secs_f64();
     if resting != pacing.resting {

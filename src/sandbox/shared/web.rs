@@ -119,6 +119,11 @@ pub struct PageStatus {
     /// The volume is drawn at full quality for the view (the CPU's exact render, the GPU's
     /// whole frame), not a coarse frame or a refinement under way.
     pub settled: bool,
+    /// The page rests: nothing moves or is under way, so it draws only on input or now and
+    /// then (`pacing.rs`).
+    pub resting: bool,
+    /// What last kept it drawing, in words.
+    pub woken_by: String,
 }
 
 thread_local! {

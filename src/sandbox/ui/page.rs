@@ -27,6 +27,7 @@ pub(super) struct Reported<'w> {
     viewport: Option<Res<'w, Viewport>>,
     live: Option<Res<'w, LiveView>>,
     progressive: Option<Res<'w, crate::sandbox::preview::progressive::Progressive>>,
+    pacing: Option<Res<'w, crate::sandbox::shared::pacing::Pacing>>,
 }
 
 /// Publishes this frame's state for the page.
@@ -46,6 +47,7 @@ pub(super) fn publish_status(
         viewport,
         live,
         progressive,
+        pacing,
     } = reported;
     // Render image's time on the wall clock, from the click to the result (the slices and the
     // frames drawn between them).
@@ -94,6 +96,8 @@ pub(super) fn publish_status(
             String::new()
         };
         s.live = live.as_ref().map(|l| l.status()).unwrap_or_default();
+        s.resting = pacing.as_ref().is_some_and(|p| p.resting);
+        s.woken_by = pacing.as_ref().map_or("", |p| p.woken_by).into();
         s.settled = match preview.backend {
             Backend::Cpu => live.as_ref().is_some_and(|l| l.showing_exact()),
             Backend::Gpu => progressive.as_ref().is_none_or(|p| p.full_quality_shown()),
