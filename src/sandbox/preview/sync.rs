@@ -12,7 +12,7 @@ use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeBox, Vo
 use bevy::prelude::*;
 use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
-use voxcast_core::skip::VisibleCells;
+use voxcast_core::prepared::EmptySpace;
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
 
@@ -151,14 +151,15 @@ fn gpu_backend(preview: Option<&crate::sandbox::shared::quality::PreviewSettings
 /// What the cells' visibility is made for: the volume (by identity) and the transfer function.
 type CellsKey = (usize, TransferFunction);
 
-/// The cells' visibility (`VisibleCells`) for the GPU preview: computed on the background pool
+/// The cells' visibility (`VisibleCells`) for the GPU preview: found on the background pool
 /// when the volume or the transfer function changes (tens of milliseconds on a CT: not inside a
-/// frame), uploaded when ready. Until then the preview skips blocks only — the same image.
+/// frame), through the volume's kept empty space (`Prepared::empty_space`, which the CPU's
+/// scenes for the same table then reuse), uploaded when ready. Until then the preview skips blocks only — the same image.
 #[derive(Resource, Default)]
 pub(crate) struct CellsUpload {
     /// What the material's cells texture was made for.
     done: Option<CellsKey>,
-    task: Option<(CellsKey, Task<VisibleCells>)>,
+    task: Option<(CellsKey, Task<EmptySpace>)>,
     /// For the current volume and settings: whether Accumulate skips, and the baked table.
     current: Option<(bool, voxcast_core::transfer::Lut)>,
     /// The volume (by identity) the records texture was made for, and whether it holds them.
@@ -280,20 +281,20 @@ fn upload_visible_cells(
             Some((k, task)) if *k == key => check_ready(task),
             _ => {
                 let volume = state.volume.clone();
-                let task = crate::sandbox::shared::tasks::spawn(async move {
-                    VisibleCells::new(&volume, &lut)
-                });
+                let task =
+                    crate::sandbox::shared::tasks::spawn(async move { volume.empty_space(&lut) });
                 upload.task = Some((key.clone(), task));
                 None
             }
         };
-        if let Some(cells) = finished {
+        if let Some(space) = finished {
+            let cells = &space.1;
             upload.task = None;
             info!(
                 "preview: the cells' visibility uploaded ({} of the cells can be seen)",
                 voxcast_core::numbers::percent(cells.visible_fraction())
             );
-            let image = assets.images.add(visible_cells_image(Some(&cells)));
+            let image = assets.images.add(visible_cells_image(Some(cells)));
             if let Some(mut material) = assets.materials.get_mut(&handle.0) {
                 material.cells = image;
             }
