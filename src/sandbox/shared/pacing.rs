@@ -90,7 +90,7 @@ fn drop_unchanged_modifiers(
 }
 
 /// The settings at rest.
-fn resting() -> WinitSettings {
+fn at_rest() -> WinitSettings {
     WinitSettings {
         focused_mode: UpdateMode::reactive(REST_WAIT),
         unfocused_mode: UpdateMode::reactive_low_power(REST_WAIT),
@@ -103,7 +103,7 @@ fn continuous(s: &WinitSettings) -> bool {
 
 /// Whether anything asked for frames this frame.
 #[derive(bevy::ecs::system::SystemParam)]
-pub struct Activity<'w, 's> {
+struct Activity<'w, 's> {
     keep: MessageReader<'w, 's, KeepDrawing>,
     keys: MessageReader<'w, 's, KeyboardInput>,
     buttons: MessageReader<'w, 's, MouseButtonInput>,
@@ -156,7 +156,7 @@ fn pace(
     let resting = now - pacing.last_active >= KEEP_DRAWING.as_secs_f64();
     if resting != pacing.resting {
         pacing.resting = resting;
-        *settings = if resting { self::resting() } else { awake };
+        *settings = if resting { at_rest() } else { awake };
     }
 }
 
