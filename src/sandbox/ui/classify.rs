@@ -49,14 +49,12 @@ pub(super) fn classification_controls(
         Classification::ValueGradient { .. } => 3,
     };
     let mut chosen = current;
-    egui::ComboBox::from_label("Classification")
-        .selected_text(names[current])
-        .show_ui(ui, |ui| {
-            for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
-                ui.selectable_value(&mut chosen, i, *name)
-                    .on_hover_text(doc);
-            }
-        });
+    super::combo(ui, "Classification", names[current], |ui| {
+        for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
+            ui.selectable_value(&mut chosen, i, *name)
+                .on_hover_text(doc);
+        }
+    });
     if chosen != current {
         *c = match chosen {
             0 => Classification::Table,

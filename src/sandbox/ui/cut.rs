@@ -2,7 +2,7 @@
 //! the clip plane (orientation, flip, position); the same cut is dragged in the scene
 //! (`crate::sandbox::scene::cut`).
 
-use super::{Spot, marked, slider};
+use super::{Spot, combo, labelled, marked, slider};
 use crate::sandbox::scene::cut::CutHandles;
 use bevy::math::Vec3;
 use bevy_egui::egui;
@@ -44,29 +44,30 @@ pub(super) fn cut_section(
                 egui::RichText::new("Drag the orange rings in the scene, or set each side:")
                     .small(),
             );
-            // Two sliders a row: narrow ones, so the panel keeps its width.
-            ui.spacing_mut().slider_width = 70.0;
-            egui::Grid::new("crop").num_columns(3).show(ui, |ui| {
-                for (a, axis) in ["x", "y", "z"].into_iter().enumerate() {
-                    ui.label(axis);
-                    let (mut lo, mut hi) = (clip.crop_lo[a], clip.crop_hi[a]);
-                    let from = ui
-                        .add(egui::Slider::new(&mut lo, 0.0..=1.0).text("from"))
-                        .on_hover_text(t::CROP.doc);
-                    let to = ui
-                        .add(egui::Slider::new(&mut hi, 0.0..=1.0).text("to"))
-                        .on_hover_text(t::CROP.doc);
-                    // The side moved pushes the other along: the box never turns inside out.
-                    if from.changed() {
-                        clip.crop_lo[a] = lo;
-                        clip.crop_hi[a] = hi.max(lo);
-                    } else if to.changed() {
-                        clip.crop_hi[a] = hi;
-                        clip.crop_lo[a] = lo.min(hi);
-                    }
-                    ui.end_row();
+            // A row a side (two a row widened the panel past a narrow window).
+            for (a, axis) in ["x", "y", "z"].into_iter().enumerate() {
+                let (mut lo, mut hi) = (clip.crop_lo[a], clip.crop_hi[a]);
+                let from = labelled(
+                    ui,
+                    egui::Slider::new(&mut lo, 0.0..=1.0),
+                    format!("{axis} from"),
+                )
+                .on_hover_text(t::CROP.doc);
+                let to = labelled(
+                    ui,
+                    egui::Slider::new(&mut hi, 0.0..=1.0),
+                    format!("{axis} to"),
+                )
+                .on_hover_text(t::CROP.doc);
+                // The side moved pushes the other along: the box never turns inside out.
+                if from.changed() {
+                    clip.crop_lo[a] = lo;
+                    clip.crop_hi[a] = hi.max(lo);
+                } else if to.changed() {
+                    clip.crop_hi[a] = hi;
+                    clip.crop_lo[a] = lo.min(hi);
                 }
-            });
+            }
         }
     });
     ui.separator();
@@ -89,15 +90,13 @@ pub(super) fn cut_section(
             .iter()
             .find(|(n, _)| plane.normal.normalize_or_zero() == *n)
             .map_or("oblique (set by the camera)", |(_, words)| words);
-        egui::ComboBox::from_label("Orientation")
-            .selected_text(current)
-            .show_ui(ui, |ui| {
-                for (n, words) in ORIENTATIONS {
-                    if ui.selectable_label(plane.normal == n, words).clicked() {
-                        plane.normal = n;
-                    }
+        combo(ui, "Orientation", current, |ui| {
+            for (n, words) in ORIENTATIONS {
+                if ui.selectable_label(plane.normal == n, words).clicked() {
+                    plane.normal = n;
                 }
-            });
+            }
+        });
         ui.horizontal(|ui| {
             if ui
                 .button("Flip")

@@ -59,27 +59,23 @@ pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec
     if add.clicked() {
         p.add_light();
     }
-    egui::ComboBox::from_label("Highlight")
-        .selected_text(p.highlight.label())
-        .show_ui(ui, |ui| {
-            for h in [Highlight::White, Highlight::Levoy] {
-                ui.selectable_value(&mut p.highlight, h, h.label())
-                    .on_hover_text(h.doc());
-            }
-        })
-        .response
-        .on_hover_text(p.highlight.doc());
+    super::combo(ui, "Highlight", p.highlight.label(), |ui| {
+        for h in [Highlight::White, Highlight::Levoy] {
+            ui.selectable_value(&mut p.highlight, h, h.label())
+                .on_hover_text(h.doc());
+        }
+    })
+    .response
+    .on_hover_text(p.highlight.doc());
     depth_cue_controls(ui, p, (hi - lo).length());
-    egui::ComboBox::from_label("Specular")
-        .selected_text(p.model.label())
-        .show_ui(ui, |ui| {
-            for m in SpecularModel::ALL {
-                ui.selectable_value(&mut p.model, m, m.label())
-                    .on_hover_text(SpecularModel::SPECULAR_DOC);
-            }
-        })
-        .response
-        .on_hover_text(SpecularModel::SPECULAR_DOC);
+    super::combo(ui, "Specular", p.model.label(), |ui| {
+        for m in SpecularModel::ALL {
+            ui.selectable_value(&mut p.model, m, m.label())
+                .on_hover_text(SpecularModel::SPECULAR_DOC);
+        }
+    })
+    .response
+    .on_hover_text(SpecularModel::SPECULAR_DOC);
 }
 
 /// One light's kind, place, colour and attenuation.
@@ -92,22 +88,20 @@ fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
         Light::Spot(_) => 3,
     };
     let mut chosen = current;
-    egui::ComboBox::from_label("Kind")
-        .selected_text(names[current])
-        .show_ui(ui, |ui| {
-            let docs = [
-                "Shines along the view direction, wherever the camera goes",
-                "A point in the scene (drag its marker); its light falls off with distance",
-                "Parallel light from far away along a fixed direction (drag its marker)",
-                "A point light that shines in a cone only, brightest along its axis (the \
+    super::combo(ui, "Kind", names[current], |ui| {
+        let docs = [
+            "Shines along the view direction, wherever the camera goes",
+            "A point in the scene (drag its marker); its light falls off with distance",
+            "Parallel light from far away along a fixed direction (drag its marker)",
+            "A point light that shines in a cone only, brightest along its axis (the \
                  lecture's spotlight factor s); drag its marker and it keeps aiming at the \
                  volume's centre",
-            ];
-            for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
-                ui.selectable_value(&mut chosen, i, *name)
-                    .on_hover_text(doc);
-            }
-        });
+        ];
+        for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
+            ui.selectable_value(&mut chosen, i, *name)
+                .on_hover_text(doc);
+        }
+    });
     if chosen != current {
         let point = source
             .light

@@ -231,5 +231,28 @@ pub(super) fn missing_glyphs(add: impl FnMut(&mut egui::Ui)) -> std::collections
         .collect()
 }
 
+/// The size `add` takes when given a column `room` points wide and [`COLUMN`] high: wider than
+/// `room` where a row neither wraps nor shortens (a side panel then grows past its room and
+/// cuts its rows), as high as the column where a row takes all the height it is given.
+#[cfg(test)]
+pub(super) fn size_in(room: f32, mut add: impl FnMut(&mut egui::Ui)) -> egui::Vec2 {
+    let ctx = egui::Context::default();
+    let mut size = egui::Vec2::ZERO;
+    // Twice: the second frame lays out what the first measured.
+    for _ in 0..2 {
+        ctx.run_ui(egui::RawInput::default(), |ui| {
+            let column = egui::Rect::from_min_size(ui.min_rect().min, egui::vec2(room, COLUMN));
+            let scope = ui.scope_builder(egui::UiBuilder::new().max_rect(column), &mut add);
+            size = scope.response.rect.size();
+        })
+        .drop_without_applying_deltas();
+    }
+    size
+}
+
+/// [`size_in`]'s column height, points: more than any section needs.
+#[cfg(test)]
+pub(super) const COLUMN: f32 = 4000.0;
+
 #[cfg(test)]
 mod tests;

@@ -2,7 +2,7 @@
 //! counted, the grid with its memory estimate, Compute with progress and Cancel, what came of
 //! it, and the views — the density volume, the ray mesh, the vector field and the scene.
 
-use super::{Spot, marked};
+use super::{Spot, combo, labelled, marked};
 use crate::sandbox::data::choices::RayChoices;
 use crate::sandbox::data::choices::ViewReport;
 use crate::sandbox::data::estimate::Estimator;
@@ -145,36 +145,34 @@ pub(crate) fn ray_data_section(ui: &mut egui::Ui, p: RayPanel, spot: Spot) {
 
 /// Source, path, trace and filter.
 fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
-    egui::ComboBox::from_label("Rays")
-        .selected_text(c.source.words())
-        .show_ui(ui, |ui| {
-            // A page reads no paths, and opening a .rayvis file there is not built yet.
-            let offered = SourceKind::ALL.into_iter().filter(|s| {
-                !(crate::sandbox::shared::files::PICKS_FILES && *s == SourceKind::File)
-            });
-            for s in offered {
-                ui.selectable_value(&mut c.source, s, s.words())
-                    .on_hover_text(s.doc());
-            }
-        })
-        .response
-        .on_hover_text(c.source.doc());
+    combo(ui, "Rays", c.source.words(), |ui| {
+        // A page reads no paths, and opening a .rayvis file there is not built yet.
+        let offered = SourceKind::ALL
+            .into_iter()
+            .filter(|s| !(crate::sandbox::shared::files::PICKS_FILES && *s == SourceKind::File));
+        for s in offered {
+            ui.selectable_value(&mut c.source, s, s.words())
+                .on_hover_text(s.doc());
+        }
+    })
+    .response
+    .on_hover_text(c.source.doc());
     match c.source {
         SourceKind::File => {
-            ui.text_edit_singleline(&mut c.path)
+            ui.add(egui::TextEdit::singleline(&mut c.path).desired_width(ui.available_width()))
                 .on_hover_text(SourceKind::File.doc());
         }
         SourceKind::Camera => {
             let mut side = c.camera_side as f32;
-            if ui
-                .add(
-                    egui::Slider::new(&mut side, 1.0..=t::RAY_CAMERA_SIDE.max)
-                        .logarithmic(true)
-                        .integer()
-                        .text(t::RAY_CAMERA_SIDE.label),
-                )
-                .on_hover_text(t::RAY_CAMERA_SIDE.doc)
-                .changed()
+            if labelled(
+                ui,
+                egui::Slider::new(&mut side, 1.0..=t::RAY_CAMERA_SIDE.max)
+                    .logarithmic(true)
+                    .integer(),
+                t::RAY_CAMERA_SIDE.label,
+            )
+            .on_hover_ui(|ui| super::tunable_tip(ui, &t::RAY_CAMERA_SIDE))
+            .changed()
             {
                 c.camera_side = side as u32;
             }
@@ -185,16 +183,14 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
                 (Some(id), Some(e)) if !hide_effects => format!("trace {id}: {}", e.words()),
                 (Some(id), _) => format!("trace {id}"),
             };
-            egui::ComboBox::from_label("Trace")
-                .selected_text(words(c.trace))
-                .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut c.trace, None, words(None));
-                    for e in Effect::ALL {
-                        ui.selectable_value(&mut c.trace, Some(e.id()), words(Some(e.id())));
-                    }
-                })
-                .response
-                .on_hover_text("Which of the box's ray sets is counted");
+            combo(ui, "Trace", words(c.trace), |ui| {
+                ui.selectable_value(&mut c.trace, None, words(None));
+                for e in Effect::ALL {
+                    ui.selectable_value(&mut c.trace, Some(e.id()), words(Some(e.id())));
+                }
+            })
+            .response
+            .on_hover_text("Which of the box's ray sets is counted");
         }
     }
     if c.source == SourceKind::File {
@@ -256,14 +252,13 @@ fn grid_controls(ui: &mut egui::Ui, c: &mut RayChoices, est: &Estimator) {
         }
     });
     let mut chunk = c.params.chunk as f32;
-    if ui
-        .add(
-            egui::Slider::new(&mut chunk, t::RAY_CHUNK.min..=t::RAY_CHUNK.max)
-                .integer()
-                .text(t::RAY_CHUNK.label),
-        )
-        .on_hover_text(t::RAY_CHUNK.doc)
-        .changed()
+    if labelled(
+        ui,
+        egui::Slider::new(&mut chunk, t::RAY_CHUNK.min..=t::RAY_CHUNK.max).integer(),
+        t::RAY_CHUNK.label,
+    )
+    .on_hover_ui(|ui| super::tunable_tip(ui, &t::RAY_CHUNK))
+    .changed()
     {
         c.params.chunk = chunk as u32;
     }
@@ -301,15 +296,15 @@ fn view_controls(
     if v.mesh {
         ui.indent("mesh", |ui| {
             let mut stride = v.stride as f32;
-            if ui
-                .add(
-                    egui::Slider::new(&mut stride, 1.0..=4096.0)
-                        .logarithmic(true)
-                        .integer()
-                        .text(t::RAY_STRIDE.label),
-                )
-                .on_hover_text(t::RAY_STRIDE.doc)
-                .changed()
+            if labelled(
+                ui,
+                egui::Slider::new(&mut stride, 1.0..=4096.0)
+                    .logarithmic(true)
+                    .integer(),
+                t::RAY_STRIDE.label,
+            )
+            .on_hover_ui(|ui| super::tunable_tip(ui, &t::RAY_STRIDE))
+            .changed()
             {
                 v.stride = stride as usize;
             }
@@ -349,15 +344,13 @@ fn view_controls(
             if !sizes.contains(&v.cube) {
                 v.cube = *sizes.iter().rfind(|k| **k <= v.cube).unwrap_or(&1);
             }
-            egui::ComboBox::from_label(t::SAMPLE_CUBE.label)
-                .selected_text(v.cube.to_string())
-                .show_ui(ui, |ui| {
-                    for k in sizes {
-                        ui.selectable_value(&mut v.cube, k, k.to_string());
-                    }
-                })
-                .response
-                .on_hover_text(t::SAMPLE_CUBE.doc);
+            combo(ui, t::SAMPLE_CUBE.label, v.cube.to_string(), |ui| {
+                for k in sizes {
+                    ui.selectable_value(&mut v.cube, k, k.to_string());
+                }
+            })
+            .response
+            .on_hover_text(t::SAMPLE_CUBE.doc);
             ui.horizontal(|ui| {
                 for s in ArrowScale::ALL {
                     ui.radio_value(&mut v.arrow_scale, s, s.name())

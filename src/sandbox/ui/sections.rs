@@ -16,40 +16,38 @@ pub(super) fn dataset_section(
     if let Some(p) = &volume.preset {
         ui.label(egui::RichText::new(&p.description).small());
     }
-    egui::ComboBox::from_label("Embedded")
-        .selected_text("choose…")
-        .show_ui(ui, |ui| {
-            for (name, what) in DATASETS {
-                if ui
-                    .selectable_label(false, *name)
-                    .on_hover_text(*what)
-                    .clicked()
-                {
-                    load = Some(format!("builtin:{name}"));
-                }
+    combo(ui, "Embedded", "choose…", |ui| {
+        for (name, what) in DATASETS {
+            if ui
+                .selectable_label(false, *name)
+                .on_hover_text(*what)
+                .clicked()
+            {
+                load = Some(format!("builtin:{name}"));
             }
-            ui.separator();
-            ui.label(egui::RichText::new("Ray densities of the Cornell box").small());
-            let traces = std::iter::once((None, "every ray".to_string())).chain(
-                voxcast_core::rays::effects::Effect::ALL
-                    .iter()
-                    .map(|e| (Some(e.id()), e.words().to_string())),
-            );
-            for (id, words) in traces {
-                let tip = "How many of the box's rays pass through each cell of a 128-cell grid \
+        }
+        ui.separator();
+        ui.label(egui::RichText::new("Ray densities of the Cornell box").small());
+        let traces = std::iter::once((None, "every ray".to_string())).chain(
+            voxcast_core::rays::effects::Effect::ALL
+                .iter()
+                .map(|e| (Some(e.id()), e.words().to_string())),
+        );
+        for (id, words) in traces {
+            let tip = "How many of the box's rays pass through each cell of a 128-cell grid \
                            (RayVis's ray-density volume), shown with Sum and inferno";
-                if ui
-                    .selectable_label(false, &words)
-                    .on_hover_text(tip)
-                    .clicked()
-                {
-                    load = Some(match id {
-                        Some(id) => format!("density:builtin:cornell@trace={id}"),
-                        None => "density:builtin:cornell".into(),
-                    });
-                }
+            if ui
+                .selectable_label(false, &words)
+                .on_hover_text(tip)
+                .clicked()
+            {
+                load = Some(match id {
+                    Some(id) => format!("density:builtin:cornell@trace={id}"),
+                    None => "density:builtin:cornell".into(),
+                });
             }
-        });
+        }
+    });
     if crate::sandbox::shared::files::PICKS_FILES {
         // A page reads no paths: the browser's picker (or a file dropped on the page).
         if ui
@@ -63,16 +61,15 @@ pub(super) fn dataset_section(
             crate::sandbox::shared::files::pick(crate::sandbox::shared::files::Purpose::Volume);
         }
     } else {
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut panel.path).on_hover_text(
-                "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); \
-                 or a ray density: density:FILE.rayvis or density:builtin:cornell, optionally \
-                 followed by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
-            );
-            if ui.button("Load").clicked() {
-                load = Some(panel.path.clone());
-            }
-        });
+        let (field, clicked) = field_row(ui, &mut panel.path, |ui| ui.button("Load").clicked());
+        field.on_hover_text(
+            "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); \
+             or a ray density: density:FILE.rayvis or density:builtin:cornell, optionally \
+             followed by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
+        );
+        if clicked {
+            load = Some(panel.path.clone());
+        }
     }
     if let Some((what, seconds)) = loading.under_way() {
         let mut cancel = false;
@@ -102,14 +99,12 @@ pub(super) fn ray_section(
     spot: Spot,
 ) {
     marked(ui, spot, Control::Method, |ui| {
-        egui::ComboBox::from_label("Method")
-            .selected_text(s.method.name())
-            .show_ui(ui, |ui| {
-                for m in Method::ALL {
-                    ui.selectable_value(&mut s.method, m, m.name())
-                        .on_hover_text(m.doc());
-                }
-            })
+        combo(ui, "Method", s.method.name(), |ui| {
+            for m in Method::ALL {
+                ui.selectable_value(&mut s.method, m, m.name())
+                    .on_hover_text(m.doc());
+            }
+        })
     });
     let voxel = volume.volume.spacing().min_element();
     let mut step = s.step.voxels(voxel);
@@ -149,14 +144,12 @@ pub(super) fn ray_section(
             checkbox(ui, &mut s.early_termination, &t::EARLY_TERMINATION)
         });
         marked(ui, spot, Control::Order, |ui| {
-            egui::ComboBox::from_label("Order")
-                .selected_text(s.order.name())
-                .show_ui(ui, |ui| {
-                    for o in [Order::FrontToBack, Order::BackToFront] {
-                        ui.selectable_value(&mut s.order, o, o.name())
-                            .on_hover_text(o.doc());
-                    }
-                })
+            combo(ui, "Order", s.order.name(), |ui| {
+                for o in [Order::FrontToBack, Order::BackToFront] {
+                    ui.selectable_value(&mut s.order, o, o.name())
+                        .on_hover_text(o.doc());
+                }
+            })
         });
     });
     let cutoff_applies = opacity.and(if !s.early_termination {
@@ -177,8 +170,12 @@ pub(super) fn ray_section(
     });
     marked(ui, spot, Control::Supersampling, |ui| {
         // Whole rays: an integer slider (1 to 4: 16 rays a pixel is already 16 times the work).
-        ui.add(egui::Slider::new(&mut s.supersampling, 1..=4).text(t::SUPERSAMPLING.label))
-            .on_hover_text(t::SUPERSAMPLING.doc)
+        labelled(
+            ui,
+            egui::Slider::new(&mut s.supersampling, 1..=4),
+            t::SUPERSAMPLING.label,
+        )
+        .on_hover_ui(|ui| tunable_tip(ui, &t::SUPERSAMPLING))
     });
     let (lo, hi) = volume.volume.value_range();
     let mut target = s.target.unwrap_or(0.5 * (lo + hi));
@@ -209,23 +206,23 @@ pub(super) fn sum_range(
     let tiny = top * 1e-6;
     ui.vertical(|ui| {
         ui.label(t::SUM_RANGE.label).on_hover_text(t::SUM_RANGE.doc);
-        let high = ui
-            .add(
-                egui::Slider::new(&mut b, tiny..=top)
-                    .logarithmic(true)
-                    .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32))
-                    .text("high end"),
-            )
-            .on_hover_text(t::SUM_RANGE.doc);
+        let high = labelled(
+            ui,
+            egui::Slider::new(&mut b, tiny..=top)
+                .logarithmic(true)
+                .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32)),
+            "high end",
+        )
+        .on_hover_text(t::SUM_RANGE.doc);
         let (floor, log) = (0.0f32.min(a), a >= 0.0);
-        let low = ui
-            .add(
-                egui::Slider::new(&mut a, floor..=b - tiny)
-                    .logarithmic(log)
-                    .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32))
-                    .text("low end"),
-            )
-            .on_hover_text(t::SUM_RANGE.doc);
+        let low = labelled(
+            ui,
+            egui::Slider::new(&mut a, floor..=b - tiny)
+                .logarithmic(log)
+                .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32)),
+            "low end",
+        )
+        .on_hover_text(t::SUM_RANGE.doc);
         if high.changed() || low.changed() {
             a = a.min(b - tiny);
             *range = Some((a, b));
@@ -276,30 +273,28 @@ pub(super) fn preset_menu(
     volume: &voxcast_core::Volume,
 ) {
     use voxcast_core::colormap::{INFERNO_DOC, INFERNO_PRESET, inferno_transfer};
-    egui::ComboBox::from_label("Preset")
-        .selected_text(edited.transfer.name.clone())
-        .show_ui(ui, |ui| {
+    combo(ui, "Preset", edited.transfer.name.clone(), |ui| {
+        if ui
+            .selectable_label(false, INFERNO_PRESET)
+            .on_hover_text(INFERNO_DOC)
+            .clicked()
+        {
+            let (lo, hi) = volume.value_range();
+            edited.transfer = inferno_transfer(lo, hi);
+        }
+        for pr in preset::all() {
             if ui
-                .selectable_label(false, INFERNO_PRESET)
-                .on_hover_text(INFERNO_DOC)
+                .selectable_label(false, &pr.name)
+                .on_hover_text(&pr.description)
                 .clicked()
             {
-                let (lo, hi) = volume.value_range();
-                edited.transfer = inferno_transfer(lo, hi);
-            }
-            for pr in preset::all() {
-                if ui
-                    .selectable_label(false, &pr.name)
-                    .on_hover_text(&pr.description)
-                    .clicked()
-                {
-                    if let Ok(settings) = pr.settings_over(&edited.settings) {
-                        edited.settings = settings;
-                    }
-                    edited.transfer = pr.transfer.clone();
+                if let Ok(settings) = pr.settings_over(&edited.settings) {
+                    edited.settings = settings;
                 }
+                edited.transfer = pr.transfer.clone();
             }
-        });
+        }
+    });
 }
 
 /// The virtual camera: shown or not, its resolution and field of view, and where it stands.
@@ -316,15 +311,22 @@ pub(super) fn virtual_camera_section(
     let range = t::VIRTUAL_RESOLUTION.min as u32..=t::VIRTUAL_RESOLUTION.max as u32;
     marked(ui, spot, Control::VirtualPixels, |ui| {
         for (value, axis) in [(&mut edited.width, "across"), (&mut edited.height, "down")] {
-            ui.add(egui::Slider::new(value, range.clone()).text(format!("pixels {axis}")))
-                .on_hover_text(t::VIRTUAL_RESOLUTION.doc);
+            labelled(
+                ui,
+                egui::Slider::new(value, range.clone()),
+                format!("pixels {axis}"),
+            )
+            .on_hover_text(t::VIRTUAL_RESOLUTION.doc);
         }
     });
     if let Some(mut fov) = crate::sandbox::inspect::virtual_camera::fov(&edited.view) {
-        let changed = ui
-            .add(egui::Slider::new(&mut fov, 5.0..=120.0).text("field of view (°)"))
-            .on_hover_text("The virtual camera's vertical opening angle")
-            .changed();
+        let changed = labelled(
+            ui,
+            egui::Slider::new(&mut fov, 5.0..=120.0),
+            "field of view (°)",
+        )
+        .on_hover_text("The virtual camera's vertical opening angle")
+        .changed();
         if changed
             && let Ok(v) = voxcast_core::camera::Camera::new(
                 edited.view.eye,

@@ -116,3 +116,61 @@ fn sections_open_for_their_controls_and_hide_outside_the_levels_panel() {
         assert!(!drawn(s, hidden), "{s:?} outside the level's panel");
     }
 }
+
+/// The settings panel's sections fit it at its narrowest: a long label is shortened, not
+/// left to widen the panel past the window (which cut every row at the right); and no row
+/// takes all the height it is given.
+#[test]
+fn the_sections_fit_the_narrowest_settings_panel() {
+    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
+    let mut s = render.settings.clone();
+    let mut edited = render.clone();
+    let mut panel = PanelState::default();
+    let mut loading = Loading::default();
+    // The panel's frame (8 points a side) and a section's indent.
+    let room = layout::SIDE_MIN - 16.0 - egui::Spacing::default().indent;
+    let width = |name: &str, add: &mut dyn FnMut(&mut egui::Ui)| {
+        let size = size_in(room, add);
+        assert!(
+            size.x <= room + 0.5,
+            "{name}: {} points wide in {room}",
+            size.x
+        );
+        assert!(size.y < COLUMN / 2.0, "{name}: {} points high", size.y);
+    };
+    width("dataset", &mut |ui| {
+        dataset_section(ui, &mut panel, &volume, &mut loading);
+    });
+    width("ray casting", &mut |ui| {
+        ray_section(ui, &mut s, &volume, None)
+    });
+    width("shading", &mut |ui| {
+        shading_section(ui, &mut s, &volume, None)
+    });
+    width("transfer", &mut |ui| {
+        preset_menu(ui, &mut edited, &volume.volume);
+        panel
+            .editor
+            .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
+    });
+    let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
+    s.clip.plane = Some(voxcast_core::clip::ClipPlane {
+        normal: Vec3::new(1.0, 1.0, 0.0).normalize(),
+        position: 0.2,
+    });
+    width("looking inside", &mut |ui| {
+        cut::cut_section(ui, &mut s.clip, &mut handles, Some(Vec3::Z), None)
+    });
+    let mut preview = PreviewSettings::default();
+    let live = crate::sandbox::preview::live::LiveView::default();
+    let mut depth = true;
+    width("preview", &mut |ui| {
+        preview_section(
+            ui,
+            &mut preview,
+            Some(&live),
+            (&mut depth, Method::First),
+            None,
+        )
+    });
+}

@@ -4,13 +4,17 @@
 //! background: `sandbox::trade`) and shows time, samples and error as a table and a plot, so
 //! the trade is read as numbers; the player's own step is the highlighted row.
 
-use super::{Spot, marked};
+use super::{Spot, combo, marked};
 use crate::sandbox::checks::frame_trade::FrameTiming;
 use crate::sandbox::checks::trade::{StepTrade, TRADE_SIZE};
 use bevy_egui::egui;
 use voxcast_core::knob::Knob;
 use voxcast_core::level::Control;
 use voxcast_core::trade::Trade;
+
+/// The table's footnote on its error columns and speed-up.
+const ERRORS: &str = "max err and RMSE in 8-bit steps (of 255) against the reference; \
+                      speed-up against the reference";
 
 /// `is_current`: the result matches what is on screen (any step).
 pub(super) fn trade_section(
@@ -20,16 +24,14 @@ pub(super) fn trade_section(
     step_voxels: f32,
     spot: Spot,
 ) {
-    egui::ComboBox::from_label("Knob")
-        .selected_text(trade.knob.label())
-        .show_ui(ui, |ui| {
-            for k in Knob::ALL {
-                ui.selectable_value(&mut trade.knob, k, k.label())
-                    .on_hover_text(k.doc());
-            }
-        })
-        .response
-        .on_hover_text(trade.knob.doc());
+    combo(ui, "Knob", trade.knob.label(), |ui| {
+        for k in Knob::ALL {
+            ui.selectable_value(&mut trade.knob, k, k.label())
+                .on_hover_text(k.doc());
+        }
+    })
+    .response
+    .on_hover_text(trade.knob.doc());
     let intro = if trade.knob.is_preview() {
         format!(
             "The preview's own renderer (the GPU preview or the CPU live view) draws this \
@@ -83,11 +85,18 @@ pub(super) fn trade_section(
                     .color(egui::Color32::YELLOW),
             );
         }
-        let frames = trade.timed_frames.as_ref();
-        let seconds = Seconds::of(t, frames.is_none());
-        table(ui, t, &seconds, step_voxels, frames);
-        plot(ui, t, &seconds);
+        results(ui, t, step_voxels, trade.timed_frames.as_ref());
     }
+}
+
+/// A measured trade: its table and its plot.
+fn results(ui: &mut egui::Ui, t: &Trade, step_voxels: f32, frames: Option<&FrameTiming>) {
+    let seconds = Seconds::of(t, frames.is_none());
+    // Six columns: in a narrow panel the table scrolls sideways rather than widen it.
+    egui::ScrollArea::horizontal()
+        .id_salt("trade table")
+        .show(ui, |ui| table(ui, t, &seconds, step_voxels, frames));
+    plot(ui, t, &seconds);
 }
 
 /// Error against time, one point per row (the reference at zero error): the trade's curve.
@@ -217,8 +226,9 @@ fn table(
             ui.label(text(r.label.clone()));
             ui.label(text(ms(seconds))).on_hover_text(spread(&r.timing));
             ui.label(text(r.samples.to_string()));
-            ui.label(text(format!("{:.1}/255", r.max_error * 255.0)));
-            ui.label(text(format!("{:.2}/255", r.rmse * 255.0)));
+            // In 8-bit steps, the unit said once below: "/255" in every cell widened the panel.
+            ui.label(text(format!("{:.1}", r.max_error * 255.0)));
+            ui.label(text(format!("{:.2}", r.rmse * 255.0)));
             ui.label(text(format!(
                 "×{:.1}",
                 reference_seconds / seconds.max(1e-9)
@@ -241,14 +251,14 @@ fn table(
     });
     let words = match frames {
         Some(f) => format!(
-            "{} (hover a time for the fastest and slowest); speed-up against the reference",
+            "{} (hover a time for the fastest and slowest); {ERRORS}",
             f.words(t.runs)
         ),
         None => format!(
             "{}time: the fastest of {} renders after an untimed one, the settings taken in turn \
              (hover a time for the median and the slowest), each on {} thread{}; the window \
              draws all the while on the same computer, and the fastest run is the one it \
-             disturbed least; speed-up against the reference",
+             disturbed least; {ERRORS}",
             if t.knob == Knob::Step {
                 "step in voxels; your step is in blue; "
             } else {
@@ -277,33 +287,41 @@ mod tests {
     use super::*;
     use voxcast_core::trade::{Timing, TradeRow};
 
-    #[test]
-    fn the_core_s_renders_show_their_fastest_run_and_the_window_s_frames_their_median() {
-        let timing = |fastest: f64| Timing {
+    fn timing(fastest: f64) -> Timing {
+        Timing {
             median: 2.0 * fastest,
             fastest,
             slowest: 3.0 * fastest,
-        };
+        }
+    }
+
+    /// A step trade with a row for each of `fastest` seconds.
+    fn trade(fastest: &[f64]) -> Trade {
         let row = |fastest: f64| TradeRow {
-            label: "1".into(),
-            step_voxels: 1.0,
+            label: "0.25".into(),
+            step_voxels: 0.25,
             seconds: 2.0 * fastest,
             timing: timing(fastest),
-            samples: 1,
-            max_error: 0.0,
-            rmse: 0.0,
+            samples: 161232,
+            max_error: 86.7 / 255.0,
+            rmse: 1.64 / 255.0,
         };
-        let t = Trade {
+        Trade {
             knob: Knob::Step,
             reference: "step 0.0625 voxel".into(),
             reference_voxels: 0.0625,
             reference_seconds: 0.016,
             reference_timing: timing(0.008),
             reference_samples: 8,
-            rows: vec![row(0.001), row(0.002)],
+            rows: fastest.iter().map(|&f| row(f)).collect(),
             runs: 5,
             threads: 2,
-        };
+        }
+    }
+
+    #[test]
+    fn the_core_s_renders_show_their_fastest_run_and_the_window_s_frames_their_median() {
+        let t = trade(&[0.001, 0.002]);
         let fastest = Seconds::of(&t, true);
         assert_eq!(
             (fastest.reference, fastest.rows),
@@ -314,5 +332,19 @@ mod tests {
             (medians.reference, medians.rows),
             (0.016, vec![0.002, 0.004])
         );
+    }
+
+    /// The measured section fits the settings panel at its narrowest (its table scrolls
+    /// sideways there).
+    #[test]
+    fn the_measured_section_fits_the_narrowest_panel() {
+        let t = trade(&[0.0021, 0.0123]);
+        let room = crate::sandbox::ui::layout::SIDE_MIN - 16.0 - egui::Spacing::default().indent;
+        let size = super::super::size_in(room, |ui| {
+            let mut step_trade = StepTrade::default();
+            trade_section(ui, &mut step_trade, true, 0.25, None);
+            results(ui, &t, 0.25, None);
+        });
+        assert!(size.x <= room + 0.5, "{} points wide in {room}", size.x);
     }
 }

@@ -295,13 +295,9 @@ impl TransferEditor {
 
     fn save_load(&mut self, ui: &mut egui::Ui, tf: &mut TransferFunction) -> bool {
         let mut changed = false;
-        ui.horizontal(|ui| {
-            ui.text_edit_singleline(&mut self.path)
-                .on_hover_text("A transfer-function JSON file ({\"name\", \"points\": [...]})");
-            if ui.button("Save").clicked() {
-                self.message = Some(save(tf, &self.path));
-            }
-            if files::PICKS_FILES {
+        // Right to left: Load (or Open…), then Save, then the path field.
+        let (field, (save_clicked, load_clicked)) = super::field_row(ui, &mut self.path, |ui| {
+            let load_clicked = if files::PICKS_FILES {
                 if ui
                     .button("Open…")
                     .on_hover_text("A transfer-function JSON file from this computer")
@@ -309,13 +305,22 @@ impl TransferEditor {
                 {
                     files::pick(files::Purpose::Transfer);
                 }
-            } else if ui.button("Load").clicked() {
-                match load(&self.path) {
-                    Ok(t) => changed |= self.take(t, &self.path.clone(), tf),
-                    Err(e) => self.message = Some(Err(e)),
-                }
-            }
+                false
+            } else {
+                ui.button("Load").clicked()
+            };
+            (ui.button("Save").clicked(), load_clicked)
         });
+        field.on_hover_text("A transfer-function JSON file ({\"name\", \"points\": [...]})");
+        if save_clicked {
+            self.message = Some(save(tf, &self.path));
+        }
+        if load_clicked {
+            match load(&self.path) {
+                Ok(t) => changed |= self.take(t, &self.path.clone(), tf),
+                Err(e) => self.message = Some(Err(e)),
+            }
+        }
         match &self.message {
             Some(Ok(m)) => {
                 ui.label(m);

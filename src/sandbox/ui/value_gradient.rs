@@ -260,7 +260,7 @@ impl RegionEditor {
             [r.value[1], r.gradient[1]],
             r.opacity,
         );
-        ui.add(egui::Slider::new(&mut r.opacity, 0.0..=1.0).text("opacity"))
+        super::labelled(ui, egui::Slider::new(&mut r.opacity, 0.0..=1.0), "opacity")
             .on_hover_text("The opacity of a sample inside this rectangle");
         if ui.button("Remove this rectangle").clicked() {
             regions.remove(i);

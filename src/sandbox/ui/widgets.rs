@@ -85,7 +85,14 @@ pub(super) fn applies(
     }
 }
 
-/// A slider for a tunable, with its documentation as tooltip.
+/// A tunable's tooltip: its name (which a narrow panel may have shortened beside its control),
+/// then its documentation.
+pub(super) fn tunable_tip(ui: &mut egui::Ui, tunable: &Tunable) {
+    ui.strong(tunable.label);
+    ui.label(tunable.doc);
+}
+
+/// A slider for a tunable, with its name and documentation as tooltip.
 pub(super) fn slider(
     ui: &mut egui::Ui,
     value: &mut f32,
@@ -93,13 +100,91 @@ pub(super) fn slider(
     range: std::ops::RangeInclusive<f32>,
     log: bool,
 ) -> bool {
-    ui.add(
-        egui::Slider::new(value, range)
-            .logarithmic(log)
-            .text(tunable.label),
+    labelled(
+        ui,
+        egui::Slider::new(value, range).logarithmic(log),
+        tunable.label,
     )
-    .on_hover_text(tunable.doc)
+    .on_hover_ui(|ui| tunable_tip(ui, tunable))
     .changed()
+}
+
+/// A one-line text field that takes what its row leaves: `buttons` are drawn first at the row's
+/// right end, right to left (the last one drawn stands leftmost), then the field fills the
+/// rest. At its default width (280 points) a field with buttons beside it widened the panel.
+pub(super) fn field_row<R>(
+    ui: &mut egui::Ui,
+    text: &mut String,
+    buttons: impl FnOnce(&mut egui::Ui) -> R,
+) -> (egui::Response, R) {
+    // One row high: a right-to-left layout given the rest of the panel centres its row in it.
+    let row = egui::vec2(ui.available_width(), ui.spacing().interact_size.y);
+    ui.allocate_ui_with_layout(
+        row,
+        egui::Layout::right_to_left(egui::Align::Center),
+        |ui| {
+            let r = buttons(ui);
+            let field =
+                ui.add(egui::TextEdit::singleline(text).desired_width(ui.available_width()));
+            (field, r)
+        },
+    )
+    .inner
+}
+
+/// A drop-down with its label beside it, each shortened with "…" where the row is too narrow
+/// (the drop-down takes at most [`COMBO_SHARE`] of it): egui's own drop-down label never
+/// shortens, and a long choice ("White (OpenGL, VTK)") widened the panel.
+pub(super) fn combo<R>(
+    ui: &mut egui::Ui,
+    label: &str,
+    selected: impl Into<egui::WidgetText>,
+    menu: impl FnOnce(&mut egui::Ui) -> R,
+) -> egui::InnerResponse<Option<R>> {
+    ui.horizontal(|ui| {
+        let room = ui.available_width();
+        let chosen = ui
+            .scope(|ui| {
+                ui.set_max_width(room * COMBO_SHARE);
+                egui::ComboBox::from_id_salt(label)
+                    .selected_text(selected)
+                    .truncate()
+                    .show_ui(ui, menu)
+            })
+            .inner;
+        let name = ui.add(
+            egui::Label::new(label)
+                .truncate()
+                .show_tooltip_when_elided(false),
+        );
+        let response = chosen.response.labelled_by(name.id).union(name);
+        egui::InnerResponse::new(chosen.inner, response)
+    })
+    .inner
+}
+
+/// The most of its row a drop-down takes, the rest left to its label.
+pub(super) const COMBO_SHARE: f32 = 0.6;
+
+/// A slider with its label beside it, shortened with "…" where the panel is narrower than the
+/// row: egui's own slider label neither wraps nor shortens, so one long label widened the whole
+/// panel past the window's edge and cut every row at the right. The response is the slider's and
+/// the label's together (hovering either shows the tooltip).
+pub(super) fn labelled(
+    ui: &mut egui::Ui,
+    slider: egui::Slider<'_>,
+    label: impl Into<egui::WidgetText>,
+) -> egui::Response {
+    ui.horizontal(|ui| {
+        let slider = ui.add(slider);
+        let label = ui.add(
+            egui::Label::new(label)
+                .truncate()
+                .show_tooltip_when_elided(false),
+        );
+        slider.labelled_by(label.id).union(label)
+    })
+    .inner
 }
 
 /// A grid's header row: each title in bold, then the row's end.
