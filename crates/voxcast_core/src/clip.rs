@@ -129,6 +129,12 @@ pub struct ResolvedClip {
 }
 
 impl ResolvedClip {
+    /// Whether the cut keeps all of the box `bounds`: no crop, no plane. Then
+    /// [`clip_interval`] is [`intersect_box`] with `bounds`, exactly.
+    pub fn keeps_box(&self, bounds: (Vec3, Vec3)) -> bool {
+        (self.lo, self.hi) == bounds && !self.has_plane() && self.d == 0.0
+    }
+
     /// Whether there is a clip plane.
     pub fn has_plane(&self) -> bool {
         self.normal != Vec3::ZERO
@@ -215,6 +221,13 @@ mod tests {
         let r = ray(Vec3::new(-1.0, 1.0, 1.0), Vec3::X);
         assert_eq!(clip_interval(&r, &c), intersect_box(&r, BOUNDS.0, BOUNDS.1));
         assert!(Clip::default().is_none());
+        assert!(c.keeps_box(BOUNDS));
+        let cropped = Clip {
+            crop_hi: Vec3::new(1.0, 0.5, 1.0),
+            ..Clip::default()
+        };
+        assert!(!cropped.resolve(BOUNDS).keeps_box(BOUNDS));
+        assert!(!plane(Vec3::X, 1.0).resolve(BOUNDS).keeps_box(BOUNDS));
     }
 
     #[test]

@@ -108,6 +108,8 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     /// Opacity independent of the table's opacity at the value (Levoy's isovalue contours,
     /// the value-and-gradient rectangles): a sample the table makes transparent may show.
     beyond_table: bool,
+    /// The cut keeps the whole box: a ray outside it missed the box (no second test).
+    uncut: bool,
     /// Accumulate's eight-lane path, where it applies (see `lanes.rs`).
     #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     lanes: Option<lanes::Lanes<'s>>,
@@ -155,6 +157,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             interp: s.settings.interpolation,
             classify_gradient: s.classifier != Classifier::Table,
             beyond_table: s.classifier.beyond_table(),
+            uncut: s.clip.keeps_box(s.bounds),
             #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
             lanes: lanes::Lanes::new(s, &g),
             superblocks: s.superblocks.filter(|_| T::TABLE.is_some()),
@@ -291,7 +294,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         rec: &mut R,
     ) -> RayOutcome {
         let Some((t0, t1)) = self.interval(ray) else {
-            let cut = intersect_box(ray, self.s.bounds.0, self.s.bounds.1).is_some();
+            let cut = !self.uncut && intersect_box(ray, self.s.bounds.0, self.s.bounds.1).is_some();
             return RayOutcome {
                 stop: if cut {
                     StopReason::CutAway

@@ -148,6 +148,18 @@ fn a_ray_whose_part_is_all_cut_away_says_so() {
     let miss = trace(&v, &tf, &s, Vec3::new(4.0, -1.0, 9.0), Vec3::Y);
     assert_eq!(miss.stop, StopReason::Missed);
     assert!(miss.cut_words().is_none());
+    // A crop box alone (no plane) cuts away too; with no cut at all a ray outside missed.
+    s.clip = Clip {
+        crop_lo: Vec3::new(0.0, 0.0, 0.5),
+        ..Clip::default()
+    };
+    let t = trace(&v, &tf, &s, Vec3::new(4.0, -1.0, 0.5), Vec3::Y);
+    assert_eq!(t.stop, StopReason::CutAway);
+    s.clip = Clip::default();
+    let t = trace(&v, &tf, &s, Vec3::new(4.0, -1.0, 1.0), Vec3::Y);
+    assert_ne!(t.stop, StopReason::CutAway);
+    let miss = trace(&v, &tf, &s, Vec3::new(4.0, -1.0, 9.0), Vec3::Y);
+    assert_eq!(miss.stop, StopReason::Missed);
 }
 
 #[test]
