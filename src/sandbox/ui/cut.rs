@@ -49,13 +49,13 @@ pub(super) fn cut_section(
                 let (mut lo, mut hi) = (clip.crop_lo[a], clip.crop_hi[a]);
                 let from = labelled(
                     ui,
-                    egui::Slider::new(&mut lo, 0.0..=1.0),
+                    egui::Slider::new(&mut lo, 0.0..=1.0).fixed_decimals(2),
                     format!("{axis} from"),
                 )
                 .on_hover_text(t::CROP.doc);
                 let to = labelled(
                     ui,
-                    egui::Slider::new(&mut hi, 0.0..=1.0),
+                    egui::Slider::new(&mut hi, 0.0..=1.0).fixed_decimals(2),
                     format!("{axis} to"),
                 )
                 .on_hover_text(t::CROP.doc);
