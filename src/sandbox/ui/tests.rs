@@ -58,13 +58,7 @@ fn every_panel_string_can_be_drawn() {
                 });
             }
             trade::trade_section(ui, &mut step_trade, false, 0.5, None);
-            preview_section(
-                ui,
-                &mut preview,
-                Some(&live),
-                (&mut depth, Method::First),
-                None,
-            );
+            first_preview_section(ui, &mut preview, &live, &mut depth);
             let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
             s.clip.plane = Some(voxcast_core::clip::ClipPlane {
                 normal: Vec3::X,
@@ -165,12 +159,16 @@ fn the_sections_fit_the_narrowest_settings_panel() {
     let live = crate::sandbox::preview::live::LiveView::default();
     let mut depth = true;
     width("preview", &mut |ui| {
-        preview_section(
-            ui,
-            &mut preview,
-            Some(&live),
-            (&mut depth, Method::First),
-            None,
-        )
+        first_preview_section(ui, &mut preview, &live, &mut depth)
     });
+}
+
+/// The preview section as it reads with First chosen (its depth option shown).
+fn first_preview_section(
+    ui: &mut egui::Ui,
+    preview: &mut PreviewSettings,
+    live: &crate::sandbox::preview::live::LiveView,
+    depth: &mut bool,
+) {
+    preview_section(ui, preview, Some(live), (depth, Method::First), None);
 }
