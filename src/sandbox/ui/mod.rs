@@ -250,6 +250,13 @@ pub(super) fn size_in(room: f32, mut add: impl FnMut(&mut egui::Ui)) -> egui::Ve
     size
 }
 
+/// The room a section's rows have in the settings panel at its narrowest: the panel's
+/// [`layout::SIDE_MIN`] less its frame (8 points a side) and a section's indent.
+#[cfg(test)]
+pub(super) fn narrowest_section_room() -> f32 {
+    layout::SIDE_MIN - 16.0 - egui::Spacing::default().indent
+}
+
 /// [`size_in`]'s column height, points: more than any section needs.
 #[cfg(test)]
 pub(super) const COLUMN: f32 = 4000.0;

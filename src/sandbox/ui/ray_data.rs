@@ -2,7 +2,7 @@
 //! counted, the grid with its memory estimate, Compute with progress and Cancel, what came of
 //! it, and the views — the density volume, the ray mesh, the vector field and the scene.
 
-use super::{Spot, combo, labelled, marked};
+use super::{Spot, combo, marked, tunable_slider};
 use crate::sandbox::data::choices::RayChoices;
 use crate::sandbox::data::choices::ViewReport;
 use crate::sandbox::data::estimate::Estimator;
@@ -164,14 +164,13 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
         }
         SourceKind::Camera => {
             let mut side = c.camera_side as f32;
-            if labelled(
+            if tunable_slider(
                 ui,
                 egui::Slider::new(&mut side, 1.0..=t::RAY_CAMERA_SIDE.max)
                     .logarithmic(true)
                     .integer(),
-                t::RAY_CAMERA_SIDE.label,
+                &t::RAY_CAMERA_SIDE,
             )
-            .on_hover_ui(|ui| super::tunable_tip(ui, &t::RAY_CAMERA_SIDE))
             .changed()
             {
                 c.camera_side = side as u32;
@@ -252,12 +251,11 @@ fn grid_controls(ui: &mut egui::Ui, c: &mut RayChoices, est: &Estimator) {
         }
     });
     let mut chunk = c.params.chunk as f32;
-    if labelled(
+    if tunable_slider(
         ui,
         egui::Slider::new(&mut chunk, t::RAY_CHUNK.min..=t::RAY_CHUNK.max).integer(),
-        t::RAY_CHUNK.label,
+        &t::RAY_CHUNK,
     )
-    .on_hover_ui(|ui| super::tunable_tip(ui, &t::RAY_CHUNK))
     .changed()
     {
         c.params.chunk = chunk as u32;
@@ -296,14 +294,13 @@ fn view_controls(
     if v.mesh {
         ui.indent("mesh", |ui| {
             let mut stride = v.stride as f32;
-            if labelled(
+            if tunable_slider(
                 ui,
                 egui::Slider::new(&mut stride, 1.0..=4096.0)
                     .logarithmic(true)
                     .integer(),
-                t::RAY_STRIDE.label,
+                &t::RAY_STRIDE,
             )
-            .on_hover_ui(|ui| super::tunable_tip(ui, &t::RAY_STRIDE))
             .changed()
             {
                 v.stride = stride as usize;

@@ -170,12 +170,11 @@ pub(super) fn ray_section(
     });
     marked(ui, spot, Control::Supersampling, |ui| {
         // Whole rays: an integer slider (1 to 4: 16 rays a pixel is already 16 times the work).
-        labelled(
+        tunable_slider(
             ui,
             egui::Slider::new(&mut s.supersampling, 1..=4),
-            t::SUPERSAMPLING.label,
+            &t::SUPERSAMPLING,
         )
-        .on_hover_ui(|ui| tunable_tip(ui, &t::SUPERSAMPLING))
     });
     let (lo, hi) = volume.volume.value_range();
     let mut target = s.target.unwrap_or(0.5 * (lo + hi));

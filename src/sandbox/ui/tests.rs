@@ -121,8 +121,7 @@ fn the_sections_fit_the_narrowest_settings_panel() {
     let mut edited = render.clone();
     let mut panel = PanelState::default();
     let mut loading = Loading::default();
-    // The panel's frame (8 points a side) and a section's indent.
-    let room = layout::SIDE_MIN - 16.0 - egui::Spacing::default().indent;
+    let room = narrowest_section_room();
     let width = |name: &str, add: &mut dyn FnMut(&mut egui::Ui)| {
         let size = size_in(room, add);
         assert!(

@@ -339,7 +339,7 @@ mod tests {
     #[test]
     fn the_measured_section_fits_the_narrowest_panel() {
         let t = trade(&[0.0021, 0.0123]);
-        let room = crate::sandbox::ui::layout::SIDE_MIN - 16.0 - egui::Spacing::default().indent;
+        let room = super::super::narrowest_section_room();
         let size = super::super::size_in(room, |ui| {
             let mut step_trade = StepTrade::default();
             trade_section(ui, &mut step_trade, true, 0.25, None);

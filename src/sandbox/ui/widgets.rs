@@ -85,14 +85,7 @@ pub(super) fn applies(
     }
 }
 
-/// A tunable's tooltip: its name (which a narrow panel may have shortened beside its control),
-/// then its documentation.
-pub(super) fn tunable_tip(ui: &mut egui::Ui, tunable: &Tunable) {
-    ui.strong(tunable.label);
-    ui.label(tunable.doc);
-}
-
-/// A slider for a tunable, with its name and documentation as tooltip.
+/// A slider of `f32` for a tunable ([`tunable_slider`]): whether it changed.
 pub(super) fn slider(
     ui: &mut egui::Ui,
     value: &mut f32,
@@ -100,13 +93,25 @@ pub(super) fn slider(
     range: std::ops::RangeInclusive<f32>,
     log: bool,
 ) -> bool {
-    labelled(
+    tunable_slider(
         ui,
         egui::Slider::new(value, range).logarithmic(log),
-        tunable.label,
+        tunable,
     )
-    .on_hover_ui(|ui| tunable_tip(ui, tunable))
     .changed()
+}
+
+/// `slider` for a tunable: its label beside it ([`labelled`]), its name and documentation as
+/// tooltip (the name first: a narrow panel may have shortened it beside the slider).
+pub(super) fn tunable_slider(
+    ui: &mut egui::Ui,
+    slider: egui::Slider<'_>,
+    tunable: &Tunable,
+) -> egui::Response {
+    labelled(ui, slider, tunable.label).on_hover_ui(|ui| {
+        ui.strong(tunable.label);
+        ui.label(tunable.doc);
+    })
 }
 
 /// A one-line text field that takes what its row leaves: `buttons` are drawn first at the row's
@@ -152,12 +157,7 @@ pub(super) fn combo<R>(
                     .show_ui(ui, menu)
             })
             .inner;
-        let name = ui.add(
-            egui::Label::new(label)
-                .truncate()
-                .show_tooltip_when_elided(false),
-        );
-        let response = chosen.response.labelled_by(name.id).union(name);
+        let response = name_beside(ui, chosen.response, label);
         egui::InnerResponse::new(chosen.inner, response)
     })
     .inner
@@ -177,14 +177,25 @@ pub(super) fn labelled(
 ) -> egui::Response {
     ui.horizontal(|ui| {
         let slider = ui.add(slider);
-        let label = ui.add(
-            egui::Label::new(label)
-                .truncate()
-                .show_tooltip_when_elided(false),
-        );
-        slider.labelled_by(label.id).union(label)
+        name_beside(ui, slider, label)
     })
     .inner
+}
+
+/// `control`'s name drawn after it in its row, shortened with "…" where the row is too narrow
+/// (the caller's tooltip says what it is); the response is the two together, the control
+/// named by the label for screen readers.
+fn name_beside(
+    ui: &mut egui::Ui,
+    control: egui::Response,
+    label: impl Into<egui::WidgetText>,
+) -> egui::Response {
+    let name = ui.add(
+        egui::Label::new(label)
+            .truncate()
+            .show_tooltip_when_elided(false),
+    );
+    control.labelled_by(name.id).union(name)
 }
 
 /// A grid's header row: each title in bold, then the row's end.
