@@ -185,6 +185,52 @@ fn halving_the_step_doubles_the_samples() {
     }
 }
 
+/// Level 02, step 3: the time grows "less than in proportion in a volume this small (each ray
+/// meets few samples …)": the level's volume is the 8³ blobs, so no ray meets more samples than
+/// the box's diagonal holds steps — at ¼ voxel some 56, against hundreds in a CT. (That part of
+/// each render's time is per ray is measured, not asserted: BENCHMARKS, "What was tried".)
+#[test]
+fn the_sampling_level_s_volume_gives_each_ray_few_samples() {
+    let text = words("sampling", 3);
+    says(&text, "less than in proportion in a volume this small");
+    let level = Level::all()
+        .into_iter()
+        .find(|l| l.id == "sampling")
+        .unwrap();
+    assert_eq!(level.scene.volume, "builtin:blobs");
+    let v = voxcast_core::Prepared::from(load_builtin("blobs").unwrap().volume);
+    assert_eq!(v.dims().to_array(), [8, 8, 8]);
+    let p = voxcast_core::preset::for_volume("blobs").unwrap();
+    let s = p.settings_over(&RenderSettings::default()).unwrap();
+    let (lo, hi) = v.bounds();
+    let cam = Camera::framing(lo, hi, Vec3::new(1.0, 0.8, 1.4), Vec3::Y).unwrap();
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let size = (32, 32);
+    let trade = voxcast_core::trade::step_trade(
+        &voxcast_core::trade::View {
+            volume: &v,
+            transfer: &p.transfer,
+            camera: &cam,
+            size,
+        },
+        &s,
+        &[2.0, 1.0, 0.5, 0.25],
+        &|_, _| {},
+        &cancel,
+    )
+    .unwrap();
+    let diagonal_voxels = (3.0f64).sqrt() * 7.0;
+    for row in &trade.rows {
+        let per_pixel = row.samples as f64 / (size.0 * size.1) as f64;
+        let most = diagonal_voxels / row.step_voxels as f64 + 1.0;
+        assert!(
+            per_pixel <= most,
+            "step {}: {per_pixel} a pixel",
+            row.step_voxels
+        );
+    }
+}
+
 /// Level 16, step 1: Voxcast's default shading is a shortened form of the lecture's model
 /// (the full form's terms are off by default), each light adds its own terms, and the ambient
 /// term ka·c is added once, however many lights there are.
