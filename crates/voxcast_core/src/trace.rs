@@ -285,7 +285,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
 
     /// [`Marcher::march`], told that no sample before `t = from` lies in a visible cell
     /// ([`crate::entry::EntryBounds`]); the lanes start there, the other marches ignore it.
-    #[inline]
+    ///
+    /// Always inlined, for the same reason as [`clip_interval`]: the renderer read the
+    /// outcome's sample and position counts, written one by one, as one 64-bit load.
+    #[inline(always)]
     pub(crate) fn march_from<R: Recorder>(
         &self,
         ray: &Ray,

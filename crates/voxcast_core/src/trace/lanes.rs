@@ -38,7 +38,7 @@ use crate::shade::{Highlight, MAX_LIGHTS, ResolvedLight, SpecularModel, Viewing}
 use crate::skip::VisibleCells;
 use crate::step::{StepPlan, first_index_from, sample_t, segment_length};
 use crate::volume::{Grid, Voxel};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 /// Lanes per batch (eight `f32`: one AVX2 vector, two SSE or NEON ones).
 mod batch;
@@ -205,10 +205,14 @@ struct RayLights {
 
 /// One ray's march: its step plan, its origin and direction in voxels, its pixel's entry
 /// bound, its lights, the opacity that stops it.
+///
+/// The origin and direction are kept as 16-byte vectors: as `Vec3`s, written as a pair and a
+/// single and read back at the march's start in other pairs, a read waited for the writes to
+/// reach the cache (a failed store forward, once a ray).
 struct Ray<'p> {
     plan: &'p StepPlan,
-    o_v: Vec3,
-    d_v: Vec3,
+    o_v: Vec3A,
+    d_v: Vec3A,
     from: f32,
     /// Borrowed: a `RayLights` moved in was copied by a call to `memcpy` a ray.
     lights: &'p RayLights,
@@ -246,8 +250,8 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
         }
         let ray = Ray {
             plan,
-            o_v,
-            d_v,
+            o_v: o_v.into(),
+            d_v: d_v.into(),
             from,
             lights: &rl,
             stop_at,
@@ -291,6 +295,7 @@ impl Lanes<'_> {
         acc: &mut Accumulation,
     ) -> Option<u32> {
         let Ray { plan, o_v, d_v, .. } = *ray;
+        let (o_v, d_v) = (Vec3::from(o_v), Vec3::from(d_v));
         let inv_dt = 1.0 / plan.dt;
         let inv_d = 1.0 / d_v;
         let mut pending = Pending::default();
