@@ -99,6 +99,19 @@ impl Method {
         }
     }
 
+    /// The method's name in words, as the panel and the levels say it ([`Method::name`] is
+    /// its key on the command line and in files); its description starts with it.
+    pub const fn title(self) -> &'static str {
+        match self {
+            Method::Accumulate => "Accumulate",
+            Method::First => "First hit",
+            Method::Average => "Average",
+            Method::Maximum => "Maximum",
+            Method::Minimum => "Minimum",
+            Method::Sum => "Sum",
+        }
+    }
+
     /// The one-line description shown with the method (documented once, reused as tooltip).
     pub const fn doc(self) -> &'static str {
         match self {
@@ -375,6 +388,17 @@ impl ValueStats {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each method's description opens with its name in words (the tooltip names what the
+    /// drop-down shows), and no two methods share a name.
+    #[test]
+    fn each_description_opens_with_the_method_s_title() {
+        for m in Method::ALL {
+            assert!(m.doc().starts_with(&format!("{}:", m.title())), "{m:?}");
+        }
+        let titles: std::collections::BTreeSet<_> = Method::ALL.map(Method::title).into();
+        assert_eq!(titles.len(), Method::ALL.len());
+    }
 
     /// The GPU's f32 running sum against the core's f64 one on the longest rays a 1024³ volume
     /// gives at ¼ voxel, with values spread over 0 … 255, with one large value first (the

@@ -104,7 +104,7 @@ pub const JITTER: Tunable = Tunable {
 
 pub const TARGET: Tunable = Tunable {
     key: "target",
-    label: "Target value (First)",
+    label: "Target value (First hit)",
     doc: "First hit: the value whose first crossing along the ray is shown, in data units (an \
           isosurface). The crossing is located between two samples and refined, then coloured \
           with the transfer function at this value and shaded. Default: the preset's isovalue, \
@@ -205,7 +205,7 @@ pub const SAMPLE_CUBE: Tunable = Tunable {
 
 pub const REFINE_STEPS: Tunable = Tunable {
     key: "refine-steps",
-    label: "Refinement steps (First)",
+    label: "Refinement steps (First hit)",
     doc: "First hit: bisection steps that narrow the interval holding the crossing before the final \
           linear interpolation; each halves the error. 0 interpolates linearly between the two \
           samples only. Default 8.",

@@ -231,7 +231,7 @@ pub(crate) fn finish_loading(
                 loading.note = Some(format!(
                     "Kept your method ({}) and step ({} voxel); the transfer function, shading \
                      and the other settings are the new volume's.",
-                    method.name(),
+                    method.title(),
                     voxcast_core::numbers::sig(step.voxels(voxel))
                 ));
             }
@@ -395,7 +395,7 @@ mod tests {
             if keep {
                 assert_eq!((s.method, s.step), (Method::Maximum, Length::Voxels(0.125)));
                 let note = note.expect("the panel says what was kept");
-                assert!(note.contains("maximum") && note.contains("0.125"), "{note}");
+                assert!(note.contains("Maximum") && note.contains("0.125"), "{note}");
             } else {
                 assert_eq!(s.method, Method::Accumulate);
                 assert!(note.is_none());

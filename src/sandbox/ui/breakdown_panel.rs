@@ -133,7 +133,7 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace) {
         "origin {}  direction {}  method {}",
         v3(t.origin),
         v3(t.dir),
-        t.method.name()
+        t.method.title()
     ));
     match (t.interval, &t.plan) {
         (Some([a, b]), Some(p)) => ui.label(format!(

@@ -21,7 +21,7 @@ fn control_name(c: Control) -> String {
         Control::Breakdown => return "the ray's breakdown panel".into(),
         Control::OpacityCorrection => "Opacity correction",
         Control::EarlyTermination => "Early ray termination",
-        Control::Target => "Target value (First)",
+        Control::Target => voxcast_core::tunables::TARGET.label,
         Control::SumRange => "Sum range",
         Control::Shading => "Shading",
         Control::Classification => "Classification",

@@ -190,11 +190,24 @@ fn record_viewport(
     Ok(())
 }
 
-/// Every text `add` draws, and the characters among them that the window's font has no glyph
-/// for (they would show as boxes). An ID clash between two widgets shows up here too: egui
-/// paints its warning with a '🔥' the font lacks.
+/// The characters among the texts `add` draws ([`drawn_text`]) that the window's font has no
+/// glyph for (they would show as boxes). An ID clash between two widgets shows up here too:
+/// egui paints its warning with a '🔥' the font lacks.
 #[cfg(test)]
 pub(super) fn missing_glyphs(add: impl FnMut(&mut egui::Ui)) -> std::collections::BTreeSet<char> {
+    let (all, ctx) = drawn_text(add);
+    assert!(all.len() > 100, "little text drawn: {all}");
+    let font = egui::FontId::proportional(14.0);
+    all.chars()
+        .filter(|c| !c.is_whitespace())
+        .filter(|&c| !ctx.fonts_mut(|f| f.has_glyph(&font, c)))
+        .collect()
+}
+
+/// Every text `add` draws in a 1200×4000-point window, one a line, and the context that drew
+/// them.
+#[cfg(test)]
+pub(super) fn drawn_text(add: impl FnMut(&mut egui::Ui)) -> (String, egui::Context) {
     fn texts(shape: &egui::Shape, out: &mut String) {
         match shape {
             egui::Shape::Text(t) => {
@@ -223,12 +236,7 @@ pub(super) fn missing_glyphs(add: impl FnMut(&mut egui::Ui)) -> std::collections
     for clipped in &shapes {
         texts(&clipped.shape, &mut all);
     }
-    assert!(all.len() > 100, "little text drawn: {all}");
-    let font = egui::FontId::proportional(14.0);
-    all.chars()
-        .filter(|c| !c.is_whitespace())
-        .filter(|&c| !ctx.fonts_mut(|f| f.has_glyph(&font, c)))
-        .collect()
+    (all, ctx)
 }
 
 /// The size `add` takes when given a column `room` points wide and [`COLUMN`] high: wider than

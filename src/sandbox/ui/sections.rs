@@ -99,9 +99,9 @@ pub(super) fn ray_section(
     spot: Spot,
 ) {
     marked(ui, spot, Control::Method, |ui| {
-        combo(ui, "Method", s.method.name(), |ui| {
+        combo(ui, "Method", s.method.title(), |ui| {
             for m in Method::ALL {
-                ui.selectable_value(&mut s.method, m, m.name())
+                ui.selectable_value(&mut s.method, m, m.title())
                     .on_hover_text(m.doc());
             }
         })
@@ -160,7 +160,9 @@ pub(super) fn ray_section(
         Ok(())
     });
     applies(ui, cutoff_applies, |ui| {
-        slider(ui, &mut s.cutoff, &t::CUTOFF, 0.0..=1.0, false);
+        // Thousandths: 1 − cutoff bounds each pixel's error, and 0.999 is a setting to try.
+        let cutoff = egui::Slider::new(&mut s.cutoff, 0.0..=1.0).fixed_decimals(3);
+        tunable_slider(ui, cutoff, &t::CUTOFF);
     });
     marked(ui, spot, Control::Skipping, |ui| {
         checkbox(ui, &mut s.skipping, &t::SKIPPING)

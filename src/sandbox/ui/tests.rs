@@ -70,6 +70,29 @@ fn every_panel_string_can_be_drawn() {
     }
 }
 
+/// The shading weights show two decimals at every value, their ends included (egui's own
+/// choice follows the pointer's resolution at the slider's place: it showed 0.000 at an end
+/// beside 0.70 between), and the opacity cutoff three (its thousandths bound a pixel's error).
+#[test]
+fn sliders_show_the_decimals_their_values_mean() {
+    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
+    let mut s = render.settings.clone();
+    let p = &mut s.phong;
+    (p.ke, p.global_ambient, p.ka, p.kd, p.ks) = (0.0, 1.0, 0.0, 0.7, 0.3);
+    s.cutoff = 0.99;
+    let (text, _) = drawn_text(|ui| {
+        ray_section(ui, &mut s, &volume, None);
+        shading_section(ui, &mut s, &volume, None);
+    });
+    let numbers: Vec<&str> = text.lines().filter(|l| l.parse::<f32>().is_ok()).collect();
+    for shown in ["0.00", "1.00", "0.70", "0.30", "0.990"] {
+        assert!(numbers.contains(&shown), "{shown} not among {numbers:?}");
+    }
+    for wrong in ["0.000", "1.000", "0.700"] {
+        assert!(!numbers.contains(&wrong), "{wrong} among {numbers:?}");
+    }
+}
+
 /// Whether `s`'s body is drawn under `guide` (closed by default).
 fn drawn(s: Section, guide: Guide) -> bool {
     let ctx = egui::Context::default();

@@ -85,7 +85,16 @@ pub(super) fn applies(
     }
 }
 
-/// A slider of `f32` for a tunable ([`tunable_slider`]): whether it changed.
+/// The decimals a linear slider over a range at most [`FINE_SPAN`] wide (a weight, a share,
+/// a place across the box) shows at every value: hundredths, what such a slider is set to by
+/// hand. egui's own choice follows the pointer's resolution at the slider's place, and showed
+/// 0.000 at an end beside 0.70 between.
+pub(super) const FINE_DECIMALS: usize = 2;
+/// See [`FINE_DECIMALS`].
+pub(super) const FINE_SPAN: f32 = 2.0;
+
+/// A slider of `f32` for a tunable ([`tunable_slider`]), with [`FINE_DECIMALS`] where its range
+/// is linear and at most [`FINE_SPAN`] wide: whether it changed.
 pub(super) fn slider(
     ui: &mut egui::Ui,
     value: &mut f32,
@@ -93,12 +102,14 @@ pub(super) fn slider(
     range: std::ops::RangeInclusive<f32>,
     log: bool,
 ) -> bool {
-    tunable_slider(
-        ui,
-        egui::Slider::new(value, range).logarithmic(log),
-        tunable,
-    )
-    .changed()
+    let fine = !log && range.end() - range.start() <= FINE_SPAN;
+    let slider = egui::Slider::new(value, range).logarithmic(log);
+    let slider = if fine {
+        slider.fixed_decimals(FINE_DECIMALS)
+    } else {
+        slider
+    };
+    tunable_slider(ui, slider, tunable).changed()
 }
 
 /// `slider` for a tunable: its label beside it ([`labelled`]), its name and documentation as
