@@ -2,7 +2,7 @@
 //! the clip plane (orientation, flip, position); the same cut is dragged in the scene
 //! (`crate::sandbox::scene::cut`).
 
-use super::{FINE_DECIMALS, Spot, combo, labelled, marked, slider};
+use super::{FINE_DECIMALS, Spot, combo, labelled, marked, shown_with, slider};
 use crate::sandbox::scene::cut::CutHandles;
 use bevy::math::Vec3;
 use bevy_egui::egui;
@@ -49,13 +49,13 @@ pub(super) fn cut_section(
                 let (mut lo, mut hi) = (clip.crop_lo[a], clip.crop_hi[a]);
                 let from = labelled(
                     ui,
-                    egui::Slider::new(&mut lo, 0.0..=1.0).fixed_decimals(FINE_DECIMALS),
+                    shown_with(egui::Slider::new(&mut lo, 0.0..=1.0), FINE_DECIMALS),
                     format!("{axis} from"),
                 )
                 .on_hover_text(t::CROP.doc);
                 let to = labelled(
                     ui,
-                    egui::Slider::new(&mut hi, 0.0..=1.0).fixed_decimals(FINE_DECIMALS),
+                    shown_with(egui::Slider::new(&mut hi, 0.0..=1.0), FINE_DECIMALS),
                     format!("{axis} to"),
                 )
                 .on_hover_text(t::CROP.doc);

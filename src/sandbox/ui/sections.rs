@@ -161,7 +161,7 @@ pub(super) fn ray_section(
     });
     applies(ui, cutoff_applies, |ui| {
         // Thousandths: 1 − cutoff bounds each pixel's error, and 0.999 is a setting to try.
-        let cutoff = egui::Slider::new(&mut s.cutoff, 0.0..=1.0).fixed_decimals(3);
+        let cutoff = shown_with(egui::Slider::new(&mut s.cutoff, 0.0..=1.0), 3);
         tunable_slider(ui, cutoff, &t::CUTOFF);
     });
     marked(ui, spot, Control::Skipping, |ui| {

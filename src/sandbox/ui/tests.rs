@@ -194,3 +194,24 @@ fn first_preview_section(
 ) {
     preview_section(ui, preview, Some(live), (depth, Method::First), None);
 }
+
+/// Drawing a slider leaves its value as it is, whatever decimals it shows: a preview scale of
+/// 0.125 (Measure's cheapest moving frame, set while it times it) and a crop side dragged in
+/// the scene to 0.3333 stay exactly that (egui's `fixed_decimals` rounded them to 0.12 and
+/// 0.33 at the first frame, and Measure stopped: "the preview changed while it was timed").
+#[test]
+fn drawing_a_slider_leaves_its_value() {
+    let (mut scale, mut side) = (0.125f32, 1.0f32 / 3.0);
+    let mut changed = false;
+    let (text, _) = drawn_text(|ui| {
+        changed |= slider(ui, &mut scale, &t::PREVIEW_SCALE, 0.05..=1.0, false);
+        changed |= ui
+            .add(shown_with(
+                egui::Slider::new(&mut side, 0.0..=1.0),
+                FINE_DECIMALS,
+            ))
+            .changed();
+    });
+    assert_eq!((scale, side, changed), (0.125, 1.0 / 3.0, false));
+    assert!(text.lines().any(|l| l == "0.33"), "{text}");
+}

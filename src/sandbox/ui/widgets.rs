@@ -93,8 +93,15 @@ pub(super) const FINE_DECIMALS: usize = 2;
 /// See [`FINE_DECIMALS`].
 pub(super) const FINE_SPAN: f32 = 2.0;
 
-/// A slider of `f32` for a tunable ([`tunable_slider`]), with [`FINE_DECIMALS`] where its range
-/// is linear and at most [`FINE_SPAN`] wide: whether it changed.
+/// `slider` showing its value with `decimals` decimals, the value itself left as it is. (egui's
+/// `fixed_decimals` rounds the value too, and did so merely by drawing it: a crop side dragged
+/// in the scene, or a setting Measure was timing, was changed by the panel.)
+pub(super) fn shown_with(slider: egui::Slider<'_>, decimals: usize) -> egui::Slider<'_> {
+    slider.custom_formatter(move |v, _| format!("{v:.decimals$}"))
+}
+
+/// A slider of `f32` for a tunable ([`tunable_slider`]), showing [`FINE_DECIMALS`] where its
+/// range is linear and at most [`FINE_SPAN`] wide: whether it changed.
 pub(super) fn slider(
     ui: &mut egui::Ui,
     value: &mut f32,
@@ -105,7 +112,7 @@ pub(super) fn slider(
     let fine = !log && range.end() - range.start() <= FINE_SPAN;
     let slider = egui::Slider::new(value, range).logarithmic(log);
     let slider = if fine {
-        slider.fixed_decimals(FINE_DECIMALS)
+        shown_with(slider, FINE_DECIMALS)
     } else {
         slider
     };
