@@ -231,6 +231,24 @@ fn the_sampling_level_s_volume_gives_each_ray_few_samples() {
     }
 }
 
+/// Level 05, step 1: the method is named as the drop-down shows it ("First hit"), and the
+/// step's objective is that method.
+#[test]
+fn the_first_hit_level_names_the_method_as_the_panel_does() {
+    use voxcast_core::composite::Method;
+    let text = words("first-hit", 1);
+    says(
+        &text,
+        &format!("Choose the method {}:", Method::First.title()),
+    );
+    let level = Level::all()
+        .into_iter()
+        .find(|l| l.id == "first-hit")
+        .unwrap();
+    let objective = serde_json::to_value(&level.steps[0].objective).unwrap();
+    assert_eq!(objective["method"], Method::First.name());
+}
+
 /// Level 16, step 1: Voxcast's default shading is a shortened form of the lecture's model
 /// (the full form's terms are off by default), each light adds its own terms, and the ambient
 /// term ka·c is added once, however many lights there are.
