@@ -260,8 +260,13 @@ impl RegionEditor {
             [r.value[1], r.gradient[1]],
             r.opacity,
         );
-        super::labelled(ui, egui::Slider::new(&mut r.opacity, 0.0..=1.0), "opacity")
-            .on_hover_text("The opacity of a sample inside this rectangle");
+        let slider = egui::Slider::new(&mut r.opacity, 0.0..=1.0);
+        super::labelled(
+            ui,
+            super::shown_with(slider, super::FINE_DECIMALS),
+            "opacity",
+        )
+        .on_hover_text("The opacity of a sample inside this rectangle");
         if ui.button("Remove this rectangle").clicked() {
             regions.remove(i);
             self.selected = None;
@@ -314,6 +319,25 @@ mod tests {
             [0.0, 15.0],
             "down only as far as zero, the height kept"
         );
+    }
+
+    /// The selected rectangle's opacity shows hundredths at every value, its ends included,
+    /// as the panel's other linear sliders over a short range do (`widgets::FINE_DECIMALS`).
+    #[test]
+    fn the_opacity_shows_the_decimals_it_means() {
+        for (opacity, shown, wrong) in [(0.0, "0.00", "0.000"), (0.6, "0.60", "0.600")] {
+            let mut regions = vec![spanned([0.0, 0.0], [10.0, 5.0], opacity)];
+            let mut editor = RegionEditor {
+                selected: Some(0),
+                ..Default::default()
+            };
+            let (text, _) =
+                super::super::drawn_text(|ui| editor.selected_controls(ui, &mut regions));
+            let numbers: Vec<&str> = text.lines().filter(|l| l.parse::<f32>().is_ok()).collect();
+            assert!(numbers.contains(&shown), "{shown} not among {numbers:?}");
+            assert!(!numbers.contains(&wrong), "{wrong} among {numbers:?}");
+            assert_eq!(regions[0].opacity, opacity, "drawing leaves the value");
+        }
     }
 
     #[test]
