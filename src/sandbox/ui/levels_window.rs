@@ -10,33 +10,35 @@ use bevy_egui::{EguiContexts, egui};
 use voxcast_core::level::{Control, Objective};
 use voxcast_core::numbers::sig;
 use voxcast_core::sample::SampleDetail;
+use voxcast_core::tunables as t;
 
-/// Where a step's control is, in the words of the panel (its section's title from the panel).
-fn control_name(c: Control) -> String {
+/// Where a step's control is, in the words of the panel: its section's title and, for a
+/// tunable, the tunable's label, both as the panel draws them (tested in `tests.rs`).
+pub(super) fn control_name(c: Control) -> String {
     let label = match c {
         Control::Method => "Method",
-        Control::Step => "Step size",
+        Control::Step => t::STEP.label,
         Control::VirtualPixels => "pixels",
         Control::PixelGrid => return "the Rays panel's image".into(),
         Control::Breakdown => return "the ray's breakdown panel".into(),
-        Control::OpacityCorrection => "Opacity correction",
-        Control::EarlyTermination => "Early ray termination",
-        Control::Target => voxcast_core::tunables::TARGET.label,
-        Control::SumRange => "Sum range",
-        Control::Shading => "Shading",
+        Control::OpacityCorrection => t::OPACITY_CORRECTION.label,
+        Control::EarlyTermination => t::EARLY_TERMINATION.label,
+        Control::Target => t::TARGET.label,
+        Control::SumRange => t::SUM_RANGE.label,
+        Control::Shading => t::SHADING.label,
         Control::Classification => "Classification",
         Control::TransferFunction => "the editor",
         Control::RenderImage => return "the Render image… button".into(),
-        Control::Light => "Light",
+        Control::Light => "the lights",
         Control::Order => "Order",
         Control::StepTrade => "Measure",
-        Control::Jitter => "Jitter",
+        Control::Jitter => t::JITTER.label,
         Control::Interpolation => "Trilinear interpolation",
-        Control::Supersampling => "Supersampling",
-        Control::CropBox => "Crop box",
-        Control::ClipPlane => "Clip plane",
-        Control::Skipping => "Empty-space skipping",
-        Control::PreviewScale => "Preview resolution",
+        Control::Supersampling => t::SUPERSAMPLING.label,
+        Control::CropBox => t::CROP.label,
+        Control::ClipPlane => t::CLIP_PLANE.label,
+        Control::Skipping => t::SKIPPING.label,
+        Control::PreviewScale => t::PREVIEW_SCALE.label,
         Control::PreviewOn => "Show the preview",
         Control::RaySource => "Rays and Compute",
         Control::RayViews => "the views",

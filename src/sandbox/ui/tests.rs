@@ -215,3 +215,70 @@ fn drawing_a_slider_leaves_its_value() {
     assert_eq!((scale, side, changed), (0.125, 1.0 / 3.0, false));
     assert!(text.lines().any(|l| l == "0.33"), "{text}");
 }
+
+/// Every panel control a level points at ("Look at: Settings › Ray casting › …") is drawn in
+/// the panel by the very name the level gives it, so a student can find it by reading. (The
+/// rest are named by what they are: "the lights", "the editor", "the views".)
+#[test]
+fn the_levels_name_each_control_as_the_panel_shows_it() {
+    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
+    let mut text = String::new();
+    // Every method: some controls are greyed out, but drawn, under others.
+    for method in Method::ALL {
+        let mut s = render.settings.clone();
+        s.method = method;
+        let mut preview = PreviewSettings {
+            backend: crate::sandbox::shared::quality::Backend::Cpu,
+            ..Default::default()
+        };
+        let live = crate::sandbox::preview::live::LiveView::default();
+        let mut depth = true;
+        let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
+        let mut step_trade = crate::sandbox::checks::trade::StepTrade::default();
+        let mut panel = PanelState::default();
+        let mut classification = voxcast_core::classify::Classification::default();
+        let (drawn, _) = drawn_text(|ui| {
+            classify::classification_controls(
+                ui,
+                &mut classification,
+                &mut panel.classify,
+                &volume.volume,
+                &volume.source,
+            );
+            trade::trade_section(ui, &mut step_trade, false, 0.5, None);
+            ray_section(ui, &mut s, &volume, None);
+            shading_section(ui, &mut s, &volume, None);
+            cut::cut_section(ui, &mut s.clip, &mut handles, Some(Vec3::Z), None);
+            first_preview_section(ui, &mut preview, &live, &mut depth);
+        });
+        text.push_str(&drawn);
+    }
+    let lines: Vec<&str> = text.lines().collect();
+    for c in [
+        Control::Method,
+        Control::Step,
+        Control::OpacityCorrection,
+        Control::EarlyTermination,
+        Control::Target,
+        Control::SumRange,
+        Control::Order,
+        Control::Jitter,
+        Control::Interpolation,
+        Control::Supersampling,
+        Control::Skipping,
+        Control::Shading,
+        Control::CropBox,
+        Control::ClipPlane,
+        Control::PreviewScale,
+        Control::PreviewOn,
+        Control::Classification,
+        Control::StepTrade,
+    ] {
+        let name = super::levels_window::control_name(c);
+        let label = name.rsplit(" › ").next().unwrap_or(&name);
+        assert!(
+            lines.contains(&label),
+            "{c:?}: the level says {name:?}, the panel shows no {label:?}"
+        );
+    }
+}
