@@ -248,7 +248,7 @@ fn level_step(
     }
     let look_at = step
         .control
-        .map(|c| format!("Look at: {} (framed in yellow)", control_name(c)));
+        .map(|c| format!("Look at: {}, framed in yellow", control_name(c)));
     if !*folded && let Some(look_at) = &look_at {
         ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
     }
