@@ -42,17 +42,17 @@ impl Pending {
         n..self.n
     }
 
-    /// Drops the first batch (at least [`LANES`] are waiting): those waiting behind it move to
-    /// the front.
+    /// Drops the first `W` (at least `W` are waiting): those waiting behind them move to the
+    /// front.
     #[inline(always)]
-    pub(super) fn shift(&mut self) {
-        self.k.copy_within(LANES.., 0);
-        self.base.copy_within(LANES.., 0);
-        self.t.copy_within(LANES.., 0);
-        self.fx.copy_within(LANES.., 0);
-        self.fy.copy_within(LANES.., 0);
-        self.fz.copy_within(LANES.., 0);
-        self.n -= LANES;
+    pub(super) fn shift<const W: usize>(&mut self) {
+        self.k.copy_within(W.., 0);
+        self.base.copy_within(W.., 0);
+        self.t.copy_within(W.., 0);
+        self.fx.copy_within(W.., 0);
+        self.fy.copy_within(W.., 0);
+        self.fz.copy_within(W.., 0);
+        self.n -= W;
     }
 }
 
@@ -111,7 +111,7 @@ impl Lanes<'_> {
     /// # Safety
     /// Every pending base of the first eight is the lower corner of a cell of the lattice.
     #[inline(always)]
-    pub(super) unsafe fn evaluate<S: Simd>(
+    pub(super) unsafe fn evaluate<S: Simd, const W: usize>(
         &self,
         s: S,
         p: &Pending,
@@ -119,7 +119,7 @@ impl Lanes<'_> {
         plan: Option<&StepPlan>,
     ) -> Evaluated {
         // SAFETY: the caller's.
-        let b = unsafe { self.blend_records(s, p) };
+        let b = unsafe { self.blend_records::<S, W>(s, p) };
         let half = s.splat(0.5);
         let gs = self.gradient_scale;
         let grad = [
@@ -140,7 +140,7 @@ impl Lanes<'_> {
         let i = s.min_i(s.trunc(x), s.splat_i(self.lut_max_index));
         let f = s.sub(x, s.to_f(i));
         // SAFETY: i ≤ len − 2, so entries i and i + 1 exist.
-        let (a, bb) = unsafe { self.entry_pairs(s, i) };
+        let (a, bb) = unsafe { self.entry_pairs::<S, W>(s, i) };
         let opaque = s.or(s.gt(a[3], zero), s.gt(bb[3], zero));
         let rgba = [
             lerp(s, a[0], bb[0], f),
@@ -162,7 +162,7 @@ impl Lanes<'_> {
         let color = [rgba[0], rgba[1], rgba[2]];
         let shaded = self.shade(s, color, grad, rl);
         let corrected = match plan {
-            Some(plan) => self.correct_batch(s, plan, p, alpha),
+            Some(plan) => self.correct_batch::<S, W>(s, plan, p, alpha),
             None => None,
         };
         let alpha = corrected.unwrap_or(alpha);
@@ -189,7 +189,7 @@ impl Lanes<'_> {
     /// square root and 2 a square, correctly rounded in lanes as alone. `None` otherwise (the
     /// composite then corrects sample by sample).
     #[inline(always)]
-    pub(super) fn correct_batch<S: Simd>(
+    pub(super) fn correct_batch<S: Simd, const W: usize>(
         &self,
         s: S,
         plan: &StepPlan,
@@ -208,7 +208,8 @@ impl Lanes<'_> {
         };
         let inside = s.le(s.add(t, s.splat(0.5 * plan.dt)), s.splat(plan.t_exit));
         let edge = s.or(first, last);
-        if s.bits(s.and_not(edge, inside)) != 0xFF {
+        let batch = (1u32 << W) - 1;
+        if s.bits(s.and_not(edge, inside)) & batch != batch {
             return None;
         }
         let one = s.splat(1.0);
@@ -239,11 +240,15 @@ impl Lanes<'_> {
     /// corner is the next record (`Lanes::new` takes volumes with more than one point along x
     /// only).
     #[inline(always)]
-    pub(super) unsafe fn blend_records<S: Simd>(&self, s: S, p: &Pending) -> [S::F; 4] {
+    pub(super) unsafe fn blend_records<S: Simd, const W: usize>(
+        &self,
+        s: S,
+        p: &Pending,
+    ) -> [S::F; 4] {
         let [_, _, dy, _, dz, _, dzy, _] = self.corners;
         let records = self.records.as_ptr();
         let mut rows = [s.zero_h(); LANES];
-        for (lane, row) in rows.iter_mut().enumerate() {
+        for (lane, row) in rows.iter_mut().enumerate().take(W) {
             let at = records.wrapping_add(p.base[lane] as usize);
             // SAFETY: the cell's corners (so both records of each pair) are in the lattice.
             let (p00, p10, p01, p11) = unsafe {
@@ -276,13 +281,17 @@ impl Lanes<'_> {
     /// # Safety
     /// Every lane's `i` is at most the table's length − 2.
     #[inline(always)]
-    pub(super) unsafe fn entry_pairs<S: Simd>(&self, s: S, i: S::I) -> ([S::F; 4], [S::F; 4]) {
+    pub(super) unsafe fn entry_pairs<S: Simd, const W: usize>(
+        &self,
+        s: S,
+        i: S::I,
+    ) -> ([S::F; 4], [S::F; 4]) {
         let mut at = [0i32; LANES];
         // SAFETY: eight lanes into eight slots.
         unsafe { s.store_i(at.as_mut_ptr(), i) };
         let entries = self.entries.as_ptr() as *const f32;
         let (mut lo, mut hi) = ([s.zero_h(); LANES], [s.zero_h(); LANES]);
-        for lane in 0..LANES {
+        for lane in 0..W {
             // SAFETY: the caller's bound; an entry is four floats.
             unsafe {
                 let row = entries.add(4 * at[lane] as usize);
