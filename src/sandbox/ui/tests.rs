@@ -2,70 +2,105 @@
 
 use super::*;
 
-/// Every string the settings panel's sections draw (for every method: the greyed-out
-/// reasons change with it; every classification) has a glyph in the window's font.
-#[test]
-fn every_panel_string_can_be_drawn() {
-    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
-    for method in Method::ALL {
-        let mut s = render.settings.clone();
+/// The settings panel's sections for one method, with what they edit: the panel as the
+/// tests below read it.
+struct Panel {
+    volume: VolumeState,
+    edited: RenderState,
+    s: RenderSettings,
+    preview: PreviewSettings,
+    state: PanelState,
+    loading: Loading,
+    depth: bool,
+    live: crate::sandbox::preview::live::LiveView,
+    step_trade: crate::sandbox::checks::trade::StepTrade,
+    /// Every classification, each drawn with its controls.
+    classifications: Vec<voxcast_core::classify::Classification>,
+}
+
+impl Panel {
+    fn new(method: Method) -> Self {
+        use voxcast_core::classify::{Classification, Region};
+        let (volume, edited) = crate::sandbox::inspect::rays::tests::scene("head");
+        let mut s = edited.settings.clone();
         s.method = method;
-        let mut preview = PreviewSettings {
-            backend: crate::sandbox::shared::quality::Backend::Cpu,
-            ..Default::default()
-        };
-        let mut panel = PanelState::default();
-        let mut loading = Loading::default();
-        let mut edited = render.clone();
-        let mut depth = true;
-        let live = crate::sandbox::preview::live::LiveView::default();
-        let mut step_trade = crate::sandbox::checks::trade::StepTrade::default();
+        s.clip.plane = Some(voxcast_core::clip::ClipPlane {
+            normal: Vec3::X,
+            position: 0.2,
+        });
         let (lo, hi) = volume.volume.value_range();
-        let mut classifications = [
-            voxcast_core::classify::Classification::default(),
-            voxcast_core::classify::Classification::IsoContours {
+        let classifications = vec![
+            Classification::default(),
+            Classification::IsoContours {
                 isovalues: vec![40.0, 140.0],
                 thickness_voxels: 1.0,
             },
-            voxcast_core::classify::Classification::Boundaries {
+            Classification::Boundaries {
                 full_gradient: Some(10.0),
             },
-            voxcast_core::classify::Classification::ValueGradient {
-                regions: vec![voxcast_core::classify::Region {
+            Classification::ValueGradient {
+                regions: vec![Region {
                     value: [lo, hi],
                     gradient: [0.0, 1.0],
                     opacity: 0.5,
                 }],
             },
         ];
-        let missing = missing_glyphs(|ui| {
-            dataset_section(ui, &mut panel, &volume, &mut loading);
-            ray_section(ui, &mut s, &volume, None);
-            shading_section(ui, &mut s, &volume, None);
-            preset_menu(ui, &mut edited, &volume.volume);
-            panel
-                .editor
-                .show(ui, &mut edited.transfer, &volume.volume, &volume.source);
-            for (i, c) in classifications.iter_mut().enumerate() {
-                ui.push_id(i, |ui| {
-                    classify::classification_controls(
-                        ui,
-                        c,
-                        &mut panel.classify,
-                        &volume.volume,
-                        &volume.source,
-                    )
-                });
-            }
-            trade::trade_section(ui, &mut step_trade, false, 0.5, None);
-            first_preview_section(ui, &mut preview, &live, &mut depth);
-            let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
-            s.clip.plane = Some(voxcast_core::clip::ClipPlane {
-                normal: Vec3::X,
-                position: 0.2,
+        Self {
+            volume,
+            edited,
+            s,
+            preview: PreviewSettings {
+                backend: crate::sandbox::shared::quality::Backend::Cpu,
+                ..Default::default()
+            },
+            state: PanelState::default(),
+            loading: Loading::default(),
+            depth: true,
+            live: Default::default(),
+            step_trade: Default::default(),
+            classifications,
+        }
+    }
+
+    /// Every section, one below the other.
+    fn draw(&mut self, ui: &mut egui::Ui) {
+        let volume = &self.volume;
+        dataset_section(ui, &mut self.state, volume, &mut self.loading);
+        ray_section(ui, &mut self.s, volume, None);
+        shading_section(ui, &mut self.s, volume, None);
+        preset_menu(ui, &mut self.edited, &volume.volume);
+        self.state.editor.show(
+            ui,
+            &mut self.edited.transfer,
+            &volume.volume,
+            &volume.source,
+        );
+        for (i, c) in self.classifications.iter_mut().enumerate() {
+            ui.push_id(i, |ui| {
+                classify::classification_controls(
+                    ui,
+                    c,
+                    &mut self.state.classify,
+                    &volume.volume,
+                    &volume.source,
+                )
             });
-            cut::cut_section(ui, &mut s.clip, &mut handles, Some(Vec3::Z), None);
-        });
+        }
+        trade::trade_section(ui, &mut self.step_trade, false, 0.5, None);
+        first_preview_section(ui, &mut self.preview, &self.live, &mut self.depth);
+        let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
+        cut::cut_section(ui, &mut self.s.clip, &mut handles, Some(Vec3::Z), None);
+    }
+}
+
+/// Every string the settings panel's sections draw (for every method: the greyed-out
+/// reasons change with it; every classification) has a glyph in the window's font.
+#[test]
+fn every_panel_string_can_be_drawn() {
+    for method in Method::ALL {
+        let mut panel = Panel::new(method);
+        let missing = missing_glyphs(|ui| panel.draw(ui));
         assert!(missing.is_empty(), "{method:?}: no glyph for {missing:?}");
     }
 }
@@ -221,37 +256,11 @@ fn drawing_a_slider_leaves_its_value() {
 /// rest are named by what they are: "the lights", "the editor", "the views".)
 #[test]
 fn the_levels_name_each_control_as_the_panel_shows_it() {
-    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
     let mut text = String::new();
     // Every method: some controls are greyed out, but drawn, under others.
     for method in Method::ALL {
-        let mut s = render.settings.clone();
-        s.method = method;
-        let mut preview = PreviewSettings {
-            backend: crate::sandbox::shared::quality::Backend::Cpu,
-            ..Default::default()
-        };
-        let live = crate::sandbox::preview::live::LiveView::default();
-        let mut depth = true;
-        let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
-        let mut step_trade = crate::sandbox::checks::trade::StepTrade::default();
-        let mut panel = PanelState::default();
-        let mut classification = voxcast_core::classify::Classification::default();
-        let (drawn, _) = drawn_text(|ui| {
-            classify::classification_controls(
-                ui,
-                &mut classification,
-                &mut panel.classify,
-                &volume.volume,
-                &volume.source,
-            );
-            trade::trade_section(ui, &mut step_trade, false, 0.5, None);
-            ray_section(ui, &mut s, &volume, None);
-            shading_section(ui, &mut s, &volume, None);
-            cut::cut_section(ui, &mut s.clip, &mut handles, Some(Vec3::Z), None);
-            first_preview_section(ui, &mut preview, &live, &mut depth);
-        });
-        text.push_str(&drawn);
+        let mut panel = Panel::new(method);
+        text.push_str(&drawn_text(|ui| panel.draw(ui)).0);
     }
     let lines: Vec<&str> = text.lines().collect();
     for c in [
