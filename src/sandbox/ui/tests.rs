@@ -63,36 +63,69 @@ impl Panel {
         }
     }
 
-    /// Every section, one below the other.
+    /// Every section this fixture has the state for, one below the other.
     fn draw(&mut self, ui: &mut egui::Ui) {
+        for section in SECTIONS {
+            self.draw_section(ui, section);
+        }
+    }
+
+    /// One section's body.
+    fn draw_section(&mut self, ui: &mut egui::Ui, section: Section) {
         let volume = &self.volume;
-        dataset_section(ui, &mut self.state, volume, &mut self.loading);
-        ray_section(ui, &mut self.s, volume, None);
-        shading_section(ui, &mut self.s, volume, None);
-        preset_menu(ui, &mut self.edited, &volume.volume);
-        self.state.editor.show(
-            ui,
-            &mut self.edited.transfer,
-            &volume.volume,
-            &volume.source,
-        );
-        for (i, c) in self.classifications.iter_mut().enumerate() {
-            ui.push_id(i, |ui| {
-                classify::classification_controls(
+        match section {
+            Section::Dataset => {
+                dataset_section(ui, &mut self.state, volume, &mut self.loading);
+            }
+            Section::RayCasting => ray_section(ui, &mut self.s, volume, None),
+            Section::ShadingAndLight => shading_section(ui, &mut self.s, volume, None),
+            Section::TransferFunction => {
+                preset_menu(ui, &mut self.edited, &volume.volume);
+                self.state.editor.show(
                     ui,
-                    c,
-                    &mut self.state.classify,
+                    &mut self.edited.transfer,
                     &volume.volume,
                     &volume.source,
-                )
-            });
+                );
+                for (i, c) in self.classifications.iter_mut().enumerate() {
+                    ui.push_id(i, |ui| {
+                        classify::classification_controls(
+                            ui,
+                            c,
+                            &mut self.state.classify,
+                            &volume.volume,
+                            &volume.source,
+                        )
+                    });
+                }
+            }
+            Section::SpeedAccuracy => {
+                trade::trade_section(ui, &mut self.step_trade, false, 0.5, None);
+            }
+            Section::Preview => {
+                first_preview_section(ui, &mut self.preview, &self.live, &mut self.depth);
+            }
+            Section::LookingInside => {
+                let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
+                cut::cut_section(ui, &mut self.s.clip, &mut handles, Some(Vec3::Z), None);
+            }
+            Section::VirtualCamera | Section::RayData => {
+                unreachable!("{section:?}: not among SECTIONS")
+            }
         }
-        trade::trade_section(ui, &mut self.step_trade, false, 0.5, None);
-        first_preview_section(ui, &mut self.preview, &self.live, &mut self.depth);
-        let mut handles = crate::sandbox::scene::cut::CutHandles { crop: true };
-        cut::cut_section(ui, &mut self.s.clip, &mut handles, Some(Vec3::Z), None);
     }
 }
+
+/// The sections [`Panel`] draws (the virtual camera's and the ray data's need the scene).
+const SECTIONS: [Section; 7] = [
+    Section::Dataset,
+    Section::RayCasting,
+    Section::ShadingAndLight,
+    Section::TransferFunction,
+    Section::SpeedAccuracy,
+    Section::Preview,
+    Section::LookingInside,
+];
 
 /// Every string the settings panel's sections draw (for every method: the greyed-out
 /// reasons change with it; every classification) has a glyph in the window's font.
@@ -256,13 +289,6 @@ fn drawing_a_slider_leaves_its_value() {
 /// rest are named by what they are: "the lights", "the editor", "the views".)
 #[test]
 fn the_levels_name_each_control_as_the_panel_shows_it() {
-    let mut text = String::new();
-    // Every method: some controls are greyed out, but drawn, under others.
-    for method in Method::ALL {
-        let mut panel = Panel::new(method);
-        text.push_str(&drawn_text(|ui| panel.draw(ui)).0);
-    }
-    let lines: Vec<&str> = text.lines().collect();
     for c in [
         Control::Method,
         Control::Step,
@@ -283,11 +309,18 @@ fn the_levels_name_each_control_as_the_panel_shows_it() {
         Control::Classification,
         Control::StepTrade,
     ] {
+        let section = c.section().expect("a control of the panel");
+        // Every method: some controls are greyed out, but drawn, under others.
+        let mut text = String::new();
+        for method in Method::ALL {
+            let mut panel = Panel::new(method);
+            text.push_str(&drawn_text(|ui| panel.draw_section(ui, section)).0);
+        }
         let name = super::levels_window::control_name(c);
         let label = name.rsplit(" › ").next().unwrap_or(&name);
         assert!(
-            lines.contains(&label),
-            "{c:?}: the level says {name:?}, the panel shows no {label:?}"
+            text.lines().any(|l| l == label),
+            "{c:?}: the level says {name:?}, its section shows no {label:?}"
         );
     }
 }
