@@ -164,12 +164,12 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::failed(format!("cannot write {}: {e}", a.out.display())))?;
     let s = &resolved.settings;
     println!(
-        "rendered {}×{} {} ({}, step {:.4} voxel) in {:.3} s{}: {} sample positions, {} interpolated ({}), {:.1} M samples/s → {} (loading {:.2} s and preparation {:.2} s excluded)",
+        "rendered {}×{} {} ({}, step {} voxel) in {:.3} s{}: {} sample positions, {} interpolated ({}), {:.1} M samples/s → {} (loading {:.2} s and preparation {:.2} s excluded)",
         a.size.0,
         a.size.1,
         loaded.volume.name(),
         s.method.name(),
-        s.step.voxels(loaded.volume.spacing().min_element()),
+        voxcast_core::numbers::sig(s.step.voxels(loaded.volume.spacing().min_element())),
         timed.median(),
         if a.repeat > 1 {
             format!(" (median of {})", a.repeat)
