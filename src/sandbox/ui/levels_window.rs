@@ -18,7 +18,7 @@ pub(super) fn control_name(c: Control) -> String {
     let label = match c {
         Control::Method => "Method",
         Control::Step => t::STEP.label,
-        Control::VirtualPixels => "pixels",
+        Control::VirtualPixels => "pixels across and down",
         Control::PixelGrid => return "the Rays panel's image".into(),
         Control::Breakdown => return "the ray's breakdown panel".into(),
         Control::OpacityCorrection => t::OPACITY_CORRECTION.label,

@@ -323,7 +323,8 @@ pub(super) fn virtual_camera_section(
     if let Some(mut fov) = crate::sandbox::inspect::virtual_camera::fov(&edited.view) {
         let changed = labelled(
             ui,
-            egui::Slider::new(&mut fov, 5.0..=120.0),
+            // Tenths of a degree: a student drags it; hundredths said nothing more.
+            shown_with(egui::Slider::new(&mut fov, 5.0..=120.0), 1),
             "field of view (°)",
         )
         .on_hover_text("The virtual camera's vertical opening angle")

@@ -324,3 +324,45 @@ fn the_levels_name_each_control_as_the_panel_shows_it() {
         );
     }
 }
+
+/// The virtual camera's section: its field of view in tenths of a degree (egui's own choice
+/// showed 61.54°), and the pixel sliders a level names as "pixels across and down".
+#[test]
+fn the_virtual_camera_shows_its_angle_in_tenths() {
+    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
+    let mut vc = VirtualCamera::framing(&volume, None).expect("a camera framing the head");
+    let v = vc.view;
+    vc.view = voxcast_core::camera::Camera::new(
+        v.eye,
+        v.target,
+        v.up,
+        voxcast_core::camera::Projection::Perspective {
+            fov_y_deg: 61.538_46,
+        },
+    )
+    .unwrap();
+    let mut world = World::new();
+    let id = world.spawn(vc).id();
+    let mut settings = render.settings.clone();
+    let (text, _) = drawn_text(|ui| {
+        let mut camera = world.get_mut::<VirtualCamera>(id).unwrap();
+        virtual_camera_section(ui, (&mut camera, &mut settings), None, &volume, None);
+    });
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines.contains(&"61.5"), "no 61.5 among {lines:?}");
+    assert!(!lines.contains(&"61.54"), "61.54 among {lines:?}");
+    let name = super::levels_window::control_name(Control::VirtualPixels);
+    for part in ["pixels across", "pixels down"] {
+        assert!(lines.contains(&part), "no {part:?} among {lines:?}");
+    }
+    assert!(
+        name.ends_with("› pixels across and down"),
+        "the level says {name:?}"
+    );
+    let after = world.get::<VirtualCamera>(id).unwrap();
+    assert_eq!(
+        crate::sandbox::inspect::virtual_camera::fov(&after.view),
+        Some(61.538_46),
+        "drawing leaves the angle"
+    );
+}
