@@ -21,7 +21,7 @@ pub enum Vectors {
     Off,
 }
 
-/// [`Scene::simd`]'s default for scenes built from now on.
+/// [`crate::scene::Scene::simd`]'s default for scenes built from now on.
 static VECTORS: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(0);
 
 /// Lets a measurement render as a CPU with narrower vectors, or none, does: scenes built

@@ -57,7 +57,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 /// Rays per block of work (the unit of progress and cancelling).
 const RAYS_PER_BLOCK: usize = 4096;
 
-/// Cell visits a walk lists before adding them to the cells (see [`add_visits`]).
+/// Cell visits a walk lists before adding them to the cells (see [`count::add_visits`]).
 const PENDING_VISITS: usize = 1024;
 
 /// Fixed-point units per unit of a direction component in the sums.

@@ -3,7 +3,7 @@
 
 use super::*;
 
-/// The most memory a density may take, bytes: a computation whose [`estimate`] needs more is
+/// The most memory a density may take, bytes: a computation whose [`estimate()`] needs more is
 /// refused before it starts, with the estimate and what to change.
 pub const MAX_BYTES: usize = 2 << 30;
 
