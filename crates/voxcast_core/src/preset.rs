@@ -190,6 +190,20 @@ mod tests {
         }
     }
 
+    /// A description is read by students under the dataset's name: words, not the file names
+    /// of the project's benchmarks ("as VTK renders the peer's bunny.json" was one).
+    #[test]
+    fn descriptions_name_no_files() {
+        for p in all() {
+            let d = &p.description;
+            assert!(
+                !d.contains(".json") && !d.contains("peer") && !d.contains('_'),
+                "{}: {d}",
+                p.name
+            );
+        }
+    }
+
     #[test]
     fn a_ray_density_starts_with_sum_and_inferno() {
         let v = crate::volume::Volume::new(

@@ -226,7 +226,7 @@ pub const MAX_SAMPLES: Tunable = Tunable {
 
 pub const SUPERSAMPLING: Tunable = Tunable {
     key: "supersampling",
-    label: "Supersampling (rays per pixel side)",
+    label: "Supersampling (n×n rays)",
     doc: "Cast n×n rays per pixel on a regular grid and average them, smoothing edges at n² the \
           cost. Default 1 (one ray through each pixel centre).",
     default: 1.0,

@@ -150,10 +150,10 @@ impl LiveView {
             "coarse while moving"
         };
         format!(
-            "{}×{} in {} ms: {what}",
+            "{}×{} in {}: {what}",
             f.size.x,
             f.size.y,
-            voxcast_core::numbers::sig((f.seconds * 1000.0) as f32)
+            voxcast_core::numbers::duration(f.seconds)
         )
     }
 

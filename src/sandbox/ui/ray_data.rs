@@ -12,7 +12,7 @@ use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy_egui::egui;
 use voxcast_core::level::Control;
-use voxcast_core::numbers::sig;
+use voxcast_core::numbers::{count, sig};
 use voxcast_core::rays::effects::Effect;
 use voxcast_core::rays::field::{ArrowScale, cube_sizes};
 use voxcast_core::rays::layered::SceneShading;
@@ -267,7 +267,7 @@ fn grid_controls(ui: &mut egui::Ui, c: &mut RayChoices, est: &Estimator) {
         _ if est.busy() => "estimating the memory…".to_string(),
         (Some(Ok(e)), _) => format!(
             "{} rays through cells of {}: about {} in {} chunks",
-            e.rays,
+            count(e.rays as u64),
             sig(e.cell),
             bytes(e.bytes),
             e.chunks
