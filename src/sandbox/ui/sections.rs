@@ -12,7 +12,12 @@ pub(super) fn dataset_section(
     loading: &mut Loading,
 ) -> Option<String> {
     let mut load = None;
-    ui.label(format!("{} ({})", volume.volume.name(), volume.source));
+    ui.label(dataset_words(volume.volume.name(), &volume.source))
+        .on_hover_text(format!(
+            "The volume {} from {}",
+            volume.volume.name(),
+            volume.source
+        ));
     if let Some(p) = &volume.preset {
         ui.label(egui::RichText::new(&p.description).small());
     }
@@ -457,4 +462,44 @@ pub(super) fn preview_section(
     };
     ui.checkbox(depth, "Stop rays at scene geometry")
         .on_hover_text(tip);
+}
+
+/// The loaded dataset in words: an embedded one by its description (`bunny_sdf
+/// (builtin:bunny)` read as code), anything else by its name and where it came from.
+fn dataset_words(name: &str, source: &str) -> String {
+    source
+        .strip_prefix("builtin:")
+        .and_then(|b| DATASETS.iter().find(|(n, _)| *n == b))
+        .map(|(_, what)| {
+            let mut chars = what.chars();
+            chars
+                .next()
+                .map(|c| c.to_uppercase().chain(chars).collect())
+                .unwrap_or_default()
+        })
+        .unwrap_or_else(|| format!("{name} ({source})"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_embedded_dataset_is_named_in_words() {
+        assert_eq!(
+            dataset_words("bunny_sdf", "builtin:bunny"),
+            "Stanford bunny as a smooth density, surface at 128 (128×126×101, uint8)"
+        );
+        assert_eq!(
+            dataset_words("shells", "builtin:shells"),
+            "Concentric spherical shells (64³, uint8)"
+        );
+        // A file, a ray density or an unknown name keeps the name and where it came from.
+        assert_eq!(dataset_words("ct", "/data/ct.nrrd"), "ct (/data/ct.nrrd)");
+        assert_eq!(dataset_words("x", "builtin:nope"), "x (builtin:nope)");
+        for (name, _) in DATASETS {
+            let words = dataset_words("v", &format!("builtin:{name}"));
+            assert!(words.starts_with(|c: char| c.is_uppercase()), "{words}");
+        }
+    }
 }
