@@ -66,14 +66,22 @@ pub(super) fn dataset_section(
             crate::sandbox::shared::files::pick(crate::sandbox::shared::files::Purpose::Volume);
         }
     } else {
-        let (field, clicked) = field_row(ui, &mut panel.path, |ui| ui.button("Load").clicked());
+        // Nothing to load until a path is typed (an empty one read as ": unknown file format").
+        let typed = path_to_load(&panel.path).is_some();
+        let (field, clicked) = field_row(ui, &mut panel.path, |ui| {
+            ui.add_enabled(typed, egui::Button::new("Load"))
+                .on_disabled_hover_text("Type a file's path in the field first")
+                .clicked()
+        });
+        // Enter in the field loads it too, as a student who typed a path expects.
+        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
         field.on_hover_text(
             "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); \
              or a ray density: density:FILE.rayvis or density:builtin:cornell, optionally \
              followed by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
         );
-        if clicked {
-            load = Some(panel.path.clone());
+        if clicked || entered {
+            load = path_to_load(&panel.path);
         }
     }
     if let Some((what, seconds)) = loading.under_way() {
@@ -464,6 +472,13 @@ pub(super) fn preview_section(
         .on_hover_text(tip);
 }
 
+/// What the path field asks to load: the path without the spaces a paste leaves around it, or
+/// nothing while it is blank.
+fn path_to_load(field: &str) -> Option<String> {
+    let path = field.trim();
+    (!path.is_empty()).then(|| path.to_string())
+}
+
 /// The loaded dataset in words: an embedded one by its description (`bunny_sdf
 /// (builtin:bunny)` read as code), anything else by its name and where it came from.
 fn dataset_words(name: &str, source: &str) -> String {
@@ -483,6 +498,16 @@ fn dataset_words(name: &str, source: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_blank_path_loads_nothing_and_a_pasted_one_loses_its_spaces() {
+        assert_eq!(path_to_load(""), None);
+        assert_eq!(path_to_load("  \t\n"), None);
+        assert_eq!(
+            path_to_load(" /data/ct.nrrd\n").as_deref(),
+            Some("/data/ct.nrrd")
+        );
+    }
 
     #[test]
     fn an_embedded_dataset_is_named_in_words() {
