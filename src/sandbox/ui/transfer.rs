@@ -374,6 +374,9 @@ impl TransferEditor {
 
 fn load(path: &str) -> Result<TransferFunction, String> {
     let path = path.trim();
+    if path.is_empty() {
+        return Err("give a file name".into());
+    }
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read {path}: {}", io_words(&e)))?;
     TransferFunction::from_json(&text).map_err(|e| format!("{path}: {e}"))
@@ -398,6 +401,9 @@ mod tests {
                 .contains("at least one")
         );
         assert!(load(dir.join("none.json").to_str().unwrap()).is_err());
+        // A blank field asks for a name, as Save does, not "cannot read : …".
+        assert_eq!(load("  ").unwrap_err(), "give a file name");
+        assert_eq!(save(&tf, "").unwrap_err(), "give a file name");
         assert!(save(&tf, dir.join("no/such/dir.json").to_str().unwrap()).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
