@@ -98,8 +98,8 @@ pub(crate) fn ray_data_section(ui: &mut egui::Ui, p: RayPanel, spot: Spot) {
     ui.label(
         egui::RichText::new(format!(
             "{} rays, {} cell visits; {} in {} chunks (a dense grid: {})",
-            r.rays,
-            r.visits,
+            count(r.rays as u64),
+            count(r.visits),
             bytes(d.memory_bytes()),
             d.chunks.len(),
             bytes(d.dense_bytes())
@@ -320,9 +320,12 @@ fn view_controls(
             ui.label(
                 egui::RichText::new(format!(
                     "{} lines{}",
-                    report.lines,
+                    count(report.lines as u64),
                     if report.left_out > 0 {
-                        format!(" ({} rays outside the drawn box)", report.left_out)
+                        format!(
+                            " ({} rays outside the drawn box)",
+                            count(report.left_out as u64)
+                        )
                     } else {
                         String::new()
                     }
@@ -362,7 +365,10 @@ fn view_controls(
             });
             let words = match &report.field_error {
                 Some(e) => e.clone(),
-                None => format!("{} arrows, coloured by count (inferno)", report.arrows),
+                None => format!(
+                    "{} arrows, coloured by count (inferno)",
+                    count(report.arrows as u64)
+                ),
             };
             ui.label(egui::RichText::new(words).small());
         });
@@ -383,7 +389,8 @@ fn view_controls(
             ui.label("building the lines…");
         });
     }
-    ui.horizontal(|ui| {
+    // Wrapped: five choices do not fit one row of the panel ("barycentric" was cut off).
+    ui.horizontal_wrapped(|ui| {
         ui.label("Scene");
         for s in SceneShading::ALL {
             ui.radio_value(&mut v.shading, s, s.name())

@@ -480,19 +480,26 @@ fn path_to_load(field: &str) -> Option<String> {
 }
 
 /// The loaded dataset in words: an embedded one by its description (`bunny_sdf
-/// (builtin:bunny)` read as code), anything else by its name and where it came from.
+/// (builtin:bunny)` read as code), a ray density by its name with the embedded rays named,
+/// anything else by its name and where it came from.
 fn dataset_words(name: &str, source: &str) -> String {
+    if source.starts_with(voxcast_core::rays::as_volume::PREFIX) {
+        return capitalised(&name.replace("builtin:cornell", "the embedded Cornell box"));
+    }
     source
         .strip_prefix("builtin:")
         .and_then(|b| DATASETS.iter().find(|(n, _)| *n == b))
-        .map(|(_, what)| {
-            let mut chars = what.chars();
-            chars
-                .next()
-                .map(|c| c.to_uppercase().chain(chars).collect())
-                .unwrap_or_default()
-        })
+        .map(|(_, what)| capitalised(what))
         .unwrap_or_else(|| format!("{name} ({source})"))
+}
+
+/// `words` with its first letter a capital.
+fn capitalised(words: &str) -> String {
+    let mut chars = words.chars();
+    chars
+        .next()
+        .map(|c| c.to_uppercase().chain(chars).collect())
+        .unwrap_or_default()
 }
 
 #[cfg(test)]
@@ -519,7 +526,14 @@ mod tests {
             dataset_words("shells", "builtin:shells"),
             "Concentric spherical shells (64³, uint8)"
         );
-        // A file, a ray density or an unknown name keeps the name and where it came from.
+        assert_eq!(
+            dataset_words(
+                "ray density of builtin:cornell (trace 2)",
+                "density:builtin:cornell@trace=2"
+            ),
+            "Ray density of the embedded Cornell box (trace 2)"
+        );
+        // A file or an unknown name keeps the name and where it came from.
         assert_eq!(dataset_words("ct", "/data/ct.nrrd"), "ct (/data/ct.nrrd)");
         assert_eq!(dataset_words("x", "builtin:nope"), "x (builtin:nope)");
         for (name, _) in DATASETS {
