@@ -48,37 +48,13 @@ fn bytes(n: usize) -> String {
     }
 }
 
-pub(crate) fn ray_data_section(ui: &mut egui::Ui, p: RayPanel, spot: Spot) {
+pub(crate) fn ray_data_section(ui: &mut egui::Ui, mut p: RayPanel, spot: Spot) {
     let on_show = p.rays.on_show(p.volume).cloned();
+    // The rays, their grid and Compute framed together: a level asks to choose and compute.
     marked(ui, spot, Control::RaySource, |ui| {
-        source_controls(ui, &mut *p.choices, p.hide_effects)
-    });
-    grid_controls(ui, p.choices, p.estimator);
-    ui.horizontal(|ui| {
-        let busy = p.loading.under_way().is_some();
-        if ui
-            .add_enabled(!busy, egui::Button::new("Compute"))
-            .on_hover_text(
-                "Count the chosen rays through the grid in the background and show the \
-                 density as the volume (Sum, inferno)",
-            )
-            .clicked()
-        {
-            p.choices
-                .compute(p.loading, p.rays, p.volume, p.render, p.virtual_camera);
-        }
-        if let Some((what, seconds)) = p.loading.under_way() {
-            ui.spinner();
-            let share = p
-                .loading
-                .fraction()
-                .map_or(String::new(), |f| format!("{:.0} %, ", f * 100.0));
-            ui.label(format!("{share}{seconds:.1} s"))
-                .on_hover_text(what.to_string());
-            if ui.button("Cancel").clicked() {
-                p.loading.cancel();
-            }
-        }
+        source_controls(ui, &mut *p.choices, p.hide_effects);
+        grid_controls(ui, &mut *p.choices, p.estimator);
+        compute_row(ui, &mut p);
     });
     if let Some(e) = &p.loading.error {
         ui.colored_label(egui::Color32::LIGHT_RED, e);
@@ -141,6 +117,36 @@ pub(crate) fn ray_data_section(ui: &mut egui::Ui, p: RayPanel, spot: Spot) {
         }
     });
     ui.label("Sum range and step per cell: Ray casting above.");
+}
+
+/// Compute, and while it counts its progress and Cancel.
+fn compute_row(ui: &mut egui::Ui, p: &mut RayPanel) {
+    ui.horizontal(|ui| {
+        let busy = p.loading.under_way().is_some();
+        if ui
+            .add_enabled(!busy, egui::Button::new("Compute"))
+            .on_hover_text(
+                "Count the chosen rays through the grid in the background and show the \
+                 density as the volume (Sum, inferno)",
+            )
+            .clicked()
+        {
+            p.choices
+                .compute(p.loading, p.rays, p.volume, p.render, p.virtual_camera);
+        }
+        if let Some((what, seconds)) = p.loading.under_way() {
+            ui.spinner();
+            let share = p
+                .loading
+                .fraction()
+                .map_or(String::new(), |f| format!("{:.0} %, ", f * 100.0));
+            ui.label(format!("{share}{seconds:.1} s"))
+                .on_hover_text(what.to_string());
+            if ui.button("Cancel").clicked() {
+                p.loading.cancel();
+            }
+        }
+    });
 }
 
 /// Source, path, trace and filter.
