@@ -139,10 +139,17 @@ pub fn formula(t: &RayTrace, k: Option<usize>) -> String {
         }
         Method::First => match &t.first_hit {
             Some(h) => {
+                // The steps' t with the digits that tell them apart (and from the bracket).
+                let ts: Vec<f32> = std::iter::once(h.bracket[0])
+                    .chain(h.refinement.iter().map(|r| r.t))
+                    .chain([h.bracket[1]])
+                    .collect();
+                let printed = crate::numbers::sig_apart(&ts);
                 let steps: Vec<String> = h
                     .refinement
                     .iter()
-                    .map(|r| format!("t = {} (v = {})", sig(r.t), sig(r.value)))
+                    .zip(&printed[1..])
+                    .map(|(r, t)| format!("t = {t} (v = {})", sig(r.value)))
                     .collect();
                 let found = if h.bracket[0] == h.bracket[1] {
                     format!(

@@ -83,6 +83,35 @@ pub fn duration(seconds: f64) -> String {
     }
 }
 
+/// A run of values (a search's steps along a ray) each with [`sig`]'s four significant
+/// digits, or as many more (up to nine, and then past the decimal point whatever the size)
+/// as it takes for neighbours that differ to print differently: a bisection's last steps
+/// read "178.6, then 178.6" at four digits, "178.58, then 178.64" here.
+pub fn sig_apart(xs: &[f32]) -> Vec<String> {
+    let print = |n: usize| -> Vec<String> { xs.iter().map(|&x| sig_digits(x as f64, n)).collect() };
+    for n in 4..9 {
+        let printed = print(n);
+        let apart = printed
+            .windows(2)
+            .zip(xs.windows(2))
+            .all(|(p, x)| p[0] != p[1] || x[0] == x[1]);
+        if apart {
+            return printed;
+        }
+    }
+    print(9)
+}
+
+/// `x` with `n` significant digits, decimals kept at any size (`n` ≤ 4: [`sig64`]).
+fn sig_digits(x: f64, n: usize) -> String {
+    if n <= 4 || x == 0.0 || !x.is_finite() {
+        return sig64(x);
+    }
+    let decimals = (n as i32 - 1 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = trim_zeros(&format!("{x:.decimals$}"));
+    if s == "-0" { "0".into() } else { s }
+}
+
 /// How far the value behind a number printed by [`sig`] may lie from it: half a unit of its
 /// last significant place (0 for `0`, which is printed only for an exact zero).
 pub fn half_width(printed: f64) -> f64 {
@@ -107,6 +136,26 @@ fn trim_zeros(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_run_of_values_prints_neighbours_apart() {
+        // Four digits where they tell the steps apart.
+        assert_eq!(
+            sig_apart(&[178.1, 178.4, 178.9]),
+            ["178.1", "178.4", "178.9"]
+        );
+        // More where a bisection's steps crowd together; equal values may print equal.
+        assert_eq!(
+            sig_apart(&[178.44, 178.58, 178.58, 178.64]),
+            ["178.44", "178.58", "178.58", "178.64"]
+        );
+        // Past the decimal point above a thousand, where sig rounds to whole numbers.
+        assert_eq!(sig_apart(&[2588.2, 2588.4]), ["2588.2", "2588.4"]);
+        // Neighbouring f32 values are told apart too.
+        let close = [1.0, 1.0 + f32::EPSILON];
+        assert_eq!(sig_apart(&close), ["1", "1.0000001"]);
+        assert!(sig_apart(&[]).is_empty());
+    }
 
     #[test]
     fn rounds_to_four_significant_digits() {
