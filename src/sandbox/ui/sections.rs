@@ -220,14 +220,8 @@ pub(super) fn sum_range(
     let tiny = top * 1e-6;
     ui.vertical(|ui| {
         ui.label(t::SUM_RANGE.label).on_hover_text(t::SUM_RANGE.doc);
-        let high = labelled(
-            ui,
-            egui::Slider::new(&mut b, tiny..=top)
-                .logarithmic(true)
-                .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32)),
-            "high end",
-        )
-        .on_hover_text(t::SUM_RANGE.doc);
+        // Low end above high end, as a range reads; the low end's slider stops below the
+        // high end as it stood, and the clamp below keeps it there if the high end moves.
         let (floor, log) = (0.0f32.min(a), a >= 0.0);
         let low = labelled(
             ui,
@@ -235,6 +229,14 @@ pub(super) fn sum_range(
                 .logarithmic(log)
                 .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32)),
             "low end",
+        )
+        .on_hover_text(t::SUM_RANGE.doc);
+        let high = labelled(
+            ui,
+            egui::Slider::new(&mut b, tiny..=top)
+                .logarithmic(true)
+                .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32)),
+            "high end",
         )
         .on_hover_text(t::SUM_RANGE.doc);
         if high.changed() || low.changed() {
