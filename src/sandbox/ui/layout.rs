@@ -152,6 +152,36 @@ impl Layout {
     }
 }
 
+/// What changed since the last frame that brings the layout within its shares again.
+pub(super) struct Rearrange {
+    /// A new mode: both panels shown again, as far as they fit.
+    pub new_mode: bool,
+    /// The control a level's step frames, if any: its panel is shown.
+    pub spot: Option<Control>,
+}
+
+impl Layout {
+    /// This frame's shares of a window of `size` points, after the panels are brought within
+    /// them (`rearrange`: on a new size, step or mode). The shares are taken from the panels
+    /// left open: taken before, a window too narrow for both gave the settings panel a half
+    /// share as if the rays panel stood beside it, and egui kept that first width.
+    pub(super) fn arrange(&mut self, size: Vec2, rays_shown: bool, rearrange: Option<Rearrange>) {
+        let open = |l: &Self| usize::from(l.settings) + usize::from(l.rays && rays_shown);
+        if let Some(r) = rearrange {
+            if r.new_mode {
+                self.settings = true;
+                self.rays = true;
+            }
+            let shares = Shares::of(size, open(self));
+            self.fit(&shares);
+            if let Some(spot) = r.spot {
+                self.reveal(spot, &shares);
+            }
+        }
+        self.shares = Shares::of(size, open(self));
+    }
+}
+
 /// The window's shares this frame, the layout brought within them (and the panel holding a
 /// framed control shown), and the strip of panel buttons docked on the left.
 pub(super) fn layout_strip(
@@ -173,22 +203,15 @@ pub(super) fn layout_strip(
     let size = ctx.content_rect().size();
     let rays_shown = cameras.single().is_ok_and(|c| c.shown);
     let mut next = layout.clone();
-    let open = usize::from(next.settings) + usize::from(next.rays && rays_shown);
-    next.shares = Shares::of(Vec2::new(size.x, size.y), open);
     // On a new size, a new framed control or a new mode (not every frame: the student may
     // close a panel); a new mode starts from both panels shown, as far as they fit.
     let now = (size, lessons.spot, *mode.get());
-    if *last != Some(now) {
-        if last.is_none_or(|(_, _, m)| m != now.2) {
-            next.settings = true;
-            next.rays = true;
-        }
-        *last = Some(now);
-        next.fit(&next.shares.clone());
-        if let Some(spot) = lessons.spot {
-            next.reveal(spot, &next.shares.clone());
-        }
-    }
+    let rearrange = (*last != Some(now)).then(|| Rearrange {
+        new_mode: last.is_none_or(|(_, _, m)| m != now.2),
+        spot: lessons.spot,
+    });
+    *last = Some(now);
+    next.arrange(Vec2::new(size.x, size.y), rays_shown, rearrange);
     dock.show(&ctx, "strip", |dock_ui| {
         egui::Panel::left("strip")
             .resizable(false)
@@ -275,6 +298,34 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A window too narrow for both side panels opens the settings alone at the width it
+    /// asks for (it opened at `SIDE_MIN`, a share as if the rays panel were beside it).
+    #[test]
+    fn a_narrow_window_opens_the_settings_at_their_width() {
+        for (w, h) in [(800.0, 500.0), (1024.0, 576.0), (1100.0, 700.0)] {
+            let mut layout = Layout::default();
+            let first = Some(Rearrange {
+                new_mode: true,
+                spot: None,
+            });
+            layout.arrange(Vec2::new(w, h), true, first);
+            assert!(layout.settings && !layout.rays, "{w}×{h}: {layout:?}");
+            let width = layout.shares.side_width(Side::Settings);
+            assert_eq!(width, SETTINGS_WIDTH.min(w * (1.0 - SCENE_WIDTH) - STRIP));
+            assert!(width > SIDE_MIN, "{w}×{h}: {width}");
+        }
+        // Where both fit, each keeps the width it asks for.
+        let mut layout = Layout::default();
+        let first = Some(Rearrange {
+            new_mode: true,
+            spot: None,
+        });
+        layout.arrange(Vec2::new(1920.0, 1080.0), true, first);
+        assert!(layout.settings && layout.rays);
+        assert_eq!(layout.shares.side_width(Side::Settings), SETTINGS_WIDTH);
+        assert_eq!(layout.shares.side_width(Side::Rays), RAYS_WIDTH);
     }
 
     #[test]
