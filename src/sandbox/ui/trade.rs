@@ -12,9 +12,10 @@ use voxcast_core::knob::Knob;
 use voxcast_core::level::Control;
 use voxcast_core::trade::Trade;
 
-/// The table's footnote on its error columns and speed-up.
+/// The table's footnote on its error columns and speed-up ("faster": "speed-up" was clipped
+/// at the settings panel's width).
 const ERRORS: &str = "max err and RMSE in 8-bit steps (of 255) against the reference; \
-                      speed-up against the reference";
+                      faster: how many times faster than the reference";
 
 /// `is_current`: the result matches what is on screen (any step).
 pub(super) fn trade_section(
@@ -208,10 +209,7 @@ fn table(
             Knob::AdaptiveQuality => "resolution and step ×",
             _ => t.knob.label(),
         };
-        super::header_row(
-            ui,
-            &[knob, "time", "samples", "max err", "RMSE", "speed-up"],
-        );
+        super::header_row(ui, &[knob, "time", "samples", "max err", "RMSE", "faster"]);
         let ms = |s: f64| format!("{:.1} ms", s * 1e3);
         let reference_seconds = seconds.reference;
         for (r, &seconds) in t.rows.iter().zip(&seconds.rows) {
