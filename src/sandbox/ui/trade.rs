@@ -139,16 +139,14 @@ fn plot(ui: &mut egui::Ui, t: &Trade, seconds: &Seconds) {
         egui::Stroke::new(1.5, egui::Color32::LIGHT_BLUE),
     ));
     let font = egui::FontId::proportional(10.0);
+    let mut placed = Vec::new();
     for p in &points {
         let c = at((p.0, p.1));
         painter.circle_filled(c, 3.0, egui::Color32::LIGHT_BLUE);
-        painter.text(
-            c + egui::vec2(4.0, -2.0),
-            egui::Align2::LEFT_BOTTOM,
-            p.2,
-            font.clone(),
-            egui::Color32::WHITE,
-        );
+        let galley = painter.layout_no_wrap(p.2.to_string(), font.clone(), egui::Color32::WHITE);
+        let spot = label_spot(c, galley.size(), &placed);
+        placed.push(spot);
+        painter.galley(spot.min, galley, egui::Color32::WHITE);
     }
     painter.text(
         frame.left_top() - egui::vec2(2.0, 2.0),
@@ -171,6 +169,24 @@ fn plot(ui: &mut egui::Ui, t: &Trade, seconds: &Seconds) {
         font,
         egui::Color32::GRAY,
     );
+}
+
+/// Where a point's label goes: above and right of `point` unless that covers a label already
+/// placed (two settings that take about the same time and error, as ½ and ¼ voxel on a small
+/// view, printed "0.250.5"), then below right, above left, below left; above right if all do.
+fn label_spot(point: egui::Pos2, size: egui::Vec2, placed: &[egui::Rect]) -> egui::Rect {
+    let (dx, dy) = (4.0, 2.0);
+    let corners = [
+        point + egui::vec2(dx, -dy - size.y),
+        point + egui::vec2(dx, dy),
+        point + egui::vec2(-dx - size.x, -dy - size.y),
+        point + egui::vec2(-dx - size.x, dy),
+    ];
+    let rects = corners.map(|min| egui::Rect::from_min_size(min, size));
+    rects
+        .into_iter()
+        .find(|r| !placed.iter().any(|p| p.intersects(*r)))
+        .unwrap_or(rects[0])
 }
 
 /// The times the table and the plot show: each setting's fastest run where the core's renders
@@ -284,6 +300,24 @@ fn spread(t: &voxcast_core::trade::Timing) -> String {
 mod tests {
     use super::*;
     use voxcast_core::trade::{Timing, TradeRow};
+
+    #[test]
+    fn labels_of_neighbouring_points_do_not_overlap() {
+        let size = egui::vec2(16.0, 10.0);
+        let mut placed = Vec::new();
+        // Three points a few pixels apart, as close settings plot.
+        for x in [100.0, 104.0, 108.0] {
+            let spot = label_spot(egui::pos2(x, 50.0), size, &placed);
+            assert!(
+                !placed.iter().any(|p: &egui::Rect| p.intersects(spot)),
+                "{spot:?}"
+            );
+            placed.push(spot);
+        }
+        // Alone, a label sits above and to the right of its point.
+        let alone = label_spot(egui::pos2(10.0, 50.0), size, &[]);
+        assert!(alone.left() > 10.0 && alone.bottom() < 50.0, "{alone:?}");
+    }
 
     fn timing(fastest: f64) -> Timing {
         Timing {
