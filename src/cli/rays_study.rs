@@ -61,16 +61,11 @@ pub fn study(a: &StudyArgs) -> Result<(), CliError> {
             let answer = q
                 .answer(&data.scene, set, density.as_ref())
                 .unwrap_or_else(|| "no answer in this trace".into());
-            println!("  {}? {answer}", capitalised(&q.words(id)));
+            println!(
+                "  {}? {answer}",
+                voxcast_core::numbers::capitalised(&q.words(id))
+            );
         }
     }
     Ok(())
-}
-
-/// `text` with its first letter in capitals.
-fn capitalised(text: &str) -> String {
-    let mut chars = text.chars();
-    chars
-        .next()
-        .map_or(String::new(), |c| c.to_uppercase().chain(chars).collect())
 }

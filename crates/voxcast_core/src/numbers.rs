@@ -1,5 +1,6 @@
 //! Numbers for people: values rounded to what they mean, as the sandbox shows them and
-//! `voxcast trace` prints them (the exported JSON and CSV keep every digit).
+//! `voxcast trace` prints them (the exported JSON and CSV keep every digit); and
+//! [`capitalised`], for the words around them.
 //!
 //! The rule, in one place: four significant digits, trailing zeros dropped (`0.5`, `0.3307`,
 //! `4.909`); values of a thousand or more to the nearest whole number (`2588`); values below
@@ -34,7 +35,12 @@ pub fn sig64(x: f64) -> String {
         let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
         return format!("{}e{exp}", trim_zeros(mantissa));
     }
-    let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+    with_digits(x, 4)
+}
+
+/// `x` (finite, not zero) with `n` significant digits as decimals, trailing zeros dropped.
+fn with_digits(x: f64, n: usize) -> String {
+    let decimals = (n as i32 - 1 - x.abs().log10().floor() as i32).max(0) as usize;
     let s = format!("{x:.decimals$}");
     // Rounding can carry into a new digit (999.96 → "1000.0"): trim as usual.
     let s = trim_zeros(&s);
@@ -107,9 +113,15 @@ fn sig_digits(x: f64, n: usize) -> String {
     if n <= 4 || x == 0.0 || !x.is_finite() {
         return sig64(x);
     }
-    let decimals = (n as i32 - 1 - x.abs().log10().floor() as i32).max(0) as usize;
-    let s = trim_zeros(&format!("{x:.decimals$}"));
-    if s == "-0" { "0".into() } else { s }
+    with_digits(x, n)
+}
+
+/// `text` with its first letter a capital (a description or question that opens a sentence).
+pub fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars
+        .next()
+        .map_or(String::new(), |c| c.to_uppercase().chain(chars).collect())
 }
 
 /// How far the value behind a number printed by [`sig`] may lie from it: half a unit of its

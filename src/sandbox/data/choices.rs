@@ -92,11 +92,10 @@ impl Default for ViewChoices {
 impl RayChoices {
     /// The density source the choices name (not for the virtual camera's rays).
     pub fn spec(&self) -> Option<DensitySpec> {
-        let source = match self.source {
-            SourceKind::Cornell => "builtin:cornell".to_string(),
-            SourceKind::CornellMillion => "builtin:cornell-1m".to_string(),
-            SourceKind::File => self.path.trim().to_string(),
-            SourceKind::Camera => return None,
+        let source = match (self.source, self.source.builtin()) {
+            (_, Some(builtin)) => builtin.to_string(),
+            (SourceKind::File, None) => self.path.trim().to_string(),
+            _ => return None,
         };
         Some(DensitySpec {
             source,

@@ -185,6 +185,15 @@ impl SourceKind {
         Self::File,
     ];
 
+    /// The embedded ray data this kind loads (`builtin:…`), if it is one.
+    pub const fn builtin(self) -> Option<&'static str> {
+        match self {
+            Self::Cornell => Some("builtin:cornell"),
+            Self::CornellMillion => Some("builtin:cornell-1m"),
+            Self::File | Self::Camera => None,
+        }
+    }
+
     pub const fn words(self) -> &'static str {
         match self {
             Self::Cornell => "Cornell box (embedded)",

@@ -89,13 +89,16 @@ pub fn pick(purpose: Purpose) {
     let _ = purpose;
 }
 
+/// The file `path` names, or what to ask of a student who left the field blank.
+pub fn file_name(path: &Path) -> Result<&std::ffi::OsStr, String> {
+    path.file_name().ok_or_else(|| "give a file name".into())
+}
+
 /// Saves `bytes` as `path` (`mime` is its type for a browser): on the desktop through a
 /// temporary file and a rename, so a failed write loses nothing; in a browser as a download
 /// named like the path's last part. Says what was done, or why not.
 pub fn save(path: &Path, bytes: &[u8], mime: &str) -> Result<String, String> {
-    let Some(name) = path.file_name() else {
-        return Err("give a file name".into());
-    };
+    let name = file_name(path)?;
     #[cfg(target_arch = "wasm32")]
     return {
         let name = name.to_string_lossy();

@@ -106,6 +106,14 @@ impl Shares {
     }
 }
 
+/// What changed since the last frame that brings the layout within its shares again.
+pub(super) struct Rearrange {
+    /// A new mode: both panels shown again, as far as they fit.
+    pub new_mode: bool,
+    /// The control a level's step frames, if any: its panel is shown.
+    pub spot: Option<Control>,
+}
+
 impl Layout {
     /// Whether `side` is shown.
     pub fn open(&self, side: Side) -> bool {
@@ -150,17 +158,7 @@ impl Layout {
             self.set(side, true, shares);
         }
     }
-}
 
-/// What changed since the last frame that brings the layout within its shares again.
-pub(super) struct Rearrange {
-    /// A new mode: both panels shown again, as far as they fit.
-    pub new_mode: bool,
-    /// The control a level's step frames, if any: its panel is shown.
-    pub spot: Option<Control>,
-}
-
-impl Layout {
     /// This frame's shares of a window of `size` points, after the panels are brought within
     /// them (`rearrange`: on a new size, step or mode). The shares are taken from the panels
     /// left open: taken before, a window too narrow for both gave the settings panel a half

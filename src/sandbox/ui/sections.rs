@@ -482,26 +482,26 @@ fn path_to_load(field: &str) -> Option<String> {
 }
 
 /// The loaded dataset in words: an embedded one by its description (`bunny_sdf
-/// (builtin:bunny)` read as code), a ray density by its name with the embedded rays named,
-/// anything else by its name and where it came from.
+/// (builtin:bunny)` read as code), a ray density of embedded rays by their name in the ray
+/// data's list (and its trace), anything else by its name and where it came from.
 fn dataset_words(name: &str, source: &str) -> String {
-    if source.starts_with(voxcast_core::rays::as_volume::PREFIX) {
-        return capitalised(&name.replace("builtin:cornell", "the embedded Cornell box"));
+    use crate::sandbox::data::source::SourceKind;
+    use voxcast_core::numbers::capitalised;
+    if let Some(Ok(spec)) = voxcast_core::rays::as_volume::parse(source) {
+        let rays = SourceKind::ALL
+            .into_iter()
+            .find(|k| k.builtin() == Some(spec.source.as_str()));
+        return match (rays, spec.trace) {
+            (Some(k), Some(trace)) => format!("Ray density of the {}, trace {trace}", k.words()),
+            (Some(k), None) => format!("Ray density of the {}", k.words()),
+            (None, _) => capitalised(name),
+        };
     }
     source
         .strip_prefix("builtin:")
         .and_then(|b| DATASETS.iter().find(|(n, _)| *n == b))
         .map(|(_, what)| capitalised(what))
         .unwrap_or_else(|| format!("{name} ({source})"))
-}
-
-/// `words` with its first letter a capital.
-fn capitalised(words: &str) -> String {
-    let mut chars = words.chars();
-    chars
-        .next()
-        .map(|c| c.to_uppercase().chain(chars).collect())
-        .unwrap_or_default()
 }
 
 #[cfg(test)]
@@ -533,7 +533,19 @@ mod tests {
                 "ray density of builtin:cornell (trace 2)",
                 "density:builtin:cornell@trace=2"
             ),
-            "Ray density of the embedded Cornell box (trace 2)"
+            "Ray density of the Cornell box (embedded), trace 2"
+        );
+        // The million-ray box by its own words (a text replace once read "Cornell box-1m").
+        assert_eq!(
+            dataset_words(
+                "ray density of builtin:cornell-1m",
+                "density:builtin:cornell-1m"
+            ),
+            "Ray density of the Cornell box, a million rays"
+        );
+        assert_eq!(
+            dataset_words("ray density of r.rayvis", "density:r.rayvis"),
+            "Ray density of r.rayvis"
         );
         // A file or an unknown name keeps the name and where it came from.
         assert_eq!(dataset_words("ct", "/data/ct.nrrd"), "ct (/data/ct.nrrd)");

@@ -374,9 +374,7 @@ impl TransferEditor {
 
 fn load(path: &str) -> Result<TransferFunction, String> {
     let path = path.trim();
-    if path.is_empty() {
-        return Err("give a file name".into());
-    }
+    files::file_name(std::path::Path::new(path))?;
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read {path}: {}", io_words(&e)))?;
     TransferFunction::from_json(&text).map_err(|e| format!("{path}: {e}"))
