@@ -44,6 +44,12 @@ pub struct RenderArgs {
     /// background), and the raw distances beside it as a 2-D NRRD of floats (`.nrrd`).
     #[arg(long, value_name = "FILE.png")]
     pub depth: Option<PathBuf>,
+    /// The depth image's scale: the volume's box (white where it comes nearest the eye, dark
+    /// grey at its farthest corner; images of one view compare by shade) or the hits' own
+    /// range (white the nearest hit, dark grey the farthest; a surface in a slice of the box
+    /// shows its shape).
+    #[arg(long, value_parser = ["box", "hits"], default_value = "box")]
+    pub depth_scale: String,
 }
 
 /// One timed render's outcome.
@@ -202,8 +208,13 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         if let Some(view) = a.cost.as_deref().and_then(CostView::parse) {
             write_cost(&map, a, view)?;
         }
-        if let (Some(path), Some(depth)) = (&a.depth, &map.depth) {
-            write_depth(depth, map.background, path)?;
+        let view = if a.depth_scale == "hits" {
+            CostView::DepthOfHits
+        } else {
+            CostView::Depth
+        };
+        if let (Some(path), Some(depth)) = (&a.depth, map.depth_as(view)) {
+            write_depth(&depth, map.background, path)?;
         }
     }
     Ok(())

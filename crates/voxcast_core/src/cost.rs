@@ -34,16 +34,20 @@ pub enum CostView {
     Skipped,
     /// How the rays stopped: ran through, stopped early, cut short by the cap, or missed.
     Stops,
-    /// First's depth: how far from the eye each pixel's rays found the target value.
+    /// First's depth: how far from the eye each pixel's rays found the target value, on the
+    /// scale the volume's box sets.
     Depth,
+    /// First's depth on the hits' own range: white the nearest hit, dark grey the farthest.
+    DepthOfHits,
 }
 
 impl CostView {
-    pub const ALL: [CostView; 4] = [
+    pub const ALL: [CostView; 5] = [
         CostView::Samples,
         CostView::Skipped,
         CostView::Stops,
         CostView::Depth,
+        CostView::DepthOfHits,
     ];
 
     /// The view's name in the UI and on the command line.
@@ -53,12 +57,26 @@ impl CostView {
             CostView::Skipped => "skipped",
             CostView::Stops => "stops",
             CostView::Depth => "depth",
+            CostView::DepthOfHits => "depth-of-hits",
         }
+    }
+
+    /// The view's name on its button.
+    pub const fn label(self) -> &'static str {
+        match self {
+            CostView::DepthOfHits => "depth, hits' range",
+            other => other.name(),
+        }
+    }
+
+    /// Whether it is one of First's depth images.
+    pub const fn is_depth(self) -> bool {
+        matches!(self, CostView::Depth | CostView::DepthOfHits)
     }
 
     /// Whether the view shows anything for `method`: the depth only for First.
     pub fn shows_for(self, method: Method) -> bool {
-        self != CostView::Depth || method == Method::First
+        !self.is_depth() || method == Method::First
     }
 
     /// What the view shows, in words (the legend).
@@ -82,6 +100,11 @@ impl CostView {
                 "Distance to the first voxel (method First): how far from the eye each pixel's \
                  ray found the target value, white nearest to dark grey farthest on a scale \
                  fixed by the volume's box; the background where no ray found it."
+            }
+            CostView::DepthOfHits => {
+                "Distance to the first voxel (method First) on the hits' own range: white the \
+                 nearest hit, dark grey the farthest, so a surface that fills only part of the \
+                 box's depth still shows its shape; the background where no ray found it."
             }
         }
     }
@@ -123,7 +146,7 @@ impl CostMap {
         match view {
             CostView::Samples => p[0],
             CostView::Skipped => p[1] - p[0],
-            CostView::Stops | CostView::Depth => 0,
+            CostView::Stops | CostView::Depth | CostView::DepthOfHits => 0,
         }
     }
 
@@ -136,11 +159,21 @@ impl CostMap {
             .unwrap_or(0)
     }
 
+    /// First's depth as `view` scales it (`None`: not a depth view, or no depth).
+    pub fn depth_as(&self, view: CostView) -> Option<DepthMap> {
+        let depth = self.depth.as_ref()?;
+        match view {
+            CostView::Depth => Some(depth.clone()),
+            CostView::DepthOfHits => Some(depth.on_hits()),
+            _ => None,
+        }
+    }
+
     /// The view as an image: counts through inferno, 0 to [`CostMap::full_scale`]; or the
     /// stops' colours, blended by the share of the pixel's rays that stopped each way.
     pub fn image(&self, view: CostView) -> LinearImage {
-        if view == CostView::Depth {
-            return match &self.depth {
+        if view.is_depth() {
+            return match self.depth_as(view) {
                 Some(depth) => depth.image(self.background),
                 None => LinearImage {
                     width: self.width,
@@ -294,6 +327,7 @@ pub fn render_cost_in(
                 .collect(),
             near,
             far,
+            on_hits: false,
         }
     });
     let longest = scene

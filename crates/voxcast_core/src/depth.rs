@@ -2,8 +2,11 @@
 //! image. Each pixel shows how far along its ray First found the target value — the refined
 //! hit's distance from the eye, in world units — on a scale fixed by the view, not by the
 //! image: white where the volume's box comes nearest to the eye, dark grey at its farthest
-//! corner ([`depth_scale`]), so two depth images of one view compare by shade. A pixel whose
-//! rays found no target keeps the background colour.
+//! corner ([`depth_scale`]), so two depth images of one view compare by shade. A surface that
+//! fills only a slice of the box's depth (a sphere in a head: hits 98–125 on a 73–178 scale)
+//! then shows as nearly one grey; [`DepthMap::on_hits`] stretches the scale to the hits' own
+//! range instead, so its shape shows. A pixel whose rays found no target keeps the background
+//! colour.
 //!
 //! [`crate::cost::render_depth`] makes it: the cost map's march, which is the render's (same
 //! rays, same skipping, same refinement), keeps each ray's hit distance; with supersampling a
@@ -40,9 +43,12 @@ pub struct DepthMap {
     pub height: u32,
     /// World units from the eye; NaN where no ray of the pixel found the target.
     pub depth: Vec<f32>,
-    /// The scale: the volume's box nearest to the eye and its farthest corner.
+    /// The scale: the volume's box nearest to the eye and its farthest corner, or (after
+    /// [`DepthMap::on_hits`]) the nearest and farthest hit.
     pub near: f32,
     pub far: f32,
+    /// Whether the scale is the hits' own range.
+    pub on_hits: bool,
 }
 
 /// The distances from `camera`'s eye to the nearest point of the box `lo..hi` (0 with the eye
@@ -78,6 +84,18 @@ impl DepthMap {
         }
     }
 
+    /// The same distances on the hits' own scale: white the nearest hit, dark grey the
+    /// farthest (all white where every hit lies at one distance; unchanged without hits).
+    pub fn on_hits(&self) -> Self {
+        let (near, far) = self.range().unwrap_or((self.near, self.far));
+        Self {
+            near,
+            far: far.max(near + near.abs() * f32::EPSILON + f32::MIN_POSITIVE),
+            on_hits: true,
+            ..self.clone()
+        }
+    }
+
     /// The nearest and farthest hit in the image, if any ray hit.
     pub fn range(&self) -> Option<(f32, f32)> {
         let hits = self.depth.iter().copied().filter(|t| !t.is_nan());
@@ -94,6 +112,17 @@ impl DepthMap {
             Some((a, b)) => format!("the hits here lie {} to {} away", sig(a), sig(b)),
             None => "no ray found the target value".into(),
         };
+        if self.on_hits {
+            return match self.range() {
+                Some((a, b)) => format!(
+                    "Distance from the eye, world units: white {} (the nearest hit), dark grey \
+                     {} (the farthest); no hit: the background",
+                    sig(a),
+                    sig(b)
+                ),
+                None => "Distance from the eye: no ray found the target value".into(),
+            };
+        }
         format!(
             "Distance from the eye, world units: white {} (where the volume's box comes \
              nearest), dark grey {} (its farthest corner); {hits}; no hit: the background",
@@ -215,6 +244,52 @@ mod tests {
             centre_px > corner_px && corner_px > FAR_SHADE,
             "{centre_px} {corner_px}"
         );
+    }
+
+    /// On the hits' own range the nearest hit is white and the farthest dark grey, whatever
+    /// part of the box they fill; the distances are the same, only the scale moved; one
+    /// distance for every hit is all white; no hit leaves the scale alone.
+    #[test]
+    fn the_hits_range_stretches_the_scale_to_the_hits() {
+        let map = DepthMap {
+            width: 4,
+            height: 1,
+            depth: vec![100.0, 110.0, f32::NAN, 120.0],
+            near: 50.0,
+            far: 250.0,
+            on_hits: false,
+        };
+        let hits = map.on_hits();
+        let bits = |d: &DepthMap| d.depth.iter().map(|t| t.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&hits), bits(&map));
+        assert_eq!((hits.near, hits.far, hits.on_hits), (100.0, 120.0, true));
+        let bg = Vec3::new(0.0, 0.0, 0.3);
+        let shades: Vec<f32> = hits.image(bg).pixels.iter().map(|p| p.x).collect();
+        assert_eq!(shades[0], NEAR_SHADE);
+        assert!((shades[1] - 0.5 * (NEAR_SHADE + FAR_SHADE)).abs() < 1e-6);
+        assert!((shades[3] - FAR_SHADE).abs() < 1e-6);
+        assert_eq!(hits.image(bg).pixels[2], bg);
+        // On the box's scale the three hits span a tenth of the greys.
+        let boxed: Vec<f32> = map.image(bg).pixels.iter().map(|p| p.x).collect();
+        assert!((boxed[0] - boxed[3]).abs() < 0.1 * (NEAR_SHADE - FAR_SHADE) + 1e-6);
+        assert!(hits.scale_words().contains("white 100 (the nearest hit)"));
+        assert!(hits.scale_words().contains("dark grey 120 (the farthest)"));
+        let flat = DepthMap {
+            depth: vec![7.0; 4],
+            ..map.clone()
+        };
+        assert!(
+            flat.on_hits()
+                .image(bg)
+                .pixels
+                .iter()
+                .all(|p| p.x == NEAR_SHADE)
+        );
+        let none = DepthMap {
+            depth: vec![f32::NAN; 4],
+            ..map
+        };
+        assert_eq!((none.on_hits().near, none.on_hits().far), (50.0, 250.0));
     }
 
     /// Rays that find no target keep the background; other methods have no depth image; the

@@ -137,7 +137,7 @@ impl LiveView {
             return "rendering the first frame…".into();
         };
         let what = if f.full() && self.job.is_none() {
-            if f.key.cost_view == Some(CostView::Depth) {
+            if f.key.cost_view.is_some_and(CostView::is_depth) {
                 "the exact depth"
             } else if f.key.cost_view.is_some() {
                 "the exact counts"
@@ -619,7 +619,9 @@ fn start(
                         .ok()?;
                 let legend = match view {
                     CostView::Stops => None,
-                    CostView::Depth => map.depth.as_ref().map(|d| d.scale_words()),
+                    CostView::Depth | CostView::DepthOfHits => {
+                        map.depth_as(view).map(|d| d.scale_words())
+                    }
                     _ => Some(voxcast_core::cost::scale_words(
                         map.full_scale,
                         map.max(view),

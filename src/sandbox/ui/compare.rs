@@ -174,7 +174,7 @@ fn cost_choice(
     }
     let total = |i: usize| cost.pixels.iter().map(|p| p[i] as u64).sum::<u64>();
     let legend = match view {
-        CostView::Depth => match &cost.depth {
+        CostView::Depth | CostView::DepthOfHits => match cost.depth_as(view) {
             Some(depth) => format!("{} {}.", view.doc(), depth.scale_words()),
             None => view.doc().to_string(),
         },
@@ -272,6 +272,7 @@ fn result_view(
             CostView::Skipped => "positions skipped",
             CostView::Stops => "how rays stopped",
             CostView::Depth => "distance to the first hit",
+            CostView::DepthOfHits => "distance to the first hit, hits' range",
         };
     }
     let width = ((ui.available_width() - 16.0) / 3.0).max(64.0);

@@ -41,7 +41,7 @@ pub(super) fn choice(
             let choice = ui
                 .add_enabled(
                     view.shows_for(method),
-                    egui::Button::selectable(*cost_view == Some(view), view.name()),
+                    egui::Button::selectable(*cost_view == Some(view), view.label()),
                 )
                 .on_hover_text(view.doc())
                 .on_disabled_hover_text(format!("{} {}", view.doc(), shown.to_first));
@@ -83,7 +83,9 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, words: Option<&str>) {
                 parts[((x * parts.len() as f32) as usize).min(parts.len() - 1)].to_array()
             });
         }
-        CostView::Depth => bar(32, &|x| [NEAR_SHADE + (FAR_SHADE - NEAR_SHADE) * x; 3]),
+        CostView::Depth | CostView::DepthOfHits => {
+            bar(32, &|x| [NEAR_SHADE + (FAR_SHADE - NEAR_SHADE) * x; 3])
+        }
         _ => bar(64, &|x| inferno(x).to_array()),
     }
     let words = match (view, words) {
@@ -92,7 +94,7 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, words: Option<&str>) {
                 .to_string()
         }
         (_, Some(words)) => words.to_string(),
-        (CostView::Depth, None) => "measuring…".to_string(),
+        (CostView::Depth | CostView::DepthOfHits, None) => "measuring…".to_string(),
         (_, None) => "counting…".to_string(),
     };
     ui.label(egui::RichText::new(words).small())
