@@ -617,7 +617,7 @@ fn a_closed_pipe_ends_quietly() {
     assert_ne!(o.status.code(), Some(101), "a panic's exit code: {err}");
 }
 
-/// RayVis's study questions answered from the traces, as level 18 checks them: trace 0's
+/// RayVis's study questions answered from the traces, as the which-effect level checks them: trace 0's
 /// camera level in front of the box, trace 1's higher, the shadow rays (trace 4) from many
 /// points (no camera) and scarcest, of those that miss, on the back wall.
 #[test]

@@ -1,5 +1,5 @@
 //! `voxcast rays study SOURCE [--trace ID] [--cell S]`: RayVis's study questions (its Table
-//! 4.1) about each trace, with the answer the code finds in the trace — what level 18 checks a
+//! 4.1) about each trace, with the answer the code finds in the trace — what the which-effect level checks a
 //! student's answer against (`voxcast_core::rays::study`).
 
 use super::CliError;

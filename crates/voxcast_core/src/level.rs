@@ -16,27 +16,27 @@ use crate::error::SettingsError;
 use crate::tunables;
 use serde::{Deserialize, Serialize};
 
-/// The embedded levels, in the order they are taught.
+/// The embedded levels, in the order they are taught: their files' numbers are that order.
 const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/01_rays.json"),
     include_str!("../../../assets/levels/02_sampling.json"),
-    include_str!("../../../assets/levels/11_jitter.json"),
-    include_str!("../../../assets/levels/09_trilinear.json"),
-    include_str!("../../../assets/levels/12_nearest.json"),
-    include_str!("../../../assets/levels/03_methods.json"),
-    include_str!("../../../assets/levels/04_opacity.json"),
-    include_str!("../../../assets/levels/05_first_hit.json"),
-    include_str!("../../../assets/levels/06_levoy.json"),
-    include_str!("../../../assets/levels/19_value_gradient.json"),
-    include_str!("../../../assets/levels/10_light.json"),
-    include_str!("../../../assets/levels/16_lights.json"),
-    include_str!("../../../assets/levels/07_transfer.json"),
-    include_str!("../../../assets/levels/13_clipping.json"),
-    include_str!("../../../assets/levels/14_acceleration.json"),
-    include_str!("../../../assets/levels/08_preview_render.json"),
-    include_str!("../../../assets/levels/15_slow_hardware.json"),
-    include_str!("../../../assets/levels/17_ray_density.json"),
-    include_str!("../../../assets/levels/18_which_effect.json"),
+    include_str!("../../../assets/levels/03_jitter.json"),
+    include_str!("../../../assets/levels/04_trilinear.json"),
+    include_str!("../../../assets/levels/05_nearest.json"),
+    include_str!("../../../assets/levels/06_methods.json"),
+    include_str!("../../../assets/levels/07_opacity.json"),
+    include_str!("../../../assets/levels/08_first_hit.json"),
+    include_str!("../../../assets/levels/09_levoy.json"),
+    include_str!("../../../assets/levels/10_value_gradient.json"),
+    include_str!("../../../assets/levels/11_light.json"),
+    include_str!("../../../assets/levels/12_lights.json"),
+    include_str!("../../../assets/levels/13_transfer.json"),
+    include_str!("../../../assets/levels/14_clipping.json"),
+    include_str!("../../../assets/levels/15_acceleration.json"),
+    include_str!("../../../assets/levels/16_preview_render.json"),
+    include_str!("../../../assets/levels/17_slow_hardware.json"),
+    include_str!("../../../assets/levels/18_ray_density.json"),
+    include_str!("../../../assets/levels/19_which_effect.json"),
 ];
 
 /// What a level's scene holds: only what it teaches.
@@ -116,6 +116,8 @@ pub enum Control {
     Skipping,
     PreviewScale,
     PreviewOn,
+    /// The Preview section's "Show the preview as": the picture, a cost view or the depth.
+    PreviewView,
     /// The Ray data section's source, trace and Compute.
     RaySource,
     /// The Ray data section's views (volume, ray mesh, vector field).
@@ -142,7 +144,9 @@ impl Control {
             Control::Classification | Control::TransferFunction => Some(Section::TransferFunction),
             Control::StepTrade => Some(Section::SpeedAccuracy),
             Control::CropBox | Control::ClipPlane => Some(Section::LookingInside),
-            Control::PreviewScale | Control::PreviewOn => Some(Section::Preview),
+            Control::PreviewScale | Control::PreviewOn | Control::PreviewView => {
+                Some(Section::Preview)
+            }
             Control::RaySource | Control::RayViews => Some(Section::RayData),
             Control::PixelGrid | Control::Breakdown | Control::RenderImage => None,
         }

@@ -262,9 +262,10 @@ fn the_head_phantoms_isovalue_picks_skin_or_skull() {
 /// The lecture's worked example, read one way everywhere: one unit voxel with corner values
 /// f1..f8, a ray sampled at P1(0.2,0.3,0.8), P2(0.5,0.5,0.5), P3(0.8,0.7,0.2). The ray's colour
 /// is (0,0,0,0) "before it hits P1" and asked "after it leaves P3", composited back to front:
-/// P1 is the far end and the eye looks from beyond P3 towards it. With level 09's ramp (the
-/// `voxel` preset) that gives C = (0.540, 0.397, 0.375), O = 0.813 — the numbers level 09 and
-/// the breakdown show; the opposite reading would give red 0.472.
+/// P1 is the far end and the eye looks from beyond P3 towards it. The lecture gives no transfer
+/// function; with the trilinear level's ramp (the `voxel` preset) that gives C = (0.540, 0.397,
+/// 0.375), O = 0.813 — the numbers the trilinear level and the breakdown show; the opposite
+/// reading would give red 0.472.
 #[test]
 fn lecture_worked_example() {
     // The slides number the corners f1 (0,0,0), f2 (1,0,0), f3 (1,1,0), f4 (0,1,0),
@@ -290,8 +291,8 @@ fn lecture_worked_example() {
         Vec3::new(0.5, 0.5, 0.5),
         Vec3::new(0.8, 0.7, 0.2),
     ];
-    // Level 09's ramp: blue (0.1, 0.3, 0.9) at opacity 0.2 for 4.6, orange (1, 0.6, 0.2) at
-    // opacity 0.6 for 5.3, straight lines between.
+    // The trilinear level's ramp: blue (0.1, 0.3, 0.9) at opacity 0.2 for 4.6, orange
+    // (1, 0.6, 0.2) at opacity 0.6 for 5.3, straight lines between.
     let tf = voxcast_core::preset::for_volume("voxel").unwrap().transfer;
     let ramp = |value: f64| {
         let x = ((value - 4.6) / 0.7).clamp(0.0, 1.0);
@@ -346,7 +347,7 @@ fn lecture_worked_example() {
     }
     close(t.opacity, o as f32, 2e-3, "composited opacity");
 
-    // Level 09's worked composite (`worked::back_to_front`, P1 first) is the same reading.
+    // The trilinear level's worked composite (`worked::back_to_front`, P1 first) is the same reading.
     let rows = voxcast_core::worked::back_to_front(&voxel, &tf, &points.map(|p| p.to_array()));
     let last = rows.last().unwrap().after;
     for (level, render) in last.iter().zip(t.color) {

@@ -28,7 +28,7 @@ fn says(text: &str, phrase: &str) {
     );
 }
 
-/// Level 17, step 4: the ray mesh draws each of the virtual camera's rays "from where it enters
+/// The ray-density level, step 4: the ray mesh draws each of the virtual camera's rays "from where it enters
 /// the volume" (its segment starts at `t_min`, on the volume's box for a camera outside it).
 #[test]
 fn the_ray_mesh_starts_where_a_ray_enters_the_volume() {
@@ -57,7 +57,7 @@ fn the_ray_mesh_starts_where_a_ray_enters_the_volume() {
     assert!(entered > 100, "{entered} rays entered");
 }
 
-/// Level 18, step 1: shadow rays leave "every visible point that faces" the light; a surface
+/// The which-effect level, step 1: shadow rays leave "every visible point that faces" the light; a surface
 /// turned away from it casts none.
 #[test]
 fn shadow_rays_leave_only_the_points_that_face_the_light() {
@@ -111,7 +111,7 @@ fn shadow_rays_leave_only_the_points_that_face_the_light() {
     );
 }
 
-/// Level 06, step 1: at each isovalue the opacity is "the transfer function's opacity there"
+/// The levoy level, step 1: at each isovalue the opacity is "the transfer function's opacity there"
 /// (not full), falling linearly to 0 at r gradient steps.
 #[test]
 fn an_isovalue_has_the_tables_opacity() {
@@ -149,7 +149,7 @@ fn an_isovalue_has_the_tables_opacity() {
     }
 }
 
-/// Level 02, step 3: "halving the step doubles the samples and shrinks the error" — the time is
+/// The sampling level, step 3: "halving the step doubles the samples and shrinks the error" — the time is
 /// not promised (one short run's time is noise on a busy laptop), the samples are counted.
 #[test]
 fn halving_the_step_doubles_the_samples() {
@@ -185,7 +185,7 @@ fn halving_the_step_doubles_the_samples() {
     }
 }
 
-/// Level 02, step 3: the time grows "less than in proportion in a volume this small (each ray
+/// The sampling level, step 3: the time grows "less than in proportion in a volume this small (each ray
 /// meets few samples …)": the level's volume is the 8³ blobs, so no ray meets more samples than
 /// the box's diagonal holds steps — at ¼ voxel some 56, against hundreds in a CT. (That part of
 /// each render's time is per ray is measured, not asserted: BENCHMARKS, "What was tried".)
@@ -231,7 +231,7 @@ fn the_sampling_level_s_volume_gives_each_ray_few_samples() {
     }
 }
 
-/// Level 05, step 1: the method is named as the drop-down shows it ("First hit"), and the
+/// The first-hit level, step 1: the method is named as the drop-down shows it ("First hit"), and the
 /// step's objective is that method.
 #[test]
 fn the_first_hit_level_names_the_method_as_the_panel_does() {
@@ -249,7 +249,7 @@ fn the_first_hit_level_names_the_method_as_the_panel_does() {
     assert_eq!(objective["method"], Method::First.name());
 }
 
-/// Level 16, step 1: Voxcast's default shading is a shortened form of the lecture's model
+/// The lights level, step 1: Voxcast's default shading is a shortened form of the lecture's model
 /// (the full form's terms are off by default), each light adds its own terms, and the ambient
 /// term ka·c is added once, however many lights there are.
 #[test]
@@ -285,7 +285,7 @@ fn each_light_adds_its_terms_and_the_ambient_is_counted_once() {
     assert!(with(vec![]).abs_diff_eq(ambient, 1e-6));
 }
 
-/// Level 16's full-model step: emission adds ke·c to every shaded sample "lit or not", and a
+/// The lights level's full-model step: emission adds ke·c to every shaded sample "lit or not", and a
 /// spot lights only what lies inside its cone, "its ambient term" included.
 #[test]
 fn the_full_model_glows_and_a_spot_lights_only_its_cone() {
@@ -331,7 +331,7 @@ fn the_full_model_glows_and_a_spot_lights_only_its_cone() {
     assert!((away - dark).abs_diff_eq(c * 0.2, 1e-7), "{away} vs {dark}");
 }
 
-/// Level 16's last step: with Levoy's depth cue the bunny's far side is dimmer than its near
+/// The lights level's last step: with Levoy's depth cue the bunny's far side is dimmer than its near
 /// side, every light's falloff being 1/(k1 + k2·d) "in place of a point light's own falloff".
 #[test]
 fn the_depth_cue_dims_the_far_side() {

@@ -320,7 +320,62 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
     let centre = (lo + hi) * 0.5;
     match objective {
         Objective::Read => {}
-        Objective::SelectRay => select_centre(hands),
+        Objective::All { of } => {
+            for o in of {
+                act(o, hands, lessons);
+            }
+        }
+        Objective::StepMoved => {
+            // The slider moved to twice the step the step opened with.
+            if let Some(open) = lessons.opened() {
+                let voxel = hands.volume.volume.spacing().min_element();
+                let now = s.step.voxels(voxel);
+                if (now - open.step_voxels).abs() <= 1e-3 {
+                    s.step = Length::Voxels(open.step_voxels * 2.0);
+                }
+            }
+        }
+        Objective::LightMovedAway => {
+            // The first light that stands somewhere, dragged outwards from the centre to a
+            // tenth of the box's diagonal farther than it stood when the step opened.
+            let open = lessons
+                .opened()
+                .map(|o| o.light_distances.clone())
+                .unwrap_or_default();
+            let diagonal = (hi - lo).length();
+            for (l, then) in s.phong.lights.iter_mut().zip(open) {
+                let (Some(p), Some(then)) = (l.light.position(), then) else {
+                    continue;
+                };
+                let out = (p - centre).try_normalize().unwrap_or(Vec3::X);
+                let to = centre + out * (then + 0.1) * diagonal;
+                if p.distance(centre) < to.distance(centre) {
+                    l.light = match l.light {
+                        Light::Spot(spot) => Light::Spot(voxcast_core::shade::Spot {
+                            position: to,
+                            ..spot
+                        }),
+                        _ => Light::Point(to),
+                    };
+                }
+                break;
+            }
+        }
+        Objective::WarmAndCoolLights => {
+            while s.phong.lights.len() < 2 && s.phong.add_light() {}
+            for (l, c) in s.phong.lights.iter_mut().zip(PALETTE) {
+                l.color = c;
+            }
+        }
+        Objective::Specular { model } => {
+            if let Some(m) = voxcast_core::shade::SpecularModel::ALL
+                .into_iter()
+                .find(|m| m.name() == model)
+            {
+                s.phong.model = m;
+            }
+        }
+        Objective::SelectRay => select_centre(hands, lessons),
         Objective::VirtualPixelsAtLeast { pixels } => {
             for mut vc in &mut hands.cameras {
                 (vc.width, vc.height) = (*pixels, *pixels);
@@ -355,7 +410,7 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
         Objective::CropAtMost { fraction } => {
             s.clip.crop_hi.x = (s.clip.crop_lo.x + fraction).min(1.0);
         }
-        Objective::SelectCutRay => select_centre(hands),
+        Objective::SelectCutRay => select_centre(hands, lessons),
         Objective::Skipping { on } => s.skipping = *on,
         Objective::CostViewed { view } => {
             // Render image pressed (again, if the settings changed), then the view chosen.
@@ -389,7 +444,7 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             });
             match highest {
                 Some(i) => hands.breakdown.opened = Some(i),
-                None => select_centre(hands),
+                None => select_centre(hands, lessons),
             }
         }
         Objective::EarlyTermination { on } => s.early_termination = *on,
@@ -491,12 +546,6 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             while s.phong.lights.len() < *count && s.phong.add_light() {}
         }
         Objective::DistinctLightColours { count } => {
-            const PALETTE: [Vec3; 4] = [
-                Vec3::new(1.0, 0.45, 0.3),
-                Vec3::new(0.3, 0.55, 1.0),
-                Vec3::new(0.4, 1.0, 0.4),
-                Vec3::new(1.0, 1.0, 1.0),
-            ];
             for (l, c) in s.phong.lights.iter_mut().zip(PALETTE).take(*count) {
                 l.color = c;
             }
@@ -505,14 +554,12 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             // Click a ray, then a row the lights shaded.
             let lit = hands.breakdown.trace.as_ref().and_then(|t| {
                 t.samples.iter().position(|x| {
-                    x.shading
-                        .is_some_and(|sh| sh.lit && sh.light_count >= *lights)
-                        && x.alpha > 0.0
+                    x.shading.is_some_and(|sh| sh.lights_reaching() >= *lights) && x.alpha > 0.0
                 })
             });
             match lit {
                 Some(i) => hands.breakdown.opened = Some(i),
-                None => select_centre(hands),
+                None => select_centre(hands, lessons),
             }
         }
         Objective::FullModel => {
@@ -617,6 +664,14 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
     }
 }
 
+/// The colours the driver gives the lights: a warm one, a cool one, then two more.
+const PALETTE: [Vec3; 4] = [
+    Vec3::new(1.0, 0.45, 0.3),
+    Vec3::new(0.3, 0.55, 1.0),
+    Vec3::new(0.4, 1.0, 0.4),
+    Vec3::new(1.0, 1.0, 1.0),
+];
+
 /// The measured trade, a line per step and one for the reference.
 fn trade_lines(t: &voxcast_core::trade::Trade) -> Vec<String> {
     let mut lines: Vec<String> = t
@@ -642,7 +697,6 @@ fn trade_lines(t: &voxcast_core::trade::Trade) -> Vec<String> {
     lines
 }
 
-/// Clicks the pixel in the middle of the virtual camera's image.
 /// The light the panel's first row edits (a headlight added if there is none).
 fn first_light(s: &mut voxcast_core::settings::RenderSettings) -> &mut LightSource {
     if s.phong.lights.is_empty() {
@@ -681,11 +735,21 @@ fn compute_density(hands: &mut Hands, source: &str, trace: Option<u32>, side: u3
     );
 }
 
-fn select_centre(hands: &mut Hands) {
+/// Clicks the pixel in the middle of the virtual camera's image, unless a ray is selected by
+/// a click made while this step is open (twice if it is the one selected: a click on the
+/// selected pixel unselects it).
+fn select_centre(hands: &mut Hands, lessons: &Lessons) {
     let size = hands.inspection.size;
-    if size != UVec2::ZERO && hands.selection.selected.is_none() {
-        hands.selection.selected = Some(size / 2);
+    let s = &mut hands.selection;
+    let clicked_here = lessons.clicks_at_open().is_some_and(|c| s.clicks > c);
+    if size == UVec2::ZERO || (s.selected.is_some() && clicked_here) {
+        return;
     }
+    let centre = size / 2;
+    if s.selected == Some(centre) {
+        s.click(centre);
+    }
+    s.click(centre);
 }
 
 /// Writes the report and exits (non-zero on a failure).

@@ -56,9 +56,18 @@ pub struct Inspection {
 pub struct RaySelection {
     pub hovered: Option<UVec2>,
     pub selected: Option<UVec2>,
+    /// How many times a pixel was clicked (only grows): a level's step that asks for a click
+    /// sees one made while it is open.
+    pub clicks: u32,
 }
 
 impl RaySelection {
+    /// A click on pixel `p`: it selects the pixel, or unselects it if it was the selected one.
+    pub fn click(&mut self, p: UVec2) {
+        self.selected = (self.selected != Some(p)).then_some(p);
+        self.clicks = self.clicks.wrapping_add(1);
+    }
+
     /// The selected ray's index in [`Inspection::paths`].
     pub fn selected_index(&self, size: UVec2) -> Option<usize> {
         self.selected.map(|p| ray_index(p, size))

@@ -50,6 +50,9 @@ pub struct Lessons {
     pub met: bool,
     /// The mode and step `met` was last found true for.
     met_for: Option<(Mode, usize)>,
+    /// The situation the current step opened in (its scene set up), with its mode and step:
+    /// what the objectives that ask for a change compare against.
+    at_open: Option<((Mode, usize), Situation)>,
     /// The control the current step is about (framed in the panel).
     pub spot: Option<Control>,
     /// For a prediction step: the core's reconstruction at the step's point.
@@ -88,6 +91,7 @@ impl Lessons {
         let (progress, message) = store.load();
         Self {
             met_for: None,
+            at_open: None,
             levels: Level::all(),
             step: 0,
             progress,
@@ -113,6 +117,16 @@ impl Lessons {
             Mode::Level(l) => self.levels.get(l)?.steps.get(self.step),
             Mode::FreePlay => None,
         }
+    }
+
+    /// The situation the current step opened in (`None`: its scene is not ready yet).
+    pub fn opened(&self) -> Option<&Situation> {
+        self.at_open.as_ref().map(|(_, s)| s)
+    }
+
+    /// The ray clicks counted when the current step opened (`None`: its scene is not ready).
+    pub fn clicks_at_open(&self) -> Option<u32> {
+        self.opened().map(|s| s.ray_clicks)
     }
 
     /// The panel sections `mode` shows (`None`: all, as in free play).
@@ -247,6 +261,7 @@ fn apply_commands(
                 lessons.step = 0;
                 lessons.met = false;
                 lessons.met_for = None;
+                lessons.at_open = None;
                 lessons.study =
                     matches!(command, LevelCommand::Study(_)).then_some(StudyRun::PreviewOff);
                 lessons.message = lessons.study.map(|r| study_words(r, &title));
@@ -264,6 +279,7 @@ fn apply_commands(
                 lessons.record(l);
                 lessons.met = false;
                 lessons.met_for = None;
+                lessons.at_open = None;
                 lessons.step += 1;
                 if lessons.step == lessons.levels[l].steps.len() {
                     let title = lessons.levels[l].title.clone();

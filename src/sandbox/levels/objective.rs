@@ -18,6 +18,7 @@ pub(crate) struct Done<'w, 's> {
     preview: Option<Res<'w, PreviewSettings>>,
     inspect: Option<Res<'w, crate::sandbox::inspect::rays::InspectSettings>>,
     rays: Option<Res<'w, crate::sandbox::data::source::RayScene>>,
+    loading: Res<'w, Loading>,
     ray_choices: Option<Res<'w, crate::sandbox::data::choices::RayChoices>>,
     ray_report: Option<Res<'w, crate::sandbox::data::choices::ViewReport>>,
 }
@@ -42,6 +43,7 @@ pub(crate) fn check_objective(
         rays,
         ray_choices,
         ray_report,
+        loading,
     } = done;
     let step = lessons.step_in(*mode.get()).cloned();
     // A step about the step's trade measures the step, whatever knob was picked before.
@@ -73,6 +75,14 @@ pub(crate) fn check_objective(
             )),
         ),
         _ => (None, None),
+    };
+    let here = Some((*mode.get(), lessons.step));
+    // The step's scene is set up once its level's volume is the one on show, loaded.
+    let ready = match *mode.get() {
+        Mode::Level(l) => lessons.levels.get(l).is_some_and(|level| {
+            level.scene.volume == volume.source && loading.under_way().is_none()
+        }),
+        Mode::FreePlay => false,
     };
     let met = step.is_some_and(|step| {
         let mut sit = situation(
@@ -107,10 +117,22 @@ pub(crate) fn check_objective(
         }
         sit.named_effect = lessons.named_effect;
         sit.studied = lessons.studied.clone();
+        // The state the step opened in: taken on the first frame its scene is ready; until
+        // then nothing is met (a load under way still shows the last level's settings).
+        if !ready {
+            return false;
+        }
+        if lessons
+            .at_open
+            .as_ref()
+            .is_none_or(|(at, _)| Some(*at) != here)
+        {
+            lessons.at_open = here.map(|h| (h, sit.clone()));
+        }
+        sit.at_open = lessons.at_open.as_ref().map(|(_, o)| Box::new(o.clone()));
         step.objective.met(&sit)
     });
     lessons.on_show = rays.as_ref().and_then(|r| r.on_show(&volume)).cloned();
-    let here = Some((*mode.get(), lessons.step));
     let met = met || (lessons.met_for == here && lessons.met);
     if met {
         lessons.met_for = here;
@@ -176,12 +198,14 @@ fn situation(
         .opened
         .and_then(|i| breakdown.trace.as_ref()?.samples.get(i)?.shading)
         .filter(|t| t.lit)
-        .map(|t| t.light_count);
+        .map(|t| t.lights_reaching());
+    let (centre, diagonal) = ((lo + hi) * 0.5, (hi - lo).length().max(f32::MIN_POSITIVE));
     Situation {
         method: Some(render.settings.method),
         step_voxels: render.settings.step.voxels(voxel),
         virtual_pixels_across: vc.map_or(0, |v| v.width),
         ray_selected: selection.selected.is_some(),
+        ray_clicks: selection.clicks,
         ray_values: breakdown
             .trace
             .as_ref()
@@ -210,6 +234,11 @@ fn situation(
         ka: render.settings.phong.ka,
         depth_cue: render.settings.phong.depth_cue,
         light_colors: lights.iter().map(|l| l.color.to_array()).collect(),
+        light_distances: lights
+            .iter()
+            .map(|l| l.light.position().map(|p| p.distance(centre) / diagonal))
+            .collect(),
+        specular: render.settings.phong.model.name(),
         attenuated: lights.iter().any(|l| l.attenuated()),
         levoy_highlight: render.settings.phong.highlight == voxcast_core::shade::Highlight::Levoy,
         opened_sample_lights,
@@ -240,5 +269,6 @@ fn situation(
         ray_views: Vec::new(),
         named_effect: None,
         studied: None,
+        at_open: None,
     }
 }

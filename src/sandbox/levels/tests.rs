@@ -257,8 +257,8 @@ fn a_level_spawns_its_scene_and_everything_leaves_with_it() {
     let vc = *app.world().get::<VirtualCamera>(vcs[0]).unwrap();
     assert_eq!((vc.width, vc.height), (1, 1));
     // It shoots the lecture's ray under the level's settings: one sample on each of P3,
-    // P2 and P1 and, composited back to front, the lecture's colour (0.540, 0.397, 0.375)
-    // and opacity 0.813.
+    // P2 and P1 and, composited back to front under the level's own ramp (the lecture gives
+    // no transfer function), the colour (0.540, 0.397, 0.375) and opacity 0.813.
     assert_eq!(vc.view, voxcast_core::worked::lecture_ray());
     let mut render = app.world().resource::<RenderState>().clone();
     render.settings.order = voxcast_core::composite::Order::BackToFront;
@@ -443,4 +443,62 @@ fn a_level_starts_from_its_volumes_defaults() {
     let s = &app.world().resource::<RenderState>().settings;
     assert_eq!(s.method, Method::Accumulate);
     assert!(!dir.exists(), "nothing saved before a step is done");
+}
+
+/// A step that asks for a click is met by a click made while it is open, not by a ray
+/// selected before; a step that asks for the step slider to be moved compares with the step
+/// it opened with, taken once the level's volume has loaded.
+#[test]
+fn a_change_is_asked_of_the_open_step() {
+    let dir = std::env::temp_dir().join(format!("voxcast-change-{}", std::process::id()));
+    let mut app = app(dir.join("progress.json"));
+    app.update();
+    let rays = level(&app, "rays");
+    send(&mut app, LevelCommand::Start(rays));
+    until(&mut app, |a| !entities::<VirtualCamera>(a).is_empty());
+    let k = app.world().resource::<Lessons>().levels[rays]
+        .steps
+        .iter()
+        .position(|s| s.objective == Objective::SelectRay)
+        .expect("the rays level asks for a click");
+    app.world_mut().resource_mut::<Lessons>().step = k;
+    app.update();
+    app.world_mut().resource_mut::<RaySelection>().selected = Some(UVec2::new(1, 1));
+    app.update();
+    assert!(
+        !app.world().resource::<Lessons>().met,
+        "selected, not clicked"
+    );
+    app.world_mut()
+        .resource_mut::<RaySelection>()
+        .click(UVec2::new(2, 1));
+    app.update();
+    assert!(app.world().resource::<Lessons>().met, "clicked");
+
+    let opacity = level(&app, "opacity");
+    send(&mut app, LevelCommand::Start(opacity));
+    until(&mut app, |a| {
+        a.world().resource::<VolumeState>().source == "builtin:brainsmall"
+    });
+    send(&mut app, LevelCommand::Next); // read
+    assert_eq!(app.world().resource::<Lessons>().step, 1);
+    fn settings(app: &mut App) -> &mut voxcast_core::settings::RenderSettings {
+        &mut app
+            .world_mut()
+            .resource_mut::<RenderState>()
+            .into_inner()
+            .settings
+    }
+    settings(&mut app).opacity_correction = false;
+    app.update();
+    assert!(!app.world().resource::<Lessons>().met, "the step not moved");
+    let opened = app
+        .world()
+        .resource::<Lessons>()
+        .opened()
+        .unwrap()
+        .step_voxels;
+    settings(&mut app).step = voxcast_core::step::Length::Voxels(opened * 3.0);
+    app.update();
+    assert!(app.world().resource::<Lessons>().met, "moved");
 }

@@ -40,6 +40,7 @@ pub(super) fn control_name(c: Control) -> String {
         Control::Skipping => t::SKIPPING.label,
         Control::PreviewScale => t::PREVIEW_SCALE.label,
         Control::PreviewOn => "Show the preview",
+        Control::PreviewView => "Show the preview as",
         Control::RaySource => "Rays and Compute",
         Control::RayViews => "the views",
     };

@@ -98,11 +98,7 @@ pub(super) fn ray_overlay(
     }
     if let Some((_, i)) = nearest {
         let p = ray_pixel(i, inspection.size);
-        selection.selected = if selection.selected == Some(p) {
-            None
-        } else {
-            Some(p)
-        };
+        selection.click(p);
     }
     // The opened sample's cell: its 12 edges and its 8 corners, sized by their weights.
     let opened = breakdown

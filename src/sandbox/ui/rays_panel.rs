@@ -183,11 +183,7 @@ fn pixel_grid(ui: &mut egui::Ui, inspection: &Inspection, selection: &mut RaySel
     if response.clicked()
         && let Some(p) = response.interact_pointer_pos().and_then(pixel_under)
     {
-        selection.selected = if selection.selected == Some(p) {
-            None
-        } else {
-            Some(p)
-        };
+        selection.click(p);
     }
     for (p, color) in [
         (selection.hovered, Color32::from_rgb(80, 220, 255)),

@@ -417,7 +417,9 @@ pub(super) fn preview_section(
                 .on_hover_text(t::PREVIEW_BACKEND.doc);
         }
     });
-    cost_view::choice(ui, &cost_view::PREVIEW, &mut q.cost_view, method);
+    marked(ui, spot, Control::PreviewView, |ui| {
+        cost_view::choice(ui, &cost_view::PREVIEW, &mut q.cost_view, method)
+    });
     if let Some(view) = q.cost_view {
         let words = live
             .and_then(|l| l.shown.as_ref())

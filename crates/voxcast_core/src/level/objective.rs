@@ -1,5 +1,7 @@
 //! What the player must do to go on ([`Objective`]) and the state it is checked against
-//! ([`Situation`], as the sandbox sees it).
+//! ([`Situation`], as the sandbox sees it, with the state the step opened in, so an objective can
+//! ask for a change — a slider moved, a pixel clicked — and not only for a state that a click
+//! made before the step could already have left behind).
 
 use crate::composite::Method;
 use serde::{Deserialize, Serialize};
@@ -10,7 +12,11 @@ use serde::{Deserialize, Serialize};
 pub enum Objective {
     /// Only reading: Next is open at once.
     Read,
-    /// Select any ray (a pixel of the virtual camera's image).
+    /// Every objective in `of` at once (an action and the outcome the step's words name, such
+    /// as "turn opacity correction off, then move the step slider").
+    All { of: Vec<Objective> },
+    /// Click a pixel of the virtual camera's image while the step is open (a ray selected
+    /// before it opened does not count).
     SelectRay,
     /// Set the virtual camera to at least this many pixels across.
     VirtualPixelsAtLeast { pixels: u32 },
@@ -18,6 +24,8 @@ pub enum Objective {
     StepAtMost { voxels: f32 },
     /// Set the step to at least this many voxels.
     StepAtLeast { voxels: f32 },
+    /// Move the step slider: the step differs from the one the step opened with.
+    StepMoved,
     /// Turn jitter on or off.
     Jitter { on: bool },
     /// Turn trilinear interpolation on (else: nearest).
@@ -67,11 +75,21 @@ pub enum Objective {
     LightKind { light: String },
     /// Give a point light a falloff with distance (kl or kq above zero).
     Attenuated,
+    /// Move a point or spot light farther from the volume's centre than it stood when the
+    /// step opened (by at least a twentieth of the box's diagonal).
+    LightMovedAway,
+    /// Have one warm light and one cool one: red above blue by at least 0.2 in one, blue
+    /// above red by at least 0.2 in another.
+    WarmAndCoolLights,
+    /// Choose the specular term: `phong` (R·V, the lecture's) or `blinn-phong` (N·H).
+    Specular { model: String },
     /// Have at least `count` lights.
     LightsAtLeast { count: usize },
     /// Have at least `count` lights of distinct colours (no channel within 0.1 of each other's).
     DistinctLightColours { count: usize },
-    /// Open, in the selected ray's breakdown, a shaded sample lit by at least `lights` lights.
+    /// Open, in the selected ray's breakdown, a shaded sample that at least `lights` lights
+    /// reach: it faces each of them and their falloff and spotlight factor leave something
+    /// ([`crate::shade::ShadeTerms::lights_reaching`]).
     OpenLitSample { lights: usize },
     /// Choose the highlight's colour: Levoy's (the sample's colour, `true`) or white.
     LevoyHighlight { on: bool },
@@ -84,7 +102,8 @@ pub enum Objective {
     /// Draw a value-and-gradient rectangle (with some opacity) around `value` at the lowest
     /// gradients, reaching no higher than `max_gradient`.
     RegionAround { value: f32, max_gradient: f32 },
-    /// Show the live preview as the cost view `view` (`samples`, `skipped`, `stops`).
+    /// Show the live preview as the cost view `view` (`samples`, `skipped`, `stops`, `depth`,
+    /// `depth-of-hits`), or as `picture`: the volume rendered.
     PreviewCostView { view: String },
     /// Show or hide the skip blocks the virtual camera's rays crossed.
     SkipBlocks { on: bool },
@@ -96,7 +115,8 @@ pub enum Objective {
     ClipPositionBetween { lo: f32, hi: f32 },
     /// Crop the box to at most `fraction` of the volume's extent along some axis.
     CropAtMost { fraction: f32 },
-    /// Select a ray whose sampled part the crop box or clip plane shortened.
+    /// Click, while the step is open, a ray whose sampled part the crop box or clip plane
+    /// shortened.
     SelectCutRay,
     /// Turn empty-space skipping on or off.
     Skipping { on: bool },
@@ -152,6 +172,9 @@ pub struct Situation {
     /// The virtual camera's pixels across (its image's width; 0 without one).
     pub virtual_pixels_across: u32,
     pub ray_selected: bool,
+    /// How many pixels of the virtual camera's image the player has clicked (a count that
+    /// only grows, so a click while a step is open shows against [`Situation::at_open`]).
+    pub ray_clicks: u32,
     /// Values of the selected ray's samples, and the index of the opened one.
     pub ray_values: Vec<f32>,
     pub opened_sample: Option<usize>,
@@ -183,11 +206,16 @@ pub struct Situation {
     pub depth_cue: bool,
     /// Each light's colour.
     pub light_colors: Vec<[f32; 3]>,
+    /// Each light's distance from the volume's centre in box diagonals (`None`: a headlight or
+    /// a directional light, which stands nowhere).
+    pub light_distances: Vec<Option<f32>>,
+    /// The specular term: `phong` or `blinn-phong`.
+    pub specular: &'static str,
     /// Some point light has kl or kq above zero.
     pub attenuated: bool,
     /// The highlight takes the sample's colour (Levoy).
     pub levoy_highlight: bool,
-    /// How many lights shaded the opened sample (`None`: none opened, or it was not shaded).
+    /// How many lights reach the opened sample (`None`: none opened, or it was not shaded).
     pub opened_sample_lights: Option<usize>,
     /// A step-trade measurement matches the view and settings on screen.
     pub trade_measured: bool,
@@ -219,18 +247,37 @@ pub struct Situation {
     pub named_effect: Option<u32>,
     /// The study question answered right this step: its trace and question key.
     pub studied: Option<(u32, String)>,
+    /// The situation when the step opened (its scene set up), for the objectives that ask for
+    /// a change; `None` before the step's scene is ready.
+    pub at_open: Option<Box<Situation>>,
 }
 
 impl Objective {
+    /// The objectives it is made of: itself, or every part of an [`Objective::All`] (nested
+    /// ones flattened), in order.
+    pub fn parts(&self) -> Vec<&Objective> {
+        match self {
+            Objective::All { of } => of.iter().flat_map(Objective::parts).collect(),
+            other => vec![other],
+        }
+    }
+
     /// Whether `s` meets the objective.
     pub fn met(&self, s: &Situation) -> bool {
+        let open = s.at_open.as_deref();
+        // A click while the step is open: more clicks than when it opened.
+        let clicked = open.is_some_and(|o| s.ray_clicks > o.ray_clicks);
         match self {
             Objective::Read => true,
-            Objective::SelectRay => s.ray_selected,
+            Objective::All { of } => of.iter().all(|o| o.met(s)),
+            Objective::SelectRay => s.ray_selected && clicked,
             Objective::VirtualPixelsAtLeast { pixels } => s.virtual_pixels_across >= *pixels,
             // A slider lands on 0.25 as 0.2500001: a thousandth of a voxel is allowed.
             Objective::StepAtMost { voxels } => s.step_voxels <= voxels + 1e-3,
             Objective::StepAtLeast { voxels } => s.step_voxels >= voxels - 1e-3,
+            Objective::StepMoved => {
+                open.is_some_and(|o| (s.step_voxels - o.step_voxels).abs() > 1e-3)
+            }
             Objective::Jitter { on } => s.jitter == *on,
             Objective::Interpolation { trilinear } => s.trilinear == *trilinear,
             Objective::SupersamplingAtLeast { rays } => s.supersampling >= *rays,
@@ -272,6 +319,18 @@ impl Objective {
             Objective::BackToFront { on } => s.back_to_front == *on,
             Objective::LightKind { light } => s.light_kinds.contains(&light.as_str()),
             Objective::Attenuated => s.attenuated,
+            Objective::LightMovedAway => open.is_some_and(|o| {
+                s.light_distances
+                    .iter()
+                    .zip(&o.light_distances)
+                    .any(|(now, then)| matches!((now, then), (Some(n), Some(t)) if *n >= t + 0.05))
+            }),
+            Objective::WarmAndCoolLights => {
+                let warm = s.light_colors.iter().any(|c| c[0] - c[2] >= 0.2);
+                let cool = s.light_colors.iter().any(|c| c[2] - c[0] >= 0.2);
+                warm && cool
+            }
+            Objective::Specular { model } => s.specular == model,
             Objective::LightsAtLeast { count } => s.light_kinds.len() >= *count,
             Objective::DistinctLightColours { count } => {
                 distinct_colours(&s.light_colors) >= *count
@@ -288,7 +347,10 @@ impl Objective {
             } => s.regions.iter().any(|r| {
                 r.contains(*value, 0.0) && r.gradient[1] <= *max_gradient && r.opacity > 0.0
             }),
-            Objective::PreviewCostView { view } => s.preview_cost_view == Some(view.as_str()),
+            Objective::PreviewCostView { view } => match s.preview_cost_view {
+                Some(shown) => shown == view,
+                None => view == "picture",
+            },
             Objective::SkipBlocks { on } => s.skip_blocks_shown == *on,
             Objective::TradeMeasured => s.trade_measured,
             Objective::ClipPlane { on } => s.clip.plane.is_some() == *on,
@@ -300,7 +362,7 @@ impl Objective {
                 let kept = s.clip.crop_hi - s.clip.crop_lo;
                 kept.min_element() <= fraction + 1e-3
             }
-            Objective::SelectCutRay => s.ray_selected && s.ray_cut,
+            Objective::SelectCutRay => s.ray_selected && s.ray_cut && clicked,
             Objective::Skipping { on } => s.skipping == *on,
             Objective::CostViewed { view } => s.cost_view == Some(view.as_str()),
             // A slider lands on 0.5 as 0.50000006: a thousandth is allowed.

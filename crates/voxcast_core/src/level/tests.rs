@@ -90,7 +90,8 @@ fn the_skull_level_matches_the_phantom() {
     let (lo, hi) = level
         .steps
         .iter()
-        .find_map(|s| match s.objective {
+        .flat_map(|s| s.objective.parts())
+        .find_map(|o| match *o {
             Objective::TargetBetween { lo, hi } => Some((lo, hi)),
             _ => None,
         })
@@ -212,35 +213,41 @@ fn every_steps_text_quotes_its_objectives_numbers() {
     let mut missing = Vec::new();
     for level in Level::all() {
         for (k, step) in level.steps.iter().enumerate() {
-            let numbers: Vec<f32> = match &step.objective {
-                Objective::VirtualPixelsAtLeast { pixels } => vec![*pixels as f32],
-                Objective::StepAtMost { voxels } | Objective::StepAtLeast { voxels } => {
-                    vec![*voxels]
-                }
-                Objective::TargetBetween { lo, hi } => vec![*lo, *hi],
-                Objective::TfAlphaAtMost { value, alpha } => vec![*value, *alpha],
-                Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
-                Objective::Compared { max } => vec![*max],
-                Objective::SupersamplingAtLeast { rays } => vec![*rays as f32],
-                Objective::LightsAtLeast { count } | Objective::DistinctLightColours { count } => {
-                    vec![*count as f32]
-                }
-                Objective::OpenLitSample { lights } => vec![*lights as f32],
-                Objective::ClipPositionBetween { lo, hi } => vec![*lo, *hi],
-                Objective::CropAtMost { fraction } => vec![*fraction],
-                Objective::PreviewScaleAtMost { scale }
-                | Objective::PreviewScaleAtLeast { scale } => vec![*scale],
-                Objective::PredictValue { point, tolerance } => {
-                    point.iter().copied().chain([*tolerance]).collect()
-                }
-                Objective::PredictComposite { points, tolerance } => points
-                    .iter()
-                    .flatten()
-                    .copied()
-                    .chain([*tolerance])
-                    .collect(),
-                _ => vec![],
-            };
+            let numbers: Vec<f32> = step
+                .objective
+                .parts()
+                .into_iter()
+                .flat_map(|o| match o {
+                    Objective::VirtualPixelsAtLeast { pixels } => vec![*pixels as f32],
+                    Objective::StepAtMost { voxels } | Objective::StepAtLeast { voxels } => {
+                        vec![*voxels]
+                    }
+                    Objective::TargetBetween { lo, hi } => vec![*lo, *hi],
+                    Objective::TfAlphaAtMost { value, alpha } => vec![*value, *alpha],
+                    Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
+                    Objective::Compared { max } => vec![*max],
+                    Objective::SupersamplingAtLeast { rays } => vec![*rays as f32],
+                    Objective::LightsAtLeast { count }
+                    | Objective::DistinctLightColours { count } => {
+                        vec![*count as f32]
+                    }
+                    Objective::OpenLitSample { lights } => vec![*lights as f32],
+                    Objective::ClipPositionBetween { lo, hi } => vec![*lo, *hi],
+                    Objective::CropAtMost { fraction } => vec![*fraction],
+                    Objective::PreviewScaleAtMost { scale }
+                    | Objective::PreviewScaleAtLeast { scale } => vec![*scale],
+                    Objective::PredictValue { point, tolerance } => {
+                        point.iter().copied().chain([*tolerance]).collect()
+                    }
+                    Objective::PredictComposite { points, tolerance } => points
+                        .iter()
+                        .flatten()
+                        .copied()
+                        .chain([*tolerance])
+                        .collect(),
+                    _ => vec![],
+                })
+                .collect();
             for v in numbers {
                 if !step.text.contains(&format!("{v}")) {
                     missing.push(format!("{} step {}: {v}", level.id, k + 1));
@@ -334,7 +341,18 @@ fn objectives_check_the_situation() {
     s.ray_selected = true;
     assert!(!Objective::SelectCutRay.met(&s));
     s.ray_cut = true;
-    assert!(Objective::SelectCutRay.met(&s));
+    assert!(
+        !Objective::SelectCutRay.met(&s),
+        "no step open: no click in it"
+    );
+    s.at_open = Some(Box::new(s.clone()));
+    assert!(
+        !Objective::SelectCutRay.met(&s),
+        "selected before the step opened"
+    );
+    s.ray_clicks += 1;
+    assert!(Objective::SelectCutRay.met(&s), "clicked while it is open");
+    s.at_open = None;
     assert!(Objective::Skipping { on: false }.met(&s));
     let stops = Objective::CostViewed {
         view: "stops".into(),
@@ -443,14 +461,21 @@ fn ray_data_objectives() {
 #[test]
 fn objectives_name_real_knobs_and_views() {
     for l in Level::all() {
-        for step in &l.steps {
-            match &step.objective {
+        for o in l.steps.iter().flat_map(|s| s.objective.parts()) {
+            match o {
                 Objective::KnobMeasured { knob } => {
                     assert!(crate::knob::Knob::parse(knob).is_some(), "{}: {knob}", l.id)
                 }
                 Objective::CostViewed { view } => {
                     assert!(
                         crate::cost::CostView::parse(view).is_some(),
+                        "{}: {view}",
+                        l.id
+                    )
+                }
+                Objective::PreviewCostView { view } => {
+                    assert!(
+                        view == "picture" || crate::cost::CostView::parse(view).is_some(),
                         "{}: {view}",
                         l.id
                     )
@@ -505,8 +530,8 @@ fn named_objectives_name_real_modes() {
                 l.id
             );
         }
-        for step in &l.steps {
-            if let Objective::Classification { mode } = &step.objective {
+        for o in l.steps.iter().flat_map(|s| s.objective.parts()) {
+            if let Objective::Classification { mode } = o {
                 assert!(
                     ["table", "iso-contours", "boundaries", "value-gradient"]
                         .contains(&mode.as_str()),
@@ -514,7 +539,7 @@ fn named_objectives_name_real_modes() {
                     l.id
                 );
             }
-            if let Objective::LightKind { light } = &step.objective {
+            if let Objective::LightKind { light } = o {
                 assert!(
                     ["headlight", "point", "directional"].contains(&light.as_str()),
                     "{}: {light}",

@@ -384,7 +384,7 @@ mod tests {
             share(back) < 0.5 && share(floor) > 0.5,
             "{back:?} {floor:?}"
         );
-        // Level 18's words: the ceiling and the left wall face away from the light and start
+        // The which-effect level's words: the ceiling and the left wall face away from the light and start
         // almost none of the rays.
         for away in ["the ceiling", "the left wall"] {
             let n = shadow

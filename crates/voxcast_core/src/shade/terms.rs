@@ -98,6 +98,19 @@ impl ShadeTerms {
                 .iter()
                 .any(|l| l.ambient != [0.0; 3] || l.spotlight)
     }
+
+    /// How many lights reach the sample: it faces them (`N·L_i > 0`) and their falloff and
+    /// spotlight factor leave something (`f_i·s_i > 0`), so their diffuse term is theirs to
+    /// give. A light behind the surface, or a spot whose cone misses it, shades nothing here.
+    pub fn lights_reaching(&self) -> usize {
+        if !self.lit {
+            return 0;
+        }
+        self.per_light()
+            .iter()
+            .filter(|l| l.n_dot_l > 0.0 && l.attenuation * l.spot > 0.0)
+            .count()
+    }
 }
 
 fn serialize_lights<S: serde::Serializer>(
