@@ -463,3 +463,38 @@ fn a_rectangle_in_value_and_gradient_keeps_the_brain_and_drops_the_shell() {
     assert!(shell.len() > 1000);
     assert!(shell.iter().all(|g| (45.0..60.0).contains(g)), "{shell:?}");
 }
+
+/// The transfer level, step 3: the red goes where the brightest structures lie, and the count
+/// it quotes above 150 is the volume's; value 180, asked for once, holds almost nothing.
+#[test]
+fn the_brightest_structures_lie_near_140() {
+    let level = Level::all()
+        .into_iter()
+        .find(|l| l.id == "transfer")
+        .unwrap();
+    let text = words("transfer", 3);
+    let v = voxcast_core::builtin::load_source(&level.scene.volume)
+        .unwrap()
+        .volume;
+    let d = v.dims();
+    let mut values = Vec::with_capacity(v.voxel_count());
+    for k in 0..d.z {
+        for j in 0..d.y {
+            for i in 0..d.x {
+                values.push(v.value_at(i, j, k).unwrap());
+            }
+        }
+    }
+    let count = |lo: f32, hi: f32| values.iter().filter(|&&x| x >= lo && x < hi).count();
+    says(
+        &text,
+        &format!(
+            "at 150 or above lie only {} of the volume's {} voxels",
+            count(150.0, f32::INFINITY),
+            values.len()
+        ),
+    );
+    says(&text, "Give value 140 a red colour");
+    assert!(count(130.0, 150.0) > 2_000, "the last tall bars");
+    assert!(count(170.0, 190.0) < 10, "180 is nearly empty");
+}
