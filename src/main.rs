@@ -12,7 +12,7 @@ mod sandbox;
 #[cfg(not(target_arch = "wasm32"))]
 use clap::{Parser, Subcommand};
 #[cfg(not(target_arch = "wasm32"))]
-use cli::{answers, bench, info, rays, render, trace};
+use cli::{answers, bench, info, levels, rays, render, trace};
 
 #[cfg(not(target_arch = "wasm32"))]
 #[derive(Parser, Debug)]
@@ -43,6 +43,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Ray data sets as RayVis views them: what a set holds, its density over a grid.
     Rays(rays::RaysArgs),
+    /// Level files a teacher writes: check them, or print their JSON Schema.
+    Levels(levels::LevelsArgs),
     /// Write the answers kept with the levels' progress as CSV, for a teacher.
     Answers(answers::AnswersArgs),
     /// List the embedded datasets and presets.
@@ -66,6 +68,7 @@ fn main() {
         Some(Command::Info(a)) => info::run(a),
         Some(Command::Bench(a)) => bench::run(a),
         Some(Command::Rays(a)) => rays::run(a),
+        Some(Command::Levels(a)) => levels::run(a),
         Some(Command::Answers(a)) => answers::run(a),
         Some(Command::List) => {
             list();

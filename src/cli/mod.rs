@@ -1,4 +1,4 @@
-//! The `voxcast` command line: render, trace, info, bench, rays and answers over the core. In a
+//! The `voxcast` command line: render, trace, info, bench, rays, levels and answers over the core. In a
 //! browser only the sandbox's options are read (from the page's address).
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -10,6 +10,8 @@ pub mod bench;
 pub mod info;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod knobs;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod levels;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod plot;
 #[cfg(not(target_arch = "wasm32"))]

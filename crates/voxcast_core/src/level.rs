@@ -6,14 +6,22 @@
 //! default) and is filled in from `crate::tunables` when the level is read; an unknown key is
 //! an error, and a test reads every embedded level.
 
+pub mod check;
+mod file;
 mod objective;
 mod progress;
+mod scene;
+mod schema;
 
+pub use file::{files_at, to_text};
 pub use objective::{Objective, RayDensityFacts, Situation, classification_mode, distinct_colours};
 pub use progress::{Answer, Progress, StudyRun, players_progress_path, utc_time};
+pub use scene::{CameraPlace, Origin, StepScene, TransferChoice};
+pub use schema::{SCHEMA_FILE, schema, schema_text};
 
 use crate::error::SettingsError;
 use crate::tunables;
+use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 /// The embedded levels, in the order they are taught: their files' numbers are that order.
@@ -39,42 +47,82 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/19_which_effect.json"),
 ];
 
-/// What a level's scene holds: only what it teaches.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// What a level's scene holds: only what it teaches. It opens with the data set's own
+/// settings and transfer function, then `preset`, `transfer` and `settings` over them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LevelScene {
-    /// `builtin:NAME` or a path.
+    /// The data set: `builtin:NAME` (bunny, brainsmall, shells, marschner-lobb, bucky, blobs,
+    /// head, voxel, masked), `density:builtin:cornell@trace=N`, or a volume file (NRRD,
+    /// NIfTI, raw) beside the level: a relative path on the desktop, a URL on the page.
     pub volume: String,
-    /// Whether the live GPU preview is drawn.
-    #[serde(default)]
+    /// Whether the live preview is drawn.
+    #[serde(default, skip_serializing_if = "is_false")]
     pub preview: bool,
-    /// The virtual camera's pixels across and down (`None`: no virtual camera).
-    #[serde(default)]
+    /// The virtual camera's pixels across and down (absent: no virtual camera).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rays: Option<u32>,
     /// Whether the light's marker sphere is in the scene (levels about a point light or about
     /// depth against geometry).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_false")]
     pub light: bool,
-    /// The settings panel's sections the level shows (`None`: all of them).
-    #[serde(default)]
+    /// The settings panel's sections the level shows (absent: all of them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub panel: Option<Vec<Section>>,
-    /// A preset (by name) the level starts with instead of its volume's own: a transfer
-    /// function that shows every method the level teaches.
-    #[serde(default)]
+    /// A preset (by name) the level starts with instead of its data set's own: its transfer
+    /// function and the settings that suit it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<String>,
+    /// The transfer function the level starts with (after `preset`): a preset's name, a
+    /// `.json` file beside the level, or the function written out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transfer: Option<TransferChoice>,
+    /// Render settings written over the data set's (and `preset`'s), as a preset writes
+    /// them: `{"method": "first", "target": 120}`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(with = "Option<serde_json::Map<String, serde_json::Value>>")]
+    pub settings: Option<serde_json::Map<String, serde_json::Value>>,
+    /// Where the main camera starts (absent: framing the volume from its preset's side).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraPlace>,
+    /// Where the virtual camera starts (absent: the sandbox places it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub virtual_camera: Option<CameraPlace>,
+    /// The ray selected as the level starts: the virtual camera's pixel (x across, y down).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ray: Option<[u32; 2]>,
     /// The virtual camera shoots the lecture's worked ray ([`crate::worked::lecture_ray`]: one
     /// pixel, its eye at P3 looking towards P1) under the settings that put one sample on each
     /// point ([`crate::worked::lecture_ray_settings`]).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "is_false")]
     pub lecture_ray: bool,
     /// The preview resolution the level starts at (a level about it starts from a known one);
-    /// `None` keeps the player's.
-    #[serde(default)]
+    /// absent: the player's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preview_scale: Option<f32>,
 }
 
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+impl LevelScene {
+    /// The scene a level opens with, as a step's scene: its volume, transfer function,
+    /// settings, cameras and ray.
+    pub fn snapshot(&self) -> StepScene {
+        StepScene {
+            volume: Some(self.volume.clone()),
+            transfer: self.transfer.clone(),
+            settings: self.settings.clone(),
+            camera: self.camera,
+            virtual_camera: self.virtual_camera,
+            ray: self.ray,
+        }
+    }
+}
+
 /// A section of the settings panel.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Section {
     Dataset,
@@ -88,8 +136,8 @@ pub enum Section {
     RayData,
 }
 
-/// A panel control a step is about (highlighted while the step is shown).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+/// A panel control a step is about (framed in yellow while the step is shown).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Control {
     Method,
@@ -153,25 +201,43 @@ impl Control {
     }
 }
 
-/// One step of a level.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// One step of a level: what it says, the control it frames, what opens Next, and what it
+/// puts on screen as it opens.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Step {
+    /// What the student reads. `{tunable:KEY}` is replaced by that setting's default.
     pub text: String,
-    #[serde(default)]
+    /// The panel control framed while the step is shown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub control: Option<Control>,
+    /// What opens Next (docs/levels.md: every kind, what it checks).
     pub objective: Objective,
+    /// What the step puts on screen as it opens (absent: the scene as the last step left it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scene: Option<StepScene>,
 }
 
 /// A level: an id (its progress key), a title, the concept it teaches, its scene and steps.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Level {
+    /// The JSON Schema an editor checks the file against (docs/levels.schema.json).
+    #[serde(rename = "$schema", default, skip_serializing_if = "Option::is_none")]
+    pub schema: Option<String>,
+    /// A short name, unique among the levels: the key of the students' progress and answers.
     pub id: String,
+    /// The title in the levels list.
     pub title: String,
+    /// The concept it teaches, in a sentence or two.
     pub concept: String,
+    /// What its scene holds as it starts.
     pub scene: LevelScene,
+    /// Its steps, at least one.
     pub steps: Vec<Step>,
+    /// Where it was read from: the files it names are beside it.
+    #[serde(skip)]
+    pub origin: Origin,
 }
 
 /// `{tunable:KEY}` replaced by that tunable's default (as the code has it).
@@ -197,6 +263,16 @@ fn fill_in(text: &str) -> Result<String, SettingsError> {
 }
 
 impl Level {
+    /// Where a file the level names lies (`builtin:` names as they are).
+    pub fn resolve(&self, name: &str) -> String {
+        self.origin.resolve(name)
+    }
+
+    /// The data set the level starts with, found beside it.
+    pub fn volume_source(&self) -> String {
+        self.resolve(&self.scene.volume)
+    }
+
     /// Reads a level's JSON, fills in quoted tunables and checks it has steps.
     pub fn from_json(text: &str) -> Result<Self, SettingsError> {
         let mut level: Level = serde_json::from_str(text)

@@ -70,16 +70,37 @@ impl Preset {
 
     /// `base` with this preset's settings written over it.
     pub fn settings_over(&self, base: &RenderSettings) -> Result<RenderSettings, SettingsError> {
-        let mut value = serde_json::to_value(base).expect("settings serialise");
-        merge(
-            &mut value,
-            &serde_json::Value::Object(self.settings.clone()),
-        );
-        let s: RenderSettings = serde_json::from_value(value)
-            .map_err(|e| SettingsError::Invalid(format!("preset {}: {e}", self.name)))?;
-        s.validate()?;
-        Ok(s)
+        settings_written_over(base, &self.settings)
+            .map_err(|e| SettingsError::Invalid(format!("preset {}: {e}", self.name)))
     }
+}
+
+/// `base` with `changes` (some of the settings' fields, as their JSON names them) written over
+/// it, checked: a preset's, a level's or a step's settings.
+pub fn settings_written_over(
+    base: &RenderSettings,
+    changes: &serde_json::Map<String, serde_json::Value>,
+) -> Result<RenderSettings, String> {
+    let mut value = serde_json::to_value(base).expect("settings serialise");
+    merge(&mut value, &serde_json::Value::Object(changes.clone()));
+    let s: RenderSettings = serde_json::from_value(value).map_err(|e| e.to_string())?;
+    s.validate().map_err(|e| e.to_string())?;
+    Ok(s)
+}
+
+/// The transfer function and settings `volume` starts with: its preset's, or a grey ramp over
+/// its value range with the default settings.
+pub fn defaults_for(volume: &crate::volume::Volume) -> (TransferFunction, RenderSettings) {
+    if let Some(p) = for_loaded(volume)
+        && let Ok(settings) = p.settings_over(&RenderSettings::default())
+    {
+        return (p.transfer, settings);
+    }
+    let (lo, hi) = volume.value_range();
+    let ramp = TransferFunction::ramp(lo, hi, 0.5)
+        .or_else(|_| TransferFunction::constant([1.0; 3], 0.5))
+        .expect("a constant transfer function is valid");
+    (ramp, RenderSettings::default())
 }
 
 /// Deep-merges JSON objects: `patch`'s fields replace `base`'s, recursively. An object whose keys

@@ -20,7 +20,9 @@ use glam::{Vec3, Vec4};
 pub const LUT_SIZE: usize = 4096;
 
 /// One control point: at `value` (data units) the colour is `color` and the opacity `alpha`.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, schemars::JsonSchema,
+)]
 pub struct ControlPoint {
     pub value: f32,
     /// Linear RGB in [0, 1].
@@ -50,11 +52,26 @@ pub struct TransferFunction {
     points: Vec<ControlPoint>,
 }
 
-#[derive(serde::Deserialize)]
+/// A transfer function as its file holds it: a name, and its points sorted by value.
+#[derive(serde::Deserialize, schemars::JsonSchema)]
+#[schemars(rename = "TransferFunction")]
 struct TransferFunctionJson {
+    /// What it shows, in words.
     #[serde(default)]
     name: String,
+    /// At least one point: a value, the colour (linear RGB, each 0 to 1) and opacity (0 to 1)
+    /// it gets; between points both change linearly.
     points: Vec<ControlPoint>,
+}
+
+impl schemars::JsonSchema for TransferFunction {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        TransferFunctionJson::schema_name()
+    }
+
+    fn json_schema(generator: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        TransferFunctionJson::json_schema(generator)
+    }
 }
 
 impl<'de> serde::Deserialize<'de> for TransferFunction {

@@ -259,16 +259,8 @@ pub fn reset_to_defaults(volume: &Volume, render: &mut RenderState) {
 /// The transfer function (and settings, when it has a preset) `volume` starts with: its
 /// preset's, or a grey ramp over its value range.
 fn defaults_for(volume: &Volume) -> (TransferFunction, Option<RenderSettings>) {
-    if let Some(p) = preset::for_loaded(volume)
-        && let Ok(settings) = p.settings_over(&RenderSettings::default())
-    {
-        return (p.transfer, Some(settings));
-    }
-    let (lo, hi) = volume.value_range();
-    let ramp = TransferFunction::ramp(lo, hi, 0.5)
-        .or_else(|_| TransferFunction::constant([1.0; 3], 0.5))
-        .expect("a constant transfer function is valid");
-    (ramp, None)
+    let (transfer, settings) = preset::defaults_for(volume);
+    (transfer, preset::for_loaded(volume).map(|_| settings))
 }
 
 #[cfg(test)]

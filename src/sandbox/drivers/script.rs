@@ -172,7 +172,7 @@ fn drive(
         }
         Phase::Settle => {
             let ready = *mode.get() == Mode::Level(run.level)
-                && hands.volume.source == level.scene.volume
+                && lessons.scene_ready()
                 && hands.loading.under_way().is_none();
             if !ready {
                 run.frames = 0;

@@ -11,7 +11,7 @@ mod store;
 pub(crate) use objective::check_objective;
 use objective::prediction_truth;
 pub use objective::{parse_typed, study_truth};
-use scene::{level_preset_after_load, set_up_scene};
+use scene::{Pending, open_scene, set_up_scene};
 pub use store::ProgressStore;
 
 use crate::sandbox::checks::compare::Comparison;
@@ -69,6 +69,8 @@ pub struct Lessons {
     pub study_next: bool,
     /// The scene is set up again on the next frame (a study's second run, same mode).
     set_up_again: bool,
+    /// The level's or the step's scene waiting to be put on screen (its data set loading).
+    pending: Option<Pending>,
 }
 
 /// What the Levels panel asks for (a scripted run sends the same).
@@ -108,6 +110,7 @@ impl Lessons {
             study: None,
             study_next: false,
             set_up_again: false,
+            pending: None,
         }
     }
 
@@ -117,6 +120,12 @@ impl Lessons {
             Mode::Level(l) => self.levels.get(l)?.steps.get(self.step),
             Mode::FreePlay => None,
         }
+    }
+
+    /// Whether the current level's (or step's) scene is on screen: nothing waits to be
+    /// opened.
+    pub fn scene_ready(&self) -> bool {
+        self.pending.is_none()
     }
 
     /// The situation the current step opened in (`None`: its scene is not ready yet).
@@ -235,7 +244,7 @@ pub(crate) fn plugin(app: &mut App) {
     app.add_message::<LevelCommand>().add_systems(
         Update,
         (
-            (apply_commands, set_up_scene, level_preset_after_load)
+            (apply_commands, set_up_scene, open_scene)
                 .chain()
                 .in_set(crate::sandbox::shared::schedule::Frame::Rules),
             check_objective.in_set(crate::sandbox::shared::schedule::Frame::Check),
@@ -281,6 +290,11 @@ fn apply_commands(
                 lessons.met_for = None;
                 lessons.at_open = None;
                 lessons.step += 1;
+                lessons.pending = lessons.levels[l]
+                    .steps
+                    .get(lessons.step)
+                    .and_then(|s| s.scene.as_ref())
+                    .map(Pending::of_step);
                 if lessons.step == lessons.levels[l].steps.len() {
                     let title = lessons.levels[l].title.clone();
                     match lessons.study.and_then(StudyRun::next) {

@@ -77,13 +77,8 @@ pub(crate) fn check_objective(
         _ => (None, None),
     };
     let here = Some((*mode.get(), lessons.step));
-    // The step's scene is set up once its level's volume is the one on show, loaded.
-    let ready = match *mode.get() {
-        Mode::Level(l) => lessons.levels.get(l).is_some_and(|level| {
-            level.scene.volume == volume.source && loading.under_way().is_none()
-        }),
-        Mode::FreePlay => false,
-    };
+    // The step's scene is on screen: nothing waits to be opened or loaded.
+    let ready = lessons.scene_ready() && loading.under_way().is_none();
     let met = step.is_some_and(|step| {
         let mut sit = situation(
             &render,
@@ -181,28 +176,25 @@ fn situation(
         Option<&crate::sandbox::inspect::rays::InspectSettings>,
     ),
 ) -> Situation {
-    let voxel = volume.volume.spacing().min_element();
-    let (lo, hi) = volume.volume.bounds();
     let compared_max = comparison
         .result
         .as_ref()
         .filter(|r| r.snapshot.is_current(view, render, volume))
         .and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0));
     let measured = trade.current(view, render, volume).map(|t| t.knob);
-    let lights = &render.settings.phong.lights;
-    let light_inside_volume = lights.iter().any(|l| {
-        matches!(l.light,
-            voxcast_core::shade::Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all())
-    });
     let opened_sample_lights = breakdown
         .opened
         .and_then(|i| breakdown.trace.as_ref()?.samples.get(i)?.shading)
         .filter(|t| t.lit)
         .map(|t| t.lights_reaching());
-    let (centre, diagonal) = ((lo + hi) * 0.5, (hi - lo).length().max(f32::MIN_POSITIVE));
+    let v = &volume.volume;
+    let settled = Situation::from_settings(
+        &render.settings,
+        &render.transfer,
+        v.bounds(),
+        v.spacing().min_element(),
+    );
     Situation {
-        method: Some(render.settings.method),
-        step_voxels: render.settings.step.voxels(voxel),
         virtual_pixels_across: vc.map_or(0, |v| v.width),
         ray_selected: selection.selected.is_some(),
         ray_clicks: selection.clicks,
@@ -212,35 +204,7 @@ fn situation(
             .map(|t| t.samples.iter().map(|s| s.reconstruction.value).collect())
             .unwrap_or_default(),
         opened_sample: breakdown.opened,
-        early_termination: render.settings.early_termination,
-        opacity_correction: render.settings.opacity_correction,
-        shading: render.settings.shading,
-        target: render.settings.target,
-        classification: voxcast_core::level::classification_mode(&render.settings.classification),
-        regions: match &render.settings.classification {
-            voxcast_core::classify::Classification::ValueGradient { regions } => regions.clone(),
-            _ => Vec::new(),
-        },
-        transfer: Some(render.transfer.clone()),
         compared_max,
-        light_inside_volume,
-        prediction: None,
-        back_to_front: render.settings.order == voxcast_core::composite::Order::BackToFront,
-        light_kinds: lights.iter().map(|l| l.light.kind_label()).collect(),
-        spot_ambient: lights
-            .iter()
-            .any(|l| matches!(l.light, voxcast_core::shade::Light::Spot(_)) && l.ambient > 0.0),
-        emission: render.settings.phong.ke,
-        ka: render.settings.phong.ka,
-        depth_cue: render.settings.phong.depth_cue,
-        light_colors: lights.iter().map(|l| l.color.to_array()).collect(),
-        light_distances: lights
-            .iter()
-            .map(|l| l.light.position().map(|p| p.distance(centre) / diagonal))
-            .collect(),
-        specular: render.settings.phong.model.name(),
-        attenuated: lights.iter().any(|l| l.attenuated()),
-        levoy_highlight: render.settings.phong.highlight == voxcast_core::shade::Highlight::Levoy,
         opened_sample_lights,
         // The sampling levels measure the step's trade.
         trade_measured: measured == Some(voxcast_core::knob::Knob::Step),
@@ -249,11 +213,6 @@ fn situation(
         preview_scale: preview.map_or(1.0, |p| p.scale),
         preview_cost_view: preview.and_then(|p| p.cost_view).map(|v| v.name()),
         skip_blocks_shown: inspect.is_some_and(|i| i.show_blocks),
-        jitter: render.settings.jitter,
-        trilinear: render.settings.interpolation == voxcast_core::sample::Interpolation::Trilinear,
-        supersampling: render.settings.supersampling,
-        clip: render.settings.clip.clone(),
-        skipping: render.settings.skipping,
         cost_view: comparison
             .result
             .as_ref()
@@ -264,11 +223,7 @@ fn situation(
             .trace
             .as_ref()
             .is_some_and(|t| t.cut_words().is_some()),
-        // Filled in by the caller, which sees the ray data.
-        ray_density: None,
-        ray_views: Vec::new(),
-        named_effect: None,
-        studied: None,
-        at_open: None,
+        // The ray data, the effect named and the study are filled in by the caller.
+        ..settled
     }
 }

@@ -1,17 +1,49 @@
-//! The scene a mode sets up: the preview on or off (held by a study's run), a level's volume
-//! with its default settings and preset, and the Ray data section afresh.
+//! The scene a mode sets up: the preview on or off (held by a study's run), the Ray data
+//! section afresh, and what a level (or a step that sets its own) puts on screen — its data
+//! set, transfer function, settings, the main and the virtual camera, the selected ray —
+//! applied once its data set has loaded and the new volume has been framed.
 
 use super::*;
+use crate::sandbox::scene::orbit::Orbit;
+use voxcast_core::level::{StepScene, TransferChoice};
+
+/// A level's or a step's scene waiting to be put on screen.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pending {
+    pub scene: StepScene,
+    /// The level's own scene: the data set's defaults first, then the level's preset.
+    pub fresh: bool,
+    /// Its data set's load was asked for.
+    pub asked: bool,
+}
+
+impl Pending {
+    pub fn of_level(level: &voxcast_core::level::Level) -> Self {
+        Self {
+            scene: level.scene.snapshot(),
+            fresh: true,
+            asked: false,
+        }
+    }
+
+    pub fn of_step(scene: &StepScene) -> Self {
+        Self {
+            scene: scene.clone(),
+            fresh: false,
+            asked: false,
+        }
+    }
+}
 
 /// Sets up the scene of the mode just entered (or of a study's next run): the preview on or
-/// off, and a level's volume with its default settings (so no objective is met before the
-/// player acts). The virtual camera and the light marker are spawned by their own plugins from
-/// the [`Stage`]. A study's run holds the preview on or off whatever the player does.
+/// off, and a level's own scene waiting to be opened ([`open_scene`]). The virtual camera and
+/// the light marker are spawned by their own plugins from the [`Stage`]. A study's run holds
+/// the preview on or off whatever the player does.
 pub(super) fn set_up_scene(
     mode: Res<State<Mode>>,
     mut lessons: ResMut<Lessons>,
     stage: Res<Stage>,
-    (volume, mut render): (Res<VolumeState>, ResMut<RenderState>),
+    volume: Res<VolumeState>,
     (mut loading, mut preview): (ResMut<Loading>, ResMut<PreviewSettings>),
     (ray_choices, inspect): (
         Option<ResMut<crate::sandbox::data::choices::RayChoices>>,
@@ -28,6 +60,7 @@ pub(super) fn set_up_scene(
         return;
     }
     preview.enabled = lessons.study.map_or(stage.preview, StudyRun::preview);
+    lessons.pending = None;
     let Mode::Level(l) = *mode.get() else { return };
     // The Ray data section starts afresh too (no ray mesh left over from another level).
     if let Some(mut c) = ray_choices {
@@ -47,13 +80,138 @@ pub(super) fn set_up_scene(
     }
     // The preview shows the picture: a cost view a level before asked for is not this one's.
     preview.cost_view = None;
-    if level.scene.volume != volume.source {
-        // The load brings the volume's defaults with it.
-        loading.start(level.scene.volume.clone());
-    } else {
+    if level.volume_source() == volume.source {
+        // Nothing to load: a load the player started before is not this level's.
         loading.cancel();
+    }
+    lessons.pending = Some(Pending::of_level(level));
+}
+
+/// Puts the waiting scene on screen: its data set loaded first (the load brings the data set's
+/// defaults), then — a frame after the volume or the mode changed, once the new volume is
+/// framed and the virtual camera spawned — its transfer function, settings, cameras and ray.
+/// A data set that cannot be loaded is said in the level's message and the rest is opened
+/// over the volume on screen.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn open_scene(
+    mode: Res<State<Mode>>,
+    mut lessons: ResMut<Lessons>,
+    stage: Res<Stage>,
+    (volume, mut render, mut loading): (Res<VolumeState>, ResMut<RenderState>, ResMut<Loading>),
+    mut main: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
+    mut cameras: Query<&mut VirtualCamera>,
+    mut selection: ResMut<RaySelection>,
+) {
+    let Some(pending) = lessons.pending.clone() else {
+        return;
+    };
+    let Mode::Level(l) = *mode.get() else {
+        lessons.pending = None;
+        return;
+    };
+    let Some(level) = lessons.levels.get(l).cloned() else {
+        lessons.pending = None;
+        return;
+    };
+    if let Some(name) = &pending.scene.volume {
+        let source = level.resolve(name);
+        if volume.source != source {
+            match loading.under_way() {
+                Some((loading_now, _)) if loading_now == source => {}
+                _ if !pending.asked => {
+                    loading.start(source);
+                    if let Some(p) = lessons.pending.as_mut() {
+                        p.asked = true;
+                    }
+                }
+                Some(_) => {}
+                None => {
+                    let why = loading.error.clone().unwrap_or_default();
+                    lessons.message = Some(format!(
+                        "This level's data set {source} could not be loaded ({why}); the \
+                         level goes on with the volume on screen."
+                    ));
+                    if let Some(p) = lessons.pending.as_mut() {
+                        p.scene.volume = None;
+                    }
+                }
+            }
+            return;
+        }
+    }
+    // The new volume (or mode) is framed this frame: place the cameras over it next frame.
+    if volume.is_changed() || mode.is_changed() || (stage.rays.is_some() && cameras.is_empty()) {
+        return;
+    }
+    if pending.fresh {
         reset_to_defaults(&volume.volume, &mut render);
         apply_level_preset(&level.scene, &mut render);
+    }
+    let scene = &pending.scene;
+    if let Some(choice) = &scene.transfer {
+        match transfer_of(choice) {
+            Some(t) => render.transfer = t,
+            None => {
+                lessons.message = Some(format!(
+                    "This level's transfer function {choice:?} is unknown"
+                ))
+            }
+        }
+    }
+    if let Some(changes) = &scene.settings {
+        match voxcast_core::preset::settings_written_over(&render.settings, changes) {
+            Ok(s) => render.settings = s,
+            Err(e) => lessons.message = Some(format!("This level's settings are refused: {e}")),
+        }
+    }
+    if let Some(place) = scene.camera
+        && let Ok((mut orbit, mut transform, mut view)) = main.single_mut()
+        && let Ok(camera) = camera_at(&place, &view.0)
+    {
+        *orbit = Orbit::looking_at(camera.eye, camera.target, camera.up);
+        *transform = orbit.transform();
+        view.0 = camera;
+    }
+    if let Some(place) = scene.virtual_camera
+        && let Ok(mut vc) = cameras.single_mut()
+    {
+        if let Ok(camera) = camera_at(&place, &vc.view) {
+            vc.view = camera;
+        }
+        if let Some([w, h]) = place.pixels {
+            (vc.width, vc.height) = (w, h);
+        }
+    }
+    if let Some([x, y]) = scene.ray {
+        selection.selected = Some(UVec2::new(x, y));
+    }
+    lessons.pending = None;
+}
+
+/// The camera `place` puts down, with the field of view of `now` unless it gives one.
+fn camera_at(
+    place: &voxcast_core::level::CameraPlace,
+    now: &voxcast_core::camera::Camera,
+) -> Result<voxcast_core::camera::Camera, voxcast_core::SettingsError> {
+    use voxcast_core::camera::{Camera, Projection};
+    let projection = match (place.fov_y_deg, now.projection) {
+        (Some(fov_y_deg), _) => Projection::Perspective { fov_y_deg },
+        (None, p) => p,
+    };
+    Camera::new(
+        Vec3::from(place.eye),
+        Vec3::from(place.target),
+        Vec3::from(place.up),
+        projection,
+    )
+}
+
+/// The transfer function `choice` names: written out, or a preset's (a file was read into the
+/// level when it was loaded).
+fn transfer_of(choice: &TransferChoice) -> Option<voxcast_core::transfer::TransferFunction> {
+    match choice {
+        TransferChoice::Inline(t) => Some(t.clone()),
+        TransferChoice::Named(name) => voxcast_core::preset::by_name(name).map(|p| p.transfer),
     }
 }
 
@@ -75,23 +233,5 @@ pub(super) fn apply_level_preset(
     }
     if scene.lecture_ray {
         render.settings = voxcast_core::worked::lecture_ray_settings(&render.settings);
-    }
-}
-
-/// A level's volume that has just loaded (with its defaults): the level's preset over them.
-pub(super) fn level_preset_after_load(
-    mode: Res<State<Mode>>,
-    lessons: Res<Lessons>,
-    volume: Res<VolumeState>,
-    mut render: ResMut<RenderState>,
-) {
-    if !volume.is_changed() || volume.is_added() {
-        return;
-    }
-    let Mode::Level(l) = *mode.get() else { return };
-    if let Some(level) = lessons.levels.get(l)
-        && level.scene.volume == volume.source
-    {
-        apply_level_preset(&level.scene, &mut render);
     }
 }

@@ -243,6 +243,7 @@ fn a_level_spawns_its_scene_and_everything_leaves_with_it() {
     send(&mut app, LevelCommand::Start(trilinear));
     until(&mut app, |a| {
         a.world().resource::<VolumeState>().source == "builtin:voxel"
+            && a.world().resource::<Lessons>().scene_ready()
             && !entities::<SampleSphere>(a).is_empty()
     });
     assert_eq!(mode(&app), Mode::Level(trilinear));
@@ -421,13 +422,15 @@ fn a_level_starts_from_its_volumes_defaults() {
         .resource_mut::<RenderState>()
         .settings
         .method = Method::Maximum;
-    // The rays level shows the volume already loaded: reset at once.
+    // The rays level shows the volume already loaded: reset once its scene opens, a frame
+    // after the mode changed (when the virtual camera stands).
     let rays = level(&app, "rays");
     assert_eq!(
         app.world().resource::<Lessons>().levels[rays].scene.volume,
         "builtin:bucky"
     );
     send(&mut app, LevelCommand::Start(rays));
+    until(&mut app, |a| a.world().resource::<Lessons>().scene_ready());
     let s = &app.world().resource::<RenderState>().settings;
     assert_eq!(s.method, Method::Accumulate);
     // Another volume: its load brings its defaults.
@@ -439,6 +442,7 @@ fn a_level_starts_from_its_volumes_defaults() {
     send(&mut app, LevelCommand::Start(sampling));
     until(&mut app, |a| {
         a.world().resource::<VolumeState>().source == "builtin:blobs"
+            && a.world().resource::<Lessons>().scene_ready()
     });
     let s = &app.world().resource::<RenderState>().settings;
     assert_eq!(s.method, Method::Accumulate);

@@ -6,9 +6,9 @@
 use crate::composite::Method;
 use serde::{Deserialize, Serialize};
 
-/// What the player must do to go on.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case", tag = "kind")]
+/// What the player must do to go on: its `kind`, and the fields that kind takes.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case", tag = "kind", deny_unknown_fields)]
 pub enum Objective {
     /// Only reading: Next is open at once.
     Read,
@@ -250,6 +250,61 @@ pub struct Situation {
     /// The situation when the step opened (its scene set up), for the objectives that ask for
     /// a change; `None` before the step's scene is ready.
     pub at_open: Option<Box<Situation>>,
+}
+
+impl Situation {
+    /// What the render settings and transfer function alone tell the objectives, for a volume
+    /// whose box is `lo..hi` with voxels `voxel` world units apart (the smallest spacing); the
+    /// rest (selection, windows, the preview, measurements) starts empty.
+    pub fn from_settings(
+        settings: &crate::settings::RenderSettings,
+        transfer: &crate::transfer::TransferFunction,
+        (lo, hi): (glam::Vec3, glam::Vec3),
+        voxel: f32,
+    ) -> Self {
+        use crate::shade::{Highlight, Light};
+        let lights = &settings.phong.lights;
+        let (centre, diagonal) = ((lo + hi) * 0.5, (hi - lo).length().max(f32::MIN_POSITIVE));
+        Situation {
+            method: Some(settings.method),
+            step_voxels: settings.step.voxels(voxel),
+            early_termination: settings.early_termination,
+            opacity_correction: settings.opacity_correction,
+            shading: settings.shading,
+            target: settings.target,
+            classification: classification_mode(&settings.classification),
+            regions: match &settings.classification {
+                crate::classify::Classification::ValueGradient { regions } => regions.clone(),
+                _ => Vec::new(),
+            },
+            transfer: Some(transfer.clone()),
+            light_inside_volume: lights.iter().any(
+                |l| matches!(l.light, Light::Point(p) if p.cmpge(lo).all() && p.cmple(hi).all()),
+            ),
+            back_to_front: settings.order == crate::composite::Order::BackToFront,
+            light_kinds: lights.iter().map(|l| l.light.kind_label()).collect(),
+            spot_ambient: lights
+                .iter()
+                .any(|l| matches!(l.light, Light::Spot(_)) && l.ambient > 0.0),
+            emission: settings.phong.ke,
+            ka: settings.phong.ka,
+            depth_cue: settings.phong.depth_cue,
+            light_colors: lights.iter().map(|l| l.color.to_array()).collect(),
+            light_distances: lights
+                .iter()
+                .map(|l| l.light.position().map(|p| p.distance(centre) / diagonal))
+                .collect(),
+            specular: settings.phong.model.name(),
+            attenuated: lights.iter().any(|l| l.attenuated()),
+            levoy_highlight: settings.phong.highlight == Highlight::Levoy,
+            jitter: settings.jitter,
+            trilinear: settings.interpolation == crate::sample::Interpolation::Trilinear,
+            supersampling: settings.supersampling,
+            clip: settings.clip.clone(),
+            skipping: settings.skipping,
+            ..Situation::default()
+        }
+    }
 }
 
 impl Objective {
