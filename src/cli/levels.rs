@@ -101,7 +101,7 @@ fn check_paths(paths: &[PathBuf]) -> Result<(), CliError> {
     }
     let files = checked.len() + unreadable.len();
     report.push_str(&format!(
-        "{files} file{}: {fine} fine, {errors} with errors (left out of the levels list), \
+        "{files} file{}: {fine} without a problem, {errors} with errors (left out of the levels list), \
          {warnings} warning{}\n",
         if files == 1 { "" } else { "s" },
         if warnings == 1 { "" } else { "s" },

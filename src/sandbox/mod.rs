@@ -130,6 +130,11 @@ pub struct SandboxArgs {
     /// the exit code says whether every objective behaved.
     #[arg(long, conflicts_with_all = ["screenshot", "compare", "measure_frames"])]
     pub play_levels: Option<PathBuf>,
+    /// Add the levels in this file, or in the .json files of this folder, to the levels list
+    /// (after the built-in ones); a file with errors is left out and said why (`voxcast
+    /// levels check PATH` prints every problem).
+    #[arg(long, value_name = "PATH", conflicts_with_all = ["screenshot", "compare"])]
+    pub levels: Option<PathBuf>,
     /// Start with this level (its id, as `voxcast answers` lists them, or its number in the
     /// levels list) as a study: played to its end with the preview off, then again with it on;
     /// each run's answers are kept with the run's name.
@@ -374,7 +379,10 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             auto_create_primary_context: false,
             ..default()
         })
-        .insert_resource(levels::Lessons::new(levels::ProgressStore::players()))
+        .insert_resource(
+            levels::Lessons::new(levels::ProgressStore::players())
+                .with_added(args.levels.as_deref().map(levels::added_from_path)),
+        )
         .add_plugins((
             (paint::plugin, pipelines::window_plugin),
             ui::plugin,
@@ -408,7 +416,9 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         })
         .add_systems(Startup, spawn_main_camera);
     if let Some(level) = &args.study {
-        let i = levels::level_named(level).map_err(CliError::usage)?;
+        let added = args.levels.as_deref().map(levels::added_from_path);
+        let all = levels::Lessons::new(levels::ProgressStore::Nowhere).with_added(added);
+        let i = levels::level_named(&all.levels, level).map_err(CliError::usage)?;
         app.insert_resource(levels::StartStudy(Some(i)))
             .add_systems(Update, levels::start_study);
     }
@@ -416,9 +426,10 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
         std::fs::create_dir_all(dir)
             .map_err(|e| CliError::failed(format!("{}: {}", dir.display(), io_words(&e))))?;
         app.insert_resource(bevy::winit::WinitSettings::continuous())
-            .insert_resource(levels::Lessons::new(levels::ProgressStore::File(
-                dir.join("progress.json"),
-            )))
+            .insert_resource(
+                levels::Lessons::new(levels::ProgressStore::File(dir.join("progress.json")))
+                    .with_added(args.levels.as_deref().map(levels::added_from_path)),
+            )
             .insert_resource(script::PlayLevels(dir.clone()))
             .add_plugins(script::plugin);
     }

@@ -114,6 +114,18 @@ impl Lessons {
         }
     }
 
+    /// With the levels a teacher `added` after the built-in ones (and what the sandbox says of
+    /// those left out).
+    pub fn with_added(mut self, added: Option<Added>) -> Self {
+        if let Some(added) = added {
+            self.levels.extend(added.levels);
+            if added.message.is_some() {
+                self.message = added.message;
+            }
+        }
+        self
+    }
+
     /// The step being played in `mode`.
     pub fn step_in(&self, mode: Mode) -> Option<&Step> {
         match mode {
@@ -343,9 +355,75 @@ pub fn start_study(mut start: ResMut<StartStudy>, mut commands: MessageWriter<Le
     }
 }
 
-/// The index of the level `name` names: its id, or its number in the list (from 1).
-pub fn level_named(name: &str) -> Result<usize, String> {
-    let levels = Level::all();
+/// Levels a teacher added (`--levels PATH`): those that read, and what the sandbox says of the
+/// rest.
+pub struct Added {
+    pub levels: Vec<Level>,
+    pub message: Option<String>,
+}
+
+/// The levels in the file or folder at `path`, read as `voxcast levels check` reads them; each
+/// file's problems printed on the terminal, and a line for the levels panel.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn added_from_path(path: &std::path::Path) -> Added {
+    use voxcast_core::level::check;
+    let found = match voxcast_core::level::files_at(path) {
+        Ok(found) => found,
+        Err(e) => {
+            eprintln!("error: --levels {e}");
+            return Added {
+                levels: Vec::new(),
+                message: Some(format!("No levels added: {e}")),
+            };
+        }
+    };
+    let mut texts = Vec::new();
+    let mut left_out = 0;
+    for (origin, text) in found {
+        match text {
+            Ok(text) => texts.push((origin, text)),
+            Err(e) => {
+                eprintln!("error: {}: {e}", origin.words());
+                left_out += 1;
+            }
+        }
+    }
+    let mut levels = Vec::new();
+    for (origin, checked) in check::read_all(&texts, &check::OnDisk) {
+        for p in &checked.problems {
+            eprintln!("{}: {p}", origin.words());
+        }
+        match checked.level {
+            Some(level) => levels.push(level),
+            None => left_out += 1,
+        }
+    }
+    let added = levels.len();
+    let message = (left_out > 0).then(|| {
+        format!(
+            "{added} level{} added from {}; {left_out} file{} left out for errors (voxcast              levels check {} says what they are)",
+            if added == 1 { "" } else { "s" },
+            path.display(),
+            if left_out == 1 { "" } else { "s" },
+            path.display()
+        )
+    });
+    Added { levels, message }
+}
+
+/// In a browser the page's loader fetches `?levels=URL` itself and hands the files over
+/// (`web/voxcast.js`), as it hands over files a student opens: nothing to read here.
+#[cfg(target_arch = "wasm32")]
+pub fn added_from_path(_: &std::path::Path) -> Added {
+    Added {
+        levels: Vec::new(),
+        message: None,
+    }
+}
+
+/// The index of the level `name` names among `levels`: its id, or its number in the list
+/// (from 1).
+pub fn level_named(levels: &[Level], name: &str) -> Result<usize, String> {
     let by_number = name
         .parse::<usize>()
         .ok()

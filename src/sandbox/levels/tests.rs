@@ -124,9 +124,14 @@ fn a_study_plays_the_level_with_the_preview_off_then_on() {
     let dir = std::env::temp_dir().join(format!("voxcast-study-{}", std::process::id()));
     let mut app = app(dir.join("progress.json"));
     let l = level(&app, "value-gradient");
-    assert_eq!(level_named("value-gradient"), Ok(l));
-    assert_eq!(level_named(&(l + 1).to_string()), Ok(l));
-    assert!(level_named("nope").unwrap_err().contains("value-gradient"));
+    let all = Level::all();
+    assert_eq!(level_named(&all, "value-gradient"), Ok(l));
+    assert_eq!(level_named(&all, &(l + 1).to_string()), Ok(l));
+    assert!(
+        level_named(&all, "nope")
+            .unwrap_err()
+            .contains("value-gradient")
+    );
     send(&mut app, LevelCommand::Study(l));
     until(&mut app, |a| {
         a.world().resource::<VolumeState>().source == "builtin:head"

@@ -186,6 +186,17 @@ const ANSWERS_FILE: &str = "voxcast_answers.csv";
 fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
     let mut chosen = None;
     for (i, level) in lessons.levels.iter().enumerate() {
+        let added = level.origin != voxcast_core::level::Origin::Embedded;
+        if added
+            && lessons.levels[..i]
+                .iter()
+                .all(|l| l.origin == voxcast_core::level::Origin::Embedded)
+        {
+            ui.label(egui::RichText::new("Added:").strong())
+                .on_hover_text(
+                    "Levels given to the sandbox from files (--levels, or opened on the page)",
+                );
+        }
         let done = lessons
             .progress
             .completed
@@ -197,10 +208,15 @@ fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
         let button = ui.button(format!("{mark} {}. {}", i + 1, level.title));
         if super::target(button, &format!("level {}", i + 1))
             .on_hover_text(format!(
-                "{} ({} of {} steps done)",
+                "{} ({} of {} steps done){}",
                 level.concept,
                 done.min(total),
-                total
+                total,
+                if added {
+                    format!(" · from {}", level.origin.words())
+                } else {
+                    String::new()
+                }
             ))
             .clicked()
         {
