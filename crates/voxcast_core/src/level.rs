@@ -15,7 +15,9 @@ mod schema;
 
 pub use file::{files_at, to_text};
 pub use objective::{Objective, RayDensityFacts, Situation, classification_mode, distinct_colours};
-pub use progress::{Answer, Progress, StudyRun, players_progress_path, utc_time};
+pub use progress::{
+    Answer, CSV_HEADER, Progress, StudyRun, now_seconds, players_progress_path, utc_time,
+};
 pub use scene::{CameraPlace, Origin, StepScene, TransferChoice};
 pub use schema::{SCHEMA_FILE, schema, schema_text};
 

@@ -307,14 +307,14 @@ fn drive(
                 send.write(LevelCommand::FreePlay);
                 return;
             }
-            act(&step.objective, &mut hands, &mut lessons);
+            act(run.level, &step.objective, &mut hands, &mut lessons);
         }
     }
 }
 
-/// Does what the objective asks, through the state the step's control edits. Called every
-/// frame until the objective is met (each action is idempotent).
-fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
+/// Does what the objective asks of level `level`'s current step, through the state the step's
+/// control edits. Called every frame until the objective is met (each action is idempotent).
+fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
     let s = &mut hands.render.settings;
     let (lo, hi) = hands.volume.volume.bounds();
     let centre = (lo + hi) * 0.5;
@@ -322,7 +322,7 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
         Objective::Read => {}
         Objective::All { of } => {
             for o in of {
-                act(o, hands, lessons);
+                act(level, o, hands, lessons);
             }
         }
         Objective::StepMoved => {
@@ -509,15 +509,22 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
             }
         }
         Objective::LightInsideVolume => first_light(s).light = Light::Point(centre),
-        Objective::PredictValue { .. } => {
-            // The player works the lecture's formula out; here the core's answer is typed.
-            if let Some(d) = &lessons.detail {
-                lessons.prediction = d.value.to_string();
-            }
-        }
-        Objective::PredictComposite { .. } => {
-            if let Some(last) = lessons.composite.as_ref().and_then(|rows| rows.last()) {
-                lessons.prediction = last.after[0].to_string();
+        Objective::PredictValue { .. } | Objective::PredictComposite { .. } => {
+            // The player works the lecture's formula out; here the core's answer is typed and
+            // checked, once (a try is kept for each Check).
+            let answer = match objective {
+                Objective::PredictValue { .. } => lessons.detail.as_ref().map(|d| d.value),
+                _ => lessons
+                    .composite
+                    .as_ref()
+                    .and_then(|rows| rows.last())
+                    .map(|r| r.after[0]),
+            };
+            if let Some(v) = answer
+                && lessons.tried.is_none()
+            {
+                lessons.prediction = v.to_string();
+                lessons.submit_prediction(level);
             }
         }
         Objective::BackToFront { on } => {
@@ -651,14 +658,8 @@ fn act(objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
                 compute_density(hands, "builtin:cornell", Some(*trace), 0);
                 return;
             };
-            let level = lessons
-                .levels
-                .iter()
-                .position(|l| l.steps.iter().any(|s| s.objective == *objective));
-            if let Some(l) = level
-                && let Some(truth) = crate::sandbox::levels::study_truth(&shown, q)
-            {
-                lessons.answer_study(l, (*trace, question), &truth, &truth);
+            if let Some(truth) = crate::sandbox::levels::study_truth(&shown, q) {
+                lessons.answer_study(level, (*trace, question), &truth, &truth);
             }
         }
     }

@@ -26,7 +26,7 @@ use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use std::path::PathBuf;
 use voxcast_core::level::{
-    Answer, Control, Level, Objective, Progress, Section, Situation, Step, StudyRun,
+    Answer, Control, Level, Objective, Progress, Section, Situation, Step, StudyRun, now_seconds,
 };
 use voxcast_core::sample::{Interpolation, SampleDetail, detail_at};
 
@@ -40,8 +40,14 @@ pub struct Lessons {
     /// Where progress is kept.
     store: ProgressStore,
     pub message: Option<String>,
-    /// What the player typed as a prediction.
+    /// What the player is typing as a prediction (judged only when submitted).
     pub prediction: String,
+    /// The last prediction submitted in this step (Check, or Enter in the field): what the
+    /// objective judges and the hint speaks of.
+    pub tried: Option<f32>,
+    /// When the current step opened, in seconds since 1970 (each answer keeps how long after
+    /// it was given).
+    opened_at: f64,
     /// The effect (trace id) the player named.
     pub named_effect: Option<u32>,
     /// Whether the current step's objective is met (checked every frame; once met it stays
@@ -73,6 +79,24 @@ pub struct Lessons {
     pending: Option<Pending>,
 }
 
+/// What the panels hide while a prediction is open: the values at these points (voxel
+/// coordinates; and what follows from them: a sample's colour and opacity), and with
+/// `composite` the ray's running colour and opacity.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Hidden {
+    pub points: Vec<[f32; 3]>,
+    pub composite: bool,
+}
+
+impl Hidden {
+    /// Whether the sample at `p_voxel` is one whose value is asked for.
+    pub fn hides_sample(&self, p_voxel: [f32; 3]) -> bool {
+        self.points
+            .iter()
+            .any(|q| (0..3).all(|a| (q[a] - p_voxel[a]).abs() <= 1e-3))
+    }
+}
+
 /// What the Levels panel asks for (a scripted run sends the same).
 #[derive(Message, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LevelCommand {
@@ -100,6 +124,8 @@ impl Lessons {
             store,
             message,
             prediction: String::new(),
+            tried: None,
+            opened_at: now_seconds(),
             named_effect: None,
             met: false,
             spot: None,
@@ -158,36 +184,85 @@ impl Lessons {
         }
     }
 
-    /// Records the current step of level `l` as done, with its answer where it asked for one
-    /// (the prediction it was done with), and saves.
+    /// Records the current step of level `l` as done, and saves (its answers were kept as
+    /// they were given).
     fn record(&mut self, l: usize) {
         let id = self.levels[l].id.clone();
-        let step = self.levels[l]
-            .steps
-            .get(self.step)
-            .map(|s| s.objective.clone());
-        let truth = prediction_truth(self.detail.as_ref(), self.composite.as_deref());
-        let question = match step {
-            Some(Objective::PredictValue { point, .. }) => Some(format!(
-                "the value at ({}, {}, {})",
-                point[0], point[1], point[2]
-            )),
-            Some(Objective::PredictComposite { .. }) => {
-                Some("the red of C after the last point".to_string())
-            }
-            _ => None,
-        };
-        if let (Some(question), Some(truth)) = (question, truth) {
-            let answer = (
-                self.prediction.trim().to_string(),
-                voxcast_core::numbers::sig(truth),
-                true,
-            );
-            let a = Answer::now(&id, self.step + 1, question, answer);
-            self.keep(a);
-        }
         self.progress.record(&id, self.step + 1);
         self.save();
+    }
+
+    /// What the panels hide in `mode`: the answers of a prediction step until it is done.
+    pub fn hidden(&self, mode: Mode) -> Option<Hidden> {
+        if self.met {
+            return None;
+        }
+        let step = self.step_in(mode)?;
+        let mut hidden = Hidden::default();
+        for o in step.objective.parts() {
+            match o {
+                Objective::PredictValue { point, .. } => hidden.points.push(*point),
+                Objective::PredictComposite { .. } => hidden.composite = true,
+                _ => {}
+            }
+        }
+        (hidden != Hidden::default()).then_some(hidden)
+    }
+
+    /// How many answers the current step of level `l` has kept so far (in this run).
+    pub fn tries_here(&self, l: usize) -> usize {
+        let run = self.study.map(|r| r.words().to_string());
+        self.progress
+            .answers
+            .iter()
+            .filter(|a| a.level == self.levels[l].id && a.step == self.step + 1 && a.run == run)
+            .count()
+    }
+
+    /// Submits the typed prediction of the current step of level `l`: judged against the
+    /// code's answer and kept as a try, right or wrong, with its time; a text that is no
+    /// number is refused with a hint and kept as nothing. Returns whether it was right.
+    pub fn submit_prediction(&mut self, l: usize) -> Option<bool> {
+        let typed = self.prediction.trim().to_string();
+        let value = match parse_typed(&typed) {
+            Ok(v) if v.is_finite() => v,
+            _ => {
+                self.message = Some(format!(
+                    "“{typed}” is not a number: type one, like 4.75 (a decimal comma works too)"
+                ));
+                return None;
+            }
+        };
+        let truth = prediction_truth(self.detail.as_ref(), self.composite.as_deref())?;
+        let tolerance = self.levels[l]
+            .steps
+            .get(self.step)?
+            .objective
+            .parts()
+            .into_iter()
+            .find_map(|o| match o {
+                Objective::PredictValue { tolerance, .. }
+                | Objective::PredictComposite { tolerance, .. } => Some(*tolerance),
+                _ => None,
+            })?;
+        let question = match self.levels[l].steps.get(self.step).map(|s| &s.objective) {
+            Some(Objective::PredictValue { point, .. }) => {
+                format!("the value at ({}, {}, {})", point[0], point[1], point[2])
+            }
+            _ => "the red of C after the last point".to_string(),
+        };
+        let correct = (value - truth).abs() <= tolerance;
+        let a = Answer::now(
+            &self.levels[l].id,
+            self.step + 1,
+            question,
+            (typed, voxcast_core::numbers::sig(truth), correct),
+        );
+        self.keep(a);
+        self.tried = Some(value);
+        self.message = None;
+        self.save();
+        Some(correct)
     }
 
     /// Names effect `chosen` as the one that cast trace `trace` (step of level `l`): kept as an
@@ -238,9 +313,18 @@ impl Lessons {
         })
     }
 
-    /// Keeps an answer, with the study's run where one is under way.
+    /// Keeps an answer, with the study's run where one is under way, which try of its
+    /// question it is, and how long after the step opened it came.
     fn keep(&mut self, mut a: Answer) {
         a.run = self.study.map(|r| r.words().to_string());
+        let earlier = self
+            .progress
+            .answers
+            .iter()
+            .filter(|b| b.level == a.level && b.step == a.step && b.run == a.run)
+            .count();
+        a.attempt = Some(earlier as u32 + 1);
+        a.seconds = Some(((now_seconds() - self.opened_at).max(0.0) * 10.0).round() / 10.0);
         self.progress.answers.push(a);
     }
 
@@ -339,6 +423,8 @@ fn apply_commands(
             }
         }
         lessons.prediction.clear();
+        lessons.tried = None;
+        lessons.opened_at = now_seconds();
         lessons.named_effect = None;
         lessons.studied = None;
     }

@@ -89,10 +89,11 @@ pub(crate) fn check_objective(
             (&comparison, views.single().ok()),
             (&trade, preview.as_deref(), inspect.as_deref()),
         );
+        // Only a submitted prediction is judged, never one half typed.
         let truth = prediction_truth(detail.as_ref(), composite.as_deref());
-        if let (Some(truth), Ok(typed)) = (truth, parse_typed(&lessons.prediction)) {
-            sit.prediction = Some((typed, truth));
-        }
+        sit.prediction = truth
+            .zip(lessons.tried)
+            .map(|(truth, tried)| (tried, truth));
         let shown = rays.as_ref().and_then(|r| r.on_show(&volume));
         sit.ray_density = shown.map(|s| s.computed.facts.clone());
         if shown.is_some() {

@@ -82,33 +82,61 @@ fn answers_are_kept_with_the_progress() {
         a.world().resource::<VolumeState>().source == "builtin:voxel"
     });
     send(&mut app, LevelCommand::Next); // step 1 is read
+    until(&mut app, |a| {
+        a.world().resource::<Lessons>().detail.is_some()
+    });
+    // Typed, not judged; a wrong try is kept and does not meet the step; the right one does.
     app.world_mut().resource_mut::<Lessons>().prediction = "4,99".into();
+    app.update();
+    assert!(
+        !app.world().resource::<Lessons>().met,
+        "typed is not submitted"
+    );
+    app.world_mut().resource_mut::<Lessons>().prediction = "5.2".into();
+    assert_eq!(
+        app.world_mut()
+            .resource_mut::<Lessons>()
+            .submit_prediction(trilinear),
+        Some(false)
+    );
+    app.update();
+    assert!(!app.world().resource::<Lessons>().met, "a wrong try");
+    app.world_mut().resource_mut::<Lessons>().prediction = "4,99".into();
+    app.world_mut()
+        .resource_mut::<Lessons>()
+        .submit_prediction(trilinear);
     until(&mut app, |a| a.world().resource::<Lessons>().met);
     send(&mut app, LevelCommand::Next);
     let lessons = app.world().resource::<Lessons>();
-    let [a] = &lessons.progress.answers[..] else {
+    let [wrong, right] = &lessons.progress.answers[..] else {
         panic!("{:?}", lessons.progress.answers)
     };
-    assert_eq!((a.level.as_str(), a.step), ("trilinear", 2));
-    assert_eq!(a.question, "the value at (0.5, 0.5, 0.5)");
+    assert_eq!((right.level.as_str(), right.step), ("trilinear", 2));
+    assert_eq!(right.question, "the value at (0.5, 0.5, 0.5)");
     assert_eq!(
-        (a.answer.as_str(), a.expected.as_str(), a.correct),
+        (
+            right.answer.as_str(),
+            right.expected.as_str(),
+            right.correct
+        ),
         ("4,99", "4.988", true)
     );
+    assert_eq!((wrong.answer.as_str(), wrong.correct), ("5.2", false));
+    assert_eq!((wrong.attempt, right.attempt), (Some(1), Some(2)));
     // Naming an effect: a wrong choice and the right one, both kept.
     let mut lessons = app.world_mut().resource_mut::<Lessons>();
     lessons.name_effect(trilinear, 2, 1);
     lessons.name_effect(trilinear, 1, 1);
     let kept = &lessons.progress.answers;
-    assert_eq!(kept.len(), 3);
-    assert!(!kept[1].correct && kept[2].correct);
-    assert_eq!(kept[1].answer, "reflection rays");
-    assert_eq!(kept[1].expected, "primary rays");
+    assert_eq!(kept.len(), 4);
+    assert!(!kept[2].correct && kept[3].correct);
+    assert_eq!(kept[2].answer, "reflection rays");
+    assert_eq!(kept[2].expected, "primary rays");
     let (saved, _) = Progress::load(&path);
     assert_eq!(&saved.answers, kept);
     let csv = saved.answers_csv();
-    assert_eq!(csv.lines().count(), 4, "{csv}");
-    let first = csv.lines().nth(1).unwrap();
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    let first = csv.lines().nth(2).unwrap();
     let quoted = "trilinear,2,\"the value at (0.5, 0.5, 0.5)\",\"4,99\",4.988,yes,";
     assert!(first.starts_with(quoted), "{csv}");
     std::fs::remove_dir_all(&dir).unwrap();

@@ -37,7 +37,10 @@ pub(super) fn breakdown_panel(
     mut contexts: EguiContexts,
     (mut state, mut export_state): (ResMut<BreakdownState>, ResMut<ExportState>),
     mut selection: ResMut<RaySelection>,
-    lessons: Res<crate::sandbox::levels::Lessons>,
+    (lessons, mode): (
+        Res<crate::sandbox::levels::Lessons>,
+        Res<State<crate::sandbox::shared::mode::Mode>>,
+    ),
     (mut dock, layout): (ResMut<super::Dock>, Res<super::layout::Layout>),
 ) -> Result {
     let Some(pixel) = selection.selected else {
@@ -49,6 +52,8 @@ pub(super) fn breakdown_panel(
     }
     let export_state = &mut *export_state;
     let spot = lessons.spot;
+    // A prediction open in a level: its answer is not shown until the step is done.
+    let hidden = lessons.hidden(*mode.get());
     let ctx = contexts.ctx_mut()?;
     let mut open = true;
     let state = &mut *state;
@@ -83,22 +88,31 @@ pub(super) fn breakdown_panel(
                             ui.label("This ray cannot be traced with the current settings.");
                             return;
                         };
-                        summary(ui, trace);
+                        let hidden = hidden.as_ref();
+                        summary(ui, trace, hidden.is_some());
                         ui.separator();
-                        formula(ui, trace, state.opened);
+                        match hidden {
+                            Some(_) => {
+                                ui.colored_label(Color32::YELLOW, HIDDEN_WORDS);
+                            }
+                            None => formula(ui, trace, state.opened),
+                        }
                         ui.separator();
                         let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
-                            sample_table(ui, trace, state.opened)
+                            sample_table(ui, trace, state.opened, hidden)
                         });
                         if opened != state.opened {
                             state.opened = opened;
                         }
                         if let Some(s) = state.opened.and_then(|k| trace.samples.get(k)) {
                             ui.separator();
-                            sample_detail(ui, s);
+                            let secret = hidden.is_some_and(|h| h.hides_sample(s.p_voxel));
+                            sample_detail(ui, s, secret);
                         }
                         ui.separator();
-                        export(ui, trace, &mut export_state.path, &mut export_state.message);
+                        if hidden.is_none() {
+                            export(ui, trace, &mut export_state.path, &mut export_state.message);
+                        }
                     });
             });
     });
@@ -107,6 +121,13 @@ pub(super) fn breakdown_panel(
     }
     Ok(())
 }
+
+/// What stands where a prediction's answer would: the level asks for it first.
+const HIDDEN_WORDS: &str = "The numbers your prediction asks for are hidden until you check \
+    it in the levels panel (the formula, the running colour and the export come back then).";
+
+/// What a hidden number shows.
+const SECRET: &str = "?";
 
 /// A 3-vector rounded for reading (`voxcast_core::numbers`).
 fn v3(v: [f32; 3]) -> String {
@@ -128,7 +149,7 @@ fn vec(ui: &mut egui::Ui, v: [f32; 3]) {
     ui.label(v3(v)).on_hover_text(v3_full(v));
 }
 
-fn summary(ui: &mut egui::Ui, t: &RayTrace) {
+fn summary(ui: &mut egui::Ui, t: &RayTrace, secret: bool) {
     ui.label(format!(
         "origin {}  direction {}  method {}",
         v3(t.origin),
@@ -152,6 +173,13 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace) {
     if let Some(cut) = t.cut_words() {
         ui.label(format!("Looking inside: {cut}."));
     }
+    if secret {
+        ui.label(format!(
+            "stopped: {} · C = {SECRET} · O = {SECRET}",
+            t.stop.words()
+        ));
+        return;
+    }
     ui.horizontal(|ui| {
         ui.label(format!(
             "stopped: {} · C = {} · O = {} · pixel",
@@ -172,8 +200,15 @@ fn formula(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) {
     ui.label(egui::RichText::new(text).monospace());
 }
 
-/// One row per sample; clicking a row opens it. Returns the opened sample.
-fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Option<usize> {
+/// One row per sample; clicking a row opens it. Returns the opened sample. What `hidden`
+/// asks for shows as "?": an asked-for sample's value and what follows from it, and the
+/// running colour while the composite is asked for.
+fn sample_table(
+    ui: &mut egui::Ui,
+    t: &RayTrace,
+    opened: Option<usize>,
+    hidden: Option<&crate::sandbox::levels::Hidden>,
+) -> Option<usize> {
     let mut opened = opened;
     egui::ScrollArea::both()
         .max_height(220.0)
@@ -201,23 +236,21 @@ fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Optio
                     }
                     num(ui, s.t);
                     vec(ui, s.p_world);
-                    num(ui, s.reconstruction.value);
-                    ui.horizontal(|ui| {
-                        let (rect, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
-                        ui.painter().rect_filled(
-                            rect,
-                            1.0,
-                            color32([s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2]]),
-                        );
-                        let [r, g, b, a] = s.tf_rgba;
-                        ui.label(format!("{} {} {} {}", sig(r), sig(g), sig(b), sig(a)))
-                            .on_hover_text(format!("{r} {g} {b} {a}"));
-                    });
-                    num(ui, s.alpha);
-                    num(ui, s.alpha_corrected);
-                    let c = s.composite_after;
-                    vec(ui, [c[0], c[1], c[2]]);
-                    num(ui, c[3]);
+                    if hidden.is_some_and(|h| h.hides_sample(s.p_voxel)) {
+                        for _ in 0..4 {
+                            ui.label(SECRET);
+                        }
+                    } else {
+                        sample_values(ui, s);
+                    }
+                    if hidden.is_some_and(|h| h.composite) {
+                        ui.label(SECRET);
+                        ui.label(SECRET);
+                    } else {
+                        let c = s.composite_after;
+                        vec(ui, [c[0], c[1], c[2]]);
+                        num(ui, c[3]);
+                    }
                     ui.end_row();
                 }
                 ui.strong("end");
@@ -228,8 +261,27 @@ fn sample_table(ui: &mut egui::Ui, t: &RayTrace, opened: Option<usize>) -> Optio
     opened
 }
 
+/// A sample's value, its colour and opacity from the transfer function, and the opacity
+/// corrected for the step.
+fn sample_values(ui: &mut egui::Ui, s: &SampleRecord) {
+    num(ui, s.reconstruction.value);
+    ui.horizontal(|ui| {
+        let (rect, _) = ui.allocate_exact_size(vec2(10.0, 10.0), Sense::hover());
+        ui.painter().rect_filled(
+            rect,
+            1.0,
+            color32([s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2]]),
+        );
+        let [r, g, b, a] = s.tf_rgba;
+        ui.label(format!("{} {} {} {}", sig(r), sig(g), sig(b), sig(a)))
+            .on_hover_text(format!("{r} {g} {b} {a}"));
+    });
+    num(ui, s.alpha);
+    num(ui, s.alpha_corrected);
+}
+
 /// The opened sample: its 8 corners, weights and the interpolation, and its shading.
-fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
+fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord, secret: bool) {
     let r = &s.reconstruction;
     ui.label(format!(
         "sample {} at voxel {}; position in the cell (fx, fy, fz) = {}",
@@ -262,10 +314,20 @@ fn sample_detail(ui: &mut egui::Ui, s: &SampleRecord) {
             ui.label(format!("({}, {}, {})", c[0], c[1], c[2]));
             num(ui, r.values[i]);
             num(ui, r.weights[i]);
-            num(ui, r.weights[i] * r.values[i]);
+            if secret {
+                ui.label(SECRET);
+            } else {
+                num(ui, r.weights[i] * r.values[i]);
+            }
             ui.end_row();
         }
     });
+    if secret {
+        ui.label(format!(
+            "interpolated value Σ weight × value = {SECRET}: the value your prediction asks for"
+        ));
+        return;
+    }
     ui.label(format!(
         "interpolated value Σ weight × value = {} (the renderer's value: {})",
         sig((0..8).map(|i| r.weights[i] * r.values[i]).sum::<f32>()),
@@ -357,12 +419,19 @@ mod tests {
                 (r.settings.method, r.settings.order, r.settings.shading) = (method, order, true);
                 let t = pixel_trace(&volume, &r, &vc, UVec2::new(2, 2)).unwrap();
                 let opened = t.samples.len().checked_sub(1);
+                let hidden = crate::sandbox::levels::Hidden {
+                    points: vec![],
+                    composite: true,
+                };
                 let missing = super::super::missing_glyphs(|ui| {
-                    summary(ui, &t);
+                    summary(ui, &t, false);
                     formula(ui, &t, opened);
-                    sample_table(ui, &t, opened);
+                    sample_table(ui, &t, opened, None);
+                    ui.push_id("hidden", |ui| sample_table(ui, &t, opened, Some(&hidden)));
+                    ui.label(HIDDEN_WORDS);
                     if let Some(s) = opened.and_then(|k| t.samples.get(k)) {
-                        sample_detail(ui, s);
+                        sample_detail(ui, s, false);
+                        ui.push_id("hidden", |ui| sample_detail(ui, s, true));
                     }
                 });
                 assert!(
@@ -398,5 +467,74 @@ mod tests {
         }
         assert!(save(&shown, dir.join("no/dir/ray").to_str().unwrap(), "json").is_err());
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// While the trilinear level asks for P2's value, the breakdown of the lecture's ray
+    /// shows "?" for it (and for what follows from it) and keeps the other samples; while it
+    /// asks for the composite, the running colour goes; the formula and the export wait.
+    #[test]
+    fn a_prediction_s_answer_is_hidden_until_it_is_checked() {
+        use crate::sandbox::levels::Hidden;
+        let v = voxcast_core::Prepared::from(voxcast_core::builtin::worked_voxel());
+        let tf = voxcast_core::preset::for_volume("voxel").unwrap().transfer;
+        let mut s = voxcast_core::worked::lecture_ray_settings(&Default::default());
+        s.order = voxcast_core::composite::Order::BackToFront;
+        let cam = voxcast_core::worked::lecture_ray();
+        let ray = cam.ray(0.5, 0.5, 1, 1);
+        let scene = voxcast_core::trace::Scene::new(&v, &tf, &s, ray.dir).unwrap();
+        let t = voxcast_core::trace::trace_ray(&scene, &ray, [0, 0]);
+        let at = |p: [f32; 3]| {
+            t.samples
+                .iter()
+                .position(|s| {
+                    Hidden {
+                        points: vec![p],
+                        composite: false,
+                    }
+                    .hides_sample(s.p_voxel)
+                })
+                .unwrap()
+        };
+        let (p2, p1) = (at([0.5, 0.5, 0.5]), at([0.2, 0.3, 0.8]));
+        let value = |k: usize| sig(t.samples[k].reconstruction.value);
+        let table = |hidden: Option<&Hidden>| {
+            crate::sandbox::ui::drawn_text(|ui| {
+                sample_table(ui, &t, None, hidden);
+            })
+            .0
+        };
+        let shown = table(None);
+        assert!(
+            shown.contains(&value(p2)) && shown.contains(&value(p1)),
+            "{shown}"
+        );
+        let h = Hidden {
+            points: vec![[0.5, 0.5, 0.5]],
+            composite: false,
+        };
+        let text = table(Some(&h));
+        assert!(
+            !text.lines().any(|l| l == value(p2)),
+            "P2's value shows: {text}"
+        );
+        assert!(text.contains(&value(p1)), "P1's stays");
+        assert_eq!(text.lines().filter(|l| *l == SECRET).count(), 4);
+        let red = sig(t.color[0]);
+        assert!(shown.contains(&red));
+        let h = Hidden {
+            points: vec![],
+            composite: true,
+        };
+        let text = table(Some(&h));
+        assert_eq!(
+            text.lines().filter(|l| *l == SECRET).count(),
+            2 * t.samples.len()
+        );
+        assert!(text.contains(&value(p2)));
+        let (detail, _) =
+            crate::sandbox::ui::drawn_text(|ui| sample_detail(ui, &t.samples[p2], true));
+        assert!(!detail.contains(&value(p2)), "{detail}");
+        let (summary_text, _) = crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, true));
+        assert!(!summary_text.contains(&red), "{summary_text}");
     }
 }

@@ -272,11 +272,8 @@ fn level_step(
     let met = lessons.met;
     let reading = step.objective == Objective::Read;
     if let Some(d) = lessons.detail.clone() {
-        ui.horizontal(|ui| {
-            ui.label("your value:");
-            ui.text_edit_singleline(&mut lessons.prediction);
-        });
-        if !met && let Some(hint) = prediction_hint(&lessons.prediction, &d) {
+        prediction_field(ui, lessons, l, "your value:", met);
+        if !met && let Some(hint) = lessons.tried.and_then(|v| prediction_hint(v, &d)) {
             ui.colored_label(egui::Color32::YELLOW, hint);
         }
         if met {
@@ -306,11 +303,8 @@ fn level_step(
         }
     }
     if let Some(rows) = lessons.composite.clone() {
-        ui.horizontal(|ui| {
-            ui.label("your red component:");
-            ui.text_edit_singleline(&mut lessons.prediction);
-        });
-        if !met && let Some(hint) = composite_hint(&lessons.prediction, &rows) {
+        prediction_field(ui, lessons, l, "your red component:", met);
+        if !met && let Some(hint) = lessons.tried.and_then(|v| composite_hint(v, &rows)) {
             ui.colored_label(egui::Color32::YELLOW, hint);
         }
         if met {
@@ -425,60 +419,76 @@ fn study_question(
     }
 }
 
-/// A typed prediction judged against `truth`: `None` while nothing is typed; else the number
-/// and whether it is too high or too low, or (`Err`) why it is no number, with `example`.
-fn judged(typed: &str, truth: f32, example: &str) -> Option<Result<(f32, &'static str), String>> {
-    let typed = typed.trim();
-    if typed.is_empty() {
-        return None;
-    }
-    Some(match crate::sandbox::levels::parse_typed(typed) {
-        Ok(v) => Ok((v, if v > truth { "too high" } else { "too low" })),
-        Err(_) => Err(format!(
-            "“{typed}” is not a number: type one, like {example}"
-        )),
-    })
+/// The field a prediction is typed into, and Check: Enter in the field or the button submits
+/// it (judged and kept as a try); nothing is judged while it is typed.
+fn prediction_field(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize, label: &str, met: bool) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        let field = ui.add_enabled(!met, egui::TextEdit::singleline(&mut lessons.prediction));
+        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+        let typed = !lessons.prediction.trim().is_empty();
+        let check = ui
+            .add_enabled(typed && !met, egui::Button::new("Check"))
+            .on_hover_text(
+                "Judge this answer (Enter does the same). Every try is kept with its time for \
+                 your teacher, and the first one counts: work it out before you check.",
+            )
+            .on_disabled_hover_text(if met {
+                "Done: your answer was right"
+            } else {
+                "Type a number first"
+            });
+        if (super::target(check, "check").clicked() || entered && typed) && !met {
+            lessons.submit_prediction(l);
+        }
+        let tries = lessons.tries_here(l);
+        if tries > 0 {
+            ui.label(format!(
+                "{tries} tr{} so far",
+                if tries == 1 { "y" } else { "ies" }
+            ));
+        }
+    });
 }
 
-/// For a typed prediction that is not right yet: too high or too low, and how to get there.
-/// `None` while nothing is typed.
-pub(super) fn prediction_hint(typed: &str, d: &SampleDetail) -> Option<String> {
-    let (v, side) = match judged(typed, d.value, "12.5")? {
-        Ok(judged) => judged,
-        Err(why) => return Some(why),
-    };
+/// A submitted prediction judged against `truth`: too high or too low (`None`: right).
+fn side(tried: f32, truth: f32) -> &'static str {
+    if tried > truth { "too high" } else { "too low" }
+}
+
+/// For a submitted prediction that is not right: too high or too low, and how to get there.
+pub(super) fn prediction_hint(tried: f32, d: &SampleDetail) -> Option<String> {
     let [fx, fy, fz] = d.frac;
     Some(format!(
-        "Not yet: {} is {side}. The point sits at ({}, {}, {}) inside its cell; each corner's \
-         weight is the product, per axis, of that fraction (towards the corner) or 1 minus it, \
-         and the value is the sum of weight × value over the 8 corners.",
-        sig(v),
+        "Not yet: your try, {}, is {}. The point sits at ({}, {}, {}) inside its cell; each \
+         corner's weight is the product, per axis, of that fraction (towards the corner) or 1 \
+         minus it, and the value is the sum of weight × value over the 8 corners.",
+        sig(tried),
+        side(tried, d.value),
         sig(fx),
         sig(fy),
         sig(fz)
     ))
 }
 
-/// For a typed composite that is not right yet: too high or too low, the values the points
+/// For a submitted composite that is not right: too high or too low, the values the points
 /// hold (the earlier steps' answers) and the formula to apply in turn.
 pub(super) fn composite_hint(
-    typed: &str,
+    tried: f32,
     rows: &[voxcast_core::worked::WorkedPoint],
 ) -> Option<String> {
-    let (v, side) = match judged(typed, rows.last()?.after[0], "0.25")? {
-        Ok(judged) => judged,
-        Err(why) => return Some(why),
-    };
+    let truth = rows.last()?.after[0];
     let values: Vec<String> = rows
         .iter()
         .enumerate()
         .map(|(i, r)| format!("P{} = {}", i + 1, sig(r.value)))
         .collect();
     Some(format!(
-        "Not yet: {} is {side}. The points hold {}; read each one's colour and opacity off the \
-         ramp, then from C = 0 apply C_out = C_in·(1 − α) + c·α for P1, P2 and P3 in turn \
-         (red only).",
-        sig(v),
+        "Not yet: your try, {}, is {}. The points hold {}; read each one's colour and opacity \
+         off the ramp, then from C = 0 apply C_out = C_in·(1 − α) + c·α for P1, P2 and P3 in \
+         turn (red only).",
+        sig(tried),
+        side(tried, truth),
         values.join(", ")
     ))
 }

@@ -5,6 +5,10 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// The answers' CSV header: what the levels panel's Export and `voxcast answers` write.
+pub const CSV_HEADER: &str =
+    "level,step,question,answer,expected,correct,time (UTC),run,try,seconds";
+
 /// Steps completed per level id, and the answers given, for the player and their teacher.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Progress {
@@ -44,6 +48,13 @@ pub struct Answer {
     /// In a study, which run ([`StudyRun::words`]); `None` outside one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub run: Option<String>,
+    /// Which try at this step it was, from 1 (`None` in progress kept before tries were
+    /// counted).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub attempt: Option<u32>,
+    /// Seconds from the step's opening to this answer (`None` in older progress).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seconds: Option<f64>,
 }
 
 /// The runs of a study: a level played twice, first with the preview off, then with it on,
@@ -105,8 +116,17 @@ impl Answer {
             correct,
             at,
             run: None,
+            attempt: None,
+            seconds: None,
         }
     }
+}
+
+/// Now, in seconds since 1970-01-01 UTC with fractions (the browser's clock on the page).
+pub fn now_seconds() -> f64 {
+    web_time::SystemTime::now()
+        .duration_since(web_time::UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
 }
 
 /// `seconds` since 1970-01-01 as an ISO 8601 UTC time, `2026-12-04T09:53:47Z`.
@@ -185,7 +205,8 @@ impl Progress {
         *done = (*done).max(steps);
     }
 
-    /// The answers as CSV, one row an answer in the order given, for a teacher's spreadsheet.
+    /// The answers as CSV, one row an answer in the order given, for a teacher's spreadsheet:
+    /// [`CSV_HEADER`]'s columns (files from before `try` and `seconds` were kept end at `run`).
     pub fn answers_csv(&self) -> String {
         let field = |s: &str| {
             if s.contains([',', '"', '\n']) {
@@ -194,7 +215,8 @@ impl Progress {
                 s.to_string()
             }
         };
-        let mut out = String::from("level,step,question,answer,expected,correct,time (UTC),run\n");
+        let mut out = String::from(CSV_HEADER);
+        out.push('\n');
         for a in &self.answers {
             out += &[
                 field(&a.level),
@@ -204,7 +226,9 @@ impl Progress {
                 field(&a.expected),
                 if a.correct { "yes" } else { "no" }.to_string(),
                 utc_time(a.at),
-                a.run.as_deref().unwrap_or("").to_string(),
+                a.run.as_deref().map(field).unwrap_or_default(),
+                a.attempt.map(|n| n.to_string()).unwrap_or_default(),
+                a.seconds.map(|s| s.to_string()).unwrap_or_default(),
             ]
             .join(",");
             out.push('\n');

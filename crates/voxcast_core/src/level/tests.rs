@@ -21,6 +21,8 @@ fn answers_are_kept_and_exported() {
         correct: true,
         at: 1_796_464_427,
         run: None,
+        attempt: Some(1),
+        seconds: Some(12.5),
     });
     p.answers.push(Answer {
         question: "which effect: \"trace 4\"".into(),
@@ -28,6 +30,8 @@ fn answers_are_kept_and_exported() {
         expected: "shadow rays".into(),
         correct: false,
         run: Some(StudyRun::PreviewOn.words().into()),
+        attempt: None,
+        seconds: None,
         ..p.answers[0].clone()
     });
     let (back, _) = Progress::from_text(&p.to_text(), "here");
@@ -37,10 +41,10 @@ fn answers_are_kept_and_exported() {
     assert_eq!(
         lines,
         [
-            "level,step,question,answer,expected,correct,time (UTC),run",
-            "trilinear,2,\"value at (0.5, 0.5, 0.5)\",4.99,4.9875,yes,2026-12-05T09:53:47Z,",
+            "level,step,question,answer,expected,correct,time (UTC),run,try,seconds",
+            "trilinear,2,\"value at (0.5, 0.5, 0.5)\",4.99,4.9875,yes,2026-12-05T09:53:47Z,,1,12.5",
             "trilinear,2,\"which effect: \"\"trace 4\"\"\",reflection rays,shadow rays,no,\
-             2026-12-05T09:53:47Z,preview on",
+             2026-12-05T09:53:47Z,preview on,,",
         ]
     );
     for (seconds, iso) in [

@@ -174,11 +174,9 @@ fn every_levels_text_can_be_drawn() {
         Vec3::splat(0.5),
         voxcast_core::sample::Interpolation::Trilinear,
     );
-    built.extend(prediction_hint("99", &d));
-    built.extend(prediction_hint("x", &d));
+    built.extend(prediction_hint(99.0, &d));
     let rows = voxcast_core::worked::back_to_front(&volume, &tf, &[[0.2, 0.3, 0.8]]);
-    built.extend(composite_hint("0.9", &rows));
-    built.extend(composite_hint("x", &rows));
+    built.extend(composite_hint(0.9, &rows));
     // (The breakdown shows its formulas in the monospace font, whose fallbacks are the
     // proportional font's; egui's glyph query answers only for the proportional one.)
     let mut lacking = std::collections::BTreeSet::new();
@@ -194,8 +192,8 @@ fn every_levels_text_can_be_drawn() {
     assert!(missing.is_empty(), "no glyph for {missing:?}");
 }
 
-/// The composite step: nothing typed, nothing said; a wrong number is too high or too low
-/// with the points' values; the right one (within the step's tolerance) meets the objective.
+/// The composite step: a wrong try is too high or too low with the points' values; the right
+/// one (within the step's tolerance) meets the objective.
 #[test]
 fn a_wrong_composite_gets_a_hint_and_the_right_one_passes() {
     let v = voxcast_core::builtin::worked_voxel();
@@ -217,10 +215,9 @@ fn a_wrong_composite_gets_a_hint_and_the_right_one_passes() {
     assert_eq!(rows.len(), 3);
     let red = rows[2].after[0];
     assert!(red > 0.0 && red < 1.0, "{red}");
-    assert_eq!(composite_hint("", &rows), None);
-    let high = composite_hint(&format!("{}", red + 0.5), &rows).unwrap();
+    let high = composite_hint(red + 0.5, &rows).unwrap();
     assert!(high.contains("too high") && high.contains("P3 ="), "{high}");
-    let low = composite_hint(&format!("{}", red - 0.5), &rows).unwrap();
+    let low = composite_hint(red - 0.5, &rows).unwrap();
     assert!(low.contains("too low"), "{low}");
     let objective = Objective::PredictComposite { points, tolerance };
     let mut sit = voxcast_core::level::Situation {
@@ -240,18 +237,18 @@ fn a_wrong_prediction_gets_a_hint() {
         Vec3::splat(0.5),
         voxcast_core::sample::Interpolation::Trilinear,
     );
-    assert_eq!(prediction_hint("", &d), None);
-    let high = prediction_hint(&format!("{}", d.value + 10.0), &d).unwrap();
+    let high = prediction_hint(d.value + 10.0, &d).unwrap();
     assert!(
         high.contains("too high") && high.contains("weight"),
         "{high}"
     );
-    let low = prediction_hint(&format!("{}", d.value - 10.0), &d).unwrap();
+    let low = prediction_hint(d.value - 10.0, &d).unwrap();
     assert!(low.contains("too low"), "{low}");
-    assert!(prediction_hint("abc", &d).unwrap().contains("not a number"));
 }
 
-/// A prediction step takes the typed value through the text field's own events.
+/// A prediction step takes the typed value through the text field's own events, judges
+/// nothing while it is typed, and submits it on Enter: a wrong try is kept and hinted at, a
+/// text that is no number is refused and kept as nothing.
 #[test]
 fn a_prediction_is_typed_into_the_field() {
     let h = Harness::new();
@@ -299,4 +296,44 @@ fn a_prediction_is_typed_into_the_field() {
     h.frame(&mut lessons, mode, vec![button(false)]);
     h.frame(&mut lessons, mode, vec![egui::Event::Text("4.5".into())]);
     assert_eq!(lessons.prediction, "4.5");
+    assert_eq!(
+        (lessons.tried, lessons.progress.answers.len()),
+        (None, 0),
+        "only typed"
+    );
+    let enter = |pressed| egui::Event::Key {
+        key: egui::Key::Enter,
+        physical_key: None,
+        pressed,
+        repeat: false,
+        modifiers: Default::default(),
+    };
+    h.frame(&mut lessons, mode, vec![enter(true), enter(false)]);
+    h.frame(&mut lessons, mode, vec![]);
+    assert_eq!(lessons.tried, Some(4.5), "submitted with Enter");
+    let [a] = &lessons.progress.answers[..] else {
+        panic!("{:?}", lessons.progress.answers)
+    };
+    assert_eq!(
+        (a.answer.as_str(), a.correct, a.attempt),
+        ("4.5", false, Some(1))
+    );
+    assert!(a.seconds.is_some());
+    lessons.prediction = "four".into();
+    assert_eq!(lessons.submit_prediction(l), None);
+    assert!(lessons.message.as_deref().unwrap().contains("not a number"));
+    assert_eq!(
+        lessons.progress.answers.len(),
+        1,
+        "a text that is no number is no try"
+    );
+    lessons.prediction = "4,99".into();
+    assert_eq!(lessons.submit_prediction(l), Some(true));
+    let kept: Vec<(Option<u32>, bool)> = lessons
+        .progress
+        .answers
+        .iter()
+        .map(|a| (a.attempt, a.correct))
+        .collect();
+    assert_eq!(kept, [(Some(1), false), (Some(2), true)]);
 }
