@@ -900,3 +900,104 @@ fn a_ray_density_is_a_volume_source() {
     assert_eq!(o.status.code(), Some(1), "a load error: {}", text(&o));
     assert!(text(&o).contains("cell=x: not a number"), "{}", text(&o));
 }
+
+/// `voxcast levels check` reads a folder of level files as the sandbox's `--levels` would:
+/// every problem with its file, step and field, and the exit code says whether any file has
+/// an error; a file with warnings only passes. `voxcast levels schema` prints the schema the
+/// docs publish.
+#[test]
+fn levels_check_names_every_problem() {
+    let dir = out_dir().join("levels");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("a_broken.json"),
+        r#"{"id": "broken", "titel": "x", "concept": "c",
+            "scene": {"volume": "builtin:head"},
+            "steps": [{"text": "t", "objective": {"kind": "step-at-mots", "voxels": 1}},
+                      {"text": "u", "objective": {"kind": "knob-measured", "knob": "stepp"}}]}"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("b_fine.json"),
+        r#"{"id": "mine", "title": "Mine", "concept": "c",
+            "scene": {"volume": "builtin:head", "rays": 2},
+            "steps": [{"text": "Set the step to 2 or more.",
+                       "objective": {"kind": "step-at-least", "voxels": 2}}]}"#,
+    )
+    .unwrap();
+    let o = voxcast(&["levels", "check", dir.to_str().unwrap()]);
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    for needle in [
+        "a_broken.json",
+        "error: titel: no such field — did you mean \"title\"?",
+        "error: step 1 › objective › kind: no such name \"step-at-mots\" — did you mean \"step-at-most\"?",
+        "error: step 2 › objective › knob: \"stepp\" names nothing here — did you mean \"step\"?",
+        "b_fine.json — “Mine” (1 steps)",
+        "2 files: 1 without a problem, 1 with errors",
+    ] {
+        assert!(t.contains(needle), "no {needle:?} in:\n{t}");
+    }
+    let o = voxcast(&["levels", "check", dir.join("b_fine.json").to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = voxcast(&["levels", "check", dir.join("nothing").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("cannot be read"), "{}", text(&o));
+    let o = voxcast(&["levels", "schema"]);
+    assert!(o.status.success());
+    let published = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/levels.schema.json"),
+    )
+    .unwrap();
+    assert_eq!(String::from_utf8_lossy(&o.stdout), published);
+}
+
+/// `voxcast answers --class` reads a class's answer files (a folder or files) into one HTML
+/// report; a foreign file is named in it and left out, never fatal.
+#[test]
+fn a_class_report_is_written_from_answer_files() {
+    let dir = out_dir().join("class");
+    std::fs::create_dir_all(&dir).unwrap();
+    let header = "level,step,question,answer,expected,correct,time (UTC),run,try,seconds";
+    for (k, first) in ["4.99", "5.1", "5.1"].iter().enumerate() {
+        let mut rows = vec![header.to_string()];
+        let correct = *first == "4.99";
+        rows.push(format!(
+            "trilinear,2,\"the value at (0.5, 0.5, 0.5)\",{first},4.988,{},2026-12-07T09:00:0{k}Z,,1,20",
+            if correct { "yes" } else { "no" }
+        ));
+        if !correct {
+            rows.push(format!(
+                "trilinear,2,\"the value at (0.5, 0.5, 0.5)\",4.988,4.988,yes,2026-12-07T09:01:0{k}Z,,2,45"
+            ));
+        }
+        std::fs::write(dir.join(format!("s{k}.csv")), rows.join("\n") + "\n").unwrap();
+    }
+    std::fs::write(dir.join("marks.csv"), "name,mark\nAda,9\n").unwrap();
+    let html = out_dir().join("class.html");
+    let o = voxcast(&[
+        "answers",
+        "--class",
+        dir.to_str().unwrap(),
+        "--report",
+        html.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("3 answer files read, 1 left out"),
+        "{}",
+        text(&o)
+    );
+    let page = std::fs::read_to_string(&html).unwrap();
+    for needle in [
+        "Trilinear interpolation",
+        "marks.csv: not a Voxcast answers file",
+        "1 (33%)",
+        "5.1 ×2",
+        "<svg",
+    ] {
+        assert!(page.contains(needle), "no {needle:?} in the report");
+    }
+    let o = voxcast(&["answers", "--report", html.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+}

@@ -10,6 +10,7 @@ pub mod check;
 mod file;
 mod objective;
 mod progress;
+pub mod report;
 mod scene;
 mod schema;
 
