@@ -44,7 +44,7 @@ pub enum Objective {
     Shading { on: bool },
     /// Set First's target value within `[lo, hi]` (data units).
     TargetBetween { lo: f32, hi: f32 },
-    /// Choose a classification: `table`, `iso-contours` or `boundaries`.
+    /// Choose a classification: `table`, `iso-contours`, `boundaries` or `value-gradient`.
     Classification { mode: String },
     /// Make the transfer function's opacity at `value` at most `alpha`.
     TfAlphaAtMost { value: f32, alpha: f32 },
@@ -58,20 +58,21 @@ pub enum Objective {
     },
     /// Render the view on the CPU and compare: largest difference at most `max` (/255).
     Compared { max: f32 },
-    /// Put the point light inside the volume's box.
+    /// Put a point light inside the volume's box.
     LightInsideVolume,
     /// Predict the interpolated value at `point` (voxel coordinates) to within `tolerance`.
     PredictValue { point: [f32; 3], tolerance: f32 },
-    /// The player types the red component of the ray's colour after the last of `points`,
-    /// composited back to front as the lecture's worked example does
-    /// (`crate::worked::back_to_front`), within `tolerance`.
+    /// Predict the red component of the ray's colour after the last of `points` (voxel
+    /// coordinates), composited back to front from the first as the lecture's worked example
+    /// does (one sample a point, the transfer function's colour and opacity at each point's
+    /// value), to within `tolerance`.
     PredictComposite {
         points: Vec<[f32; 3]>,
         tolerance: f32,
     },
     /// Composite back to front (`true`) or front to back.
     BackToFront { on: bool },
-    /// Have a light of this kind: `headlight`, `point` or `directional`.
+    /// Have a light of this kind: `headlight`, `point`, `directional` or `spot`.
     LightKind { light: String },
     /// Give a point light a falloff with distance (kl or kq above zero).
     Attenuated,
@@ -120,8 +121,8 @@ pub enum Objective {
     SelectCutRay,
     /// Turn empty-space skipping on or off.
     Skipping { on: bool },
-    /// Show Render image's render as the cost view `view` (`samples`, `skipped`, `stops`),
-    /// rendered with the settings on screen.
+    /// Show Render image's render as the cost view `view` (`samples`, `skipped`, `stops`,
+    /// `depth`, `depth-of-hits`), rendered with the settings on screen.
     CostViewed { view: String },
     /// Set the preview's resolution to at most `scale`.
     PreviewScaleAtMost { scale: f32 },
@@ -129,8 +130,9 @@ pub enum Objective {
     PreviewScaleAtLeast { scale: f32 },
     /// Turn the preview on or off.
     Preview { on: bool },
-    /// Measure the trade of the knob named `knob` (`crate::knob::Knob::name`) for the view on
-    /// screen.
+    /// Measure the trade of the knob `knob` for the view on screen (Speed against accuracy ›
+    /// Measure): `step`, `interpolation`, `cutoff`, `jitter`, `supersampling`, `preview-scale`,
+    /// `preview-step-multiplier` or `adaptive-quality`.
     KnobMeasured { knob: String },
     /// Show a ray density computed from `source` (`camera`: the virtual camera's rays; else a
     /// ray data source such as `builtin:cornell`), of trace `trace` when given, from at least
@@ -144,12 +146,13 @@ pub enum Objective {
     },
     /// Show or hide a view of the ray density: `volume`, `mesh` or `field`.
     RayView { view: String, on: bool },
-    /// Tell which effect (its trace id, `crate::rays::effects::Effect::id`) cast the rays on
-    /// show.
+    /// Name the effect that cast trace `trace` of the Cornell box: 0 and 1 primary rays (two
+    /// cameras), 2 reflection, 3 ambient occlusion, 4 shadow rays.
     NameEffect { trace: u32 },
-    /// Answer one of RayVis's study questions about a trace of the Cornell box
-    /// ([`crate::rays::study::Question`]: `camera`, `hits`, `density-high` or `density-low`),
-    /// checked against what the code finds in the trace.
+    /// Answer one of RayVis's study questions about trace `trace` (0 to 4) of the Cornell box,
+    /// checked against what the code finds in the trace: `camera` (where its camera stood),
+    /// `hits` (where its hitting rays start), `density-high` or `density-low` (where its
+    /// hitting rays crowd, or its missing rays are scarce).
     StudyQuestion { trace: u32, question: String },
 }
 

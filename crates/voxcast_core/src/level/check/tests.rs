@@ -313,3 +313,76 @@ fn the_published_schema_is_the_types_schema() {
         "a misspelt field is marked"
     );
 }
+
+/// docs/levels.md says what is true of the code: its whole level checks without a problem,
+/// every objective example in it reads, every kind the schema has is shown by an example, and
+/// every setting name it lists is one the renderer reads.
+#[test]
+fn the_format_s_documentation_is_the_code_s() {
+    let doc = include_str!("../../../../../docs/levels.md");
+    let block = doc
+        .split("```json\n")
+        .nth(1)
+        .and_then(|rest| rest.split("```").next())
+        .expect("a whole level in the docs");
+    let checked = read(block, Origin::Embedded, &OnDisk);
+    assert_eq!(checked.problems, [], "the docs' level");
+    let mut shown = Vec::new();
+    let blocks = doc
+        .split("```json\n")
+        .skip(2)
+        .filter_map(|b| b.split("```").next());
+    let spans = doc.split('`').skip(1).step_by(2);
+    for span in spans.chain(blocks).map(str::trim) {
+        if span.starts_with("{\"kind\"") {
+            let o: Objective = serde_json::from_str(span).unwrap_or_else(|e| panic!("{span}: {e}"));
+            let kind = |o: &Objective| {
+                serde_json::to_value(o).unwrap()["kind"]
+                    .as_str()
+                    .unwrap()
+                    .to_string()
+            };
+            shown.push(kind(&o));
+            shown.extend(o.parts().into_iter().map(kind));
+        }
+    }
+    let schema = crate::level::schema();
+    for v in schema["$defs"]["Objective"]["oneOf"].as_array().unwrap() {
+        let kind = v["properties"]["kind"]["const"].as_str().unwrap();
+        assert!(
+            shown.iter().any(|s| s == kind),
+            "docs/levels.md shows no {kind}"
+        );
+    }
+    let settings = doc
+        .split("```text\n")
+        .nth(1)
+        .and_then(|rest| rest.split("```").next())
+        .unwrap();
+    let defaults = serde_json::to_value(RenderSettings::default()).unwrap();
+    for name in settings.split('"').skip(1).step_by(2) {
+        let known = defaults.get(name).is_some()
+            || defaults["phong"].get(name).is_some()
+            || defaults["clip"].get(name).is_some()
+            || ["voxels", "mode", "normal", "position"].contains(&name)
+            || name.chars().all(|c| c.is_ascii_lowercase() || c == '-');
+        assert!(
+            known,
+            "docs/levels.md lists a setting \"{name}\" the renderer has not"
+        );
+    }
+    for knob in crate::knob::Knob::ALL {
+        assert!(
+            doc.contains(&format!("`{}`", knob.name())),
+            "{}",
+            knob.name()
+        );
+    }
+    for view in crate::cost::CostView::ALL {
+        assert!(
+            doc.contains(&format!("`{}`", view.name())),
+            "{}",
+            view.name()
+        );
+    }
+}
