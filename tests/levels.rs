@@ -19,6 +19,7 @@ fn main() {
         ("every_level_plays_through_in_the_gpu_preview", || {
             play("gpu")
         }),
+        ("a_level_written_in_the_editor_plays_through", play_edited),
     ])
 }
 
@@ -98,5 +99,46 @@ fn play(backend: &str) -> Outcome {
         steps >= 2,
         "the breakdown and Render image steps are pictured"
     );
+    Ok(Completion::Completed)
+}
+
+/// The level the editor wrote (`tests/data/edited_level.json`, which the sandbox's editor test
+/// checks is its output), added with `--levels` and played to its end in the window: with
+/// `--levels` the play-through plays the added levels alone.
+fn play_edited() -> Outcome {
+    let Some(mut command) = windowed(env!("CARGO_BIN_EXE_voxcast")) else {
+        assert!(!gpu_required(), "no X display and no xvfb-run");
+        return Ok(Completion::ignored_with(
+            "no X display and no xvfb-run here (package xvfb)",
+        ));
+    };
+    let dir = out_dir().join("edited");
+    let _ = std::fs::remove_dir_all(&dir);
+    let level = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/edited_level.json");
+    command
+        .arg("--play-levels")
+        .arg(&dir)
+        .arg("--levels")
+        .arg(&level)
+        .args(["--preview-backend", "cpu", "--size", "1024x576"])
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir());
+    if let Err(skip) = run_or_skip(&mut command) {
+        return skip;
+    }
+    let report = std::fs::read_to_string(dir.join("report.txt")).unwrap();
+    assert!(!report.contains("FAILED"), "{report}");
+    for k in 1..=2 {
+        assert!(
+            report.contains(&format!("my-bucky step {k}: ok")),
+            "{report}"
+        );
+    }
+    assert!(
+        !report.contains("rays step"),
+        "only the added level: {report}"
+    );
+    let progress = std::fs::read_to_string(dir.join("progress.json")).unwrap();
+    let progress: voxcast_core::level::Progress = serde_json::from_str(&progress).unwrap();
+    assert_eq!(progress.completed["my-bucky"], 2);
     Ok(Completion::Completed)
 }

@@ -125,9 +125,10 @@ pub struct SandboxArgs {
     /// The most sample spheres shown for the virtual camera's rays (see the Rays panel).
     #[arg(long, default_value_t = voxcast_core::tunables::SAMPLE_BUDGET.default as usize)]
     pub sample_budget: usize,
-    /// Play every level to the end in the window as a player would, save a screenshot of each
-    /// level's first step in this folder (with the progress file and report.txt) and exit;
-    /// the exit code says whether every objective behaved.
+    /// Play every level to the end in the window as a player would (with --levels, only the
+    /// levels added), save a screenshot of each level's first step in this folder (with the
+    /// progress file and report.txt) and exit; the exit code says whether every objective
+    /// behaved.
     #[arg(long, conflicts_with_all = ["screenshot", "compare", "measure_frames"])]
     pub play_levels: Option<PathBuf>,
     /// Add the levels in this file, or in the .json files of this folder, to the levels list
@@ -430,7 +431,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
                 levels::Lessons::new(levels::ProgressStore::File(dir.join("progress.json")))
                     .with_added(args.levels.as_deref().map(levels::added_from_path)),
             )
-            .insert_resource(script::PlayLevels(dir.clone()))
+            .insert_resource(script::PlayLevels(dir.clone(), args.levels.is_some()))
             .add_plugins(script::plugin);
     }
     if let Some(knob) = args.measure_knob {

@@ -8,6 +8,7 @@
 
 pub mod check;
 mod file;
+pub mod link;
 mod objective;
 mod progress;
 pub mod report;
@@ -176,6 +177,37 @@ pub enum Control {
 }
 
 impl Control {
+    /// Every control, in the order the format lists them.
+    pub const ALL: [Control; 27] = [
+        Control::Method,
+        Control::Step,
+        Control::VirtualPixels,
+        Control::PixelGrid,
+        Control::Breakdown,
+        Control::OpacityCorrection,
+        Control::EarlyTermination,
+        Control::Target,
+        Control::SumRange,
+        Control::Shading,
+        Control::Classification,
+        Control::TransferFunction,
+        Control::RenderImage,
+        Control::Light,
+        Control::Order,
+        Control::StepTrade,
+        Control::Jitter,
+        Control::Interpolation,
+        Control::Supersampling,
+        Control::CropBox,
+        Control::ClipPlane,
+        Control::Skipping,
+        Control::PreviewScale,
+        Control::PreviewOn,
+        Control::PreviewView,
+        Control::RaySource,
+        Control::RayViews,
+    ];
+
     /// The panel section holding the control (`None`: it is in a window of its own).
     pub fn section(self) -> Option<Section> {
         match self {

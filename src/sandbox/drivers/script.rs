@@ -37,9 +37,10 @@ const MET_FRAMES: u32 = 600;
 /// [`MET_FRAMES`] frames before one ends (Measure's ladder, the preview's cost view).
 const MET_TIME: std::time::Duration = std::time::Duration::from_secs(60);
 
-/// Where the screenshots and the report go.
+/// Where the screenshots and the report go, and whether only the levels added from files
+/// (`--levels`) are played.
 #[derive(Resource)]
-pub struct PlayLevels(pub PathBuf);
+pub struct PlayLevels(pub PathBuf, pub bool);
 
 /// Where the run is.
 #[derive(Resource, Default)]
@@ -144,6 +145,15 @@ fn drive(
 ) {
     let run = &mut *run;
     run.frames += 1;
+    // With --levels, the added levels alone: the built-in ones are passed over.
+    while request.1
+        && lessons
+            .levels
+            .get(run.level)
+            .is_some_and(|l| l.origin == voxcast_core::level::Origin::Embedded)
+    {
+        run.level += 1;
+    }
     if run.level >= lessons.levels.len() {
         // Free play again: its screenshot, then the report.
         run.ending += 1;

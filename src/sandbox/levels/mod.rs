@@ -5,6 +5,7 @@
 //! after every step, to the config directory (atomically) or, in a browser, to its local
 //! storage; a damaged file or entry starts afresh with a message.
 
+pub mod editor;
 mod objective;
 mod scene;
 mod store;
@@ -77,6 +78,8 @@ pub struct Lessons {
     set_up_again: bool,
     /// The level's or the step's scene waiting to be put on screen (its data set loading).
     pending: Option<Pending>,
+    /// What the player has done, as the objectives see it, this frame (in every mode).
+    pub now: Situation,
 }
 
 /// What the panels hide while a prediction is open: the values at these points (voxel
@@ -102,6 +105,8 @@ impl Hidden {
 pub enum LevelCommand {
     /// Start level `i` at its first step.
     Start(usize),
+    /// Start level `i` at step `k` (from 0): the editor's Play.
+    StartAt(usize, usize),
     /// Start level `i` as a study: played to its end with the preview off, then again with
     /// it on, each run's answers kept with the run's name.
     Study(usize),
@@ -137,6 +142,7 @@ impl Lessons {
             study_next: false,
             set_up_again: false,
             pending: None,
+            now: Situation::default(),
         }
     }
 
@@ -337,6 +343,7 @@ impl Lessons {
 
 /// The logic, without the window: commands, scene set-up and the objective check.
 pub(crate) fn plugin(app: &mut App) {
+    app.add_plugins(editor::plugin);
     app.add_message::<LevelCommand>().add_systems(
         Update,
         (
@@ -357,13 +364,17 @@ fn apply_commands(
 ) {
     for command in commands.read() {
         match *command {
-            LevelCommand::Start(i) | LevelCommand::Study(i) => {
+            LevelCommand::Start(i) | LevelCommand::Study(i) | LevelCommand::StartAt(i, _) => {
                 let Some(level) = lessons.levels.get(i) else {
                     continue;
                 };
                 *stage = Stage::of(&level.scene);
                 let title = level.title.clone();
-                lessons.step = 0;
+                let first = match *command {
+                    LevelCommand::StartAt(_, k) => k.min(level.steps.len().saturating_sub(1)),
+                    _ => 0,
+                };
+                lessons.step = first;
                 lessons.met = false;
                 lessons.met_for = None;
                 lessons.at_open = None;

@@ -79,50 +79,52 @@ pub(crate) fn check_objective(
     let here = Some((*mode.get(), lessons.step));
     // The step's scene is on screen: nothing waits to be opened or loaded.
     let ready = lessons.scene_ready() && loading.under_way().is_none();
+    // What the player has done, every frame (the editor judges a draft's objective on it too).
+    let mut sit = situation(
+        &render,
+        &volume,
+        cameras.single().ok(),
+        &selection,
+        &breakdown,
+        (&comparison, views.single().ok()),
+        (&trade, preview.as_deref(), inspect.as_deref()),
+    );
+    let shown = rays.as_ref().and_then(|r| r.on_show(&volume));
+    sit.ray_density = shown.map(|s| s.computed.facts.clone());
+    if shown.is_some() {
+        let drawn = ray_report.as_ref().is_some_and(|r| r.drawn);
+        let view = ray_choices
+            .as_ref()
+            .map(|c| c.view.clone())
+            .unwrap_or_default();
+        sit.ray_views = [
+            ("volume", sit.preview_on),
+            ("mesh", view.mesh && drawn),
+            ("field", view.field && drawn),
+        ]
+        .into_iter()
+        .filter_map(|(name, on)| on.then_some(name))
+        .collect();
+    }
+    sit.named_effect = lessons.named_effect;
+    sit.studied = lessons.studied.clone();
+    // Only a submitted prediction is judged, never one half typed.
+    let truth = prediction_truth(detail.as_ref(), composite.as_deref());
+    sit.prediction = truth
+        .zip(lessons.tried)
+        .map(|(truth, tried)| (tried, truth));
+    lessons.now = sit.clone();
     let met = step.is_some_and(|step| {
-        let mut sit = situation(
-            &render,
-            &volume,
-            cameras.single().ok(),
-            &selection,
-            &breakdown,
-            (&comparison, views.single().ok()),
-            (&trade, preview.as_deref(), inspect.as_deref()),
-        );
-        // Only a submitted prediction is judged, never one half typed.
-        let truth = prediction_truth(detail.as_ref(), composite.as_deref());
-        sit.prediction = truth
-            .zip(lessons.tried)
-            .map(|(truth, tried)| (tried, truth));
-        let shown = rays.as_ref().and_then(|r| r.on_show(&volume));
-        sit.ray_density = shown.map(|s| s.computed.facts.clone());
-        if shown.is_some() {
-            let drawn = ray_report.as_ref().is_some_and(|r| r.drawn);
-            let view = ray_choices
-                .as_ref()
-                .map(|c| c.view.clone())
-                .unwrap_or_default();
-            sit.ray_views = [
-                ("volume", sit.preview_on),
-                ("mesh", view.mesh && drawn),
-                ("field", view.field && drawn),
-            ]
-            .into_iter()
-            .filter_map(|(name, on)| on.then_some(name))
-            .collect();
-        }
-        sit.named_effect = lessons.named_effect;
-        sit.studied = lessons.studied.clone();
-        // The state the step opened in: taken on the first frame its scene is ready; until
-        // then nothing is met (a load under way still shows the last level's settings).
-        if !ready {
-            return false;
-        }
+        // The state the step opened in: taken on the first frame its scene is on screen;
+        // until then nothing is met (a load under way still shows the last level's settings).
         if lessons
             .at_open
             .as_ref()
             .is_none_or(|(at, _)| Some(*at) != here)
         {
+            if !ready {
+                return false;
+            }
             lessons.at_open = here.map(|h| (h, sit.clone()));
         }
         sit.at_open = lessons.at_open.as_ref().map(|(_, o)| Box::new(o.clone()));

@@ -185,7 +185,17 @@ pub(super) fn open_scene(
     if let Some([x, y]) = scene.ray {
         selection.selected = Some(UVec2::new(x, y));
     }
-    lessons.pending = None;
+    // After the level's own scene, the scene of the step it starts at (its first, or the one
+    // the editor's Play chose), if that step sets one.
+    lessons.pending = if pending.fresh {
+        level
+            .steps
+            .get(lessons.step)
+            .and_then(|s| s.scene.as_ref())
+            .map(Pending::of_step)
+    } else {
+        None
+    };
 }
 
 /// The camera `place` puts down, with the field of view of `now` unless it gives one.

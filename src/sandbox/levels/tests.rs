@@ -539,3 +539,110 @@ fn a_change_is_asked_of_the_open_step() {
     app.update();
     assert!(app.world().resource::<Lessons>().met, "moved");
 }
+
+/// A level written by the editor: made from the view on screen, a step added as a snapshot of
+/// a changed view with an objective that view does not meet, saved, read back as `--levels`
+/// reads it (no problem), and played to its end — the step opening on its own view.
+#[test]
+fn a_level_written_in_the_editor_is_saved_read_and_played() {
+    use editor::{Draft, EditorCommand};
+    let dir = std::env::temp_dir().join(format!("voxcast-editor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut app = app(dir.join("progress.json"));
+    until(&mut app, |a| !entities::<VirtualCamera>(a).is_empty());
+    let edit = |app: &mut App, c: EditorCommand| {
+        app.world_mut().write_message(c);
+        app.update();
+    };
+    edit(&mut app, EditorCommand::NewFromView);
+    let render = app.world().resource::<RenderState>().clone();
+    {
+        let draft = app.world().resource::<Draft>();
+        let level = draft.level.as_ref().expect("a draft");
+        assert_eq!(level.scene.volume, "builtin:bucky");
+        assert_eq!(
+            level.scene.transfer,
+            Some(voxcast_core::level::TransferChoice::Inline(
+                render.transfer.clone()
+            ))
+        );
+        assert!(level.scene.virtual_camera.is_some() && level.scene.camera.is_none());
+        assert_eq!(level.steps.len(), 1);
+    }
+    // The second step's view: Average; it asks for Maximum.
+    app.world_mut()
+        .resource_mut::<RenderState>()
+        .settings
+        .method = Method::Average;
+    edit(&mut app, EditorCommand::AddStep);
+    {
+        let mut draft = app.world_mut().resource_mut::<Draft>();
+        let level = draft.level.as_mut().unwrap();
+        level.id = "my-bucky".into();
+        level.steps[1].text = "Switch the method to Maximum.".into();
+        level.steps[1].objective = Objective::Method {
+            method: Method::Maximum,
+        };
+        draft.file = dir.join("my-bucky").display().to_string();
+        assert_eq!(draft.step, 1);
+        // Judged live on what is on screen: Average, not yet Maximum.
+        let now = app.world().resource::<Lessons>().now.clone();
+        assert_eq!(app.world().resource::<Draft>().met_now(&now), Some(false));
+    }
+    edit(&mut app, EditorCommand::Save);
+    let path = dir.join("my-bucky.json");
+    let text = std::fs::read_to_string(&path).expect("saved");
+    // The file the play-through plays in the real window (tests/levels.rs) is this one; run
+    // with VOXCAST_UPDATE_FIXTURES=1 to write it again after a change to the editor.
+    let fixture =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/edited_level.json");
+    if std::env::var_os("VOXCAST_UPDATE_FIXTURES").is_some() {
+        std::fs::write(&fixture, &text).unwrap();
+    }
+    assert_eq!(
+        std::fs::read_to_string(&fixture).unwrap(),
+        text,
+        "the editor no longer writes tests/data/edited_level.json"
+    );
+    let checked = voxcast_core::level::check::read(
+        &text,
+        voxcast_core::level::Origin::File(path.clone()),
+        &voxcast_core::level::check::OnDisk,
+    );
+    assert_eq!(checked.problems, [], "{text}");
+    let read = checked.level.unwrap();
+    let drafted = app.world().resource::<Draft>().level.clone().unwrap();
+    assert_eq!(read, drafted, "the file is the draft");
+    let l = level(&app, "my-bucky");
+    assert_eq!(app.world().resource::<Lessons>().levels[l], read);
+    // Played from its start, as a student plays it.
+    app.world_mut()
+        .resource_mut::<RenderState>()
+        .settings
+        .method = Method::Minimum;
+    edit(&mut app, EditorCommand::Play(0));
+    until(&mut app, |a| {
+        mode(a) == Mode::Level(l) && a.world().resource::<Lessons>().scene_ready()
+    });
+    send(&mut app, LevelCommand::Next); // read
+    until(&mut app, |a| a.world().resource::<Lessons>().scene_ready());
+    app.update();
+    assert_eq!(
+        app.world().resource::<RenderState>().settings.method,
+        Method::Average,
+        "the step opens on its own view"
+    );
+    assert!(!app.world().resource::<Lessons>().met);
+    app.world_mut()
+        .resource_mut::<RenderState>()
+        .settings
+        .method = Method::Maximum;
+    until(&mut app, |a| a.world().resource::<Lessons>().met);
+    send(&mut app, LevelCommand::Next);
+    assert_eq!(mode(&app), Mode::FreePlay);
+    assert_eq!(
+        app.world().resource::<Lessons>().progress.completed["my-bucky"],
+        2
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

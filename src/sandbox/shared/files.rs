@@ -94,6 +94,45 @@ pub fn file_name(path: &Path) -> Result<&std::ffi::OsStr, String> {
     path.file_name().ok_or_else(|| "give a file name".into())
 }
 
+/// Puts `text` on the clipboard: in a browser through the page; on the desktop through the
+/// system's clipboard program (`wl-copy`, `xclip`, `xsel`, `pbcopy` or `clip`, whichever is
+/// there). Says why not where none is.
+pub fn copy_text(text: &str) -> Result<(), String> {
+    #[cfg(target_arch = "wasm32")]
+    return crate::sandbox::shared::web::copy_text(text);
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        use std::io::Write;
+        let programs: [(&str, &[&str]); 5] = [
+            ("wl-copy", &[]),
+            ("xclip", &["-selection", "clipboard"]),
+            ("xsel", &["--clipboard", "--input"]),
+            ("pbcopy", &[]),
+            ("clip", &[]),
+        ];
+        for (program, args) in programs {
+            let child = std::process::Command::new(program)
+                .args(args)
+                .stdin(std::process::Stdio::piped())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn();
+            let Ok(mut child) = child else { continue };
+            let written = child
+                .stdin
+                .take()
+                .is_some_and(|mut input| input.write_all(text.as_bytes()).is_ok());
+            // xclip and xsel stay to serve the selection: only a quick failure is one.
+            std::thread::sleep(std::time::Duration::from_millis(50));
+            let failed = matches!(child.try_wait(), Ok(Some(s)) if !s.success());
+            if written && !failed {
+                return Ok(());
+            }
+        }
+        Err("No clipboard program here (wl-copy, xclip, xsel)".into())
+    }
+}
+
 /// Saves `bytes` as `path` (`mime` is its type for a browser): on the desktop through a
 /// temporary file and a rename, so a failed write loses nothing; in a browser as a download
 /// named like the path's last part. Says what was done, or why not.

@@ -66,6 +66,21 @@ pub fn download(name: &str, bytes: &[u8], mime: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// Puts `text` on the clipboard (the browser asks nothing for a click's copy).
+pub fn copy_text(text: &str) -> Result<(), String> {
+    let window = web_sys::window().ok_or("no window")?;
+    let _ = window.navigator().clipboard().write_text(text);
+    Ok(())
+}
+
+/// The page's own address, without its fragment: what a level's link is made on.
+pub fn page_address() -> String {
+    web_sys::window()
+        .and_then(|w| w.location().href().ok())
+        .map(|href| href.split('#').next().unwrap_or_default().to_string())
+        .unwrap_or_default()
+}
+
 /// The browser's local storage of this page's origin.
 fn storage() -> Option<web_sys::Storage> {
     web_sys::window()?.local_storage().ok()?

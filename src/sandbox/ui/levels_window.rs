@@ -3,6 +3,7 @@
 //! one, and Next, open once the objective is met. It only sends [`LevelCommand`]s; the logic is
 //! in `levels`.
 
+use crate::sandbox::levels::editor::EditorCommand;
 use crate::sandbox::levels::{Lessons, LevelCommand};
 use crate::sandbox::shared::mode::Mode;
 use bevy::prelude::*;
@@ -54,11 +55,15 @@ pub(super) fn levels_window(
     mut contexts: EguiContexts,
     mut lessons: ResMut<Lessons>,
     mode: Res<State<Mode>>,
-    mut commands: MessageWriter<LevelCommand>,
+    (mut commands, mut editor): (
+        MessageWriter<LevelCommand>,
+        MessageWriter<crate::sandbox::levels::editor::EditorCommand>,
+    ),
     (mut dock, mut layout): (ResMut<super::Dock>, ResMut<super::layout::Layout>),
 ) -> Result {
     let ctx = contexts.ctx_mut()?.clone();
     let mut command = None;
+    let mut edit = None;
     // Folded to a line where the window is low, unless the student unfolded it (or folded it).
     let mut folded = layout
         .level_text
@@ -69,7 +74,7 @@ pub(super) fn levels_window(
         egui::Panel::top("levels")
             .resizable(false)
             .show(dock_ui, |ui| {
-                command = levels_ui(ui, &mut lessons, *mode.get(), &mut folded)
+                command = levels_ui(ui, &mut lessons, *mode.get(), (&mut folded, &mut edit))
             });
     });
     if folded != was {
@@ -78,23 +83,62 @@ pub(super) fn levels_window(
     if let Some(c) = command {
         commands.write(c);
     }
+    if let Some(e) = edit {
+        editor.write(e);
+    }
     Ok(())
 }
 
 /// The window's contents, `folded` to a line (the list in a menu, the step's text to its first
-/// line) or whole, with a toggle between; returns what the player asked for.
+/// line) or whole, with a toggle between; returns what the player asked for, and puts in
+/// `edit` what the level editor is asked to do.
 pub(super) fn levels_ui(
     ui: &mut egui::Ui,
     lessons: &mut Lessons,
     mode: Mode,
-    folded: &mut bool,
+    (folded, edit): (&mut bool, &mut Option<EditorCommand>),
 ) -> Option<LevelCommand> {
     if let Some(m) = &lessons.message {
         ui.colored_label(egui::Color32::YELLOW, m);
     }
     match mode {
-        Mode::FreePlay => level_list(ui, lessons, folded),
-        Mode::Level(l) => level_step(ui, lessons, l, folded),
+        Mode::FreePlay => {
+            let chosen = level_list(ui, lessons, folded);
+            if !*folded {
+                editor_button(ui, edit, EditorCommand::NewFromView);
+            }
+            chosen
+        }
+        Mode::Level(l) => {
+            let chosen = level_step(ui, lessons, l, folded);
+            if !*folded {
+                editor_button(ui, edit, EditorCommand::Edit(l));
+            }
+            chosen
+        }
+    }
+}
+
+/// The button that opens the level editor: on a new level from the view on screen (free
+/// play), or on the level being played.
+fn editor_button(ui: &mut egui::Ui, edit: &mut Option<EditorCommand>, command: EditorCommand) {
+    let (label, tip) = match command {
+        EditorCommand::NewFromView => (
+            "New level from this view…",
+            "Write a level of your own: it starts from the scene on screen (data set, settings, \
+             transfer function, cameras), and each step you add keeps the view you set up",
+        ),
+        _ => (
+            "Edit this level…",
+            "Open this level in the level editor: change its words, steps and objectives, save \
+             it as a file of your own or share it as a link",
+        ),
+    };
+    if super::target(ui.small_button(label), "level editor")
+        .on_hover_text(tip)
+        .clicked()
+    {
+        *edit = Some(command);
     }
 }
 

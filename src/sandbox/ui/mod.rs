@@ -7,6 +7,7 @@ pub(crate) mod compare;
 mod cost_view;
 mod cut;
 mod layout;
+mod level_editor;
 mod levels_window;
 mod light;
 #[cfg(target_arch = "wasm32")]
@@ -116,6 +117,7 @@ pub(super) fn plugin(app: &mut App) {
         .init_resource::<compare::CompareWindow>()
         .add_message::<crate::sandbox::checks::compare::ShowRenderImage>()
         .init_resource::<breakdown_panel::ExportState>()
+        .init_resource::<level_editor::EditorText>()
         .add_systems(
             EguiPrimaryContextPass,
             (
@@ -129,6 +131,7 @@ pub(super) fn plugin(app: &mut App) {
                     settings_panel,
                     rays_panel::rays_panel,
                     compare::compare_window,
+                    level_editor::editor_window,
                     record_viewport,
                 )
                     .chain()

@@ -310,7 +310,81 @@ impl Situation {
     }
 }
 
+/// One objective of every kind, in the order the format lists them, with the values the
+/// docs show: what the editor puts down when a kind is chosen.
+const EXAMPLES: &[&str] = &[
+    r#"{"kind": "read"}"#,
+    r#"{"kind": "all", "of": [{"kind": "opacity-correction", "on": false}, {"kind": "step-moved"}]}"#,
+    r#"{"kind": "select-ray"}"#,
+    r#"{"kind": "virtual-pixels-at-least", "pixels": 8}"#,
+    r#"{"kind": "step-at-most", "voxels": 0.25}"#,
+    r#"{"kind": "step-at-least", "voxels": 2.0}"#,
+    r#"{"kind": "step-moved"}"#,
+    r#"{"kind": "jitter", "on": true}"#,
+    r#"{"kind": "interpolation", "trilinear": false}"#,
+    r#"{"kind": "supersampling-at-least", "rays": 2}"#,
+    r#"{"kind": "method", "method": "maximum"}"#,
+    r#"{"kind": "open-highest-sample"}"#,
+    r#"{"kind": "early-termination", "on": false}"#,
+    r#"{"kind": "opacity-correction", "on": false}"#,
+    r#"{"kind": "shading", "on": false}"#,
+    r#"{"kind": "target-between", "lo": 120.0, "hi": 200.0}"#,
+    r#"{"kind": "classification", "mode": "boundaries"}"#,
+    r#"{"kind": "tf-alpha-at-most", "value": 40.0, "alpha": 0.02}"#,
+    r#"{"kind": "tf-color-near", "value": 140.0, "color": [1, 0, 0], "tolerance": 0.3, "alpha": 0.5}"#,
+    r#"{"kind": "compared", "max": 2.0}"#,
+    r#"{"kind": "light-inside-volume"}"#,
+    r#"{"kind": "predict-value", "point": [0.5, 0.5, 0.5], "tolerance": 0.01}"#,
+    r#"{"kind": "predict-composite", "points": [[0.2, 0.3, 0.8], [0.5, 0.5, 0.5]], "tolerance": 0.01}"#,
+    r#"{"kind": "back-to-front", "on": true}"#,
+    r#"{"kind": "light-kind", "light": "point"}"#,
+    r#"{"kind": "attenuated"}"#,
+    r#"{"kind": "light-moved-away"}"#,
+    r#"{"kind": "warm-and-cool-lights"}"#,
+    r#"{"kind": "specular", "model": "phong"}"#,
+    r#"{"kind": "lights-at-least", "count": 2}"#,
+    r#"{"kind": "distinct-light-colours", "count": 2}"#,
+    r#"{"kind": "open-lit-sample", "lights": 2}"#,
+    r#"{"kind": "levoy-highlight", "on": true}"#,
+    r#"{"kind": "full-model"}"#,
+    r#"{"kind": "depth-cue", "on": true}"#,
+    r#"{"kind": "region-around", "value": 110, "max_gradient": 40}"#,
+    r#"{"kind": "preview-cost-view", "view": "depth"}"#,
+    r#"{"kind": "skip-blocks", "on": true}"#,
+    r#"{"kind": "trade-measured"}"#,
+    r#"{"kind": "clip-plane", "on": true}"#,
+    r#"{"kind": "clip-position-between", "lo": -0.6, "hi": -0.2}"#,
+    r#"{"kind": "crop-at-most", "fraction": 0.5}"#,
+    r#"{"kind": "select-cut-ray"}"#,
+    r#"{"kind": "skipping", "on": true}"#,
+    r#"{"kind": "cost-viewed", "view": "stops"}"#,
+    r#"{"kind": "preview-scale-at-most", "scale": 0.5}"#,
+    r#"{"kind": "preview-scale-at-least", "scale": 1.0}"#,
+    r#"{"kind": "preview", "on": false}"#,
+    r#"{"kind": "knob-measured", "knob": "preview-scale"}"#,
+    r#"{"kind": "ray-density", "source": "builtin:cornell", "trace": 0}"#,
+    r#"{"kind": "ray-view", "view": "mesh", "on": true}"#,
+    r#"{"kind": "name-effect", "trace": 4}"#,
+    r#"{"kind": "study-question", "trace": 1, "question": "camera"}"#,
+];
+
 impl Objective {
+    /// One objective of every kind ([`EXAMPLES`]).
+    pub fn examples() -> Vec<Objective> {
+        EXAMPLES
+            .iter()
+            .map(|text| serde_json::from_str(text).expect("the examples read (tested)"))
+            .collect()
+    }
+
+    /// The kind's name, as a level file writes it (`step-at-most`).
+    pub fn kind(&self) -> String {
+        serde_json::to_value(self).expect("an objective is plain data")["kind"]
+            .as_str()
+            .unwrap_or_default()
+            .to_string()
+    }
+
     /// The objectives it is made of: itself, or every part of an [`Objective::All`] (nested
     /// ones flattened), in order.
     pub fn parts(&self) -> Vec<&Objective> {

@@ -386,3 +386,45 @@ fn the_format_s_documentation_is_the_code_s() {
         );
     }
 }
+
+/// The editor's lists are the format's: an example objective of every kind the schema has, in
+/// its order, each read back as it is written; every control the schema names.
+#[test]
+fn the_editor_offers_every_kind_and_control() {
+    let schema = crate::level::schema();
+    let kinds: Vec<String> = schema["$defs"]["Objective"]["oneOf"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| {
+            v["properties"]["kind"]["const"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    let examples: Vec<String> = Objective::examples().iter().map(Objective::kind).collect();
+    assert_eq!(examples, kinds);
+    // The schema lists the documented controls one by one, the rest in one enum.
+    let controls: Vec<String> = schema["$defs"]["Control"]["oneOf"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|v| match v["enum"].as_array() {
+            Some(names) => names.clone(),
+            None => vec![v["const"].clone()],
+        })
+        .map(|v| v.as_str().unwrap().to_string())
+        .collect();
+    let all: Vec<String> = crate::level::Control::ALL
+        .iter()
+        .map(|c| {
+            serde_json::to_value(c)
+                .unwrap()
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    assert_eq!(all, controls);
+}

@@ -1,0 +1,384 @@
+//! The level editor's logic: a draft level made from the view on screen ("New level from this
+//! view") or from a level in the list ("Edit this level"); steps added as snapshots of the
+//! scene as it is (data set, settings, transfer function, the main and the virtual camera, the
+//! selected ray), retaken, moved, deleted and played; the draft saved as a file (a download on
+//! the page) and shared as a link. The window that edits the draft's words and objectives is
+//! `ui/level_editor.rs`; it sends [`EditorCommand`]s, applied here where the scene is seen.
+
+use super::*;
+use crate::sandbox::shared::files;
+use voxcast_core::camera::Projection;
+use voxcast_core::level::{CameraPlace, LevelScene, Origin, StepScene, TransferChoice};
+
+/// The draft being edited, and what the editor last said.
+#[derive(Resource, Default)]
+pub struct Draft {
+    pub level: Option<Level>,
+    /// The step selected in the editor.
+    pub step: usize,
+    /// Where Save writes (a file name on the page: the download's).
+    pub file: String,
+    pub message: Option<String>,
+    /// The last link made (Copy link), shown to be copied by hand where no clipboard is.
+    pub link: Option<String>,
+    /// The situation when the selected step was chosen: what "met now" compares with for the
+    /// objectives that ask for a change.
+    pub baseline: Option<Situation>,
+    /// The window is open.
+    pub open: bool,
+}
+
+impl Draft {
+    /// Whether the selected step's objective is met by what is on screen now (`None`: no
+    /// step), judged as the level will judge it, against the state when the step was chosen.
+    pub fn met_now(&self, now: &Situation) -> Option<bool> {
+        let step = self.level.as_ref()?.steps.get(self.step)?;
+        let sit = Situation {
+            at_open: self.baseline.clone().map(Box::new),
+            ..now.clone()
+        };
+        Some(step.objective.met(&sit))
+    }
+}
+
+/// What the editor's window asks for.
+#[derive(Message, Clone, Debug, PartialEq)]
+pub enum EditorCommand {
+    /// A new draft whose scene is the view on screen, with one step to read.
+    NewFromView,
+    /// The list's level `i` as the draft.
+    Edit(usize),
+    /// A step added after the selected one, its scene the view on screen.
+    AddStep,
+    /// Step `k`'s scene taken again from the view on screen.
+    Retake(usize),
+    /// Step `k` chosen (its "met now" judged from here).
+    Select(usize),
+    /// Step `k` moved up (−1) or down (+1).
+    Move(usize, isize),
+    /// Step `k` deleted (a level keeps at least one).
+    Delete(usize),
+    /// The draft played from step `k`, as a student plays it.
+    Play(usize),
+    /// The draft written to [`Draft::file`].
+    Save,
+    /// The draft's link made for the page at this address (without a fragment).
+    CopyLink(String),
+}
+
+/// What the editor sees of the scene.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(crate) struct Scene<'w, 's> {
+    volume: Res<'w, VolumeState>,
+    render: Res<'w, RenderState>,
+    views: Query<'w, 's, &'static View, With<MainCamera>>,
+    cameras: Query<'w, 's, &'static VirtualCamera>,
+    selection: Res<'w, RaySelection>,
+    preview: Option<Res<'w, PreviewSettings>>,
+}
+
+impl Scene<'_, '_> {
+    /// The view on screen as a step's scene: every part, the transfer function and settings
+    /// written out.
+    fn snapshot(&self) -> StepScene {
+        snapshot(
+            &self.volume,
+            &self.render,
+            self.views.single().ok().map(|v| &v.0),
+            self.cameras.single().ok(),
+            self.selection.selected,
+        )
+    }
+}
+
+/// `volume`, `render`, the main camera, the virtual camera and the selected ray as a step's
+/// scene (what "Add this view as a step" keeps).
+pub fn snapshot(
+    volume: &VolumeState,
+    render: &RenderState,
+    main: Option<&voxcast_core::camera::Camera>,
+    vc: Option<&VirtualCamera>,
+    ray: Option<UVec2>,
+) -> StepScene {
+    let place = |c: &voxcast_core::camera::Camera, pixels: Option<[u32; 2]>| CameraPlace {
+        eye: c.eye.to_array(),
+        target: c.target.to_array(),
+        up: c.up.to_array(),
+        fov_y_deg: match c.projection {
+            Projection::Perspective { fov_y_deg } => Some(fov_y_deg),
+            Projection::Orthographic { .. } => None,
+        },
+        pixels,
+    };
+    let settings = serde_json::to_value(&render.settings)
+        .ok()
+        .and_then(|v| v.as_object().cloned());
+    StepScene {
+        volume: Some(volume.source.clone()),
+        transfer: Some(TransferChoice::Inline(render.transfer.clone())),
+        settings,
+        camera: main.map(|c| place(c, None)),
+        virtual_camera: vc.map(|v| place(&v.view, Some([v.width, v.height]))),
+        ray: vc.and(ray).map(|p| [p.x, p.y]),
+    }
+}
+
+/// A new level whose scene is `scene` (the view on screen), with one step to read.
+fn new_level(scene: StepScene, preview: bool) -> Level {
+    let pixels = scene.virtual_camera.and_then(|c| c.pixels);
+    Level {
+        schema: None,
+        id: "my-level".into(),
+        title: "My level".into(),
+        concept: "What this level teaches, in a sentence.".into(),
+        scene: LevelScene {
+            volume: scene.volume.unwrap_or_else(|| "builtin:bunny".into()),
+            preview,
+            rays: pixels.map(|[w, h]| w.max(h)),
+            light: true,
+            panel: None,
+            preset: None,
+            transfer: scene.transfer,
+            settings: scene.settings,
+            camera: scene.camera,
+            virtual_camera: scene.virtual_camera,
+            ray: scene.ray,
+            lecture_ray: false,
+            preview_scale: None,
+        },
+        steps: vec![Step {
+            text: "Look at the scene: what does it show?".into(),
+            control: None,
+            objective: Objective::Read,
+            scene: None,
+        }],
+        origin: Origin::Embedded,
+    }
+}
+
+pub(crate) fn plugin(app: &mut App) {
+    app.init_resource::<Draft>()
+        .add_message::<EditorCommand>()
+        .add_systems(
+            Update,
+            apply_editor_commands
+                .before(super::apply_commands)
+                .in_set(crate::sandbox::shared::schedule::Frame::Rules),
+        );
+}
+
+/// Carries out the editor window's commands on the draft.
+fn apply_editor_commands(
+    mut commands: MessageReader<EditorCommand>,
+    mut draft: ResMut<Draft>,
+    mut lessons: ResMut<Lessons>,
+    scene: Scene,
+    mut start: MessageWriter<LevelCommand>,
+) {
+    for command in commands.read() {
+        let now = lessons.now.clone();
+        match command {
+            EditorCommand::NewFromView => {
+                let preview = scene.preview.as_ref().is_some_and(|p| p.enabled);
+                draft.level = Some(new_level(scene.snapshot(), preview));
+                draft.step = 0;
+                draft.file = "my-level.json".into();
+                draft.open = true;
+                draft.message = Some(
+                    "A new level from this view: write its words, then add a step for each \
+                     view you set up."
+                        .into(),
+                );
+            }
+            EditorCommand::Edit(i) => {
+                let Some(level) = lessons.levels.get(*i) else {
+                    continue;
+                };
+                draft.file = match &level.origin {
+                    Origin::File(p) => p.display().to_string(),
+                    _ => format!("{}.json", level.id),
+                };
+                draft.level = Some(level.clone());
+                draft.step = 0;
+                draft.open = true;
+                draft.message = None;
+            }
+            EditorCommand::AddStep => {
+                let draft = &mut *draft;
+                let at = draft.step + 1;
+                let Some(level) = draft.level.as_mut() else {
+                    continue;
+                };
+                let at = at.min(level.steps.len());
+                level.steps.insert(
+                    at,
+                    Step {
+                        text: "What to do, and what the student will see.".into(),
+                        control: None,
+                        objective: Objective::Read,
+                        scene: Some(scene.snapshot()),
+                    },
+                );
+                draft.step = at;
+            }
+            EditorCommand::Retake(k) => {
+                if let Some(step) = draft.level.as_mut().and_then(|l| l.steps.get_mut(*k)) {
+                    step.scene = Some(scene.snapshot());
+                    draft.message = Some(format!("Step {} now opens with this view.", k + 1));
+                }
+            }
+            EditorCommand::Select(k) => draft.step = *k,
+            EditorCommand::Move(k, by) => {
+                let draft = &mut *draft;
+                let Some(level) = draft.level.as_mut() else {
+                    continue;
+                };
+                let to = k.checked_add_signed(*by).filter(|&t| t < level.steps.len());
+                if let Some(to) = to {
+                    level.steps.swap(*k, to);
+                    draft.step = to;
+                }
+            }
+            EditorCommand::Delete(k) => {
+                let draft = &mut *draft;
+                let Some(level) = draft.level.as_mut() else {
+                    continue;
+                };
+                if level.steps.len() > 1 && *k < level.steps.len() {
+                    level.steps.remove(*k);
+                    draft.step = draft.step.min(level.steps.len() - 1);
+                } else {
+                    draft.message = Some("A level keeps at least one step.".into());
+                }
+            }
+            EditorCommand::Play(k) => {
+                let Some(level) = draft.level.clone() else {
+                    continue;
+                };
+                let i = keep_in_list(&mut lessons, level);
+                start.write(LevelCommand::StartAt(i, *k));
+                draft.message = Some(
+                    "Playing the draft as a student would; Edit this level brings it back.".into(),
+                );
+            }
+            EditorCommand::Save => {
+                let Some(level) = draft.level.clone() else {
+                    continue;
+                };
+                draft.message = Some(save(&mut draft, level, &mut lessons));
+            }
+            EditorCommand::CopyLink(page) => {
+                let Some(level) = draft.level.as_ref() else {
+                    continue;
+                };
+                match voxcast_core::level::link::link(level, page) {
+                    Ok(link) => {
+                        draft.message = Some(match files::copy_text(&link) {
+                            Ok(()) => format!(
+                                "The link is copied ({} characters): whoever opens it plays \
+                                 the level on the page.",
+                                link.len()
+                            ),
+                            Err(e) => format!("{e}: copy the link below by hand."),
+                        });
+                        draft.link = Some(link);
+                    }
+                    Err(e) => {
+                        draft.message = Some(e);
+                        draft.link = None;
+                    }
+                }
+            }
+        }
+        // The step chosen now is judged from the scene as it is now.
+        if !matches!(command, EditorCommand::CopyLink(_) | EditorCommand::Save) {
+            draft.baseline = Some(now);
+        }
+    }
+}
+
+/// Puts `level` in the levels list (replacing a level of its id that is not built in) and
+/// returns its index.
+fn keep_in_list(lessons: &mut Lessons, level: Level) -> usize {
+    match lessons
+        .levels
+        .iter()
+        .position(|l| l.id == level.id && l.origin != Origin::Embedded)
+    {
+        Some(i) => {
+            lessons.levels[i] = level;
+            i
+        }
+        None => {
+            lessons.levels.push(level);
+            lessons.levels.len() - 1
+        }
+    }
+}
+
+/// Writes the draft to its file (a download on the page), checked first as `voxcast levels
+/// check` would: a level with errors is not written. The saved level joins the list.
+fn save(draft: &mut Draft, mut level: Level, lessons: &mut Lessons) -> String {
+    let path = std::path::PathBuf::from(draft.file.trim());
+    if let Err(e) = files::file_name(&path) {
+        return e;
+    }
+    let path = path.with_extension("json");
+    // A data set beside the file is named as such, so the folder moves as a whole.
+    relative_to(&mut level, &path);
+    let text = voxcast_core::level::to_text(&level);
+    let checked = voxcast_core::level::check::read(
+        &text,
+        Origin::File(path.clone()),
+        &voxcast_core::level::check::OnDisk,
+    );
+    if checked.has_errors() {
+        let first = checked
+            .problems
+            .first()
+            .map(|p| p.to_string())
+            .unwrap_or_default();
+        return format!("Not saved: {first}");
+    }
+    match files::save(&path, text.as_bytes(), "application/json") {
+        Ok(done) => {
+            level.origin = Origin::File(path.clone());
+            draft.level = Some(level.clone());
+            draft.file = path.display().to_string();
+            keep_in_list(lessons, level);
+            let warnings = checked.problems.len();
+            if warnings == 0 {
+                done
+            } else {
+                format!(
+                    "{done} ({warnings} warning{}: voxcast levels check says which)",
+                    if warnings == 1 { "" } else { "s" }
+                )
+            }
+        }
+        Err(e) => format!("Not saved: {e}"),
+    }
+}
+
+/// Names each data set of `level` that lies in `path`'s folder (or below it) relative to it.
+fn relative_to(level: &mut Level, path: &std::path::Path) {
+    let Some(dir) = path.parent().and_then(|d| std::path::absolute(d).ok()) else {
+        return;
+    };
+    let relative = |name: &mut String| {
+        let p = std::path::Path::new(name.as_str());
+        if let Some(rest) = std::path::absolute(p)
+            .ok()
+            .filter(|_| !name.starts_with("builtin:") && !name.starts_with("density:"))
+            .and_then(|abs| abs.strip_prefix(&dir).ok().map(|r| r.to_path_buf()))
+        {
+            *name = rest.display().to_string();
+        }
+    };
+    relative(&mut level.scene.volume);
+    for step in &mut level.steps {
+        if let Some(v) = step.scene.as_mut().and_then(|s| s.volume.as_mut()) {
+            relative(v);
+        }
+    }
+}
