@@ -1,6 +1,8 @@
 // Voxcast's page loader: records every error for the page's test, picks the build the browser
 // can draw with (WebGPU where it offers an adapter, else WebGL2; `?gpu=webgl2` or `?gpu=webgpu`
-// chooses), starts it, and hands it the files a student picks or drops on the page.
+// chooses), starts it, and hands it the files a student picks or drops on the page (a folder
+// too), the levels `?levels=URL` names (with the data sets they name, from this site), and a
+// level carried in the address (`#level=…`, the level editor's Copy link).
 
 const errors = [];
 window.voxcastErrors = errors;
@@ -29,13 +31,89 @@ async function chooseGraphics() {
   return 'webgl2';
 }
 
-/** Reads `files` (a FileList) and hands them to the sandbox for `purpose`. */
+/** Reads `files` (File objects) and hands them to the sandbox for `purpose`; a file picked
+ * in a folder keeps its path inside it. */
 async function handOver(wasm, purpose, files) {
   const list = Array.from(files || []);
   if (list.length === 0) return;
-  const names = list.map((f) => f.name);
+  const names = list.map((f) => f.relativePath || f.webkitRelativePath || f.name);
   const bytes = await Promise.all(list.map(async (f) => new Uint8Array(await f.arrayBuffer())));
   wasm.voxcast_receive_files(purpose, names, bytes);
+}
+
+/** What dropped files are for: level files (with the data sets they name), a class's answer
+ * files, or a volume. */
+function purposeOf(files) {
+  const names = files.map((f) => f.name.toLowerCase());
+  if (names.some((n) => n.endsWith('.json'))) return 'levels';
+  if (names.length > 0 && names.every((n) => n.endsWith('.csv'))) return 'answers';
+  return 'volume';
+}
+
+/** The files a drop holds, a dropped folder's files inside it too (each with its path). */
+async function droppedFiles(transfer) {
+  const entries = Array.from(transfer.items || [])
+    .map((i) => (i.webkitGetAsEntry ? i.webkitGetAsEntry() : null))
+    .filter((e) => e);
+  if (entries.length === 0) return Array.from(transfer.files || []);
+  const out = [];
+  const walk = async (entry) => {
+    if (entry.isFile) {
+      const file = await new Promise((ok, no) => entry.file(ok, no));
+      file.relativePath = entry.fullPath.replace(/^\//, '');
+      out.push(file);
+    } else if (entry.isDirectory) {
+      const reader = entry.createReader();
+      for (;;) {
+        const batch = await new Promise((ok, no) => reader.readEntries(ok, no));
+        if (batch.length === 0) break;
+        for (const e of batch) await walk(e);
+      }
+    }
+  };
+  for (const e of entries) await walk(e);
+  return out;
+}
+
+/** `?levels=URL`: the level file (or a list of level files' URLs) fetched from this site, with
+ * the data sets and transfer functions each names beside it, handed over as `levels`. */
+async function fetchLevels(wasm, url) {
+  const here = (u) => new URL(u, location.href);
+  const get = async (u) => {
+    const r = await fetch(u);
+    if (!r.ok) throw new Error(`${u}: ${r.status} ${r.statusText}`);
+    return new Uint8Array(await r.arrayBuffer());
+  };
+  const first = here(url);
+  if (first.origin !== location.origin) {
+    throw new Error(`${url} is on another site: levels are read from this page's own site`);
+  }
+  const text = new TextDecoder().decode(await get(first));
+  const list = JSON.parse(text);
+  const levels = Array.isArray(list) ? list.map((u) => new URL(u, first)) : [first];
+  const names = [];
+  const bytes = [];
+  const seen = new Set();
+  const add = async (u) => {
+    const key = u.href;
+    if (seen.has(key) || u.origin !== location.origin) return;
+    seen.add(key);
+    names.push(key);
+    bytes.push(await get(u));
+  };
+  for (const level of levels) {
+    await add(level);
+    const parsed = JSON.parse(new TextDecoder().decode(bytes[bytes.length - 1]));
+    const scenes = [parsed.scene || {}, ...(parsed.steps || []).map((s) => s.scene || {})];
+    for (const s of scenes) {
+      for (const name of [s.volume, s.transfer]) {
+        const file = typeof name === 'string' && !/^(builtin|density):/.test(name);
+        const json = typeof name === 'string' && name.toLowerCase().endsWith('.json');
+        if (file && (name === s.volume || json)) await add(new URL(name, level));
+      }
+    }
+  }
+  wasm.voxcast_receive_files('levels', names, bytes);
 }
 
 async function start() {
@@ -71,7 +149,8 @@ async function start() {
     picker.click();
   };
 
-  // Files dropped anywhere on the page open as a volume.
+  // Files dropped anywhere on the page: a volume opens; level files (and a folder of them, with
+  // their data sets) join the levels list; a class's answer files become a report.
   let over = 0;
   document.addEventListener('dragenter', (e) => { e.preventDefault(); over += 1; dropHint.hidden = false; });
   document.addEventListener('dragleave', () => { over = Math.max(0, over - 1); dropHint.hidden = over > 0 ? false : true; });
@@ -80,9 +159,25 @@ async function start() {
     e.preventDefault();
     over = 0;
     dropHint.hidden = true;
-    handOver(wasm, 'volume', e.dataTransfer && e.dataTransfer.files);
+    if (!e.dataTransfer) return;
+    droppedFiles(e.dataTransfer).then((files) => handOver(wasm, purposeOf(files), files));
   });
   document.getElementById('voxcast-canvas').focus();
+
+  // Levels the address names, and a level it carries.
+  const levels = new URLSearchParams(location.search).get('levels');
+  if (levels) {
+    fetchLevels(wasm, levels).catch((e) => {
+      const notice = document.getElementById('voxcast-notice');
+      notice.textContent = `The levels of ?levels= could not be read: ${e.message || e}`;
+      notice.hidden = false;
+    });
+  }
+  if (location.hash.startsWith('#level=')) {
+    const page = location.href.split('#')[0];
+    const fragment = new TextEncoder().encode(location.hash.slice(1));
+    wasm.voxcast_receive_files('level-link', [page], [fragment]);
+  }
 }
 
 start();

@@ -136,6 +136,10 @@ pub struct SandboxArgs {
     /// levels check PATH` prints every problem).
     #[arg(long, value_name = "PATH", conflicts_with_all = ["screenshot", "compare"])]
     pub levels: Option<PathBuf>,
+    /// Play the level a link holds (the page's address with #level=…, as the level editor's
+    /// Copy link makes it).
+    #[arg(long, value_name = "URL", conflicts_with_all = ["screenshot", "compare", "play_levels"])]
+    pub link: Option<String>,
     /// Start with this level (its id, as `voxcast answers` lists them, or its number in the
     /// levels list) as a study: played to its end with the preview off, then again with it on;
     /// each run's answers are kept with the run's name.
@@ -415,6 +419,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             budget: args.sample_budget,
             ..default()
         })
+        .insert_resource(levels::files::OpenLink(args.link.clone()))
         .add_systems(Startup, spawn_main_camera);
     if let Some(level) = &args.study {
         let added = args.levels.as_deref().map(levels::added_from_path);

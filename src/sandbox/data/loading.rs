@@ -165,10 +165,16 @@ pub(crate) fn plugin(app: &mut App) {
         );
 }
 
+/// A volume dropped on the window loads; level files (.json) and answer files (.csv) are the
+/// levels' to read.
 fn load_dropped_files(mut drops: MessageReader<FileDragAndDrop>, mut loading: ResMut<Loading>) {
     for drop in drops.read() {
         if let FileDragAndDrop::DroppedFile { path_buf, .. } = drop {
-            loading.start_keeping_choices(path_buf.display().to_string());
+            let name = path_buf.display().to_string();
+            let lower = name.to_ascii_lowercase();
+            if !(lower.ends_with(".json") || lower.ends_with(".csv")) {
+                loading.start_keeping_choices(name);
+            }
         }
     }
 }

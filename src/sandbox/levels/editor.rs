@@ -255,7 +255,7 @@ fn apply_editor_commands(
                 let Some(level) = draft.level.clone() else {
                     continue;
                 };
-                let i = keep_in_list(&mut lessons, level);
+                let i = lessons.keep_level(level);
                 start.write(LevelCommand::StartAt(i, *k));
                 draft.message = Some(
                     "Playing the draft as a student would; Edit this level brings it back.".into(),
@@ -297,25 +297,6 @@ fn apply_editor_commands(
     }
 }
 
-/// Puts `level` in the levels list (replacing a level of its id that is not built in) and
-/// returns its index.
-fn keep_in_list(lessons: &mut Lessons, level: Level) -> usize {
-    match lessons
-        .levels
-        .iter()
-        .position(|l| l.id == level.id && l.origin != Origin::Embedded)
-    {
-        Some(i) => {
-            lessons.levels[i] = level;
-            i
-        }
-        None => {
-            lessons.levels.push(level);
-            lessons.levels.len() - 1
-        }
-    }
-}
-
 /// Writes the draft to its file (a download on the page), checked first as `voxcast levels
 /// check` would: a level with errors is not written. The saved level joins the list.
 fn save(draft: &mut Draft, mut level: Level, lessons: &mut Lessons) -> String {
@@ -345,7 +326,7 @@ fn save(draft: &mut Draft, mut level: Level, lessons: &mut Lessons) -> String {
             level.origin = Origin::File(path.clone());
             draft.level = Some(level.clone());
             draft.file = path.display().to_string();
-            keep_in_list(lessons, level);
+            lessons.keep_level(level);
             let warnings = checked.problems.len();
             if warnings == 0 {
                 done

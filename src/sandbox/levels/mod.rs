@@ -6,6 +6,7 @@
 //! storage; a damaged file or entry starts afresh with a message.
 
 pub mod editor;
+pub mod files;
 mod objective;
 mod scene;
 mod store;
@@ -143,6 +144,23 @@ impl Lessons {
             set_up_again: false,
             pending: None,
             now: Situation::default(),
+        }
+    }
+
+    /// Puts `level` in the levels list — in place of a level of its id that is not built in,
+    /// else after the others — and returns its index.
+    pub fn keep_level(&mut self, level: Level) -> usize {
+        let same =
+            |l: &Level| l.id == level.id && l.origin != voxcast_core::level::Origin::Embedded;
+        match self.levels.iter().position(same) {
+            Some(i) => {
+                self.levels[i] = level;
+                i
+            }
+            None => {
+                self.levels.push(level);
+                self.levels.len() - 1
+            }
         }
     }
 
@@ -344,10 +362,18 @@ impl Lessons {
 /// The logic, without the window: commands, scene set-up and the objective check.
 pub(crate) fn plugin(app: &mut App) {
     app.add_plugins(editor::plugin);
+    app.init_resource::<files::LevelFiles>()
+        .init_resource::<files::OpenLink>();
     app.add_message::<LevelCommand>().add_systems(
         Update,
         (
-            (apply_commands, set_up_scene, open_scene)
+            (
+                (files::take_dropped, files::open_link),
+                files::receive_files,
+                apply_commands,
+                set_up_scene,
+                open_scene,
+            )
                 .chain()
                 .in_set(crate::sandbox::shared::schedule::Frame::Rules),
             check_objective.in_set(crate::sandbox::shared::schedule::Frame::Check),

@@ -100,7 +100,7 @@ pub(super) fn open_scene(
     (volume, mut render, mut loading): (Res<VolumeState>, ResMut<RenderState>, ResMut<Loading>),
     mut main: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut cameras: Query<&mut VirtualCamera>,
-    mut selection: ResMut<RaySelection>,
+    (mut selection, held): (ResMut<RaySelection>, Res<super::files::LevelFiles>),
 ) {
     let Some(pending) = lessons.pending.clone() else {
         return;
@@ -119,7 +119,7 @@ pub(super) fn open_scene(
             match loading.under_way() {
                 Some((loading_now, _)) if loading_now == source => {}
                 _ if !pending.asked => {
-                    loading.start(source);
+                    start_loading(&mut loading, source, &held);
                     if let Some(p) = lessons.pending.as_mut() {
                         p.asked = true;
                     }
@@ -196,6 +196,22 @@ pub(super) fn open_scene(
     } else {
         None
     };
+}
+
+/// Starts loading a level's data set: from the files handed with the level where it is one
+/// of them (the page), else by its name (a builtin, a path).
+fn start_loading(loading: &mut Loading, source: String, held: &super::files::LevelFiles) {
+    if !held.holds(&source) {
+        loading.start(source);
+        return;
+    }
+    let files = held.in_memory();
+    let path = std::path::PathBuf::from(source.rsplit(['/', '\\']).next().unwrap_or(&source));
+    loading.run(source, false, move |_, _| {
+        voxcast_core::io::load_from(&files, &path)
+            .map(|loaded| crate::sandbox::data::source::Outcome { loaded, rays: None })
+            .map_err(|e| e.to_string())
+    });
 }
 
 /// The camera `place` puts down, with the field of view of `now` unless it gives one.

@@ -646,3 +646,73 @@ fn a_level_written_in_the_editor_is_saved_read_and_played() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A level in a link (`--link`, or the page's own `#level=…`) is read as a file is read and
+/// played at once; a damaged link says so and changes nothing. Level files and answer files
+/// dropped on the window join the list and become a report.
+#[test]
+fn a_link_plays_its_level_and_dropped_files_are_read() {
+    let dir = std::env::temp_dir().join(format!("voxcast-link-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut app = app(dir.join("progress.json"));
+    app.update();
+    let mut level = Level::all().into_iter().find(|l| l.id == "rays").unwrap();
+    level.id = "shared-rays".into();
+    level.title = "Rays, shared".into();
+    let url = voxcast_core::level::link::link(&level, "http://127.0.0.1:8000/").unwrap();
+    app.world_mut().resource_mut::<files::OpenLink>().0 = Some(url.clone());
+    until(
+        &mut app,
+        |a| matches!(mode(a), Mode::Level(i) if a.world().resource::<Lessons>().levels[i].id == "shared-rays"),
+    );
+    let damaged = format!("{}x", &url[..url.len() - 20]);
+    app.world_mut().resource_mut::<files::OpenLink>().0 = Some(damaged);
+    app.update();
+    app.update();
+    let said = app
+        .world()
+        .resource::<Lessons>()
+        .message
+        .clone()
+        .unwrap_or_default();
+    assert!(said.contains("damaged"), "{said}");
+    // Dropped: a level file and an answers file.
+    let mut other = level.clone();
+    other.id = "dropped".into();
+    let level_file = dir.join("dropped.json");
+    std::fs::write(&level_file, voxcast_core::level::to_text(&other)).unwrap();
+    let csv = dir.join("answers.csv");
+    std::fs::write(&csv, Progress::default().answers_csv()).unwrap();
+    for path in [level_file, csv] {
+        app.world_mut().write_message(FileDragAndDrop::DroppedFile {
+            window: Entity::PLACEHOLDER,
+            path_buf: path,
+        });
+    }
+    let cwd = std::env::current_dir().unwrap();
+    app.update();
+    app.update();
+    let lessons = app.world().resource::<Lessons>();
+    assert!(
+        lessons.levels.iter().any(|l| l.id == "dropped"),
+        "{:?}",
+        lessons.message
+    );
+    assert!(
+        lessons
+            .message
+            .as_deref()
+            .unwrap_or_default()
+            .starts_with("Class report: 0 answer files read, 1 left out"),
+        "{:?}",
+        lessons.message
+    );
+    let report = cwd.join("class_report.html");
+    assert!(
+        std::fs::read_to_string(&report)
+            .unwrap()
+            .contains("it holds no answers")
+    );
+    std::fs::remove_file(report).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}

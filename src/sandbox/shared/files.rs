@@ -13,6 +13,12 @@ pub enum Purpose {
     Volume,
     /// A transfer function (JSON).
     Transfer,
+    /// Level files (JSON) and the data sets and transfer functions they name.
+    Levels,
+    /// A class's answer files (CSV), for a report.
+    Answers,
+    /// A level's link: the page's address fragment (`level=…`), as text.
+    LevelLink,
 }
 
 #[cfg(any(test, target_arch = "wasm32"))]
@@ -22,13 +28,22 @@ impl Purpose {
         match self {
             Purpose::Volume => "volume",
             Purpose::Transfer => "transfer",
+            Purpose::Levels => "levels",
+            Purpose::Answers => "answers",
+            Purpose::LevelLink => "level-link",
         }
     }
 
     pub fn parse(name: &str) -> Option<Self> {
-        [Purpose::Volume, Purpose::Transfer]
-            .into_iter()
-            .find(|p| p.name() == name)
+        [
+            Purpose::Volume,
+            Purpose::Transfer,
+            Purpose::Levels,
+            Purpose::Answers,
+            Purpose::LevelLink,
+        ]
+        .into_iter()
+        .find(|p| p.name() == name)
     }
 
     /// The file types a picker offers for it.
@@ -40,7 +55,10 @@ impl Purpose {
                 types.push_str(",.img,.gz,.raw");
                 types
             }
-            Purpose::Transfer => ".json".into(),
+            Purpose::Transfer | Purpose::LevelLink => ".json".into(),
+            // A level with the data sets it names, picked together.
+            Purpose::Levels => format!(".json,{}", Purpose::Volume.accept()),
+            Purpose::Answers => ".csv".into(),
         }
     }
 }

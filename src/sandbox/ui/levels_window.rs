@@ -102,20 +102,8 @@ pub(super) fn levels_ui(
         ui.colored_label(egui::Color32::YELLOW, m);
     }
     match mode {
-        Mode::FreePlay => {
-            let chosen = level_list(ui, lessons, folded);
-            if !*folded {
-                editor_button(ui, edit, EditorCommand::NewFromView);
-            }
-            chosen
-        }
-        Mode::Level(l) => {
-            let chosen = level_step(ui, lessons, l, folded);
-            if !*folded {
-                editor_button(ui, edit, EditorCommand::Edit(l));
-            }
-            chosen
-        }
+        Mode::FreePlay => level_list(ui, lessons, folded, edit),
+        Mode::Level(l) => level_step(ui, lessons, l, (folded, edit)),
     }
 }
 
@@ -157,7 +145,12 @@ fn fold_toggle(ui: &mut egui::Ui, folded: &mut bool) {
     }
 }
 
-fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons, folded: &mut bool) -> Option<LevelCommand> {
+fn level_list(
+    ui: &mut egui::Ui,
+    lessons: &mut Lessons,
+    folded: &mut bool,
+    edit: &mut Option<EditorCommand>,
+) -> Option<LevelCommand> {
     let mut chosen = None;
     if *folded {
         ui.horizontal(|ui| {
@@ -182,8 +175,37 @@ fn level_list(ui: &mut egui::Ui, lessons: &mut Lessons, folded: &mut bool) -> Op
     ui.horizontal_wrapped(|ui| {
         chosen = level_buttons(ui, lessons);
     });
-    export_answers(ui, lessons);
+    ui.horizontal_wrapped(|ui| {
+        export_answers(ui, lessons);
+        editor_button(ui, edit, EditorCommand::NewFromView);
+        teachers_files(ui);
+    });
     chosen
+}
+
+/// A teacher's files on the page, which cannot read paths: level files to add, a class's
+/// answer files for a report. (On the desktop: `--levels`, `voxcast answers --class`, or a drop
+/// on the window.)
+fn teachers_files(ui: &mut egui::Ui) {
+    use crate::sandbox::shared::files::{PICKS_FILES, Purpose, pick};
+    if !PICKS_FILES {
+        return;
+    }
+    let open = ui.button("Open levels…").on_hover_text(
+        "Add level files to the list: choose each level (.json) together with the data sets \
+         and transfer functions it names (a folder of them can be dropped on the page)",
+    );
+    if super::target(open, "open levels").clicked() {
+        pick(Purpose::Levels);
+    }
+    let report = ui.button("Class report…").on_hover_text(
+        "Choose your students' answer files (CSV, as Export answers writes them): one report \
+         per level and step — right at the first try, tries, time, the commonest wrong answers \
+         — downloaded as class_report.html",
+    );
+    if super::target(report, "class report").clicked() {
+        pick(Purpose::Answers);
+    }
 }
 
 /// Whether a level chosen starts as a study.
@@ -278,7 +300,7 @@ fn level_step(
     ui: &mut egui::Ui,
     lessons: &mut Lessons,
     l: usize,
-    folded: &mut bool,
+    (folded, edit): (&mut bool, &mut Option<EditorCommand>),
 ) -> Option<LevelCommand> {
     let step = lessons.step_in(Mode::Level(l))?.clone();
     let level = &lessons.levels[l];
@@ -376,6 +398,9 @@ fn level_step(
         }
         if *folded && let Some(look_at) = &look_at {
             ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
+        }
+        if !*folded {
+            editor_button(ui, edit, EditorCommand::Edit(l));
         }
     });
     command
