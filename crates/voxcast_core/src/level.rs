@@ -43,12 +43,13 @@ const EMBEDDED: &[&str] = &[
     include_str!("../../../assets/levels/11_light.json"),
     include_str!("../../../assets/levels/12_lights.json"),
     include_str!("../../../assets/levels/13_transfer.json"),
-    include_str!("../../../assets/levels/14_clipping.json"),
-    include_str!("../../../assets/levels/15_acceleration.json"),
-    include_str!("../../../assets/levels/16_preview_render.json"),
-    include_str!("../../../assets/levels/17_slow_hardware.json"),
-    include_str!("../../../assets/levels/18_ray_density.json"),
-    include_str!("../../../assets/levels/19_which_effect.json"),
+    include_str!("../../../assets/levels/14_binary.json"),
+    include_str!("../../../assets/levels/15_clipping.json"),
+    include_str!("../../../assets/levels/16_acceleration.json"),
+    include_str!("../../../assets/levels/17_preview_render.json"),
+    include_str!("../../../assets/levels/18_slow_hardware.json"),
+    include_str!("../../../assets/levels/19_ray_density.json"),
+    include_str!("../../../assets/levels/20_which_effect.json"),
 ];
 
 /// What a level's scene holds: only what it teaches. It opens with the data set's own

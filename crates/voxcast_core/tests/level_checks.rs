@@ -809,3 +809,42 @@ fn which_effect() {
         p.state.studied = None;
     }
 }
+
+#[test]
+fn binary() {
+    let step = |at: f32, width: f32, low: f32, high: f32| {
+        move |s: &mut Situation| {
+            let c = [0.9, 0.9, 0.8];
+            s.transfer = Some(
+                TransferFunction::new(
+                    "binary",
+                    vec![
+                        voxcast_core::transfer::ControlPoint::new(0.0, c, low),
+                        voxcast_core::transfer::ControlPoint::new(at - width / 2.0, c, low),
+                        voxcast_core::transfer::ControlPoint::new(at + width / 2.0, c, high),
+                        voxcast_core::transfer::ControlPoint::new(255.0, c, high),
+                    ],
+                )
+                .unwrap(),
+            )
+        }
+    };
+    let mut p = Play::new("binary", |s| s.transfer = Some(transfer("head")));
+    p.read();
+    p.step(
+        &[
+            (
+                "a step at 100: the brain stays",
+                &step(100.0, 10.0, 0.0, 1.0),
+            ),
+            ("a ramp from 130 to 170", &step(150.0, 40.0, 0.0, 1.0)),
+            ("half opaque above", &step(150.0, 4.0, 0.0, 0.5)),
+            ("faint below", &step(150.0, 4.0, 0.05, 1.0)),
+            ("the preset's opacities", &|s| {
+                s.transfer = Some(transfer("head"))
+            }),
+        ],
+        &step(150.0, 10.0, 0.0, 1.0),
+    );
+    p.read();
+}

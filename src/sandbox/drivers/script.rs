@@ -24,6 +24,7 @@ use voxcast_core::classify::Classification;
 use voxcast_core::level::Objective;
 use voxcast_core::shade::{Light, LightSource};
 use voxcast_core::step::Length;
+use voxcast_core::transfer::{ControlPoint, TransferFunction};
 
 /// Frames a new scene is drawn before its screenshot (pipelines compile synchronously here).
 const SETTLE_FRAMES: u32 = 8;
@@ -494,6 +495,22 @@ fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Les
         }
         Objective::TfAlphaAtMost { value, alpha } => {
             if let Ok((t, _)) = hands.render.transfer.with_point_added(*value, *alpha) {
+                hands.render.transfer = t;
+            }
+        }
+        Objective::TfBinary { threshold, within } => {
+            // The editor's points dragged to a step: none below, full above, in the colour the
+            // function gives the threshold.
+            let (lo, hi) = hands.volume.volume.value_range();
+            let c = hands.render.transfer.evaluate(*threshold);
+            let colour = [c.x, c.y, c.z];
+            let points = vec![
+                ControlPoint::new(lo.min(threshold - within), colour, 0.0),
+                ControlPoint::new(threshold - 0.5 * within, colour, 0.0),
+                ControlPoint::new(threshold + 0.5 * within, colour, 1.0),
+                ControlPoint::new(hi.max(threshold + within), colour, 1.0),
+            ];
+            if let Ok(t) = TransferFunction::new("binary", points) {
                 hands.render.transfer = t;
             }
         }

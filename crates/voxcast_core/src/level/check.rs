@@ -807,6 +807,9 @@ fn numbers(objective: &Objective) -> Vec<f32> {
             Objective::StepAtMost { voxels } | Objective::StepAtLeast { voxels } => vec![*voxels],
             Objective::TargetBetween { lo, hi } => vec![*lo, *hi],
             Objective::TfAlphaAtMost { value, alpha } => vec![*value, *alpha],
+            Objective::TfBinary { threshold, within } => {
+                vec![threshold - within, threshold + within]
+            }
             Objective::TfColorNear { value, alpha, .. } => vec![*value, *alpha],
             Objective::Compared { max } => vec![*max],
             Objective::SupersamplingAtLeast { rays } => vec![*rays as f32],

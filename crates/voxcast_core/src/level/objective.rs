@@ -48,6 +48,10 @@ pub enum Objective {
     Classification { mode: String },
     /// Make the transfer function's opacity at `value` at most `alpha`.
     TfAlphaAtMost { value: f32, alpha: f32 },
+    /// Make the transfer function binary at `threshold`, as the lecture's first classification
+    /// is (0 background, 1 object): opacity at most 0.02 at every value up to `threshold −
+    /// within` and at least 0.95 at every value from `threshold + within` up.
+    TfBinary { threshold: f32, within: f32 },
     /// Make the transfer function's colour at `value` within `tolerance` (per channel) of
     /// `color`, with opacity at least `alpha`.
     TfColorNear {
@@ -331,6 +335,7 @@ const EXAMPLES: &[&str] = &[
     r#"{"kind": "target-between", "lo": 120.0, "hi": 200.0}"#,
     r#"{"kind": "classification", "mode": "boundaries"}"#,
     r#"{"kind": "tf-alpha-at-most", "value": 40.0, "alpha": 0.02}"#,
+    r#"{"kind": "tf-binary", "threshold": 150.0, "within": 10.0}"#,
     r#"{"kind": "tf-color-near", "value": 140.0, "color": [1, 0, 0], "tolerance": 0.3, "alpha": 0.5}"#,
     r#"{"kind": "compared", "max": 2.0}"#,
     r#"{"kind": "light-inside-volume"}"#,
@@ -433,6 +438,10 @@ impl Objective {
                 .transfer
                 .as_ref()
                 .is_some_and(|t| t.evaluate(*value).w <= *alpha),
+            Objective::TfBinary { threshold, within } => s
+                .transfer
+                .as_ref()
+                .is_some_and(|t| is_binary(t, *threshold, *within)),
             Objective::TfColorNear {
                 value,
                 color,
@@ -520,6 +529,39 @@ impl Objective {
                 .is_some_and(|named| crate::rays::effects::Effect::same_kind(named, *trace)),
         }
     }
+}
+
+/// Whether `t` is binary at `threshold`: at most 0.02 opaque everywhere up to `threshold −
+/// within`, at least 0.95 everywhere from `threshold + within` up, over its points' values
+/// (beyond them it holds its end's opacity), checked at every point and 1,024 values between.
+pub fn is_binary(t: &crate::transfer::TransferFunction, threshold: f32, within: f32) -> bool {
+    let points = t.points();
+    let (first, last) = (points[0].value, points[points.len() - 1].value);
+    let (lo, hi) = (threshold - within, threshold + within);
+    let span = (last - first).max(f32::MIN_POSITIVE);
+    let values = points
+        .iter()
+        .map(|p| p.value)
+        .chain((0..=1024).map(|i| first + span * i as f32 / 1024.0))
+        .chain([lo, hi]);
+    let mut below = false;
+    let mut above = false;
+    for v in values {
+        let a = t.evaluate(v).w;
+        if v <= lo {
+            below = true;
+            if a > 0.02 {
+                return false;
+            }
+        }
+        if v >= hi {
+            above = true;
+            if a < 0.95 {
+                return false;
+            }
+        }
+    }
+    below && above
 }
 
 /// How many of `colors` differ from every other one by more than 0.1 in some channel (greedy:
