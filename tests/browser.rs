@@ -324,6 +324,12 @@ fn page(graphics: &str) -> Outcome {
         }
     }
 
+    // A teacher's side: levels from ?levels= with their data set, a level's link in a fresh
+    // browser, a class's answer files dropped.
+    if graphics == "webgl2" {
+        teachers_side(&page, port, &dir, &downloads)?;
+    }
+
     // The page's frame times at 1280×720, orbiting and resting (`--measure-frames`, as the
     // desktop's `benches/frames.sh` measures them): printed for BENCHMARKS.md, not judged.
     browser.set_viewport(1280, 720)?;
@@ -356,6 +362,97 @@ fn page(graphics: &str) -> Outcome {
         .collect();
     assert!(severe.is_empty(), "the console says: {severe:#?}");
     Ok(Completion::Completed)
+}
+
+/// The teacher's side of the page: a level file and the data set it names, served beside the
+/// page, added with `?levels=` and played; a level's link (the editor's Copy link) opened in a
+/// fresh browser plays its level; a class's answer file dropped on the page comes back as the
+/// report's download.
+fn teachers_side(page: &Page, port: u16, dir: &Path, downloads: &Path) -> Result<(), String> {
+    let browser = page.browser;
+    let served = dir.join("levels-test");
+    std::fs::create_dir_all(&served).map_err(|e| e.to_string())?;
+    let tiny = b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n\
+                \x00\x10\x20\x30\x40\x50\x60\x70";
+    std::fs::write(served.join("tiny.nrrd"), tiny).map_err(|e| e.to_string())?;
+    let first = "A volume of 2×2×2 voxels, served beside this level.";
+    let level = json!({
+        "id": "tiny", "title": "A tiny volume", "concept": "A level on a file beside it.",
+        "scene": {"volume": "tiny.nrrd", "preview": true, "rays": 2},
+        "steps": [
+            {"text": first, "objective": {"kind": "read"}},
+            {"text": "Set the step to 0.25 voxel or less.", "control": "step",
+             "objective": {"kind": "step-at-most", "voxels": 0.25}}
+        ]
+    });
+    std::fs::write(served.join("tiny_level.json"), level.to_string()).map_err(|e| e.to_string())?;
+    browser.open(&format!(
+        "http://127.0.0.1:{port}/?gpu=webgl2&no-rays&levels=levels-test/tiny_level.json"
+    ))?;
+    let said = browser.wait_for(
+        "const s = window.voxcastStatus && window.voxcastStatus(); \
+         return (s && s.levels_message.includes('Added') && s.levels_message) || null",
+        FIRST_FRAME,
+    )?;
+    println!("?levels=: {}", said.as_str().unwrap_or_default());
+    let n = voxcast_core::level::Level::all().len() + 1;
+    let button = format!("level {n}");
+    if !page.has(&button)? {
+        page.click("levels menu")?;
+        page.settle(3)?;
+    }
+    page.click(&button)?;
+    let volume = format!("http://127.0.0.1:{port}/levels-test/tiny.nrrd");
+    browser.wait_for(
+        &format!(
+            "const s = window.voxcastStatus(); return (s.mode == 'level {n}' && \
+             s.step_text == {first:?} && s.volume == {volume:?} && !s.loading) || null"
+        ),
+        Duration::from_secs(60),
+    )?;
+    page.save_screenshot("added_level")?;
+
+    // A level in a link, opened where nothing of the teacher's is.
+    let mut linked = voxcast_core::level::Level::all()[0].clone();
+    linked.id = "linked".into();
+    linked.title = "A linked level".into();
+    let url = voxcast_core::level::link::link(
+        &linked,
+        &format!("http://127.0.0.1:{port}/?gpu=webgl2&no-rays"),
+    )?;
+    let fresh = Browser::start(&[], downloads).map_err(|e| format!("chromium: {e}"))?;
+    fresh.set_viewport(1280, 720)?;
+    fresh.open(&url)?;
+    let step = &linked.steps[0].text;
+    fresh.wait_for(
+        &format!(
+            "const s = window.voxcastStatus && window.voxcastStatus(); \
+             return (s && s.mode.startsWith('level') && s.step_text == {step:?}) || null"
+        ),
+        FIRST_FRAME,
+    )?;
+    std::fs::write(page.out.join("linked_level.png"), fresh.screenshot()?)
+        .map_err(|e| e.to_string())?;
+    drop(fresh);
+
+    // A student's answers dropped: the class's report comes back as a download.
+    let answers = "level,step,question,answer,expected,correct,time (UTC),run,try,seconds\n\
+                   trilinear,2,\"the value at (0.5, 0.5, 0.5)\",5.1,4.988,no,\
+                   2026-12-07T09:00:00Z,,1,20\n";
+    page.drop_file("student1.csv", answers.as_bytes())?;
+    let report = downloads.join("class_report.html");
+    let started = Instant::now();
+    while !report.exists() && started.elapsed() < Duration::from_secs(30) {
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    let html =
+        std::fs::read_to_string(&report).map_err(|e| format!("{}: {e}", report.display()))?;
+    assert!(
+        html.contains("Trilinear interpolation") && html.contains("5.1 ×1"),
+        "{html}"
+    );
+    let _ = std::fs::remove_dir_all(&served);
+    Ok(())
 }
 
 /// The page under test, and where its screenshots go.

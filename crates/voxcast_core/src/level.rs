@@ -112,6 +112,25 @@ fn is_false(b: &bool) -> bool {
 }
 
 impl LevelScene {
+    /// `transfer` and `settings` (the data set's own) with the level's preset over them, where
+    /// it names one, and the lecture's ray's settings where it shoots that ray: what the level
+    /// opens with before its own `transfer` and `settings`.
+    pub fn over_defaults(
+        &self,
+        transfer: &mut crate::transfer::TransferFunction,
+        settings: &mut crate::settings::RenderSettings,
+    ) {
+        if let Some(p) = self.preset.as_deref().and_then(crate::preset::by_name) {
+            *transfer = p.transfer.clone();
+            if let Ok(s) = p.settings_over(settings) {
+                *settings = s;
+            }
+        }
+        if self.lecture_ray {
+            *settings = crate::worked::lecture_ray_settings(settings);
+        }
+    }
+
     /// The scene a level opens with, as a step's scene: its volume, transfer function,
     /// settings, cameras and ray.
     pub fn snapshot(&self) -> StepScene {

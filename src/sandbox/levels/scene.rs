@@ -92,7 +92,6 @@ pub(super) fn set_up_scene(
 /// framed and the virtual camera spawned — its transfer function, settings, cameras and ray.
 /// A data set that cannot be loaded is said in the level's message and the rest is opened
 /// over the volume on screen.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn open_scene(
     mode: Res<State<Mode>>,
     mut lessons: ResMut<Lessons>,
@@ -145,7 +144,10 @@ pub(super) fn open_scene(
     }
     if pending.fresh {
         reset_to_defaults(&volume.volume, &mut render);
-        apply_level_preset(&level.scene, &mut render);
+        let render = &mut *render;
+        level
+            .scene
+            .over_defaults(&mut render.transfer, &mut render.settings);
     }
     let scene = &pending.scene;
     if let Some(choice) = &scene.transfer {
@@ -238,26 +240,5 @@ fn transfer_of(choice: &TransferChoice) -> Option<voxcast_core::transfer::Transf
     match choice {
         TransferChoice::Inline(t) => Some(t.clone()),
         TransferChoice::Named(name) => voxcast_core::preset::by_name(name).map(|p| p.transfer),
-    }
-}
-
-/// The level's own preset over its volume's defaults, where its scene names one, and the
-/// lecture's ray's settings where it shoots that ray.
-pub(super) fn apply_level_preset(
-    scene: &voxcast_core::level::LevelScene,
-    render: &mut RenderState,
-) {
-    if let Some(p) = scene
-        .preset
-        .as_deref()
-        .and_then(voxcast_core::preset::by_name)
-    {
-        render.transfer = p.transfer.clone();
-        if let Ok(s) = p.settings_over(&render.settings) {
-            render.settings = s;
-        }
-    }
-    if scene.lecture_ray {
-        render.settings = voxcast_core::worked::lecture_ray_settings(&render.settings);
     }
 }

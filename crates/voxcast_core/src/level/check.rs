@@ -588,20 +588,10 @@ fn open_scene(
             }
         }
     }
-    if fresh
-        && let Some(p) = level
+    if fresh {
+        level
             .scene
-            .preset
-            .as_deref()
-            .and_then(crate::preset::by_name)
-    {
-        shown.transfer = p.transfer.clone();
-        if let Ok(s) = p.settings_over(&shown.settings) {
-            shown.settings = s;
-        }
-    }
-    if fresh && level.scene.lecture_ray {
-        shown.settings = crate::worked::lecture_ray_settings(&shown.settings);
+            .over_defaults(&mut shown.transfer, &mut shown.settings);
     }
     if let Some(choice) = &scene.transfer {
         let place = format!("{place} › transfer");
