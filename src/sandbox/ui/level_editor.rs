@@ -22,6 +22,7 @@ pub(super) struct EditorText {
 }
 
 /// The page a desktop's link opens (`VOXCAST_PAGE_URL`, else the README's local address).
+#[cfg(not(target_arch = "wasm32"))]
 fn default_page() -> String {
     std::env::var("VOXCAST_PAGE_URL").unwrap_or_else(|_| "http://127.0.0.1:8000/".into())
 }
