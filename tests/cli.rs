@@ -191,7 +191,8 @@ fn the_specular_model_is_chosen_on_the_command_line() {
 }
 
 /// `voxcast answers`: the player's progress (here `VOXCAST_CONFIG_DIR`'s) as CSV, to standard
-/// output or a file; a missing or damaged progress file says so and exits non-zero.
+/// output or a file (an answer kept before tries were counted leaves `try` and `seconds` empty);
+/// a missing or damaged progress file says so and exits non-zero.
 #[test]
 fn answers_are_exported_as_csv() {
     let dir = out_dir().join("answers");
@@ -215,8 +216,8 @@ fn answers_are_exported_as_csv() {
     let csv = String::from_utf8_lossy(&o.stdout);
     assert_eq!(
         csv,
-        "level,step,question,answer,expected,correct,time (UTC),run\n\
-         trilinear,2,\"the value at (0.5, 0.5, 0.5)\",4.99,4.988,yes,2026-12-05T09:53:47Z,\n"
+        "level,step,question,answer,expected,correct,time (UTC),run,try,seconds\n\
+         trilinear,2,\"the value at (0.5, 0.5, 0.5)\",4.99,4.988,yes,2026-12-05T09:53:47Z,,,\n"
     );
     let out = dir.join("answers.csv");
     let o = run(&["answers", "--out", out.to_str().unwrap()]);
