@@ -400,7 +400,7 @@ fn build_window(app: &mut App, args: &SandboxArgs, render: &RenderState) -> Resu
             virtual_camera::plugin,
             inspect::rays::plugin,
             trade::plugin,
-            (lattice::plugin, blocks::plugin),
+            (lattice::plugin, blocks::plugin, inspect::cells::plugin),
             live::plugin,
             overlay::plugin,
             (

@@ -11,6 +11,7 @@ mod file;
 pub mod link;
 mod objective;
 mod progress;
+mod ray_answer;
 pub mod report;
 mod scene;
 mod schema;
@@ -20,6 +21,7 @@ pub use objective::{Objective, RayDensityFacts, Situation, classification_mode, 
 pub use progress::{
     Answer, CSV_HEADER, Progress, StudyRun, now_seconds, players_progress_path, utc_time,
 };
+pub use ray_answer::{RayAnswer, ray_answer};
 pub use scene::{CameraPlace, Origin, StepScene, TransferChoice};
 pub use schema::{SCHEMA_FILE, schema, schema_text};
 

@@ -38,6 +38,7 @@ pub mod breakdown;
 pub mod bricks;
 pub mod builtin;
 pub mod camera;
+pub mod cells;
 pub mod classify;
 pub mod clip;
 pub mod colormap;

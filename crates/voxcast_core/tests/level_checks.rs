@@ -75,8 +75,10 @@ impl Play {
             "{}: the right action is refused ({objective:?})",
             self.here()
         );
+        // A prediction belongs to its step: the next opens with nothing typed.
         self.state = Situation {
             at_open: None,
+            prediction: None,
             ..done
         };
         self.step += 1;
@@ -165,8 +167,54 @@ fn sampling() {
     });
     p.read();
     p.step(
+        &[("a ray selected before, no click", &|s| {
+            s.ray_selected = true
+        })],
+        &click,
+    );
+    // The selected ray takes 25 samples at the step of 0.3, is 7.2 long and crosses 12 cells.
+    p.step(
         &[
-            ("0.3 voxel", &|s| s.step_voxels = 0.3),
+            ("one too few: the first sample forgotten", &|s| {
+                s.prediction = Some((24.0, 25.0))
+            }),
+            ("the length over the step, not a count", &|s| {
+                s.prediction = Some((24.6, 25.0))
+            }),
+        ],
+        // (The step's scene set the step to 0.3, which the next step opens with.)
+        &|s| {
+            s.step_voxels = 0.3;
+            s.prediction = Some((25.0, 25.0));
+        },
+    );
+    p.step(
+        &[
+            ("divided by 15, the samples' gaps of 16 samples", &|s| {
+                s.prediction = Some((0.48, 0.45))
+            }),
+            ("the fixed step's own 0.3", &|s| {
+                s.prediction = Some((0.3, 0.45))
+            }),
+        ],
+        &|s| s.prediction = Some((0.455, 0.45)),
+    );
+    p.step(
+        &[
+            ("the planes passed, not the cells", &|s| {
+                s.prediction = Some((11.0, 12.0))
+            }),
+            ("the samples counted instead", &|s| {
+                s.prediction = Some((25.0, 12.0))
+            }),
+        ],
+        &|s| s.prediction = Some((12.0, 12.0)),
+    );
+    p.step(
+        &[
+            ("0.3 voxel, as the step before set it", &|s| {
+                s.step_voxels = 0.3
+            }),
             ("a coarser step", &|s| s.step_voxels = 2.0),
         ],
         &|s| s.step_voxels = 0.25,

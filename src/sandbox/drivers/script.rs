@@ -554,6 +554,24 @@ fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Les
                 lessons.submit_prediction(level);
             }
         }
+        Objective::PredictSamples
+        | Objective::PredictCells
+        | Objective::PredictFixedCountStep { .. } => {
+            // A question about the selected ray: one selected (the centre's, if none is), then
+            // the core's answer for it typed and checked, once.
+            if hands.selection.selected.is_none() {
+                let centre = hands.inspection.size / 2;
+                if hands.inspection.size != UVec2::ZERO {
+                    hands.selection.click(centre);
+                }
+            }
+            if let Some(v) = lessons.ray_answer.as_ref().map(|r| r.truth)
+                && lessons.tried.is_none()
+            {
+                lessons.prediction = v.to_string();
+                lessons.submit_prediction(level);
+            }
+        }
         Objective::BackToFront { on } => {
             s.order = if *on {
                 voxcast_core::composite::Order::BackToFront

@@ -1,12 +1,13 @@
 //! The selected ray's breakdown, as the game state holds it: the core's trace of the virtual
 //! camera's pixel the player selected (taken from the inspection when it was traced there),
-//! and the sample opened in it. The breakdown panel (`ui/breakdown_panel.rs`) shows it; the
-//! levels' objectives read it.
+//! the sample opened in it, and the cells of the lattice it crosses. The breakdown panel
+//! (`ui/breakdown_panel.rs`) shows it; the levels' objectives read it.
 
 use crate::sandbox::inspect::rays::{Inspection, RaySelection};
 use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::prelude::*;
+use voxcast_core::cells::{CellsCrossed, cells_crossed};
 use voxcast_core::trace::{RayTrace, Scene, trace_ray};
 
 /// The selected ray's trace and the opened sample.
@@ -16,6 +17,11 @@ pub struct BreakdownState {
     key: Option<(UVec2, u64)>,
     pub trace: Option<RayTrace>,
     pub opened: Option<usize>,
+    /// The cells of the lattice the traced ray crosses (the core's walk), for the panel and
+    /// the scene.
+    pub cells: Option<CellsCrossed>,
+    /// Draw those cells in the scene (`inspect/cells.rs`).
+    pub show_cells: bool,
 }
 
 pub(crate) fn plugin(app: &mut App) {
@@ -76,6 +82,15 @@ pub fn follow_selection(
         }
         _ => None,
     };
+    state.cells = state.trace.as_ref().and_then(|t| {
+        let interval = t.interval?;
+        Some(cells_crossed(
+            &volume.volume,
+            Vec3::from(t.origin),
+            Vec3::from(t.dir),
+            interval,
+        ))
+    });
     if state.trace.as_ref().map(|t| t.samples.len()) != previous_len {
         state.opened = None;
     }

@@ -68,6 +68,14 @@ impl RaySelection {
         self.clicks = self.clicks.wrapping_add(1);
     }
 
+    /// Nothing selected or hovered (a new image): the clicks counted so far stay counted.
+    pub fn clear(&mut self) {
+        *self = RaySelection {
+            clicks: self.clicks,
+            ..RaySelection::default()
+        };
+    }
+
     /// The selected ray's index in [`Inspection::paths`].
     pub fn selected_index(&self, size: UVec2) -> Option<usize> {
         self.selected.map(|p| ray_index(p, size))
@@ -199,12 +207,12 @@ fn recompute(
                 generation: inspection.generation + 1,
                 ..default()
             };
-            *selection = RaySelection::default();
+            selection.clear();
         }
         return;
     };
     if vc.is_added() {
-        *selection = RaySelection::default();
+        selection.clear();
     }
     let changed = vc.is_changed()
         || volume.is_changed()
@@ -240,7 +248,7 @@ fn collect_inspection(
     };
     job.task = None;
     if next.size != inspection.size {
-        *selection = RaySelection::default();
+        selection.clear();
     }
     *inspection = next;
     if std::mem::take(&mut job.replay) {

@@ -67,6 +67,9 @@ pub struct Lessons {
     pub detail: Option<SampleDetail>,
     /// For a composite prediction step: the worked composite, point by point.
     pub composite: Option<Vec<voxcast_core::worked::WorkedPoint>>,
+    /// For a step that asks about the selected ray: the code's answer for the ray selected
+    /// now (`None` until one is).
+    pub ray_answer: Option<voxcast_core::level::RayAnswer>,
     /// The study question answered right in this step: its trace and key.
     pub studied: Option<(u32, String)>,
     /// The ray density on show (what a study question is asked about).
@@ -90,9 +93,19 @@ pub struct Lessons {
 pub struct Hidden {
     pub points: Vec<[f32; 3]>,
     pub composite: bool,
+    /// The selected ray's sample count (and its sample table, whose rows would count them).
+    pub samples: bool,
+    /// The number of cells the selected ray crosses (and the cells drawn).
+    pub cells: bool,
 }
 
 impl Hidden {
+    /// Whether the ray's formula and export go too (they would show what is asked: a
+    /// sample's value, the composite or the count); the cells' number alone leaves them.
+    pub fn hides_working(&self) -> bool {
+        !self.points.is_empty() || self.composite || self.samples
+    }
+
     /// Whether the sample at `p_voxel` is one whose value is asked for.
     pub fn hides_sample(&self, p_voxel: [f32; 3]) -> bool {
         self.points
@@ -137,6 +150,7 @@ impl Lessons {
             spot: None,
             detail: None,
             composite: None,
+            ray_answer: None,
             studied: None,
             on_show: None,
             study: None,
@@ -216,17 +230,29 @@ impl Lessons {
         self.save();
     }
 
-    /// What the panels hide in `mode`: the answers of a prediction step until it is done.
+    /// What the panels hide in `mode`: the answers of a prediction step until it is done (and
+    /// the cells' number until the step that asks for it is).
     pub fn hidden(&self, mode: Mode) -> Option<Hidden> {
-        if self.met {
+        let Mode::Level(l) = mode else {
             return None;
-        }
-        let step = self.step_in(mode)?;
+        };
+        let steps = &self.levels.get(l)?.steps;
         let mut hidden = Hidden::default();
-        for o in step.objective.parts() {
+        // The cells a ray crosses do not change with the settings: a level that asks for them
+        // hides their number from its first step on, not only while it asks.
+        let open = self.step + usize::from(self.met);
+        hidden.cells = steps.iter().skip(open).any(|s| {
+            s.objective
+                .parts()
+                .iter()
+                .any(|o| matches!(o, Objective::PredictCells))
+        });
+        let step = steps.get(self.step).filter(|_| !self.met);
+        for o in step.map(|s| s.objective.parts()).unwrap_or_default() {
             match o {
                 Objective::PredictValue { point, .. } => hidden.points.push(*point),
                 Objective::PredictComposite { .. } => hidden.composite = true,
+                Objective::PredictSamples => hidden.samples = true,
                 _ => {}
             }
         }
@@ -257,7 +283,11 @@ impl Lessons {
                 return None;
             }
         };
-        let truth = prediction_truth(self.detail.as_ref(), self.composite.as_deref())?;
+        let truth = prediction_truth(
+            self.detail.as_ref(),
+            self.composite.as_deref(),
+            self.ray_answer.as_ref(),
+        )?;
         let tolerance = self.levels[l]
             .steps
             .get(self.step)?
@@ -266,15 +296,27 @@ impl Lessons {
             .into_iter()
             .find_map(|o| match o {
                 Objective::PredictValue { tolerance, .. }
-                | Objective::PredictComposite { tolerance, .. } => Some(*tolerance),
+                | Objective::PredictComposite { tolerance, .. }
+                | Objective::PredictFixedCountStep { tolerance, .. } => Some(*tolerance),
+                // A count is right only as the whole number itself.
+                Objective::PredictSamples | Objective::PredictCells => Some(0.0),
                 _ => None,
             })?;
-        let question = match self.levels[l].steps.get(self.step).map(|s| &s.objective) {
-            Some(Objective::PredictValue { point, .. }) => {
-                format!("the value at ({}, {}, {})", point[0], point[1], point[2])
-            }
-            _ => "the red of C after the last point".to_string(),
-        };
+        let question = self.levels[l].steps[self.step]
+            .objective
+            .parts()
+            .into_iter()
+            .find_map(|o| match o {
+                Objective::PredictValue { point, .. } => Some(format!(
+                    "the value at ({}, {}, {})",
+                    point[0], point[1], point[2]
+                )),
+                Objective::PredictComposite { .. } => {
+                    Some("the red of C after the last point".to_string())
+                }
+                _ => None,
+            })
+            .or_else(|| self.ray_answer.as_ref().map(|r| r.question.clone()))?;
         let correct = (value - truth).abs() <= tolerance;
         let a = Answer::now(
             &self.levels[l].id,

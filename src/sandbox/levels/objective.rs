@@ -108,8 +108,13 @@ pub(crate) fn check_objective(
     }
     sit.named_effect = lessons.named_effect;
     sit.studied = lessons.studied.clone();
+    // A question about the selected ray: answered for the ray selected now.
+    let ray_answer = step.as_ref().and_then(|s| {
+        let trace = breakdown.trace.as_ref()?;
+        voxcast_core::level::ray_answer(&s.objective, trace, &volume.volume)
+    });
     // Only a submitted prediction is judged, never one half typed.
-    let truth = prediction_truth(detail.as_ref(), composite.as_deref());
+    let truth = prediction_truth(detail.as_ref(), composite.as_deref(), ray_answer.as_ref());
     sit.prediction = truth
         .zip(lessons.tried)
         .map(|(truth, tried)| (tried, truth));
@@ -137,6 +142,7 @@ pub(crate) fn check_objective(
     }
     (lessons.met, lessons.spot) = (met, spot);
     (lessons.detail, lessons.composite) = (detail, composite);
+    lessons.ray_answer = ray_answer;
 }
 
 /// The code's answer to study question `q` from the density on show (see
@@ -149,15 +155,17 @@ pub fn study_truth(
     q.answer(&c.data.scene, &c.set, Some(&c.density))
 }
 
-/// What a prediction step's answer should be: the reconstructed value at its point, or the
-/// red of the worked composite after its last point.
+/// What a prediction step's answer should be: the reconstructed value at its point, the red of
+/// the worked composite after its last point, or the number asked about the selected ray.
 pub(super) fn prediction_truth(
     detail: Option<&SampleDetail>,
     composite: Option<&[voxcast_core::worked::WorkedPoint]>,
+    ray: Option<&voxcast_core::level::RayAnswer>,
 ) -> Option<f32> {
     detail
         .map(|d| d.value)
         .or_else(|| composite?.last().map(|r| r.after[0]))
+        .or_else(|| ray.map(|r| r.truth))
 }
 
 /// A number as a player types it: spaces around it and a decimal comma allowed.

@@ -248,6 +248,44 @@ fn study_answers_are_kept_and_only_the_right_one_counts() {
     assert!(objective.met(&sit));
 }
 
+/// What the breakdown hides through the sampling level: nothing in free play; the cells'
+/// number from the first step until the step that asks for it is done (it does not change with
+/// the settings, so an earlier step would give it away); the sample count, formula and export
+/// only while the count is asked.
+#[test]
+fn the_sampling_level_hides_each_count_until_it_is_answered() {
+    let mut lessons = Lessons::new(ProgressStore::Nowhere);
+    let l = lessons
+        .levels
+        .iter()
+        .position(|l| l.id == "sampling")
+        .unwrap();
+    let asks = |lessons: &Lessons, f: fn(&Objective) -> bool| {
+        lessons.levels[l]
+            .steps
+            .iter()
+            .position(|s| s.objective.parts().into_iter().any(f))
+            .unwrap()
+    };
+    let samples = asks(&lessons, |o| matches!(o, Objective::PredictSamples));
+    let cells = asks(&lessons, |o| matches!(o, Objective::PredictCells));
+    assert!(samples < cells);
+    assert_eq!(lessons.hidden(Mode::FreePlay), None);
+    let at = |lessons: &mut Lessons, step: usize, met: bool| {
+        (lessons.step, lessons.met) = (step, met);
+        lessons.hidden(Mode::Level(l)).unwrap_or_default()
+    };
+    let first = at(&mut lessons, 0, false);
+    assert!(first.cells && !first.samples && !first.hides_working());
+    let counting = at(&mut lessons, samples, false);
+    assert!(counting.cells && counting.samples && counting.hides_working());
+    let counted = at(&mut lessons, samples, true);
+    assert!(counted.cells && !counted.samples && !counted.hides_working());
+    assert!(at(&mut lessons, cells, false).cells);
+    assert_eq!(at(&mut lessons, cells, true), Hidden::default());
+    assert_eq!(at(&mut lessons, cells + 1, false), Hidden::default());
+}
+
 /// Levels are states: starting one spawns only what its scene holds, and what free play
 /// spawned (virtual camera, body, sample spheres, light marker) leaves; Next is refused
 /// until the objective is met by the state a control edits; the last Next records the
@@ -499,7 +537,14 @@ fn a_change_is_asked_of_the_open_step() {
         .position(|s| s.objective == Objective::SelectRay)
         .expect("the rays level asks for a click");
     app.world_mut().resource_mut::<Lessons>().step = k;
-    app.update();
+    // The step's baseline is taken once its scene is on screen (the level's volume loads in
+    // the background): a click before that would be part of it; and a pixel is clicked once
+    // the camera's image is there.
+    until(&mut app, |a| {
+        let at_open = &a.world().resource::<Lessons>().at_open;
+        let opened = at_open.as_ref().is_some_and(|((_, step), _)| *step == k);
+        opened && a.world().resource::<Inspection>().size != UVec2::ZERO
+    });
     app.world_mut().resource_mut::<RaySelection>().selected = Some(UVec2::new(1, 1));
     app.update();
     assert!(

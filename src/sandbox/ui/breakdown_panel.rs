@@ -89,9 +89,16 @@ pub(super) fn breakdown_panel(
                             return;
                         };
                         let hidden = hidden.as_ref();
-                        summary(ui, trace, hidden.is_some());
+                        summary(ui, trace, hidden);
+                        if let Some(walk) = &state.cells {
+                            let secret = hidden.is_some_and(|h| h.cells);
+                            if secret {
+                                state.show_cells = false;
+                            }
+                            cells_line(ui, walk, secret, &mut state.show_cells);
+                        }
                         ui.separator();
-                        match hidden {
+                        match hidden.filter(|h| h.hides_working()) {
                             Some(_) => {
                                 ui.colored_label(Color32::YELLOW, HIDDEN_WORDS);
                             }
@@ -99,6 +106,11 @@ pub(super) fn breakdown_panel(
                         }
                         ui.separator();
                         let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
+                            if hidden.is_some_and(|h| h.samples) {
+                                // Its rows would count the samples asked for.
+                                ui.colored_label(Color32::YELLOW, TABLE_HIDDEN_WORDS);
+                                return state.opened;
+                            }
                             sample_table(ui, trace, state.opened, hidden)
                         });
                         if opened != state.opened {
@@ -110,7 +122,7 @@ pub(super) fn breakdown_panel(
                             sample_detail(ui, s, secret);
                         }
                         ui.separator();
-                        if hidden.is_none() {
+                        if !hidden.is_some_and(|h| h.hides_working()) {
                             export(ui, trace, &mut export_state.path, &mut export_state.message);
                         }
                     });
@@ -124,7 +136,11 @@ pub(super) fn breakdown_panel(
 
 /// What stands where a prediction's answer would: the level asks for it first.
 const HIDDEN_WORDS: &str = "The numbers your prediction asks for are hidden until you check \
-    it in the levels panel (the formula, the running colour and the export come back then).";
+    it in the levels panel (the formula and the export come back then).";
+
+/// What stands where the sample table would be while a level asks how many samples there are.
+const TABLE_HIDDEN_WORDS: &str = "The sample table is hidden until you check your count in the \
+    levels panel.";
 
 /// What a hidden number shows.
 const SECRET: &str = "?";
@@ -149,7 +165,44 @@ fn vec(ui: &mut egui::Ui, v: [f32; 3]) {
     ui.label(v3(v)).on_hover_text(v3_full(v));
 }
 
-fn summary(ui: &mut egui::Ui, t: &RayTrace, secret: bool) {
+/// Where the ray enters and leaves in voxels, the cells it crosses (hidden while a level asks
+/// for their number), and whether they are drawn in the scene.
+fn cells_line(
+    ui: &mut egui::Ui,
+    walk: &voxcast_core::cells::CellsCrossed,
+    secret: bool,
+    show: &mut bool,
+) {
+    ui.horizontal_wrapped(|ui| {
+        let count = if secret {
+            SECRET.to_string()
+        } else {
+            walk.cells.len().to_string()
+        };
+        ui.label(format!(
+            "In voxels: enters at {}, leaves at {}; crosses {count} cells",
+            v3(walk.entry),
+            v3(walk.exit)
+        ))
+        .on_hover_text(format!(
+            "enters at {}, leaves at {}",
+            v3_full(walk.entry),
+            v3_full(walk.exit)
+        ));
+        ui.add_enabled(!secret, egui::Checkbox::new(show, "Draw them"))
+            .on_hover_text(CELLS_TIP)
+            .on_disabled_hover_text("Hidden until you check your count in the levels panel");
+    });
+}
+
+/// What the cells are, as the checkbox's tooltip says.
+const CELLS_TIP: &str = "A cell is the cube between 8 neighbouring voxels: every sample in it \
+    reads the same 8. The ray walks them in order, one face at a time (Amanatides and Woo's \
+    walk, which the ray density also counts with); drawn brightest where it enters.";
+
+fn summary(ui: &mut egui::Ui, t: &RayTrace, hidden: Option<&crate::sandbox::levels::Hidden>) {
+    let secret = hidden.is_some_and(|h| !h.points.is_empty() || h.composite);
+    let count_secret = hidden.is_some_and(|h| h.samples);
     ui.label(format!(
         "origin {}  direction {}  method {}",
         v3(t.origin),
@@ -161,7 +214,11 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace, secret: bool) {
             "enters the volume at t = {}, leaves at t = {}; {} samples {} apart (first at t = {})",
             sig(a),
             sig(b),
-            p.count,
+            if count_secret {
+                SECRET.to_string()
+            } else {
+                p.count.to_string()
+            },
             sig(p.dt),
             sig(p.t_enter + p.jitter * p.dt)
         )),
@@ -420,11 +477,25 @@ mod tests {
                 let t = pixel_trace(&volume, &r, &vc, UVec2::new(2, 2)).unwrap();
                 let opened = t.samples.len().checked_sub(1);
                 let hidden = crate::sandbox::levels::Hidden {
-                    points: vec![],
                     composite: true,
+                    ..Default::default()
                 };
+                let cells = t.interval.map(|i| {
+                    voxcast_core::cells::cells_crossed(
+                        &volume.volume,
+                        Vec3::from(t.origin),
+                        Vec3::from(t.dir),
+                        i,
+                    )
+                });
                 let missing = super::super::missing_glyphs(|ui| {
-                    summary(ui, &t, false);
+                    summary(ui, &t, None);
+                    if let Some(walk) = &cells {
+                        cells_line(ui, walk, false, &mut false);
+                        cells_line(ui, walk, true, &mut false);
+                    }
+                    ui.label(CELLS_TIP);
+                    ui.label(TABLE_HIDDEN_WORDS);
                     formula(ui, &t, opened);
                     sample_table(ui, &t, opened, None);
                     ui.push_id("hidden", |ui| sample_table(ui, &t, opened, Some(&hidden)));
@@ -489,7 +560,7 @@ mod tests {
                 .position(|s| {
                     Hidden {
                         points: vec![p],
-                        composite: false,
+                        ..Default::default()
                     }
                     .hides_sample(s.p_voxel)
                 })
@@ -510,7 +581,7 @@ mod tests {
         );
         let h = Hidden {
             points: vec![[0.5, 0.5, 0.5]],
-            composite: false,
+            ..Default::default()
         };
         let text = table(Some(&h));
         assert!(
@@ -522,8 +593,8 @@ mod tests {
         let red = sig(t.color[0]);
         assert!(shown.contains(&red));
         let h = Hidden {
-            points: vec![],
             composite: true,
+            ..Default::default()
         };
         let text = table(Some(&h));
         assert_eq!(
@@ -534,7 +605,54 @@ mod tests {
         let (detail, _) =
             crate::sandbox::ui::drawn_text(|ui| sample_detail(ui, &t.samples[p2], true));
         assert!(!detail.contains(&value(p2)), "{detail}");
-        let (summary_text, _) = crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, true));
+        let (summary_text, _) = crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, Some(&h)));
         assert!(!summary_text.contains(&red), "{summary_text}");
+    }
+
+    /// While a level asks how many samples the selected ray takes, the summary shows "?" for
+    /// the count (the colour stays); while it asks for the cells, their count goes and they
+    /// cannot be drawn; otherwise both show.
+    #[test]
+    fn a_ray_question_s_count_is_hidden_until_it_is_checked() {
+        use crate::sandbox::levels::Hidden;
+        let (volume, render) = crate::sandbox::inspect::rays::tests::scene("blobs");
+        let vc = VirtualCamera::framing(&volume, None).unwrap();
+        let t = pixel_trace(&volume, &render, &vc, UVec2::new(1, 1)).unwrap();
+        let n = t.plan.unwrap().count;
+        let said = format!("; {n} samples");
+        let text = |h: Option<&Hidden>| crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, h)).0;
+        assert!(text(None).contains(&said), "{}", text(None));
+        let asked = Hidden {
+            samples: true,
+            ..Default::default()
+        };
+        let hidden = text(Some(&asked));
+        assert!(
+            !hidden.contains(&said) && hidden.contains("; ? samples"),
+            "{hidden}"
+        );
+        assert!(
+            hidden.contains(&sig(t.color[0])),
+            "the colour is not asked for"
+        );
+        let walk = voxcast_core::cells::cells_crossed(
+            &volume.volume,
+            Vec3::from(t.origin),
+            Vec3::from(t.dir),
+            t.interval.unwrap(),
+        );
+        let crosses = format!("crosses {} cells", walk.cells.len());
+        let line = |secret: bool| {
+            let mut show = true;
+            let text =
+                crate::sandbox::ui::drawn_text(|ui| cells_line(ui, &walk, secret, &mut show)).0;
+            (text, show)
+        };
+        assert!(line(false).0.contains(&crosses));
+        let (text, _) = line(true);
+        assert!(
+            !text.contains(&crosses) && text.contains("crosses ? cells"),
+            "{text}"
+        );
     }
 }

@@ -377,6 +377,26 @@ fn level_step(
             composite_table(ui, &rows);
         }
     }
+    if let Some(asked) = ray_question(&step.objective) {
+        match lessons.ray_answer.clone() {
+            None => {
+                ui.colored_label(
+                    egui::Color32::YELLOW,
+                    "Select a ray first: click a pixel of the virtual camera's image in the Rays \
+                     panel. Its numbers appear in the breakdown.",
+                );
+            }
+            Some(answer) => {
+                prediction_field(ui, lessons, l, "your number:", met);
+                if !met && let Some(tried) = lessons.tried {
+                    ui.colored_label(egui::Color32::YELLOW, ray_hint(tried, answer.truth, asked));
+                }
+                if met {
+                    ui.label(&answer.working);
+                }
+            }
+        }
+    }
     if let Objective::NameEffect { trace } = step.objective {
         name_effect(ui, lessons, (l, trace), met);
     }
@@ -518,6 +538,40 @@ fn prediction_field(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize, label: &
             ));
         }
     });
+}
+
+/// The question a step asks about the selected ray, if it asks one.
+fn ray_question(objective: &Objective) -> Option<&Objective> {
+    objective.parts().into_iter().find(|o| {
+        matches!(
+            o,
+            Objective::PredictSamples
+                | Objective::PredictCells
+                | Objective::PredictFixedCountStep { .. }
+        )
+    })
+}
+
+/// For a submitted number about the selected ray that is not right: too high or too low, and
+/// how the number comes about (without giving it).
+pub(super) fn ray_hint(tried: f32, truth: f32, asked: &Objective) -> String {
+    let how = match asked {
+        Objective::PredictSamples => {
+            "The first sample sits where the ray enters, then one every step while t stays at \
+             or before where it leaves: how many whole steps fit in t_exit − t_enter, plus one \
+             for the first."
+        }
+        Objective::PredictCells => {
+            "The ray starts in the cell that holds its entry point; each whole x, y or z \
+             coordinate it passes on the way to its exit point takes it into the next cell."
+        }
+        _ => "Divide the ray's length in the volume, t_exit − t_enter, by the count.",
+    };
+    format!(
+        "Not yet: your try, {}, is {}. {how}",
+        sig(tried),
+        side(tried, truth)
+    )
 }
 
 /// A submitted prediction judged against `truth`: too high or too low (`None`: right).

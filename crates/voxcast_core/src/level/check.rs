@@ -821,6 +821,9 @@ fn numbers(objective: &Objective) -> Vec<f32> {
                 .copied()
                 .chain([*tolerance])
                 .collect(),
+            Objective::PredictFixedCountStep { steps, tolerance } => {
+                vec![*steps as f32, *tolerance]
+            }
             _ => vec![],
         })
         .collect()

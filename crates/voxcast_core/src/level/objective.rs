@@ -74,6 +74,15 @@ pub enum Objective {
         points: Vec<[f32; 3]>,
         tolerance: f32,
     },
+    /// Predict how many samples the selected ray takes, exactly.
+    PredictSamples,
+    /// Predict the step (in the breakdown's `t` units) on the selected ray if it were marched
+    /// in a fixed number of `steps` instead of at a fixed step — its length in the volume
+    /// divided by `steps` — to within `tolerance`.
+    PredictFixedCountStep { steps: u32, tolerance: f32 },
+    /// Predict how many cells of the lattice the selected ray crosses, exactly (the walk of
+    /// `crate::cells`).
+    PredictCells,
     /// Composite back to front (`true`) or front to back.
     BackToFront { on: bool },
     /// Have a light of this kind: `headlight`, `point`, `directional` or `spot`.
@@ -197,8 +206,8 @@ pub struct Situation {
     /// The largest preview/render difference of the last comparison (/255), if current.
     pub compared_max: Option<f32>,
     pub light_inside_volume: bool,
-    /// The value the player typed and the true one (the value at the step's point, or the
-    /// worked composite's red component).
+    /// The value the player typed and the true one (the value at the step's point, the worked
+    /// composite's red component, or the number asked about the selected ray).
     pub prediction: Option<(f32, f32)>,
     pub back_to_front: bool,
     /// Each light's kind: `headlight`, `point`, `directional` or `spot`.
@@ -341,6 +350,9 @@ const EXAMPLES: &[&str] = &[
     r#"{"kind": "light-inside-volume"}"#,
     r#"{"kind": "predict-value", "point": [0.5, 0.5, 0.5], "tolerance": 0.01}"#,
     r#"{"kind": "predict-composite", "points": [[0.2, 0.3, 0.8], [0.5, 0.5, 0.5]], "tolerance": 0.01}"#,
+    r#"{"kind": "predict-samples"}"#,
+    r#"{"kind": "predict-fixed-count-step", "steps": 16, "tolerance": 0.01}"#,
+    r#"{"kind": "predict-cells"}"#,
     r#"{"kind": "back-to-front", "on": true}"#,
     r#"{"kind": "light-kind", "light": "point"}"#,
     r#"{"kind": "attenuated"}"#,
@@ -454,9 +466,14 @@ impl Objective {
             Objective::Compared { max } => s.compared_max.is_some_and(|m| m <= *max),
             Objective::LightInsideVolume => s.light_inside_volume,
             Objective::PredictValue { tolerance, .. }
-            | Objective::PredictComposite { tolerance, .. } => s
+            | Objective::PredictComposite { tolerance, .. }
+            | Objective::PredictFixedCountStep { tolerance, .. } => s
                 .prediction
                 .is_some_and(|(typed, truth)| (typed - truth).abs() <= *tolerance),
+            // Counts: the whole number itself.
+            Objective::PredictSamples | Objective::PredictCells => {
+                s.prediction.is_some_and(|(typed, truth)| typed == truth)
+            }
             Objective::BackToFront { on } => s.back_to_front == *on,
             Objective::LightKind { light } => s.light_kinds.contains(&light.as_str()),
             Objective::Attenuated => s.attenuated,

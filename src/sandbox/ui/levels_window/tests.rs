@@ -177,6 +177,24 @@ fn every_levels_text_can_be_drawn() {
     built.extend(prediction_hint(99.0, &d));
     let rows = voxcast_core::worked::back_to_front(&volume, &tf, &[[0.2, 0.3, 0.8]]);
     built.extend(composite_hint(0.9, &rows));
+    // The questions about the selected ray: the hints and the workings shown once answered.
+    let ray = voxcast_core::ray::Ray::new(Vec3::new(-2.0, 0.43, 0.61), Vec3::new(1.0, 0.2, 0.1));
+    let ray = ray.unwrap();
+    let scene =
+        voxcast_core::trace::Scene::new(&volume, &tf, &Default::default(), ray.dir).unwrap();
+    let t = voxcast_core::trace::trace_ray(&scene, &ray, [0, 0]);
+    for asked in [
+        Objective::PredictSamples,
+        Objective::PredictCells,
+        Objective::PredictFixedCountStep {
+            steps: 16,
+            tolerance: 0.01,
+        },
+    ] {
+        built.push(ray_hint(3.0, 4.0, &asked));
+        let answer = voxcast_core::level::ray_answer(&asked, &t, &volume).unwrap();
+        built.push(answer.working);
+    }
     // (The breakdown shows its formulas in the monospace font, whose fallbacks are the
     // proportional font's; egui's glyph query answers only for the proportional one.)
     let mut lacking = std::collections::BTreeSet::new();
