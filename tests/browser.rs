@@ -412,22 +412,45 @@ fn teachers_side(page: &Page, port: u16, dir: &Path, downloads: &Path) -> Result
     )?;
     page.save_screenshot("added_level")?;
 
-    // A level in a link, opened where nothing of the teacher's is.
-    let mut linked = voxcast_core::level::Level::all()[0].clone();
-    linked.id = "linked".into();
-    linked.title = "A linked level".into();
-    let url = voxcast_core::level::link::link(
-        &linked,
-        &format!("http://127.0.0.1:{port}/?gpu=webgl2&no-rays"),
+    // The teacher edits it in the page's level editor: a step added (a snapshot of the view),
+    // saved (a download) and shared as a link.
+    if !page.has("level editor")? {
+        page.click("fold")?;
+        page.settle(3)?;
+    }
+    page.click("level editor")?;
+    page.settle(3)?;
+    page.click("add step")?;
+    page.settle(2)?;
+    page.click("save level")?;
+    let saved = downloads.join("tiny.json");
+    let started = Instant::now();
+    while !saved.exists() && started.elapsed() < Duration::from_secs(30) {
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    let text = std::fs::read_to_string(&saved).map_err(|e| format!("{}: {e}", saved.display()))?;
+    let written = voxcast_core::level::Level::from_json(&text).map_err(|e| e.to_string())?;
+    assert_eq!(written.steps.len(), 3, "{text}");
+    assert_eq!(written.scene.volume, "tiny.nrrd", "named beside the level");
+    page.click("copy link")?;
+    let url = browser.wait_for(
+        "const s = window.voxcastStatus(); return s.editor_link || null",
+        Duration::from_secs(30),
     )?;
+    let url = url.as_str().unwrap_or_default().to_string();
+    assert!(url.contains("#level=") && !url.contains("levels="), "{url}");
+    page.save_screenshot("level_editor")?;
+
+    // The link, opened where nothing of the teacher's is: the level plays on its data set,
+    // found where the teacher's page found it.
     let fresh = Browser::start(&[], downloads).map_err(|e| format!("chromium: {e}"))?;
     fresh.set_viewport(1280, 720)?;
     fresh.open(&url)?;
-    let step = &linked.steps[0].text;
     fresh.wait_for(
         &format!(
             "const s = window.voxcastStatus && window.voxcastStatus(); \
-             return (s && s.mode.startsWith('level') && s.step_text == {step:?}) || null"
+             return (s && s.mode.startsWith('level') && s.step_text == {first:?} && \
+             s.volume == {volume:?} && !s.loading) || null"
         ),
         FIRST_FRAME,
     )?;

@@ -305,12 +305,18 @@ fn save(draft: &mut Draft, mut level: Level, lessons: &mut Lessons) -> String {
         return e;
     }
     let path = path.with_extension("json");
-    // A data set beside the file is named as such, so the folder moves as a whole.
-    relative_to(&mut level, &path);
+    // On the desktop the level now lives in that file: a data set beside it is named as such,
+    // so the folder moves as a whole. On the page the file is a download, and the level stays
+    // where it was read from (its data sets are still found beside that).
+    let on_disk = cfg!(not(target_arch = "wasm32"));
+    if on_disk {
+        relative_to(&mut level, &path);
+        level.origin = Origin::File(path.clone());
+    }
     let text = voxcast_core::level::to_text(&level);
     let checked = voxcast_core::level::check::read(
         &text,
-        Origin::File(path.clone()),
+        level.origin.clone(),
         &voxcast_core::level::check::OnDisk,
     );
     if checked.has_errors() {
@@ -323,7 +329,6 @@ fn save(draft: &mut Draft, mut level: Level, lessons: &mut Lessons) -> String {
     }
     match files::save(&path, text.as_bytes(), "application/json") {
         Ok(done) => {
-            level.origin = Origin::File(path.clone());
             draft.level = Some(level.clone());
             draft.file = path.display().to_string();
             lessons.keep_level(level);
@@ -361,5 +366,49 @@ fn relative_to(level: &mut Level, path: &std::path::Path) {
         if let Some(v) = step.scene.as_mut().and_then(|s| s.volume.as_mut()) {
             relative(v);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A level saved beside its data sets names them relative to itself (so the folder can be
+    /// copied, or hosted beside the page, whole); one elsewhere keeps its full path, and a
+    /// built-in its name.
+    #[test]
+    fn data_sets_beside_the_level_are_named_relative_to_it() {
+        let course = std::env::temp_dir().join(format!("voxcast-course-{}", std::process::id()));
+        let mut level = Level::all().remove(0);
+        level.scene.volume = course.join("ct_head.nrrd").display().to_string();
+        let elsewhere = std::env::temp_dir().join("elsewhere/mri.nii.gz");
+        let beneath = course.join("data/brain.nrrd");
+        level.steps[0].scene = Some(voxcast_core::level::StepScene {
+            volume: Some(beneath.display().to_string()),
+            ..Default::default()
+        });
+        level.steps[1].scene = Some(voxcast_core::level::StepScene {
+            volume: Some(elsewhere.display().to_string()),
+            ..Default::default()
+        });
+        level.steps[2].scene = Some(voxcast_core::level::StepScene {
+            volume: Some("builtin:bucky".into()),
+            ..Default::default()
+        });
+        relative_to(&mut level, &course.join("my_level.json"));
+        let volume = |k: usize| level.steps[k].scene.as_ref().unwrap().volume.clone();
+        assert_eq!(level.scene.volume, "ct_head.nrrd");
+        assert_eq!(volume(0).as_deref(), Some("data/brain.nrrd"));
+        assert_eq!(volume(1), Some(elsewhere.display().to_string()));
+        assert_eq!(volume(2).as_deref(), Some("builtin:bucky"));
+        // Read back from where it was saved, each name is found where it was.
+        let read = Level {
+            origin: Origin::File(course.join("my_level.json")),
+            ..level
+        };
+        assert_eq!(
+            read.resolve("ct_head.nrrd"),
+            course.join("ct_head.nrrd").display().to_string()
+        );
     }
 }

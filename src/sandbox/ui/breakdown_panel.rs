@@ -197,8 +197,9 @@ fn cells_line(
 
 /// What the cells are, as the checkbox's tooltip says.
 const CELLS_TIP: &str = "A cell is the cube between 8 neighbouring voxels: every sample in it \
-    reads the same 8. The ray walks them in order, one face at a time (Amanatides and Woo's \
-    walk, which the ray density also counts with); drawn brightest where it enters.";
+    reads the same 8. The ray walks them in order, from each into the one behind the face it \
+    leaves by (Amanatides and Woo's walk, which the ray density also counts with); drawn \
+    brightest where it enters.";
 
 fn summary(ui: &mut egui::Ui, t: &RayTrace, hidden: Option<&crate::sandbox::levels::Hidden>) {
     let secret = hidden.is_some_and(|h| !h.points.is_empty() || h.composite);

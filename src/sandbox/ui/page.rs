@@ -1,6 +1,7 @@
 //! In a browser: what the page reports of the sandbox each frame (`voxcast_status()`, read by
 //! the page's test and by `#voxcast-step`, which a screen reader speaks): the mode, the level's
-//! step, where the named controls and the scene are, the volume, Render image's state.
+//! step, where the named controls and the scene are, the volume, Render image's state, the
+//! level editor's link.
 
 use crate::sandbox::checks::compare::Comparison;
 use crate::sandbox::data::loading::Loading;
@@ -28,6 +29,7 @@ pub(super) struct Reported<'w> {
     live: Option<Res<'w, LiveView>>,
     progressive: Option<Res<'w, crate::sandbox::preview::progressive::Progressive>>,
     pacing: Option<Res<'w, crate::sandbox::shared::pacing::Pacing>>,
+    draft: Option<Res<'w, crate::sandbox::levels::editor::Draft>>,
 }
 
 /// Publishes this frame's state for the page.
@@ -48,6 +50,7 @@ pub(super) fn publish_status(
         live,
         progressive,
         pacing,
+        draft,
     } = reported;
     // Render image's time on the wall clock, from the click to the result (the slices and the
     // frames drawn between them).
@@ -74,6 +77,14 @@ pub(super) fn publish_status(
             set_step(&s.step_text);
         }
         s.levels_message = lessons.message.clone().unwrap_or_default();
+        s.editor_link = draft
+            .as_ref()
+            .and_then(|d| d.link.clone())
+            .unwrap_or_default();
+        s.editor_message = draft
+            .as_ref()
+            .and_then(|d| d.message.clone())
+            .unwrap_or_default();
         s.targets = targets
             .0
             .iter()

@@ -14,15 +14,17 @@ pub const FRAGMENT: &str = "level=";
 pub const LONGEST_LINK: usize = 8_000;
 
 /// The link to `level` on the page at `page` (its address without a fragment), or why there
-/// is none.
+/// is none. A link has no folder: the data sets and transfer-function files the level names
+/// beside itself go into it named where the level found them (its URL's folder, or its
+/// file's), so the link opens them from there.
 pub fn link(level: &Level, page: &str) -> Result<String, String> {
-    let text = super::to_text(level);
+    let text = super::to_text(&named_where_found(level));
     let mut deflate = flate2::write::DeflateEncoder::new(Vec::new(), flate2::Compression::best());
     deflate
         .write_all(text.as_bytes())
         .map_err(|e| e.to_string())?;
     let packed = deflate.finish().map_err(|e| e.to_string())?;
-    let page = page.split('#').next().unwrap_or(page);
+    let page = page_for_link(page);
     let link = format!("{page}#{FRAGMENT}{}", base64url(&packed));
     if link.len() > LONGEST_LINK {
         return Err(format!(
@@ -33,6 +35,49 @@ pub fn link(level: &Level, page: &str) -> Result<String, String> {
         ));
     }
     Ok(link)
+}
+
+/// The page's address as a link carries it: without its fragment, and without a `levels=`
+/// query parameter (the course the teacher opened; the link carries its own level).
+pub fn page_for_link(address: &str) -> String {
+    let address = address.split('#').next().unwrap_or(address);
+    let Some((page, query)) = address.split_once('?') else {
+        return address.to_string();
+    };
+    let kept: Vec<&str> = query
+        .split('&')
+        .filter(|p| !p.is_empty() && *p != "levels" && !p.starts_with("levels="))
+        .collect();
+    if kept.is_empty() {
+        page.to_string()
+    } else {
+        format!("{page}?{}", kept.join("&"))
+    }
+}
+
+/// `level` with each data set and transfer-function file it names beside itself named where
+/// it was found ([`super::Origin::resolve`]); built-ins, presets and full names as they are.
+pub fn named_where_found(level: &Level) -> Level {
+    let mut out = level.clone();
+    let found = |name: &mut String| *name = level.resolve(name);
+    let file = |t: &mut Option<super::TransferChoice>| {
+        if let Some(super::TransferChoice::Named(name)) = t
+            && name.to_ascii_lowercase().ends_with(".json")
+        {
+            found(name);
+        }
+    };
+    found(&mut out.scene.volume);
+    file(&mut out.scene.transfer);
+    for step in &mut out.steps {
+        if let Some(scene) = step.scene.as_mut() {
+            if let Some(v) = scene.volume.as_mut() {
+                found(v);
+            }
+            file(&mut scene.transfer);
+        }
+    }
+    out
 }
 
 /// The level file a link's fragment holds (`level=…`, with or without the `#`).
@@ -133,6 +178,70 @@ mod tests {
         assert!(
             refused.contains("share the level's file instead"),
             "{refused}"
+        );
+    }
+
+    /// A link opens the page without the course the teacher opened, keeping the rest.
+    #[test]
+    fn a_link_leaves_the_teacher_s_course_out() {
+        let cases = [
+            ("http://h/#x", "http://h/"),
+            ("http://h/?levels=c/l.json", "http://h/"),
+            (
+                "http://h/?gpu=webgl2&levels=c/l.json&no-rays#level=abc",
+                "http://h/?gpu=webgl2&no-rays",
+            ),
+            (
+                "http://h/index.html?levelsx=1",
+                "http://h/index.html?levelsx=1",
+            ),
+            ("page", "page"),
+        ];
+        for (address, page) in cases {
+            assert_eq!(page_for_link(address), page, "{address}");
+        }
+    }
+
+    /// A level read from a URL goes into its link with its data set and transfer file named
+    /// beside that URL (a link has no folder of its own); built-ins and presets stay names.
+    #[test]
+    fn a_link_names_the_files_where_the_level_found_them() {
+        use super::super::{Origin, StepScene, TransferChoice};
+        let mut level = Level::all()[0].clone();
+        level.origin = Origin::Url("https://school.example/course/week1.json?x=1".into());
+        level.scene.volume = "data/ct.nrrd".into();
+        level.scene.transfer = Some(TransferChoice::Named("bone.json".into()));
+        level.steps[1].scene = Some(StepScene {
+            volume: Some("builtin:bucky".into()),
+            transfer: Some(TransferChoice::Named("ct-bone".into())),
+            ..Default::default()
+        });
+        level.steps[2].scene = Some(StepScene {
+            volume: Some("mri.nii.gz".into()),
+            ..Default::default()
+        });
+        let url = link(&level, "https://school.example/voxcast/").unwrap();
+        let text = from_fragment(url.split('#').nth(1).unwrap()).unwrap();
+        let back = Level::from_json(&text).unwrap();
+        assert_eq!(
+            back.scene.volume,
+            "https://school.example/course/data/ct.nrrd"
+        );
+        assert_eq!(
+            back.scene.transfer,
+            Some(TransferChoice::Named(
+                "https://school.example/course/bone.json".into()
+            ))
+        );
+        let step = |k: usize| back.steps[k].scene.clone().unwrap();
+        assert_eq!(step(1).volume.as_deref(), Some("builtin:bucky"));
+        assert_eq!(
+            step(1).transfer,
+            Some(TransferChoice::Named("ct-bone".into()))
+        );
+        assert_eq!(
+            step(2).volume.as_deref(),
+            Some("https://school.example/course/mri.nii.gz")
         );
     }
 }
