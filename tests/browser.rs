@@ -420,8 +420,15 @@ fn teachers_side(page: &Page, port: u16, dir: &Path, downloads: &Path) -> Result
     }
     page.click("level editor")?;
     page.settle(3)?;
-    page.click("add step")?;
-    page.settle(2)?;
+    // A window just opened may still be finding its place: the click is made again until the
+    // draft has its step.
+    for _ in 0..3 {
+        page.click("add step")?;
+        page.settle(3)?;
+        if page.status()?["editor_steps"] == 3 {
+            break;
+        }
+    }
     page.click("save level")?;
     let saved = downloads.join("tiny.json");
     let started = Instant::now();
@@ -446,14 +453,24 @@ fn teachers_side(page: &Page, port: u16, dir: &Path, downloads: &Path) -> Result
     let fresh = Browser::start(&[], downloads).map_err(|e| format!("chromium: {e}"))?;
     fresh.set_viewport(1280, 720)?;
     fresh.open(&url)?;
-    fresh.wait_for(
+    let played = fresh.wait_for(
         &format!(
             "const s = window.voxcastStatus && window.voxcastStatus(); \
              return (s && s.mode.startsWith('level') && s.step_text == {first:?} && \
              s.volume == {volume:?} && !s.loading) || null"
         ),
         FIRST_FRAME,
-    )?;
+    );
+    if let Err(e) = played {
+        let _ = std::fs::write(page.out.join("linked_level.png"), fresh.screenshot()?);
+        let status = fresh.run(
+            "const s = window.voxcastStatus && window.voxcastStatus(); \
+             return s && [s.mode, s.step_text, s.volume, s.loading, s.load_error, \
+             s.levels_message]",
+            json!([]),
+        );
+        return Err(format!("{e}\nthe linked page: {status:?}\nthe link: {url}"));
+    }
     std::fs::write(page.out.join("linked_level.png"), fresh.screenshot()?)
         .map_err(|e| e.to_string())?;
     drop(fresh);

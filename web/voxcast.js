@@ -104,16 +104,48 @@ async function fetchLevels(wasm, url) {
   for (const level of levels) {
     await add(level);
     const parsed = JSON.parse(new TextDecoder().decode(bytes[bytes.length - 1]));
-    const scenes = [parsed.scene || {}, ...(parsed.steps || []).map((s) => s.scene || {})];
-    for (const s of scenes) {
-      for (const name of [s.volume, s.transfer]) {
-        const file = typeof name === 'string' && !/^(builtin|density):/.test(name);
-        const json = typeof name === 'string' && name.toLowerCase().endsWith('.json');
-        if (file && (name === s.volume || json)) await add(new URL(name, level));
-      }
-    }
+    for (const name of filesNamed(parsed)) await add(new URL(name, level));
   }
   wasm.voxcast_receive_files('levels', names, bytes);
+}
+
+/** The data sets and transfer-function files a level names (not built-ins or presets). */
+function filesNamed(level) {
+  const names = [];
+  const scenes = [level.scene || {}, ...(level.steps || []).map((s) => s.scene || {})];
+  for (const s of scenes) {
+    for (const name of [s.volume, s.transfer]) {
+      const file = typeof name === 'string' && !/^(builtin|density):/.test(name);
+      const json = typeof name === 'string' && name.toLowerCase().endsWith('.json');
+      if (file && (name === s.volume || json)) names.push(name);
+    }
+  }
+  return names;
+}
+
+/** `#level=…`: the level the link carries (deflated, base64url), handed over with the files it
+ * names on this page's own site, fetched first (a link carries no data set; one that cannot be
+ * fetched is left out, and the level says so when it opens). */
+async function openLink(wasm, page, fragment) {
+  const names = [page];
+  const bytes = [new TextEncoder().encode(fragment)];
+  try {
+    const b64 = fragment.slice('level='.length).replace(/-/g, '+').replace(/_/g, '/');
+    const packed = Uint8Array.from(atob(b64 + '='.repeat((4 - (b64.length % 4)) % 4)), (c) => c.charCodeAt(0));
+    const stream = new Blob([packed]).stream().pipeThrough(new DecompressionStream('deflate-raw'));
+    const level = JSON.parse(await new Response(stream).text());
+    for (const name of new Set(filesNamed(level))) {
+      const u = new URL(name, page);
+      if (u.origin !== location.origin) continue;
+      const r = await fetch(u);
+      if (!r.ok) continue;
+      names.push(u.href);
+      bytes.push(new Uint8Array(await r.arrayBuffer()));
+    }
+  } catch (e) {
+    // A damaged link: the sandbox reads the fragment itself and says what is wrong.
+  }
+  wasm.voxcast_receive_files('level-link', names, bytes);
 }
 
 async function start() {
@@ -174,9 +206,7 @@ async function start() {
     });
   }
   if (location.hash.startsWith('#level=')) {
-    const page = location.href.split('#')[0];
-    const fragment = new TextEncoder().encode(location.hash.slice(1));
-    wasm.voxcast_receive_files('level-link', [page], [fragment]);
+    openLink(wasm, location.href.split('#')[0], location.hash.slice(1));
   }
 }
 

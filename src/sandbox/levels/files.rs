@@ -29,6 +29,12 @@ impl LevelFiles {
         }
     }
 
+    /// Holds `bytes` as the file `name` (in place of one held under that name).
+    pub fn hold(&mut self, name: &str, bytes: Vec<u8>) {
+        self.files.retain(|(n, _)| n != name);
+        self.files.push((name.to_string(), bytes));
+    }
+
     /// Whether a file named `name` is held.
     pub fn holds(&self, name: &str) -> bool {
         self.files.iter().any(|(n, _)| n == name)
@@ -149,11 +155,16 @@ pub(super) fn receive_files(
                 lessons.message = Some(add_levels(&mut lessons, &mut held, files));
             }
             Purpose::LevelLink => {
+                // The page, then the fragment; after them the files the level names, which the
+                // page fetched from its site (a link carries none of them).
                 let fragment = files
                     .first()
                     .map(|(_, b)| String::from_utf8_lossy(b).into_owned())
                     .unwrap_or_default();
                 let page = files.first().map(|(n, _)| n.clone()).unwrap_or_default();
+                for (name, bytes) in files.iter().skip(1) {
+                    held.hold(name, bytes.clone());
+                }
                 match level_from_link(&fragment, &page, &held) {
                     Ok(level) => {
                         let i = lessons.keep_level(level);
@@ -187,8 +198,7 @@ pub fn level_from_link(fragment: &str, page: &str, held: &LevelFiles) -> Result<
 fn add_levels(lessons: &mut Lessons, held: &mut LevelFiles, files: &[(String, Vec<u8>)]) -> String {
     let (levels, data): (Vec<_>, Vec<_>) = files.iter().partition(|(n, b)| is_level(n, b));
     for (name, bytes) in data {
-        held.files.retain(|(n, _)| n != name);
-        held.files.push((name.clone(), bytes.clone()));
+        held.hold(name, bytes.clone());
     }
     if levels.is_empty() {
         return "No level among the files opened: a level is a .json file with steps \

@@ -721,6 +721,27 @@ fn a_link_plays_its_level_and_dropped_files_are_read() {
         .clone()
         .unwrap_or_default();
     assert!(said.contains("damaged"), "{said}");
+    // On the page a link comes with the files its level names, which the page fetched from
+    // its site: they are held, and the level's data set loads from them.
+    use crate::sandbox::shared::files::{FilesChosen, Purpose};
+    let tiny = b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n\
+                 \x00\x10\x20\x30\x40\x50\x60\x70";
+    let mut on_file = level.clone();
+    on_file.id = "linked-file".into();
+    on_file.scene.volume = "http://127.0.0.1:8000/course/tiny.nrrd".into();
+    let url = voxcast_core::level::link::link(&on_file, "http://127.0.0.1:8000/").unwrap();
+    let (page, fragment) = url.split_once('#').unwrap();
+    app.world_mut().write_message(FilesChosen {
+        purpose: Purpose::LevelLink,
+        files: vec![
+            (page.to_string(), fragment.as_bytes().to_vec()),
+            (on_file.scene.volume.clone(), tiny.to_vec()),
+        ],
+    });
+    until(&mut app, |a| {
+        a.world().resource::<VolumeState>().source == on_file.scene.volume
+            && a.world().resource::<VolumeState>().volume.dims() == UVec3::splat(2)
+    });
     // Dropped: a level file and an answers file.
     let mut other = level.clone();
     other.id = "dropped".into();

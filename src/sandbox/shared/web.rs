@@ -110,7 +110,9 @@ pub struct PageStatus {
     pub step_text: String,
     /// What the levels say about the progress kept (damaged, not saved), if anything.
     pub levels_message: String,
-    /// The level editor's last link (Copy link) and what it said last (saved, copied).
+    /// The level editor's draft's steps (0: no draft), its last link (Copy link) and what it
+    /// said last (saved, copied).
+    pub editor_steps: usize,
     pub editor_link: String,
     pub editor_message: String,
     /// Where the named controls a test clicks are: x, y, width, height in the UI's points

@@ -77,6 +77,10 @@ pub(super) fn publish_status(
             set_step(&s.step_text);
         }
         s.levels_message = lessons.message.clone().unwrap_or_default();
+        s.editor_steps = draft
+            .as_ref()
+            .and_then(|d| d.level.as_ref())
+            .map_or(0, |l| l.steps.len());
         s.editor_link = draft
             .as_ref()
             .and_then(|d| d.link.clone())
