@@ -16,7 +16,7 @@ pub mod report;
 mod scene;
 mod schema;
 
-pub use file::{files_at, to_text};
+pub use file::{files_at, shortest_f32s, to_text};
 pub use objective::{Objective, RayDensityFacts, Situation, classification_mode, distinct_colours};
 pub use progress::{
     Answer, CSV_HEADER, Progress, StudyRun, now_seconds, players_progress_path, utc_time,

@@ -112,10 +112,17 @@ pub fn snapshot(
     };
     let settings = serde_json::to_value(&render.settings)
         .ok()
-        .and_then(|v| v.as_object().cloned());
+        .and_then(|mut v| {
+            voxcast_core::level::shortest_f32s(&mut v);
+            v.as_object().cloned()
+        });
     StepScene {
         volume: Some(volume.source.clone()),
-        transfer: Some(TransferChoice::Inline(render.transfer.clone())),
+        // A preset's own transfer function by its name; one edited, written out.
+        transfer: Some(match voxcast_core::preset::by_name(&render.transfer.name) {
+            Some(p) if p.transfer == render.transfer => TransferChoice::Named(p.name.into()),
+            _ => TransferChoice::Inline(render.transfer.clone()),
+        }),
         settings,
         camera: main.map(|c| place(c, None)),
         virtual_camera: vc.map(|v| place(&v.view, Some([v.width, v.height]))),

@@ -605,11 +605,12 @@ fn a_level_written_in_the_editor_is_saved_read_and_played() {
         let draft = app.world().resource::<Draft>();
         let level = draft.level.as_ref().expect("a draft");
         assert_eq!(level.scene.volume, "builtin:bucky");
+        // The data set's preset's transfer function, by its name.
+        let preset = voxcast_core::preset::by_name(&render.transfer.name).unwrap();
+        assert_eq!(preset.transfer, render.transfer);
         assert_eq!(
             level.scene.transfer,
-            Some(voxcast_core::level::TransferChoice::Inline(
-                render.transfer.clone()
-            ))
+            Some(voxcast_core::level::TransferChoice::Named(preset.name))
         );
         assert!(level.scene.virtual_camera.is_some() && level.scene.camera.is_none());
         assert_eq!(level.steps.len(), 1);

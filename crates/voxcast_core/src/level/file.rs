@@ -12,6 +12,27 @@ pub fn to_text(level: &Level) -> String {
     compact_flat_lists(&pretty) + "\n"
 }
 
+/// Writes each number of `value` that holds an `f32` (settings turned into JSON) as the
+/// shortest decimal that reads back as that `f32`: `0.99`, not `0.9900000095367432`.
+pub fn shortest_f32s(value: &mut serde_json::Value) {
+    match value {
+        serde_json::Value::Number(n) => {
+            if let Some(x) = n.as_f64().filter(|_| !n.is_i64() && !n.is_u64()) {
+                let f = x as f32;
+                if f as f64 == x
+                    && let Some(short) = f.to_string().parse::<f64>().ok()
+                    && let Some(number) = serde_json::Number::from_f64(short)
+                {
+                    *n = number;
+                }
+            }
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(shortest_f32s),
+        serde_json::Value::Object(map) => map.values_mut().for_each(shortest_f32s),
+        _ => {}
+    }
+}
+
 /// `pretty` with each list that holds no list or object written on one line.
 fn compact_flat_lists(pretty: &str) -> String {
     let bytes = pretty.as_bytes();
@@ -139,5 +160,25 @@ mod tests {
             "{\n  \"a\": [1.0, 2.5],\n  \"b\": [\n    [1, 2]\n  ],\n  \"c\": \"[x, \\\"y\\\"]\",\
              \n  \"d\": []\n}"
         );
+    }
+
+    /// Settings as JSON hold their `f32`s widened; written shortest, they read back as the
+    /// same settings, and whole numbers and true `f64`s are left alone.
+    #[test]
+    fn settings_are_written_with_their_shortest_numbers() {
+        let settings = crate::settings::RenderSettings {
+            cutoff: 0.99,
+            ..Default::default()
+        };
+        let mut value = serde_json::to_value(&settings).unwrap();
+        assert_eq!(value["cutoff"], serde_json::json!(0.9900000095367432));
+        shortest_f32s(&mut value);
+        assert_eq!(value["cutoff"], serde_json::json!(0.99));
+        assert_eq!(value["phong"]["depth_kl"], serde_json::json!(0.002));
+        let back: crate::settings::RenderSettings = serde_json::from_value(value).unwrap();
+        assert_eq!(back, settings);
+        let mut other = serde_json::json!([3, 0.1, 1e300, -2.5]);
+        shortest_f32s(&mut other);
+        assert_eq!(other, serde_json::json!([3, 0.1, 1e300, -2.5]));
     }
 }
