@@ -120,7 +120,7 @@ pub fn snapshot(
         volume: Some(volume.source.clone()),
         // A preset's own transfer function by its name; one edited, written out.
         transfer: Some(match voxcast_core::preset::by_name(&render.transfer.name) {
-            Some(p) if p.transfer == render.transfer => TransferChoice::Named(p.name.into()),
+            Some(p) if p.transfer == render.transfer => TransferChoice::Named(p.name),
             _ => TransferChoice::Inline(render.transfer.clone()),
         }),
         settings,
