@@ -182,11 +182,9 @@ fn sampling() {
                 s.prediction = Some((24.6, 25.0))
             }),
         ],
-        // (The step's scene set the step to 0.3, which the next step opens with.)
-        &|s| {
-            s.step_voxels = 0.3;
-            s.prediction = Some((25.0, 25.0));
-        },
+        // (The step's scene set the step to 0.3; the step that asks for 0.25 sets it back
+        // to 0.5 as it opens.)
+        &|s| s.prediction = Some((25.0, 25.0)),
     );
     p.step(
         &[
@@ -212,7 +210,7 @@ fn sampling() {
     );
     p.step(
         &[
-            ("0.3 voxel, as the step before set it", &|s| {
+            ("0.3 voxel, as the steps before had it", &|s| {
                 s.step_voxels = 0.3
             }),
             ("a coarser step", &|s| s.step_voxels = 2.0),

@@ -149,11 +149,11 @@ fn an_isovalue_has_the_tables_opacity() {
     }
 }
 
-/// The sampling level, step 3: "halving the step doubles the samples and shrinks the error" — the time is
+/// The sampling level, step 7: "halving the step doubles the samples and shrinks the error" — the time is
 /// not promised (one short run's time is noise on a busy laptop), the samples are counted.
 #[test]
 fn halving_the_step_doubles_the_samples() {
-    let text = words("sampling", 3);
+    let text = words("sampling", 7);
     says(
         &text,
         "Halving the step doubles the samples and shrinks the error",
@@ -185,13 +185,13 @@ fn halving_the_step_doubles_the_samples() {
     }
 }
 
-/// The sampling level, step 3: the time grows "less than in proportion in a volume this small (each ray
+/// The sampling level, step 7: the time grows "less than in proportion in a volume this small (each ray
 /// meets few samples …)": the level's volume is the 8³ blobs, so no ray meets more samples than
 /// the box's diagonal holds steps — at ¼ voxel some 56, against hundreds in a CT. (That part of
 /// each render's time is per ray is measured, not asserted: BENCHMARKS, "What was tried".)
 #[test]
 fn the_sampling_level_s_volume_gives_each_ray_few_samples() {
-    let text = words("sampling", 3);
+    let text = words("sampling", 7);
     says(&text, "less than in proportion in a volume this small");
     let level = Level::all()
         .into_iter()
@@ -497,4 +497,61 @@ fn the_brightest_structures_lie_near_140() {
     says(&text, "Give value 140 a red colour");
     assert!(count(130.0, 150.0) > 2_000, "the last tall bars");
     assert!(count(170.0, 190.0) < 10, "180 is nearly empty");
+}
+
+/// The sampling level, steps 3 and 5: "here a voxel is 1 unit of t", "the first sample sits
+/// where the ray enters", and "every sample inside one cell reads the same 8 voxels" — on its
+/// volume, with jitter off as the level opens, for every ray of a virtual camera: the first
+/// sample is at the entry, and the samples that fall in one cell of the ray's walk read that
+/// cell's 8 corners, cells taken in the walk's order.
+#[test]
+fn the_sampling_level_s_ray_walks_its_cells() {
+    let text = words("sampling", 3);
+    says(&text, "here a voxel is 1 unit of t");
+    says(&text, "The first sample sits where the ray enters");
+    says(
+        &words("sampling", 5),
+        "every sample inside one cell reads the same 8 voxels",
+    );
+    let loaded = load_builtin("blobs").unwrap();
+    assert_eq!(loaded.volume.spacing(), Vec3::ONE);
+    let s = RenderSettings {
+        step: voxcast_core::step::Length::Voxels(0.3),
+        early_termination: false,
+        ..RenderSettings::default()
+    };
+    assert!(!s.jitter, "jitter is off as the level opens");
+    let v = voxcast_core::Prepared::from(loaded.volume.clone());
+    let tf = voxcast_core::preset::defaults_for(&loaded.volume).0;
+    let (lo, hi) = v.bounds();
+    let cam = Camera::framing(lo, hi, Vec3::new(1.0, 0.8, 1.4), Vec3::Y).unwrap();
+    let mut walked = 0;
+    for (x, y) in (0..8).flat_map(|y| (0..8).map(move |x| (x, y))) {
+        let ray = cam.ray(x as f32 + 0.5, y as f32 + 0.5, 8, 8);
+        let scene = Scene::new(&v, &tf, &s, ray.dir).unwrap();
+        let t = voxcast_core::trace::trace_ray(&scene, &ray, [x, y]);
+        let Some(interval) = t.interval else {
+            continue;
+        };
+        assert_eq!(t.samples[0].t, interval[0], "the first sample at the entry");
+        let walk = voxcast_core::cells::cells_crossed(&v, ray.origin, ray.dir, interval);
+        let mut at = 0;
+        for sample in &t.samples {
+            let lowest = sample.reconstruction.corners[0];
+            // The sample's cell is its lowest corner's; the walk reaches it in order.
+            let cell = [lowest[0], lowest[1], lowest[2]];
+            let found = walk.cells[at..].iter().position(|c| *c == cell);
+            assert!(
+                found.is_some(),
+                "pixel ({x}, {y}): {cell:?} not in {:?}",
+                &walk.cells[at..]
+            );
+            at += found.unwrap();
+        }
+        walked += usize::from(walk.cells.len() > 1);
+    }
+    assert!(
+        walked >= 20,
+        "only {walked} rays crossed more than one cell"
+    );
 }

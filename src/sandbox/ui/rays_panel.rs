@@ -118,16 +118,21 @@ fn contents(
         edited.budget = budget as usize;
     }
     let size = inspection.size;
-    ui.label(format!(
-        "{}×{} rays, {} samples",
-        size.x,
-        size.y,
-        if inspection.traces.is_some() {
-            inspection.samples.to_string()
-        } else {
-            format!("more than {}", edited.budget)
-        }
-    ));
+    if size == UVec2::ZERO {
+        // Before the first tracing comes back there is nothing to count.
+        ui.label("Tracing the virtual camera's rays…");
+    } else {
+        ui.label(format!(
+            "{}×{} rays, {} samples",
+            size.x,
+            size.y,
+            if inspection.traces.is_some() {
+                inspection.samples.to_string()
+            } else {
+                format!("more than {}", edited.budget)
+            }
+        ));
+    }
     if let Some(m) = &inspection.message {
         ui.colored_label(Color32::YELLOW, m);
     }
