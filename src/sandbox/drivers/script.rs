@@ -565,8 +565,11 @@ fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Les
                     hands.selection.click(centre);
                 }
             }
+            // Typed once the step's scene is on screen (its step size changes the count), and
+            // again if the ray's answer changed since (a try is kept for each).
             if let Some(v) = lessons.ray_answer.as_ref().map(|r| r.truth)
-                && lessons.tried.is_none()
+                && lessons.scene_ready()
+                && lessons.tried != Some(v)
             {
                 lessons.prediction = v.to_string();
                 lessons.submit_prediction(level);
