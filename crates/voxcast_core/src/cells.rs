@@ -33,9 +33,9 @@ pub fn cells_crossed(volume: &Volume, origin: Vec3, dir: Vec3, [t0, t1]: [f32; 2
     let dims = volume.dims();
     let spacing = volume.spacing();
     let (lo, _) = volume.bounds();
-    // Voxel coordinates: an axis of one voxel is one cell, `[0, 1]`, across its slab.
-    let flat = dims.cmpeq(glam::UVec3::ONE);
-    let o_v = Vec3::select(flat, (origin - lo) / spacing, origin / spacing);
+    // Voxel coordinates from the box's low corner (the lattice's first point, or on an axis
+    // of one voxel its slab's face: that axis is one cell, `[0, 1]`).
+    let o_v = (origin - lo) / spacing;
     let d_v = dir / spacing;
     // On the box's faces, not a rounding past them.
     let top = (dims.as_vec3() - 1.0).max(Vec3::ONE);

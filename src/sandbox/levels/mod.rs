@@ -294,14 +294,7 @@ impl Lessons {
             .objective
             .parts()
             .into_iter()
-            .find_map(|o| match o {
-                Objective::PredictValue { tolerance, .. }
-                | Objective::PredictComposite { tolerance, .. }
-                | Objective::PredictFixedCountStep { tolerance, .. } => Some(*tolerance),
-                // A count is right only as the whole number itself.
-                Objective::PredictSamples | Objective::PredictCells => Some(0.0),
-                _ => None,
-            })?;
+            .find_map(Objective::tolerance)?;
         let question = self.levels[l].steps[self.step]
             .objective
             .parts()

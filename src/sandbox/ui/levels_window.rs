@@ -542,14 +542,7 @@ fn prediction_field(ui: &mut egui::Ui, lessons: &mut Lessons, l: usize, label: &
 
 /// The question a step asks about the selected ray, if it asks one.
 fn ray_question(objective: &Objective) -> Option<&Objective> {
-    objective.parts().into_iter().find(|o| {
-        matches!(
-            o,
-            Objective::PredictSamples
-                | Objective::PredictCells
-                | Objective::PredictFixedCountStep { .. }
-        )
-    })
+    objective.parts().into_iter().find(|o| o.asks_about_ray())
 }
 
 /// For a submitted number about the selected ray that is not right: too high or too low, and

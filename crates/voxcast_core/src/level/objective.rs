@@ -411,6 +411,28 @@ impl Objective {
         }
     }
 
+    /// For a prediction: how far a try may lie from the code's answer (0 for a count, which
+    /// must be the whole number itself); `None` for an objective that asks for none.
+    pub fn tolerance(&self) -> Option<f32> {
+        match self {
+            Objective::PredictValue { tolerance, .. }
+            | Objective::PredictComposite { tolerance, .. }
+            | Objective::PredictFixedCountStep { tolerance, .. } => Some(*tolerance),
+            Objective::PredictSamples | Objective::PredictCells => Some(0.0),
+            _ => None,
+        }
+    }
+
+    /// Whether it asks a number about the selected ray (answered by `super::ray_answer`).
+    pub fn asks_about_ray(&self) -> bool {
+        matches!(
+            self,
+            Objective::PredictSamples
+                | Objective::PredictCells
+                | Objective::PredictFixedCountStep { .. }
+        )
+    }
+
     /// Whether `s` meets the objective.
     pub fn met(&self, s: &Situation) -> bool {
         let open = s.at_open.as_deref();
@@ -465,14 +487,14 @@ impl Objective {
             }),
             Objective::Compared { max } => s.compared_max.is_some_and(|m| m <= *max),
             Objective::LightInsideVolume => s.light_inside_volume,
-            Objective::PredictValue { tolerance, .. }
-            | Objective::PredictComposite { tolerance, .. }
-            | Objective::PredictFixedCountStep { tolerance, .. } => s
-                .prediction
-                .is_some_and(|(typed, truth)| (typed - truth).abs() <= *tolerance),
-            // Counts: the whole number itself.
-            Objective::PredictSamples | Objective::PredictCells => {
-                s.prediction.is_some_and(|(typed, truth)| typed == truth)
+            Objective::PredictValue { .. }
+            | Objective::PredictComposite { .. }
+            | Objective::PredictFixedCountStep { .. }
+            | Objective::PredictSamples
+            | Objective::PredictCells => {
+                let tolerance = self.tolerance().unwrap_or(0.0);
+                s.prediction
+                    .is_some_and(|(typed, truth)| (typed - truth).abs() <= tolerance)
             }
             Objective::BackToFront { on } => s.back_to_front == *on,
             Objective::LightKind { light } => s.light_kinds.contains(&light.as_str()),
