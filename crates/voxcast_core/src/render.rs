@@ -261,7 +261,8 @@ pub fn threads() -> usize {
     rayon::current_num_threads()
 }
 
-/// As [`render`], on a dedicated pool of `threads` threads (for measurements and tests).
+/// As [`render`], on a dedicated pool of `threads` threads (for measurements and tests). In
+/// WebAssembly, which has no threads here, on the calling one whatever `threads` says.
 pub fn render_with_threads(
     scene: &Scene<'_>,
     camera: &Camera,
@@ -269,11 +270,7 @@ pub fn render_with_threads(
     height: u32,
     threads: usize,
 ) -> Result<(LinearImage, RenderStats), Cancelled> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.max(1))
-        .build()
-        .expect("a thread pool can be built");
-    pool.install(|| {
+    let run = || {
         render(
             scene,
             camera,
@@ -282,7 +279,15 @@ pub fn render_with_threads(
             &|_, _| {},
             &AtomicBool::new(false),
         )
-    })
+    };
+    if cfg!(target_arch = "wasm32") {
+        return run();
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .expect("a thread pool can be built");
+    pool.install(run)
 }
 
 /// A finished tile: its top-left corner, its pixels row by row, the samples it interpolated and

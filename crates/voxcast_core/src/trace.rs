@@ -45,19 +45,19 @@ mod record;
 pub use crate::vectors::{Vectors, set_vectors, vectors};
 pub use dispatch::{lane_instructions, uses_lanes, uses_value_lanes, value_lane_instructions};
 pub use record::trace_ray;
-#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+#[cfg(lanes)]
 mod lanes;
 #[cfg(target_arch = "x86_64")]
 mod leaps;
-#[cfg(target_arch = "aarch64")]
+#[cfg(all(lanes, not(target_arch = "x86_64")))]
 #[path = "trace/leaps_scalar.rs"]
 mod leaps;
-#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+#[cfg(lanes)]
 mod positions;
-#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+#[cfg(lanes)]
 mod simd;
 mod skipping;
-#[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+#[cfg(lanes)]
 mod value_lanes;
 
 /// The result of one ray.
@@ -111,12 +111,12 @@ pub(crate) struct Marcher<'s, 'a, 'g, T: Voxel> {
     /// The cut keeps the whole box: a ray outside it missed the box (no second test).
     uncut: bool,
     /// Accumulate's eight-lane path, where it applies (see `lanes.rs`).
-    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+    #[cfg(lanes)]
     lanes: Option<lanes::Lanes<'s>>,
     /// Maximum and Minimum's coarser block level, for integer data (see `extreme.rs`).
     superblocks: Option<&'s crate::bricks::Superblocks>,
     /// The projections' eight-lane values, where they apply (see `value_lanes.rs`).
-    #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+    #[cfg(lanes)]
     values: Option<value_lanes::ValueLanes<'g>>,
 }
 
@@ -158,10 +158,10 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
             classify_gradient: s.classifier != Classifier::Table,
             beyond_table: s.classifier.beyond_table(),
             uncut: s.clip.keeps_box(s.bounds),
-            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+            #[cfg(lanes)]
             lanes: lanes::Lanes::new(s, &g),
             superblocks: s.superblocks.filter(|_| T::TABLE.is_some()),
-            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+            #[cfg(lanes)]
             // Every value finite, as the lanes count every sample (`ValueStats::add` counts
             // only those): the rescale of the type's whole range is, and it is monotone.
             values: value_lanes::ValueLanes::new(&g, s.simd).filter(|_| {
@@ -365,7 +365,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         let mut stopped_at = None;
         match skip {
             Some((_, cells)) if plan.count > 0 => {
-                #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+                #[cfg(lanes)]
                 if let Some(lanes) = self.lanes.as_ref().filter(|_| !R::ACTIVE)
                     && let Some(stop) = self.accumulate_lanes(
                         lanes,
@@ -558,7 +558,7 @@ impl<'s, 'a, 'g, T: Voxel> Marcher<'s, 'a, 'g, T> {
         if k0 >= k1 {
             return;
         }
-        #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+        #[cfg(lanes)]
         if let Some(lanes) = &self.values {
             let rescale = (self.g.slope, self.g.intercept);
             // SAFETY: `ValueLanes` built from this grid.

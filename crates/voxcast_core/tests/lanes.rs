@@ -9,6 +9,9 @@
 //! NEON's (`.ci/run` runs this file there under qemu).
 
 mod scenes;
+// In WebAssembly (`.ci/run`), each `#[test]` is one of wasm-bindgen's, run under Node.
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use proptest::prelude::*;
 use scenes::{camera, instructions, volume};

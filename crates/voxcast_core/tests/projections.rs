@@ -7,6 +7,9 @@
 //! along x, where the lanes do not apply, an 8-bit volume of three voxels, a constant one).
 
 mod scenes;
+// In WebAssembly (`.ci/run`), each `#[test]` is one of wasm-bindgen's, run under Node.
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use proptest::prelude::*;
 use scenes::{camera, instructions, volume};

@@ -18,9 +18,9 @@ pub fn lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
     impl GridVisitor for Probe<'_, '_> {
         type Output = Option<&'static str>;
         fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Option<&'static str> {
-            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+            #[cfg(lanes)]
             return lanes::Lanes::new(self.0, &grid).map(|l| l.instructions());
-            #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+            #[cfg(not(lanes))]
             {
                 let _ = (self.0, grid);
                 None
@@ -49,9 +49,9 @@ pub fn value_lane_instructions(scene: &Scene<'_>) -> Option<&'static str> {
         type Output = Option<&'static str>;
         fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Option<&'static str> {
             let m = Marcher::new(self.0, grid);
-            #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+            #[cfg(lanes)]
             return m.values.map(|v| v.instructions());
-            #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+            #[cfg(not(lanes))]
             {
                 let _ = m;
                 None

@@ -252,9 +252,9 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     /// Whether the ray's samples are tested against their bricks before they are interpolated
     /// (the eight lanes with the volume's bricks).
     fn by_bricks(&self, ray: &ProjectionRay<'_>) -> bool {
-        #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+        #[cfg(lanes)]
         return ray.bricks.is_some() && self.values.is_some();
-        #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+        #[cfg(not(lanes))]
         {
             let _ = ray;
             false
@@ -267,7 +267,7 @@ impl<T: Voxel> Marcher<'_, '_, '_, T> {
     #[inline]
     fn raw_extreme(&self, ray: &ProjectionRay<'_>, (k0, k1): (u32, u32), prior: f32) -> (f32, u32) {
         let larger = ray.raw_larger;
-        #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
+        #[cfg(lanes)]
         if let Some(lanes) = &self.values {
             let (o_d, range) = ((ray.o_v, ray.d_v), (k0, k1));
             // SAFETY: `ValueLanes` built from this grid; the bricks are this volume's.
@@ -294,10 +294,7 @@ struct ProjectionRay<'p> {
     /// Minimum with a negative one).
     raw_larger: bool,
     /// The bricks' bounds in that direction and the bricks per axis along x and y.
-    #[cfg_attr(
-        not(any(target_arch = "x86_64", target_arch = "aarch64")),
-        allow(dead_code)
-    )]
+    #[cfg_attr(not(lanes), allow(dead_code))]
     bricks: Option<(&'p [f32], [i32; 2])>,
 }
 

@@ -1,9 +1,10 @@
-//! Eight `f32` lanes on three instruction sets: the operations the lanes (Accumulate's,
+//! Eight `f32` lanes on four instruction sets: the operations the lanes (Accumulate's,
 //! `lanes.rs`, and the projections', `value_lanes.rs`) are written in, once, over [`Simd`],
 //! with one backend per instruction set —
 //! [`Avx2`] (one 256-bit register a vector), [`Sse41`] (two 128-bit halves: the x86-64 CPUs
-//! without AVX, as in most low-cost laptops: Intel's Celeron and Pentium Silver up to 2021) and
-//! `Neon` (two 128-bit halves: every 64-bit ARM CPU, Apple's among them).
+//! without AVX, as in most low-cost laptops: Intel's Celeron and Pentium Silver up to 2021),
+//! `Neon` (two 128-bit halves: every 64-bit ARM CPU, Apple's among them) and `Simd128` (two
+//! 128-bit halves: WebAssembly's SIMD, the web page's, in every browser since 2021).
 //!
 //! Every operation is lane-wise IEEE arithmetic, or moves bits, so the backends give the same
 //! numbers bit for bit. A backend is a zero-sized token that exists only where its CPU
@@ -20,6 +21,8 @@ mod avx2;
 mod neon;
 #[cfg(target_arch = "x86_64")]
 mod sse41;
+#[cfg(target_arch = "wasm32")]
+mod wasm;
 
 #[cfg(target_arch = "x86_64")]
 pub(super) use avx2::Avx2;
@@ -27,6 +30,8 @@ pub(super) use avx2::Avx2;
 pub(super) use neon::Neon;
 #[cfg(target_arch = "x86_64")]
 pub(super) use sse41::Sse41;
+#[cfg(target_arch = "wasm32")]
+pub(super) use wasm::Simd128;
 
 use super::Vectors;
 use crate::volume::ScalarType;
@@ -41,11 +46,13 @@ pub(super) enum Backend {
     Sse41(Sse41),
     #[cfg(target_arch = "aarch64")]
     Neon(Neon),
+    #[cfg(target_arch = "wasm32")]
+    Simd128(Simd128),
 }
 
 impl Backend {
     /// The backend for the widest vectors this CPU has, up to `cap` (on ARM, NEON for both
-    /// widths: it is the only one).
+    /// widths: it is the only one; in WebAssembly, its SIMD for both).
     pub(super) fn for_cpu(cap: Vectors) -> Option<Self> {
         if cap == Vectors::Off {
             return None;
@@ -58,10 +65,13 @@ impl Backend {
         .or_else(|| Sse41::detect().map(Self::Sse41));
         #[cfg(target_arch = "aarch64")]
         return Neon::detect().map(Self::Neon);
+        #[cfg(target_arch = "wasm32")]
+        return Simd128::detect().map(Self::Simd128);
     }
 
     /// Runs `kernel` with this backend's vectors, in a function compiled for them.
     #[inline]
+    #[cfg_attr(target_arch = "wasm32", allow(unused_unsafe))]
     pub(super) fn run<K: Kernel>(self, kernel: K) -> K::Output {
         // SAFETY: each token exists only where its instructions do.
         unsafe {
@@ -72,6 +82,9 @@ impl Backend {
                 Backend::Sse41(s) => run_sse41(s, kernel),
                 #[cfg(target_arch = "aarch64")]
                 Backend::Neon(s) => run_neon(s, kernel),
+                #[cfg(target_arch = "wasm32")]
+                // The whole module has the instructions: no function of its own needed.
+                Backend::Simd128(s) => kernel.run(s),
             }
         }
     }
@@ -85,6 +98,8 @@ impl Backend {
             Backend::Sse41(_) => "SSE 4.1",
             #[cfg(target_arch = "aarch64")]
             Backend::Neon(_) => "NEON",
+            #[cfg(target_arch = "wasm32")]
+            Backend::Simd128(_) => "WebAssembly SIMD",
         }
     }
 }
@@ -118,7 +133,8 @@ fn run_neon<K: Kernel>(s: Neon, kernel: K) -> K::Output {
     kernel.run(s)
 }
 
-/// Two halves of four lanes: lanes 0–3, lanes 4–7 (the SSE 4.1 and NEON backends' vectors).
+/// Two halves of four lanes: lanes 0–3, lanes 4–7 (the SSE 4.1, NEON and WebAssembly
+/// backends' vectors).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Pair<T>(T, T);
 

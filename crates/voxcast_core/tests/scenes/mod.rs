@@ -108,6 +108,12 @@ pub fn instructions() -> (Option<&'static str>, Option<&'static str>) {
     }
     #[cfg(target_arch = "aarch64")]
     return (Some("NEON"), Some("NEON"));
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    return (Some("WebAssembly SIMD"), Some("WebAssembly SIMD"));
+    #[cfg(not(any(
+        target_arch = "x86_64",
+        target_arch = "aarch64",
+        all(target_arch = "wasm32", target_feature = "simd128")
+    )))]
     (None, None)
 }
