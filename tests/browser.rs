@@ -22,7 +22,100 @@ fn main() {
     support::run(&[
         ("the_page_works_in_chromium_with_webgl2", || page("webgl2")),
         ("the_page_works_in_chromium_with_webgpu", || page("webgpu")),
+        (
+            "a_page_whose_webgpu_cannot_draw_falls_back_to_webgl2",
+            falls_back,
+        ),
     ])
+}
+
+/// The flags under which chromium offers a WebGPU adapter that cannot draw (SwiftShader's
+/// WebGPU adapter without its Vulkan): the page stayed blank at its second frame, with no
+/// message, until the loader watched for frames.
+const BROKEN_WEBGPU_FLAGS: [&str; 2] =
+    ["--enable-unsafe-webgpu", "--use-webgpu-adapter=swiftshader"];
+
+/// Where WebGPU stops drawing, the loader notices within seconds and opens the page again with
+/// the WebGL2 build, saying so; the level carried in the address comes along.
+fn falls_back() -> Outcome {
+    let dir = page_dir();
+    if let Some(why) = missing(&dir, &["webgl2", "webgpu"]) {
+        assert!(!browser_required(), "{why}");
+        return Ok(Completion::ignored_with(format!(
+            "{why}; VOXCAST_REQUIRE_BROWSER=1 makes this a failure"
+        )));
+    }
+    let out = out_dir().join("fallback");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    let port = serve(&dir);
+    let browser =
+        Browser::start(&BROKEN_WEBGPU_FLAGS, &out).map_err(|e| format!("chromium: {e}"))?;
+    browser.set_viewport(1024, 576)?;
+    let started = Instant::now();
+    browser.open(&format!("http://127.0.0.1:{port}/?no-rays"))?;
+    let first = browser.wait_for("return window.voxcastGraphics", FIRST_FRAME)?;
+    let drawn = browser
+        .wait_for(
+            "return window.voxcastGraphics === 'webgl2' && window.voxcastStatus \
+             && window.voxcastStatus().frames >= 2 && location.search",
+            FIRST_FRAME + Duration::from_secs(30),
+        )
+        .map_err(|e| format!("{e}\nthe browser's log: {:#?}", browser.log()))?;
+    let notice = browser.run(
+        "const n = document.getElementById('voxcast-notice'); return n.hidden ? '' : n.textContent",
+        json!([]),
+    )?;
+    let png = browser.screenshot()?;
+    std::fs::write(out.join("fallback.png"), &png).map_err(|e| e.to_string())?;
+    println!(
+        "chromium {BROKEN_WEBGPU_FLAGS:?}: the loader chose {first} first; drawing with WebGL2 \
+         after {:.1} s at {drawn}; the page says: {notice}",
+        started.elapsed().as_secs_f64()
+    );
+    if first == json!("webgpu") {
+        let search = drawn.as_str().unwrap_or_default();
+        assert!(
+            search.contains("gpu=webgl2") && search.contains("fallback=webgpu"),
+            "the page did not reopen with WebGL2: {search}"
+        );
+        assert!(
+            notice
+                .as_str()
+                .unwrap_or_default()
+                .contains("switched to WebGL2"),
+            "the page does not say why it switched: {notice}"
+        );
+    } else {
+        println!(
+            "note: this chromium offers no WebGPU adapter under these flags: no fallback needed"
+        );
+    }
+    Ok(Completion::Completed)
+}
+
+/// Why the page cannot be tested here, if it cannot: chromium, chromedriver or a build missing.
+fn missing(dir: &Path, builds: &[&str]) -> Option<String> {
+    [
+        (!Path::new(CHROMIUM).exists()).then(|| format!("no {CHROMIUM} (package chromium)")),
+        (!Path::new(CHROMEDRIVER).exists())
+            .then(|| format!("no {CHROMEDRIVER} (package chromium-driver)")),
+    ]
+    .into_iter()
+    .flatten()
+    .chain(
+        builds
+            .iter()
+            .filter(|graphics| !dir.join(graphics).join("voxcast_bg.wasm").exists())
+            .map(|_| {
+                format!(
+                    "no page built in {} (bash web/build.sh {})",
+                    dir.display(),
+                    dir.display()
+                )
+            }),
+    )
+    .next()
 }
 
 /// Whether `VOXCAST_REQUIRE_BROWSER=1` makes a missing browser or page a failure.
@@ -54,19 +147,7 @@ const WEBGPU_FLAGS: [&str; 4] = [
 
 fn page(graphics: &str) -> Outcome {
     let dir = page_dir();
-    let missing = [
-        (!Path::new(CHROMIUM).exists()).then(|| format!("no {CHROMIUM} (package chromium)")),
-        (!Path::new(CHROMEDRIVER).exists())
-            .then(|| format!("no {CHROMEDRIVER} (package chromium-driver)")),
-        (!dir.join(graphics).join("voxcast_bg.wasm").exists()).then(|| {
-            format!(
-                "no page built in {} (bash web/build.sh {})",
-                dir.display(),
-                dir.display()
-            )
-        }),
-    ];
-    if let Some(why) = missing.into_iter().flatten().next() {
+    if let Some(why) = missing(&dir, &[graphics]) {
         assert!(!browser_required(), "{why}");
         return Ok(Completion::ignored_with(format!(
             "{why}; VOXCAST_REQUIRE_BROWSER=1 makes this a failure"

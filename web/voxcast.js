@@ -1,6 +1,7 @@
 // Voxcast's page loader: records every error for the page's test, picks the build the browser
 // can draw with (WebGPU where it offers an adapter, else WebGL2; `?gpu=webgl2` or `?gpu=webgpu`
-// chooses), starts it, and hands it the files a student picks or drops on the page (a folder
+// chooses), starts it, watches that it draws (falling back to WebGL2 where WebGPU stops), and
+// hands it the files a student picks or drops on the page (a folder
 // too), the levels `?levels=URL` names (with the data sets they name, from this site), and a
 // level carried in the address (`#level=…`, the level editor's Copy link).
 
@@ -21,10 +22,22 @@ const fail = (text) => {
   loading.hidden = true;
 };
 
+const notify = (text) => {
+  const notice = document.getElementById('voxcast-notice');
+  notice.textContent = text;
+  notice.hidden = false;
+};
+
+/** The build the address asks for (`?gpu=`), if any. */
+function askedGraphics() {
+  const asked = new URLSearchParams(location.search).get('gpu');
+  return asked === 'webgl2' || asked === 'webgpu' ? asked : null;
+}
+
 /** Which of the two builds this browser runs: WebGPU needs an adapter, not just `navigator.gpu`. */
 async function chooseGraphics() {
-  const asked = new URLSearchParams(location.search).get('gpu');
-  if (asked === 'webgl2' || asked === 'webgpu') return asked;
+  const asked = askedGraphics();
+  if (asked) return asked;
   try {
     if (navigator.gpu && (await navigator.gpu.requestAdapter())) return 'webgpu';
   } catch (_) { /* no WebGPU: WebGL2 below */ }
@@ -148,7 +161,60 @@ async function openLink(wasm, page, fragment) {
   wasm.voxcast_receive_files('level-link', names, bytes);
 }
 
+/** How long the started sandbox may go without drawing a frame while the page is shown before
+ * the loader counts it as stopped (at rest it still draws one every 100 ms: REST_WAIT). */
+const STALL_MS = 8000;
+
+/** Watches the started build: where it stops drawing (no new frame for STALL_MS while the page
+ * is shown: an adapter that cannot draw, a lost device, a shader the driver refused), the
+ * WebGPU build the loader chose gives way to the WebGL2 one — the page opens again with
+ * `?gpu=webgl2&fallback=webgpu`, the level progress kept in the browser — and otherwise the
+ * page says what to try. */
+function watch(wasm, graphics) {
+  let last = -1;
+  let since = performance.now();
+  let tick = since;
+  const timer = setInterval(() => {
+    // A late tick means the page's one thread was busy (a large file read whole): that is
+    // work, not a stop, so the wait starts again.
+    const now = performance.now();
+    const late = now - tick > 2000;
+    tick = now;
+    if (document.visibilityState !== 'visible' || late) {
+      since = now;
+      return;
+    }
+    let frames = last;
+    try { frames = JSON.parse(wasm.voxcast_status()).frames; } catch (_) { /* stopped */ }
+    if (frames !== last) {
+      last = frames;
+      since = performance.now();
+      return;
+    }
+    if (performance.now() - since < STALL_MS) return;
+    clearInterval(timer);
+    window.voxcastStalled = { graphics, frames };
+    if (graphics === 'webgpu' && !askedGraphics()) {
+      const next = new URL(location.href);
+      next.searchParams.set('gpu', 'webgl2');
+      next.searchParams.set('fallback', 'webgpu');
+      location.replace(next.href);
+      return;
+    }
+    fail(`Voxcast stopped drawing with ${graphics === 'webgpu' ? 'WebGPU' : 'WebGL2'} in this browser `
+      + `(no new frame for ${STALL_MS / 1000} seconds). Reload the page to try again; `
+      + (graphics === 'webgpu'
+        ? 'open it without "gpu=webgpu" in the address to use WebGL2, which every browser has; '
+        : '')
+      + 'otherwise try another browser (Chrome, Edge, Firefox or Safari, up to date) and check that '
+      + "the browser's hardware acceleration is on.");
+  }, 500);
+}
+
 async function start() {
+  if (new URLSearchParams(location.search).get('fallback') === 'webgpu') {
+    notify('This browser offered WebGPU but drew nothing with it: Voxcast switched to WebGL2.');
+  }
   const graphics = await chooseGraphics();
   window.voxcastGraphics = graphics;
   let wasm;
@@ -164,6 +230,7 @@ async function start() {
   }
   loading.hidden = true;
   window.voxcastStatus = () => JSON.parse(wasm.voxcast_status());
+  watch(wasm, graphics);
 
   // The sandbox asks for a file with `voxcastPick(purpose, accept)` (Open… in its panels).
   const picker = document.createElement('input');
@@ -200,9 +267,7 @@ async function start() {
   const levels = new URLSearchParams(location.search).get('levels');
   if (levels) {
     fetchLevels(wasm, levels).catch((e) => {
-      const notice = document.getElementById('voxcast-notice');
-      notice.textContent = `The levels of ?levels= could not be read: ${e.message || e}`;
-      notice.hidden = false;
+      notify(`The levels of ?levels= could not be read: ${e.message || e}`);
     });
   }
   if (location.hash.startsWith('#level=')) {

@@ -638,6 +638,10 @@ mod tests {
         );
         assert_eq!(query_to_args("?tf=a+b", same), ["--tf", "a b"]);
         assert_eq!(query_to_args("?gpu=webgl2&no-rays", same), ["--no-rays"]);
+        assert_eq!(
+            query_to_args("?no-rays=&gpu=webgl2&fallback=webgpu", same),
+            ["--no-rays"]
+        );
         assert!(query_to_args("", same).is_empty());
         assert!(query_to_args("?", same).is_empty());
     }

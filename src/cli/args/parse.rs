@@ -201,9 +201,10 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// The page's own options, which its loader reads (`gpu`: which build to start).
+/// The page's own options, which its loader reads (`gpu`: which build to start; `fallback`:
+/// which build stopped drawing before it, `web/voxcast.js`).
 #[cfg(any(test, target_arch = "wasm32"))]
-pub(super) const PAGE_ONLY: [&str; 1] = ["gpu"];
+pub(super) const PAGE_ONLY: [&str; 2] = ["gpu", "fallback"];
 
 /// A web page's query string as command-line options: `?a=1&b` → `["--a", "1", "--b"]`, each
 /// part decoded by `decode` (`+` is a space, as forms write it); the page's own left out.
@@ -222,7 +223,8 @@ pub fn query_to_args(search: &str, decode: impl Fn(&str) -> String) -> Vec<Strin
             continue;
         }
         args.push(format!("--{}", decode(&key.replace('+', " "))));
-        if let Some(v) = value {
+        // `no-rays=` (as a browser's URLSearchParams writes a flag back) is the flag alone.
+        if let Some(v) = value.filter(|v| !v.is_empty()) {
             args.push(decode(&v.replace('+', " ")));
         }
     }
