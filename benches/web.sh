@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
-# The web page's figures for BENCHMARKS.md ("In a browser"), beside the desktop's on the same
-# machine: the bundle's size (raw and gzip), the time to the first frame in headless chromium,
-# the frame time at 1280×720 orbiting and resting, and Render image's time (the page: one
-# thread, in slices between frames; the desktop: `voxcast render` of the same view and size on
-# 1 and on all threads). The browser figures come from tests/browser.rs, which prints them.
+# The web page's figures for BENCHMARKS.md ("In a browser"), beside the desktop's and the web
+# peers' on the same machine: the bundle's size (raw and gzip), the time to the first frame in
+# headless chromium, the frame time at 1280×720 orbiting and resting, the page's exact render
+# against the desktop's on one thread (the same view and size), and niivue's and vtk.js's frames
+# beside the page's (benches/peers/run.py: the same files and canvas, screenshots of each). The
+# page's own figures come from tests/browser.rs, which prints them.
 #
 #   bash benches/web.sh            (SKIP_BUILD=1 uses the page already in dist/)
 #
 # Needs chromium and chromedriver (Debian: chromium chromium-driver), a display or Xvfb for the
-# desktop's window (benches/common.sh), and a release build of voxcast (built there).
+# desktop's window (benches/common.sh), a release build of voxcast (built there), npm (the
+# peers, fetched once) and Pillow; the CT and the peers' transfer functions and cameras from
+# ../shared (data/, tools/peer/), where the CT's rows are left out if it is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source benches/common.sh
@@ -31,8 +34,9 @@ echo "(the whole folder, both builds: $(du -sh dist | cut -f1) raw)"
 echo
 
 echo "== the page in headless chromium (tests/browser.rs)"
-cargo test --test browser -- --nocapture --test-threads 1 2>&1 |
-    grep -oE "(webgl2|webgpu): .*" || echo "(the browser test printed no figures)"
+log=$(mktemp)
+cargo test --test browser -- --nocapture --test-threads 1 > "$log" 2>&1 || true
+grep -oE "(webgl2|webgpu|chromium \[).*" "$log" || echo "(the browser test printed no figures)"
 echo
 
 echo "== the desktop window under Xvfb, the same view"
@@ -45,9 +49,29 @@ for what in "orbiting:--auto-orbit 5" "resting:"; do
     echo "desktop $label: $line"
 done
 echo
-echo "== Render image's render of the same view, 833×669 (the page's scene at 1280×720)"
+
+# The page's exact render against the desktop's on one thread, the same view at the page's scene
+# size: the CPU live view's exact render (the core alone) and Render image (in slices, between
+# the page's frames). Goal (issue 55): the page at 0.8 of the desktop's one-thread speed or more.
+size=$(grep -oE 'webgl2: first frame.*"([0-9]+)×([0-9]+) in [0-9]+ ms: the exact render' "$log" |
+    grep -oE '[0-9]+×[0-9]+ in' | head -1 | sed 's/ in//; s/×/x/')
+live=$(grep -oE 'webgl2: first frame.*"[0-9]+×[0-9]+ in [0-9]+ ms: the exact render' "$log" |
+    grep -oE 'in [0-9]+ ms' | head -1 | grep -oE '[0-9]+')
+work=$(grep -oE 'webgl2: Render image done in [0-9.]+ s of work' "$log" | grep -oE '[0-9.]+' | head -1)
+echo "== Render image's render of the same view at the page's scene size, ${size:-833x669}"
 for threads in 1 "$(nproc)"; do
-    line=$(RAYON_NUM_THREADS=$threads "$bin" render --volume builtin:bunny --size 833x669 \
+    line=$(RAYON_NUM_THREADS=$threads "$bin" render --volume builtin:bunny --size "${size:-833x669}" \
         --repeat 5 --out /tmp/voxcast_web_render.png 2> /dev/null | grep " in " || true)
     echo "desktop, $threads thread(s): $line"
+    if [ "$threads" = 1 ]; then
+        one=$(echo "$line" | grep -oE 'in [0-9.]+ s' | grep -oE '[0-9.]+')
+    fi
 done
+if [ -n "${one:-}" ] && [ -n "${live:-}" ] && [ -n "${work:-}" ]; then
+    awk -v one="$one" -v live="$live" -v work="$work" 'BEGIN {
+        printf "the page (WebGL2 build) against the desktop on one thread: the live view'"'"'s exact render %.0f ms, %.2f× the desktop'"'"'s speed; Render image %.0f ms of work, %.2f× (goal: 0.8× or more)\n", live, one * 1000 / live, work * 1000, one / work }'
+fi
+echo
+
+echo "== the page beside niivue and vtk.js (benches/peers/run.py, the same browser)"
+python3 benches/peers/run.py --dist dist

@@ -63,7 +63,7 @@ fn falls_back() -> Outcome {
         )
         .map_err(|e| format!("{e}\nthe browser's log: {:#?}", browser.log()))?;
     let notice = browser.run(
-        "const n = document.getElementById('voxcast-notice'); return n.hidden ? '' : n.textContent",
+        "const n = document.getElementById('voxcast-switched'); return n.hidden ? '' : n.textContent",
         json!([]),
     )?;
     let png = browser.screenshot()?;

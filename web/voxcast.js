@@ -22,8 +22,10 @@ const fail = (text) => {
   loading.hidden = true;
 };
 
-const notify = (text) => {
-  const notice = document.getElementById('voxcast-notice');
+/** Shows `text` in the line above the page: `voxcast-notice` (shared with the sandbox's own
+ * notices) or, for the loader's switch of build, a line of its own that nothing overwrites. */
+const notify = (text, id = 'voxcast-notice') => {
+  const notice = document.getElementById(id);
   notice.textContent = text;
   notice.hidden = false;
 };
@@ -213,7 +215,8 @@ function watch(wasm, graphics) {
 
 async function start() {
   if (new URLSearchParams(location.search).get('fallback') === 'webgpu') {
-    notify('This browser offered WebGPU but drew nothing with it: Voxcast switched to WebGL2.');
+    notify('This browser offered WebGPU but drew nothing with it: Voxcast switched to WebGL2.',
+      'voxcast-switched');
   }
   const graphics = await chooseGraphics();
   window.voxcastGraphics = graphics;
