@@ -192,6 +192,7 @@ def main():
     print(f"| page | volume | drawn by | canvas | resting frame | orbiting frame | volume's share of the canvas |")
     print("| --- | --- | --- | --- | ---: | ---: | ---: |")
     # The peers: WebGL2 (both draw with it), SwiftShader here.
+    notes = []
     browser = Browser([], (w + 100, h + 200))
     try:
         if opts.only == "page":
@@ -208,9 +209,12 @@ def main():
                     continue
                 png = browser.screenshot(os.path.join(opts.out, f"{peer}_{name}.png"))
                 share = coverage(png, (0, 0, w, h))
-                print(f"| {peer} | {name} | WebGL2 ({result['renderer'][:40]}) | {w}×{h} | "
+                print(f"| {PEERS[peer][0]} {PEERS[peer][1]} | {name} | WebGL2 | {w}×{h} | "
                       f"{ms(result['resting'])} | {ms(result['orbiting'])} | {100 * share:.0f} % |",
                       flush=True)
+                notes.append(f"{peer}, {name}: {result['frames']} frames a median; step "
+                             f"{result['step']}; transfer function {result['transfer']}; "
+                             f"{result['renderer']}")
     finally:
         browser.close()
 
@@ -245,6 +249,9 @@ def main():
             how = "GPU preview forced, whole frames" if forced else "as a visitor gets it"
             print(f"| Voxcast {graphics} ({how}) | bunny | {who} | {scene[2]:.0f}×{scene[3]:.0f} | "
                   f"{ms(row['resting'])} | {ms(row['orbiting'])} | {100 * row['share']:.0f} % |", flush=True)
+    print()
+    for note in notes:
+        print(f"- {note}")
     print(f"\n(screenshots in {opts.out})")
 
 
