@@ -33,7 +33,7 @@ fi
 export CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUSTFLAGS="--remap-path-prefix=$HOME/.cargo/registry/src= --remap-path-prefix=$HOME= --remap-path-prefix=$PWD=voxcast"
 
 TARGET_DIR=${CARGO_TARGET_DIR:-target}
-# The `web` profile (Cargo.toml): small and fast, its link some 10 minutes on 2 cores;
+# The `web` profile (Cargo.toml): small and fast, its link some 6 minutes a build on 2 cores;
 # VOXCAST_WEB_PROFILE=release for a quicker, larger build (CI's).
 PROFILE=${VOXCAST_WEB_PROFILE:-web}
 mkdir -p "$OUT"

@@ -138,6 +138,18 @@ fn run_neon<K: Kernel>(s: Neon, kernel: K) -> K::Output {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Pair<T>(T, T);
 
+/// Two halves' four rows transposed (lanes 0–3's columns, lanes 4–7's) as four columns of
+/// eight: [`Simd::columns`] of the backends with two halves.
+#[inline(always)]
+fn pair_columns<H: Copy>(lo: [H; 4], hi: [H; 4]) -> [Pair<H>; 4] {
+    [
+        Pair(lo[0], hi[0]),
+        Pair(lo[1], hi[1]),
+        Pair(lo[2], hi[2]),
+        Pair(lo[3], hi[3]),
+    ]
+}
+
 /// Per set of four lanes (a bit each), the byte shuffle that packs them to the front, the
 /// rest of the sixteen bytes `fill` (a byte both backends' shuffles turn into zero).
 const fn pack4(fill: u8) -> [[u8; 16]; 16] {

@@ -373,13 +373,7 @@ impl Simd for Neon {
     #[inline(always)]
     fn columns(self, rows: [float32x4_t; 8]) -> [F; 4] {
         let [r0, r1, r2, r3, r4, r5, r6, r7] = rows;
-        let (lo, hi) = (transpose(r0, r1, r2, r3), transpose(r4, r5, r6, r7));
-        [
-            Pair(lo[0], hi[0]),
-            Pair(lo[1], hi[1]),
-            Pair(lo[2], hi[2]),
-            Pair(lo[3], hi[3]),
-        ]
+        super::pair_columns(transpose(r0, r1, r2, r3), transpose(r4, r5, r6, r7))
     }
     #[inline(always)]
     fn prefetch(self, p: *const u8) {

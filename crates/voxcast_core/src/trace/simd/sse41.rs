@@ -329,13 +329,7 @@ impl Simd for Sse41 {
     #[inline(always)]
     fn columns(self, rows: [__m128; 8]) -> [F; 4] {
         let [r0, r1, r2, r3, r4, r5, r6, r7] = rows;
-        let (lo, hi) = (transpose(r0, r1, r2, r3), transpose(r4, r5, r6, r7));
-        [
-            Pair(lo[0], hi[0]),
-            Pair(lo[1], hi[1]),
-            Pair(lo[2], hi[2]),
-            Pair(lo[3], hi[3]),
-        ]
+        super::pair_columns(transpose(r0, r1, r2, r3), transpose(r4, r5, r6, r7))
     }
 }
 
