@@ -56,7 +56,7 @@ def fetch_peers():
     for name, (package, version, inside, file) in PEERS.items():
         path = os.path.join(lib, file)
         stamp = path + ".version"
-        if os.path.exists(path) and open(stamp).read() == version if os.path.exists(stamp) else False:
+        if os.path.exists(path) and os.path.exists(stamp) and open(stamp).read() == version:
             continue
         with tempfile.TemporaryDirectory() as tmp:
             subprocess.run(["npm", "pack", "--silent", f"{package}@{version}", "--pack-destination", tmp],

@@ -108,12 +108,8 @@ pub fn instructions() -> (Option<&'static str>, Option<&'static str>) {
     }
     #[cfg(target_arch = "aarch64")]
     return (Some("NEON"), Some("NEON"));
-    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    #[cfg(all(lanes, target_arch = "wasm32"))]
     return (Some("WebAssembly SIMD"), Some("WebAssembly SIMD"));
-    #[cfg(not(any(
-        target_arch = "x86_64",
-        target_arch = "aarch64",
-        all(target_arch = "wasm32", target_feature = "simd128")
-    )))]
+    #[cfg(not(lanes))]
     (None, None)
 }

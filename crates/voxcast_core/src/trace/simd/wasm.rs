@@ -245,12 +245,8 @@ impl Simd for Simd128 {
     }
     #[inline(always)]
     unsafe fn load_i(self, p: *const i32) -> I {
-        unsafe {
-            Pair(
-                v128_load(p as *const v128),
-                v128_load(p.add(4) as *const v128),
-            )
-        }
+        // The same 32 bytes: `F` and `I` are both two `v128`.
+        unsafe { self.load(p as *const f32) }
     }
     #[inline(always)]
     unsafe fn store(self, p: *mut f32, a: F) {
@@ -261,10 +257,7 @@ impl Simd for Simd128 {
     }
     #[inline(always)]
     unsafe fn store_i(self, p: *mut i32, a: I) {
-        unsafe {
-            v128_store(p as *mut v128, a.0);
-            v128_store(p.add(4) as *mut v128, a.1);
-        }
+        unsafe { self.store(p as *mut f32, a) }
     }
 
     #[inline(always)]
@@ -309,13 +302,7 @@ impl Simd for Simd128 {
     }
     #[inline(always)]
     unsafe fn pack_i(self, dst: *mut i32, a: I, order: Order) {
-        unsafe {
-            v128_store(dst as *mut v128, i8x16_swizzle(a.0, order.lo));
-            v128_store(
-                dst.add(order.kept_lo) as *mut v128,
-                i8x16_swizzle(a.1, order.hi),
-            );
-        }
+        unsafe { self.pack(dst as *mut f32, a, order) }
     }
 
     #[inline(always)]
