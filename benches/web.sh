@@ -53,11 +53,11 @@ echo
 # The page's exact render against the desktop's on one thread, the same view at the page's scene
 # size: the CPU live view's exact render (the core alone) and Render image (in slices, between
 # the page's frames). Goal (issue 55): the page at 0.8 of the desktop's one-thread speed or more.
-size=$(grep -oE 'webgl2: first frame.*"([0-9]+)×([0-9]+) in [0-9]+ ms: the exact render' "$log" |
-    grep -oE '[0-9]+×[0-9]+ in' | head -1 | sed 's/ in//; s/×/x/')
-live=$(grep -oE 'webgl2: first frame.*"[0-9]+×[0-9]+ in [0-9]+ ms: the exact render' "$log" |
-    grep -oE 'in [0-9]+ ms' | head -1 | grep -oE '[0-9]+')
-work=$(grep -oE "webgl2: Render image's work, median of 5: [0-9.]+ s" "$log" | grep -oE '[0-9.]+ s' | head -1 | grep -oE '[0-9.]+')
+exact=$(grep -oE 'webgl2: first frame.*"[0-9]+×[0-9]+ in [0-9]+ ms: the exact render' "$log" |
+    grep -oE '[0-9]+×[0-9]+ in [0-9]+ ms' | head -1 || true)
+size=$(echo "$exact" | grep -oE '^[0-9]+×[0-9]+' | sed 's/×/x/' || true)
+live=$(echo "$exact" | grep -oE '[0-9]+ ms' | grep -oE '[0-9]+' || true)
+work=$(grep -oE "webgl2: Render image's work, median of 5: [0-9.]+ s" "$log" | grep -oE '[0-9.]+ s' | head -1 | grep -oE '[0-9.]+' || true)
 echo "== Render image's render of the same view at the page's scene size, ${size:-833x669}"
 for threads in 1 "$(nproc)"; do
     line=$(RAYON_NUM_THREADS=$threads "$bin" render --volume builtin:bunny --size "${size:-833x669}" \

@@ -190,12 +190,11 @@ function watch(wasm, graphics) {
     try { frames = JSON.parse(wasm.voxcast_status()).frames; } catch (_) { /* stopped */ }
     if (frames !== last) {
       last = frames;
-      since = performance.now();
+      since = now;
       return;
     }
-    if (performance.now() - since < STALL_MS) return;
+    if (now - since < STALL_MS) return;
     clearInterval(timer);
-    window.voxcastStalled = { graphics, frames };
     if (graphics === 'webgpu' && !askedGraphics()) {
       const next = new URL(location.href);
       next.searchParams.set('gpu', 'webgl2');
