@@ -36,14 +36,11 @@ const BROKEN_WEBGPU_FLAGS: [&str; 2] =
     ["--enable-unsafe-webgpu", "--use-webgpu-adapter=swiftshader"];
 
 /// Where WebGPU stops drawing, the loader notices within seconds and opens the page again with
-/// the WebGL2 build, saying so; the level carried in the address comes along.
+/// the WebGL2 build, saying so.
 fn falls_back() -> Outcome {
     let dir = page_dir();
-    if let Some(why) = missing(&dir, &["webgl2", "webgpu"]) {
-        assert!(!browser_required(), "{why}");
-        return Ok(Completion::ignored_with(format!(
-            "{why}; VOXCAST_REQUIRE_BROWSER=1 makes this a failure"
-        )));
+    if let Some(skip) = unavailable(&dir, &["webgl2", "webgpu"]) {
+        return Ok(skip);
     }
     let out = out_dir().join("fallback");
     let _ = std::fs::remove_dir_all(&out);
@@ -103,6 +100,16 @@ fn work_seconds(said: &Value) -> f64 {
         .unwrap_or(f64::NAN)
 }
 
+/// The test reported as ignored where the page cannot be tested here (chromium, chromedriver
+/// or a build missing), unless `VOXCAST_REQUIRE_BROWSER=1` makes that a failure.
+fn unavailable(dir: &Path, builds: &[&str]) -> Option<Completion> {
+    let why = missing(dir, builds)?;
+    assert!(!browser_required(), "{why}");
+    Some(Completion::ignored_with(format!(
+        "{why}; VOXCAST_REQUIRE_BROWSER=1 makes this a failure"
+    )))
+}
+
 /// Why the page cannot be tested here, if it cannot: chromium, chromedriver or a build missing.
 fn missing(dir: &Path, builds: &[&str]) -> Option<String> {
     [
@@ -156,11 +163,8 @@ const WEBGPU_FLAGS: [&str; 4] = [
 
 fn page(graphics: &str) -> Outcome {
     let dir = page_dir();
-    if let Some(why) = missing(&dir, &[graphics]) {
-        assert!(!browser_required(), "{why}");
-        return Ok(Completion::ignored_with(format!(
-            "{why}; VOXCAST_REQUIRE_BROWSER=1 makes this a failure"
-        )));
+    if let Some(skip) = unavailable(&dir, &[graphics]) {
+        return Ok(skip);
     }
     let out = out_dir().join(graphics);
     let _ = std::fs::remove_dir_all(&out);
