@@ -4,7 +4,8 @@
 //! with WebGPU (SwiftShader's Vulkan through Dawn). Each run waits for the first frame, checks
 //! that the bunny is drawn where the desktop's `--screenshot` draws it, orbits with a drag,
 //! renders the exact image while the page keeps drawing, opens a dropped NRRD file (and a
-//! damaged one, which leaves it), starts level 1 with a click and reads its first step, checks
+//! damaged one, which leaves it), reads a 512³ 16-bit volume with its progress (and Cancel)
+//! and draws it, refuses a file over the page's limit in words, starts level 1 with a click and reads its first step, checks
 //! that the scene keeps at least half the page in every layout at 1024×576, and fails on any
 //! error in the browser's console. Where chromium, chromedriver or the built page is missing
 //! the test is reported as ignored with the reason, unless `VOXCAST_REQUIRE_BROWSER=1` (as
@@ -307,6 +308,7 @@ fn page(graphics: &str) -> Outcome {
         "the damaged file left the volume"
     );
     page.save_screenshot("dropped")?;
+    large_files(&page, graphics)?;
     // Nothing moves and nothing is under way: the page comes to rest (it draws only on input
     // or now and then); the clicks below wake it.
     let rested = browser.wait_for(
@@ -820,16 +822,26 @@ impl Page<'_> {
 
     /// Drops a file named `name` holding `bytes` on the page, as a student drags one onto it.
     fn drop_file(&self, name: &str, bytes: &[u8]) -> Result<(), String> {
+        self.drop_made_file(
+            "const [name, bytes] = arguments; return new File([new Uint8Array(bytes)], name);",
+            json!([name, bytes]),
+        )
+    }
+
+    /// Drops the file the script `make` returns (given `args`), made in the page: a file too
+    /// large to send over WebDriver.
+    fn drop_made_file(&self, make: &str, args: Value) -> Result<(), String> {
         self.browser
             .run(
-                "const [name, bytes] = arguments; \
-                 const file = new File([new Uint8Array(bytes)], name); \
-                 const data = new DataTransfer(); data.items.add(file); \
-                 const canvas = document.getElementById('voxcast-canvas'); \
-                 for (const type of ['dragenter', 'dragover', 'drop']) { \
-                   canvas.dispatchEvent(new DragEvent(type, \
-                     {dataTransfer: data, bubbles: true, cancelable: true})); }",
-                json!([name, bytes]),
+                &format!(
+                    "const file = (function () {{ {make} }}).apply(null, arguments); \
+                     const data = new DataTransfer(); data.items.add(file); \
+                     const canvas = document.getElementById('voxcast-canvas'); \
+                     for (const type of ['dragenter', 'dragover', 'drop']) {{ \
+                       canvas.dispatchEvent(new DragEvent(type, \
+                         {{dataTransfer: data, bubbles: true, cancelable: true}})); }}"
+                ),
+                args,
             )
             .map(drop)
     }
@@ -853,6 +865,109 @@ impl Page<'_> {
         }
         Ok(())
     }
+}
+
+/// A 512³ volume of 16-bit values (256 MB, the page's limit; made in the page: a ball of value
+/// 1000 in zeros), dropped on the page: it is read with its share shown, Cancel stops it (the
+/// volume before stays), dropped again it loads and is drawn; a 600 MB file is refused before
+/// it is read, in words that give the page's limit, and the ball stays.
+fn large_files(page: &Page, graphics: &str) -> Result<(), String> {
+    let browser = page.browser;
+    let make_ball = "const n = 512; \
+        const header = new TextEncoder().encode('NRRD0004\\ntype: uint16\\ndimension: 3\\n' \
+          + 'sizes: 512 512 512\\nendian: little\\nencoding: raw\\n\\n'); \
+        const data = new Uint16Array(n * n * n); \
+        for (let z = 0; z < n; z++) for (let y = 0; y < n; y++) { \
+          const dz = z - 256, dy = y - 256, row = (z * n + y) * n; \
+          for (let x = 0; x < n; x++) { const dx = x - 256; \
+            if (dx * dx + dy * dy + dz * dz < 40000) data[row + x] = 1000; } } \
+        return new File([header, data], 'ball512.nrrd');";
+    let before = page.status()?;
+    let volume_before = before["volume"].clone();
+    // A slow drive (a school's network folder, a USB stick): each piece the page reads comes
+    // a quarter of a second late, so a click lands while the file is read.
+    browser.run(
+        "window.fastRead = Blob.prototype.arrayBuffer; \
+         Blob.prototype.arrayBuffer = function () { \
+           return new Promise((r) => setTimeout(r, 250)).then(() => window.fastRead.call(this)); };",
+        json!([]),
+    )?;
+    page.drop_made_file(make_ball, json!([]))?;
+    // Cancel, clicked while it is read (a piece a frame), keeps the volume.
+    browser.wait_for(
+        "return window.voxcastStatus().loading",
+        Duration::from_secs(60),
+    )?;
+    // Clicked again where a click was lost (as Render image's is, `render_again`).
+    for _ in 0..3 {
+        page.click("Cancel loading")?;
+        if browser
+            .wait_for(
+                "return !window.voxcastStatus().loading",
+                Duration::from_secs(1),
+            )
+            .is_ok()
+        {
+            break;
+        }
+    }
+    let after = page.status()?;
+    assert_eq!(after["volume"], volume_before, "Cancel kept the volume");
+    assert_eq!(after["load_error"], "", "a cancelled load is no error");
+
+    // Again, to the end: its share read shows on the way; loaded, and drawn.
+    let started = Instant::now();
+    page.drop_made_file(make_ball, json!([]))?;
+    let mut shares = Vec::new();
+    while started.elapsed() < Duration::from_secs(300) {
+        let s = page.status()?;
+        if let Some(share) = s["load_progress"].as_f64().filter(|f| *f > 0.0 && *f < 1.0) {
+            let share = format!("{:.0} %", 100.0 * share);
+            if shares.last() != Some(&share) {
+                shares.push(share);
+            }
+        }
+        if s["load_error"] != "" || (s["loading"] == false && s["volume"] == "ball512.nrrd") {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let loaded = started.elapsed();
+    browser.run("Blob.prototype.arrayBuffer = window.fastRead;", json!([]))?;
+    println!(
+        "{graphics}: the share read, as the page showed it: {}",
+        shares.join(", ")
+    );
+    assert!(!shares.is_empty(), "the load showed no share read");
+    assert_eq!(page.status()?["load_error"], "", "the 512³ volume loads");
+    let ball = page.wait_for_picture("ball512", |p| p.drawn > 0.02)?;
+    let memory = page.status()?["memory"].as_f64().unwrap_or(0.0) / f64::from(1 << 20);
+    println!(
+        "{graphics}: the 512³ 16-bit volume (256 MB) loaded {:.1} s after the drop (made in the \
+         page, read a piece every quarter of a second at the least); drawn on {:.0} % of the scene; the page's memory {memory:.0} MB (before it \
+         {:.0} MB)",
+        loaded.as_secs_f64(),
+        100.0 * ball.drawn,
+        before["memory"].as_f64().unwrap_or(0.0) / f64::from(1 << 20),
+    );
+
+    // Over the limit: refused before it is read, the ball kept.
+    page.drop_made_file(
+        "return new File([new Uint8Array(600 * 1024 * 1024)], 'huge.raw');",
+        json!([]),
+    )?;
+    let refused = browser.wait_for(
+        "const s = window.voxcastStatus(); return s.load_error || null",
+        Duration::from_secs(60),
+    )?;
+    assert_eq!(
+        refused,
+        "huge.raw: the file takes 600 MB, more than the 256 MB of voxel data this page can \
+         hold; Voxcast's desktop app opens larger volumes."
+    );
+    assert_eq!(page.status()?["volume"], "ball512.nrrd", "the ball stayed");
+    page.save_screenshot("refused")?;
+    Ok(())
 }
 
 /// The silhouette the desktop's `--screenshot` draws of the same view at the scene's size, if

@@ -47,11 +47,16 @@ async function chooseGraphics() {
 }
 
 /** Reads `files` (File objects) and hands them to the sandbox for `purpose`; a file picked
- * in a folder keeps its path inside it. */
+ * in a folder keeps its path inside it. A volume's files are handed over unread: the sandbox
+ * reads them in pieces, with progress and Cancel, and refuses one larger than it can hold. */
 async function handOver(wasm, purpose, files) {
   const list = Array.from(files || []);
   if (list.length === 0) return;
   const names = list.map((f) => f.relativePath || f.webkitRelativePath || f.name);
+  if (purpose === 'volume') {
+    wasm.voxcast_receive_volume(names, list);
+    return;
+  }
   const bytes = await Promise.all(list.map(async (f) => new Uint8Array(await f.arrayBuffer())));
   wasm.voxcast_receive_files(purpose, names, bytes);
 }
@@ -177,7 +182,7 @@ function watch(wasm, graphics) {
   let since = performance.now();
   let tick = since;
   const timer = setInterval(() => {
-    // A late tick means the page's one thread was busy (a large file read whole): that is
+    // A late tick means the page's one thread was busy (a large volume made ready in one piece): that is
     // work, not a stop, so the wait starts again.
     const now = performance.now();
     const late = now - tick > 2000;

@@ -53,6 +53,12 @@ pub enum LoadProblem {
         "the header asks for {bytes} bytes of voxel data, more than this file could hold ({limit} at most)"
     )]
     ImplausibleSize { bytes: u64, limit: u64 },
+    #[error(
+        "its voxel data takes {}, more than the {} that can be opened here",
+        crate::numbers::bytes(*.bytes),
+        crate::numbers::bytes(*.limit)
+    )]
+    OverLimit { bytes: u64, limit: u64 },
     #[error("compressed data is corrupt: {0}")]
     Decompress(String),
     #[error("invalid volume: {0}")]

@@ -58,6 +58,25 @@ pub fn percent(fraction: f32) -> String {
     format!("{p:.0} %")
 }
 
+/// A size in memory for people, in binary units as files are sized (`256 MB` is 256 × 2²⁰
+/// bytes): whole below ten, one decimal below ten units (`1.5 GB`, `812 KB`, `40 bytes`).
+pub fn bytes(n: u64) -> String {
+    if n < 1024 {
+        return format!("{n} bytes");
+    }
+    let mut v = n as f64 / 1024.0;
+    let mut unit = "KB";
+    for next in ["MB", "GB", "TB"] {
+        if v < 1024.0 {
+            break;
+        }
+        v /= 1024.0;
+        unit = next;
+    }
+    let decimals = if v < 10.0 { 1 } else { 0 };
+    format!("{} {unit}", trim_zeros(&format!("{v:.decimals$}")))
+}
+
 /// A count of things for people: exact below ten thousand, else to two or three significant
 /// digits in thousands, millions or billions (`9.9 million`, `502 thousand`).
 pub fn count(n: u64) -> String {
@@ -201,6 +220,11 @@ mod tests {
         assert_eq!(duration(0.0042), "4.2 ms");
         assert_eq!(duration(0.1918), "192 ms");
         assert_eq!(duration(1.44), "1.4 s");
+        assert_eq!(bytes(40), "40 bytes");
+        assert_eq!(bytes(812 << 10), "812 KB");
+        assert_eq!(bytes(256 << 20), "256 MB");
+        assert_eq!(bytes(3 << 29), "1.5 GB");
+        assert_eq!(bytes(1 << 40), "1 TB");
     }
 
     #[test]

@@ -21,8 +21,14 @@ use std::sync::{Arc, Mutex, OnceLock};
 pub type EmptySpace = Arc<(EmptyBlocks, VisibleCells)>;
 
 /// The most memory precomputed gradients may take (8 bytes a voxel): beyond it, gradients are
-/// computed from the values each time (same result, slower).
-pub const MAX_DIFFERENCE_BYTES: usize = 1 << 30;
+/// computed from the values each time (same result, slower). 1 GB (a 512³ volume); in a web
+/// page 256 MB (a 320³ volume), as its 4 GB of memory at most also holds the file being read,
+/// the voxels and the GPU's copy of them.
+pub const MAX_DIFFERENCE_BYTES: usize = if cfg!(target_arch = "wasm32") {
+    256 << 20
+} else {
+    1 << 30
+};
 
 /// A volume and its render caches. Dereferences to the [`Volume`].
 #[derive(Debug)]

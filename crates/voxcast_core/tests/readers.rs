@@ -675,12 +675,12 @@ fn files_in_memory_read_as_files_on_disk() {
     use voxcast_core::io::{InMemory, load_from};
     let on_disk = |name: &str, bytes: &[u8]| load(&write(name, bytes));
     let in_memory = |files: &[(&str, &[u8])], name: &str| {
-        let files = InMemory {
-            files: files
+        let files = InMemory::new(
+            files
                 .iter()
                 .map(|(n, b)| (n.to_string(), b.to_vec()))
                 .collect(),
-        };
+        );
         load_from(&files, Path::new(name))
     };
     // Attached NRRD, gzip-compressed.
@@ -731,4 +731,58 @@ fn files_in_memory_read_as_files_on_disk() {
         .to_string();
     assert!(memory.starts_with("broken.nrrd"), "{memory}");
     assert!(disk.ends_with(&memory), "disk: {disk}\nmemory: {memory}");
+}
+
+/// Files held with a limit (a web page's memory): every reader refuses a header asking for more
+/// voxel data than the limit before it allocates any, in words that give both sizes, and reads
+/// a volume exactly at the limit.
+#[test]
+fn a_voxel_limit_refuses_larger_headers_before_reading() {
+    use voxcast_core::io::{InMemory, load_from};
+    let read = |name: &str, bytes: &[u8], limit: u64| {
+        let mut files = InMemory::new(vec![(name.to_string(), bytes.to_vec())]);
+        files.limit = Some(limit);
+        load_from(&files, Path::new(name))
+    };
+    let over = |r: Result<voxcast_core::io::Loaded, voxcast_core::error::LoadError>| match r {
+        Err(e) => matches!(e.problem, LoadProblem::OverLimit { .. }),
+        Ok(_) => false,
+    };
+    let mut eight = nrrd(&[
+        "type: uint16",
+        "dimension: 3",
+        "sizes: 2 2 1",
+        "endian: little",
+        "encoding: raw",
+    ]);
+    eight.extend([0u8; 8]);
+    assert!(read("a.nrrd", &eight, 8).is_ok(), "exactly at the limit");
+    assert!(over(read("a.nrrd", &eight, 7)));
+    // A small compressed file whose header claims 2 GB: refused for the limit, in words.
+    let mut huge = nrrd(&[
+        "type: uint16",
+        "dimension: 3",
+        "sizes: 1024 1024 1024",
+        "endian: little",
+        "encoding: gzip",
+    ]);
+    huge.extend(gzip(&[0u8; 64]));
+    let words = read("huge.nrrd", &huge, 512 << 20).unwrap_err().to_string();
+    assert_eq!(
+        words,
+        "huge.nrrd: its voxel data takes 2 GB, more than the 512 MB that can be opened here"
+    );
+    let hdr = nifti_header(&[2, 2, 1], 2, 8, [1.0; 3], 0.0, 0.0, 0.0, false);
+    let files = |limit| {
+        let mut f = InMemory::new(vec![
+            ("s.hdr".into(), hdr.clone()),
+            ("s.img".into(), vec![1, 2, 3, 4]),
+        ]);
+        f.limit = Some(limit);
+        f
+    };
+    assert!(load_from(&files(4), Path::new("s.hdr")).is_ok());
+    assert!(over(load_from(&files(3), Path::new("s.hdr"))));
+    assert!(read("r_2x1x1_uint8.raw", &[9, 10], 2).is_ok());
+    assert!(over(read("r_2x1x1_uint8.raw", &[9, 10], 1)));
 }

@@ -24,6 +24,56 @@ use voxcast_core::settings::RenderSettings;
 use voxcast_core::transfer::TransferFunction;
 use voxcast_core::volume::Volume;
 
+/// The most bytes of voxel data a volume opened in a web page may take: 256 MB, a 512³ volume
+/// of 16-bit values. Measured in chromium 156 (BENCHMARKS, "Large files on the page"): that
+/// volume took the page's memory from 210 MB to 1.5 GB (the file read, its voxels, the GPU's
+/// copy at 4 bytes a voxel), and a 512 MB one loaded (2.7 GB) but its 1 GB GPU copy made
+/// WebGL2 lose its context, which leaves the page blank. A larger volume is refused in words
+/// that give this limit, before it is read where the file's size already says so.
+pub const PAGE_VOXEL_LIMIT: u64 = 256 << 20;
+
+/// Why a volume file of `bytes` is refused on the page before it is read, if it is: a file
+/// larger than the page's limit by more than a header's megabyte and gzip's framing cannot
+/// hold less voxel data than the limit.
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))] // the page's; tested here
+pub fn refused_on_page(name: &str, bytes: u64) -> Option<String> {
+    let most = PAGE_VOXEL_LIMIT + PAGE_VOXEL_LIMIT / 256 + (1 << 20);
+    (bytes > most).then(|| {
+        format!(
+            "{name}: the file takes {}, more than the {} of voxel data this page can hold; \
+             {DESKTOP_OPENS}",
+            voxcast_core::numbers::bytes(bytes),
+            voxcast_core::numbers::bytes(PAGE_VOXEL_LIMIT)
+        )
+    })
+}
+
+const DESKTOP_OPENS: &str = "Voxcast's desktop app opens larger volumes.";
+
+/// The voxel data files held in memory may hold: [`PAGE_VOXEL_LIMIT`] in a page.
+const IN_MEMORY_LIMIT: Option<u64> = if cfg!(target_arch = "wasm32") {
+    Some(PAGE_VOXEL_LIMIT)
+} else {
+    None
+};
+
+/// Reads a volume from files held in memory (what a browser hands the page), starting at
+/// `entry`, with no more than `limit` of voxel data.
+fn load_in_memory(
+    files: Vec<(String, Vec<u8>)>,
+    entry: &str,
+    limit: Option<u64>,
+) -> Result<Outcome, String> {
+    let mut files = voxcast_core::io::InMemory::new(files);
+    files.limit = limit;
+    voxcast_core::io::load_from(&files, std::path::Path::new(entry))
+        .map(|loaded| Outcome { loaded, rays: None })
+        .map_err(|e| match e.problem {
+            voxcast_core::error::LoadProblem::OverLimit { .. } => format!("{e}; {DESKTOP_OPENS}"),
+            _ => e.to_string(),
+        })
+}
+
 /// The load under way, if any, and the last load's error.
 #[derive(Resource, Default)]
 pub struct Loading {
@@ -160,6 +210,8 @@ pub(crate) fn plugin(app: &mut App) {
             (
                 (load_dropped_files, load_chosen_files)
                     .in_set(crate::sandbox::shared::schedule::Frame::Input),
+                #[cfg(target_arch = "wasm32")]
+                load_handed_volumes.in_set(crate::sandbox::shared::schedule::Frame::Input),
                 finish_loading.in_set(crate::sandbox::shared::schedule::Frame::SwapVolume),
             ),
         );
@@ -186,17 +238,62 @@ fn load_chosen_files(mut chosen: MessageReader<FilesChosen>, mut loading: ResMut
         if *purpose != Purpose::Volume {
             continue;
         }
-        let Some(entry) = volume_entry(files).map(str::to_owned) else {
+        let Some(entry) = volume_entry(files.iter().map(|(n, _)| n.as_str())).map(str::to_owned)
+        else {
             continue;
         };
-        let files = voxcast_core::io::InMemory {
-            files: files.clone(),
+        let files = files.clone();
+        loading.run(entry.clone(), true, move |_, _| {
+            load_in_memory(files, &entry, IN_MEMORY_LIMIT)
+        });
+    }
+}
+
+/// Volume files a page handed over as the browser's handles: refused at once where a file is
+/// larger than the page can hold (the volume shown stays); else read piece by piece, the
+/// share read shown and Cancel heard between pieces, then read as a volume.
+#[cfg(target_arch = "wasm32")]
+fn load_handed_volumes(
+    mut handed: MessageReader<crate::sandbox::shared::web::VolumeHanded>,
+    mut loading: ResMut<Loading>,
+) {
+    use crate::sandbox::shared::web::{read_file, take_volume_files};
+    for volume in handed.read() {
+        let handles = take_volume_files(volume.id);
+        let refused = volume
+            .files
+            .iter()
+            .find_map(|(name, bytes)| refused_on_page(name, *bytes));
+        if let Some(refused) = refused {
+            loading.error = Some(refused);
+            continue;
+        }
+        let Some(entry) = volume_entry(volume.files.iter().map(|(n, _)| n.as_str())) else {
+            continue;
         };
-        let path = std::path::PathBuf::from(&entry);
-        loading.run(entry, true, move |_, _| {
-            voxcast_core::io::load_from(&files, &path)
-                .map(|loaded| Outcome { loaded, rays: None })
-                .map_err(|e| e.to_string())
+        let entry = entry.to_owned();
+        let sizes = volume.files.clone();
+        loading.run_async(entry.clone(), true, move |progress, cancel| async move {
+            // Progress counts kilobytes: a page's `usize` holds only 4 GB of bytes.
+            let total = sizes.iter().map(|(_, b)| b).sum::<u64>();
+            let share =
+                |done: u64| progress.set((done >> 10) as usize, (total >> 10).max(1) as usize);
+            let mut done = 0;
+            let mut files = Vec::new();
+            for ((name, bytes), handle) in sizes.iter().zip(&handles) {
+                let read = read_file(handle, |n| share(done + n), &cancel)
+                    .await
+                    .map_err(|e| format!("{name}: {e}"))?;
+                let Some(read) = read else {
+                    return Err("cancelled".into());
+                };
+                done += bytes;
+                files.push((name.clone(), read));
+            }
+            // The share read says nothing of the reading that follows: the spinner alone.
+            progress.set(0, 0);
+            crate::sandbox::shared::tasks::yield_to_page().await;
+            load_in_memory(files, &entry, IN_MEMORY_LIMIT)
         });
     }
 }
@@ -399,6 +496,35 @@ mod tests {
                 assert!(note.is_none());
             }
         }
+    }
+
+    /// A page refuses a file larger than it can hold before reading it, and a header asking
+    /// for more voxel data than it holds after reading only the header; both say the limit and
+    /// where the volume opens instead.
+    #[test]
+    fn the_page_refuses_what_it_cannot_hold_in_words() {
+        assert_eq!(refused_on_page("ct.nrrd", 256 << 20), None);
+        assert_eq!(refused_on_page("big.nii", (256 << 20) + (1 << 20)), None);
+        assert_eq!(
+            refused_on_page("huge.raw", 3 << 29).as_deref(),
+            Some(
+                "huge.raw: the file takes 1.5 GB, more than the 256 MB of voxel data this page \
+                 can hold; Voxcast's desktop app opens larger volumes."
+            )
+        );
+        let mut header =
+            b"NRRD0004\ntype: uint8\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n".to_vec();
+        header.extend([0u8; 8]);
+        let files = vec![("small.nrrd".to_string(), header)];
+        assert!(load_in_memory(files.clone(), "small.nrrd", Some(8)).is_ok());
+        let Err(words) = load_in_memory(files, "small.nrrd", Some(7)) else {
+            panic!("8 bytes of voxels over a limit of 7 were read");
+        };
+        assert_eq!(
+            words,
+            "small.nrrd: its voxel data takes 8 bytes, more than the 7 bytes that can be opened \
+             here; Voxcast's desktop app opens larger volumes."
+        );
     }
 
     #[test]

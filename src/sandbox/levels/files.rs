@@ -20,13 +20,12 @@ impl LevelFiles {
     /// The held files as a reader finds them: by their last name (a URL's or a folder's path
     /// cut off), so a header finds its data file beside it.
     pub fn in_memory(&self) -> voxcast_core::io::InMemory {
-        voxcast_core::io::InMemory {
-            files: self
-                .files
+        voxcast_core::io::InMemory::new(
+            self.files
                 .iter()
                 .map(|(n, b)| (last_name(n).to_string(), b.clone()))
                 .collect(),
-        }
+        )
     }
 
     /// Holds `bytes` as the file `name` (in place of one held under that name).

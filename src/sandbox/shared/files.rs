@@ -180,26 +180,19 @@ pub fn save(path: &Path, bytes: &[u8], mime: &str) -> Result<String, String> {
     }
 }
 
-/// The file of `files` a reader starts from: a header (which names its data file) before
-/// anything else, then any volume file, else the first (whose format the reader then names).
-pub fn volume_entry(files: &[(String, Vec<u8>)]) -> Option<&str> {
-    let lower = |n: &String| n.to_ascii_lowercase();
-    let header = |n: &String| {
-        let n = lower(n);
+/// The file of the files `names` a reader starts from: a header (which names its data file)
+/// before anything else, then any volume file, else the first (whose format the reader then
+/// names).
+pub fn volume_entry<'a>(names: impl Iterator<Item = &'a str> + Clone) -> Option<&'a str> {
+    let header = |n: &&str| {
+        let n = n.to_ascii_lowercase();
         n.ends_with(".nhdr") || n.ends_with(".hdr")
     };
-    files
-        .iter()
-        .map(|(n, _)| n)
-        .find(|n| header(n))
-        .or_else(|| {
-            files
-                .iter()
-                .map(|(n, _)| n)
-                .find(|n| voxcast_core::io::is_volume_name(n))
-        })
-        .or(files.first().map(|(n, _)| n))
-        .map(String::as_str)
+    names
+        .clone()
+        .find(header)
+        .or_else(|| names.clone().find(|n| voxcast_core::io::is_volume_name(n)))
+        .or(names.clone().next())
 }
 
 #[cfg(test)]
@@ -208,17 +201,12 @@ mod tests {
 
     #[test]
     fn a_header_is_read_first_whatever_the_order() {
-        let f = |names: &[&str]| -> Vec<(String, Vec<u8>)> {
-            names.iter().map(|n| (n.to_string(), vec![])).collect()
-        };
-        assert_eq!(volume_entry(&f(&["d.raw", "h.NHDR"])), Some("h.NHDR"));
-        assert_eq!(volume_entry(&f(&["s.img", "s.hdr"])), Some("s.hdr"));
-        assert_eq!(
-            volume_entry(&f(&["notes.txt", "a.nii.gz"])),
-            Some("a.nii.gz")
-        );
-        assert_eq!(volume_entry(&f(&["notes.txt"])), Some("notes.txt"));
-        assert_eq!(volume_entry(&[]), None);
+        let f = |names: &'static [&'static str]| volume_entry(names.iter().copied());
+        assert_eq!(f(&["d.raw", "h.NHDR"]), Some("h.NHDR"));
+        assert_eq!(f(&["s.img", "s.hdr"]), Some("s.hdr"));
+        assert_eq!(f(&["notes.txt", "a.nii.gz"]), Some("a.nii.gz"));
+        assert_eq!(f(&["notes.txt"]), Some("notes.txt"));
+        assert_eq!(f(&[]), None);
         assert_eq!(Purpose::parse("volume"), Some(Purpose::Volume));
         assert!(Purpose::Volume.accept().contains(".nii.gz"));
     }

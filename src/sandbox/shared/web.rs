@@ -122,10 +122,14 @@ pub struct PageStatus {
     pub scene: [f32; 4],
     /// The canvas's size in the UI's points.
     pub canvas: [f32; 2],
-    /// The volume shown, whether another is loading, and the last load's error.
+    /// The volume shown, whether another is loading (and the share of it read, 0 to 1; -1
+    /// when the load does not say), and the last load's error.
     pub volume: String,
     pub loading: bool,
+    pub load_progress: f32,
     pub load_error: String,
+    /// The bytes the page's WebAssembly memory holds (it only grows, up to 4 GB).
+    pub memory: u64,
     /// Render image's state: "open", "rendering", "done in … s".
     pub render: String,
     /// `--measure-frames`' figures, once measured.
@@ -170,8 +174,19 @@ pub struct FilesHanded {
     pub files: Vec<(String, Vec<u8>)>,
 }
 
+/// Volume files the page handed over as the browser's file handles, not yet read (a volume may
+/// be hundreds of megabytes): their names and sizes, and the number under which
+/// [`take_volume_files`] gives the handles. Read by the data feature, with progress and Cancel.
+#[derive(Message, Clone, Debug)]
+pub struct VolumeHanded {
+    pub id: u64,
+    pub files: Vec<(String, u64)>,
+}
+
 thread_local! {
     static HANDED: RefCell<Vec<FilesHanded>> = const { RefCell::new(Vec::new()) };
+    static VOLUMES: RefCell<Vec<VolumeHanded>> = const { RefCell::new(Vec::new()) };
+    static HANDLES: RefCell<Vec<(u64, Vec<web_sys::Blob>)>> = const { RefCell::new(Vec::new()) };
 }
 
 /// The page hands over files a student picked or dropped (`web/voxcast.js`): their names and
@@ -184,6 +199,91 @@ pub fn voxcast_receive_files(purpose: String, names: Vec<String>, files: Vec<js_
         .map(|(name, bytes)| (name, bytes.to_vec()))
         .collect();
     HANDED.with(|h| h.borrow_mut().push(FilesHanded { purpose, files }));
+}
+
+/// The page hands over a volume's files (picked or dropped): their names and the browser's
+/// handles on them, read later in pieces ([`read_file`]).
+#[wasm_bindgen]
+pub fn voxcast_receive_volume(names: Vec<String>, files: Vec<web_sys::Blob>) {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let id = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let sized = names
+        .into_iter()
+        .zip(&files)
+        .map(|(name, file)| (name, file.size() as u64))
+        .collect();
+    HANDLES.with(|h| h.borrow_mut().push((id, files)));
+    VOLUMES.with(|v| v.borrow_mut().push(VolumeHanded { id, files: sized }));
+}
+
+/// The handles of the volume files handed over as `id`, in their order (once; none after).
+pub fn take_volume_files(id: u64) -> Vec<web_sys::Blob> {
+    HANDLES.with(|h| {
+        let mut h = h.borrow_mut();
+        let at = h.iter().position(|(i, _)| *i == id);
+        at.map(|i| h.swap_remove(i).1).unwrap_or_default()
+    })
+}
+
+/// How much of a file [`read_file`] reads a frame: a piece copied into the page's memory in a
+/// few milliseconds; a 256 MB file is read over 16 frames, so its share read moves on screen
+/// and Cancel is heard between pieces.
+const PIECE: u64 = 16 << 20;
+
+/// Resolves when the page draws its next frame.
+async fn next_frame() {
+    let promise = js_sys::Promise::new(&mut |resolve, _| {
+        if let Some(window) = web_sys::window() {
+            let _ = window.request_animation_frame(&resolve);
+        }
+    });
+    let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
+}
+
+/// Reads `file` into memory a piece a frame, the page drawing between pieces; `progress` is
+/// told the bytes read so far after each piece. `Ok(None)` when `cancel` was set.
+pub async fn read_file(
+    file: &web_sys::Blob,
+    mut progress: impl FnMut(u64),
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<Option<Vec<u8>>, String> {
+    let size = file.size() as u64;
+    let mut bytes = Vec::new();
+    bytes
+        .try_reserve_exact(size as usize)
+        .map_err(|_| "the page has no room left to read it".to_string())?;
+    let mut at = 0;
+    while at < size {
+        next_frame().await;
+        if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+            return Ok(None);
+        }
+        let end = (at + PIECE).min(size);
+        let piece = file
+            .slice_with_f64_and_f64(at as f64, end as f64)
+            .map_err(|_| "the browser could not cut the file into pieces".to_string())?;
+        let buffer = wasm_bindgen_futures::JsFuture::from(piece.array_buffer())
+            .await
+            .map_err(|_| "the browser could not read the file (was it moved or deleted?)")?;
+        let start = bytes.len();
+        bytes.resize(start + (end - at) as usize, 0);
+        js_sys::Uint8Array::new(&buffer).copy_to(&mut bytes[start..]);
+        at = end;
+        progress(at);
+    }
+    Ok(Some(bytes))
+}
+
+/// The bytes the page's WebAssembly memory holds now.
+fn memory_bytes() -> u64 {
+    wasm_bindgen::memory()
+        .dyn_into::<js_sys::WebAssembly::Memory>()
+        .map(|m| {
+            m.buffer()
+                .unchecked_into::<js_sys::ArrayBuffer>()
+                .byte_length() as u64
+        })
+        .unwrap_or(0)
 }
 
 /// Asks the page for files: the browser's file picker, offering `accept` (`.nrrd,.nii,…`);
@@ -209,17 +309,28 @@ pub fn pick_files(purpose: &str, accept: &str) {
 
 pub(crate) fn plugin(app: &mut App) {
     app.add_message::<FilesHanded>()
+        .add_message::<VolumeHanded>()
         .add_systems(First, hand_over_files)
         .add_systems(Last, count_frames);
 }
 
 /// Turns the files the page handed over into messages.
-fn hand_over_files(mut handed: MessageWriter<FilesHanded>) {
+fn hand_over_files(
+    mut handed: MessageWriter<FilesHanded>,
+    mut volumes: MessageWriter<VolumeHanded>,
+) {
     for files in HANDED.with(|h| std::mem::take(&mut *h.borrow_mut())) {
         handed.write(files);
+    }
+    for volume in VOLUMES.with(|v| std::mem::take(&mut *v.borrow_mut())) {
+        volumes.write(volume);
     }
 }
 
 fn count_frames() {
-    publish(|s| s.frames += 1);
+    let memory = memory_bytes();
+    publish(|s| {
+        s.frames += 1;
+        s.memory = memory;
+    });
 }

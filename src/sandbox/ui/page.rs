@@ -99,6 +99,7 @@ pub(super) fn publish_status(
         s.volume = volume.source.clone();
         s.load_error = loading.error.clone().unwrap_or_default();
         s.loading = loading.under_way().is_some();
+        s.load_progress = loading.fraction().unwrap_or(-1.0);
         s.render = if comparison.busy() {
             "rendering".into()
         } else if let Some(r) = &comparison.result {

@@ -88,8 +88,11 @@ pub(super) fn dataset_section(
         let mut cancel = false;
         ui.horizontal(|ui| {
             ui.spinner();
-            ui.label(format!("loading {what} … {seconds:.1} s"));
-            cancel = ui.button("Cancel").clicked();
+            let share = loading.fraction().map_or(String::new(), |f| {
+                format!("{} read, ", voxcast_core::numbers::percent(f))
+            });
+            ui.label(format!("loading {what} … {share}{seconds:.1} s"));
+            cancel = super::target(ui.button("Cancel"), "Cancel loading").clicked();
         });
         if cancel {
             loading.cancel();

@@ -79,6 +79,23 @@ pub trait Files {
     fn open(&self, path: &Path) -> std::io::Result<(Box<dyn Opened + '_>, u64)>;
     /// Whether `path` can be opened.
     fn exists(&self, path: &Path) -> bool;
+    /// The most bytes of voxel data a volume read from these files may take (a web page's
+    /// memory), checked against the header before anything is allocated; `None`: no limit
+    /// but the file's own size.
+    fn voxel_limit(&self) -> Option<u64> {
+        None
+    }
+}
+
+/// Refuses a header that asks for more than `files` may hold ([`Files::voxel_limit`]).
+pub(crate) fn check_limit(files: &dyn Files, expected: u64) -> Result<(), LoadProblem> {
+    match files.voxel_limit() {
+        Some(limit) if expected > limit => Err(LoadProblem::OverLimit {
+            bytes: expected,
+            limit,
+        }),
+        _ => Ok(()),
+    }
 }
 
 /// The file system.
@@ -101,9 +118,16 @@ impl Files for Disk {
 #[derive(Clone, Debug, Default)]
 pub struct InMemory {
     pub files: Vec<(String, Vec<u8>)>,
+    /// [`Files::voxel_limit`]: what the page that holds them can hold.
+    pub limit: Option<u64>,
 }
 
 impl InMemory {
+    /// `files`, with no limit but their own sizes.
+    pub fn new(files: Vec<(String, Vec<u8>)>) -> Self {
+        Self { files, limit: None }
+    }
+
     fn find(&self, path: &Path) -> Option<&[u8]> {
         let name = path.file_name()?.to_string_lossy();
         self.files
@@ -126,6 +150,10 @@ impl Files for InMemory {
 
     fn exists(&self, path: &Path) -> bool {
         self.find(path).is_some()
+    }
+
+    fn voxel_limit(&self) -> Option<u64> {
+        self.limit
     }
 }
 

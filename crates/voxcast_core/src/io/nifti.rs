@@ -8,7 +8,8 @@
 //! (0,0,0) sits at the world origin. A 4-D file gives its first 3-D volume.
 
 use super::{
-    Disk, Endian, FileType, Files, Loaded, MAX_DEFLATE_RATIO, decode, display_name, read_payload,
+    Disk, Endian, FileType, Files, Loaded, MAX_DEFLATE_RATIO, check_limit, decode, display_name,
+    read_payload,
 };
 use crate::error::{LoadError, LoadProblem};
 use crate::volume::{Volume, checked_voxel_count};
@@ -91,6 +92,7 @@ fn load_inner(files: &dyn Files, path: &Path) -> Result<Loaded, LoadProblem> {
     }
     let is_3d_only = (4..=rank).all(|i| header.dim[i] == 1);
     let expected = count * ty.bytes();
+    check_limit(files, expected)?;
     let endian = match header.endianness {
         nifti::Endianness::Little => Endian::Little,
         nifti::Endianness::Big => Endian::Big,

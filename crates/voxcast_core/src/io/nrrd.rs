@@ -8,7 +8,8 @@
 //! data whose first axis has size 1 drops that axis.
 
 use super::{
-    Disk, Endian, FileType, Files, Loaded, MAX_DEFLATE_RATIO, decode, display_name, read_payload,
+    Disk, Endian, FileType, Files, Loaded, MAX_DEFLATE_RATIO, check_limit, decode, display_name,
+    read_payload,
 };
 use crate::error::{LoadError, LoadProblem};
 use crate::volume::{Volume, checked_voxel_count};
@@ -109,6 +110,9 @@ fn parse<R: BufRead + Seek>(
     let expected = count
         .checked_mul(ty.bytes())
         .ok_or_else(|| bad("voxel data size overflows"))?;
+    if let Some((files, _)) = path {
+        check_limit(files, expected)?;
+    }
     let encoding = header
         .encoding
         .clone()

@@ -4,7 +4,9 @@
 //! The file must hold exactly `nx·ny·nz` values (after an optional header skip); x varies
 //! fastest. Endianness defaults to little (every Open SciVis file is little-endian).
 
-use super::{Disk, Endian, FileType, Files, Loaded, decode, display_name, read_payload};
+use super::{
+    Disk, Endian, FileType, Files, Loaded, check_limit, decode, display_name, read_payload,
+};
 use crate::error::{LoadError, LoadProblem};
 use crate::volume::{Volume, checked_voxel_count};
 use glam::{UVec3, Vec3};
@@ -71,6 +73,7 @@ fn load_inner(files: &dyn Files, path: &Path, spec: &RawSpec) -> Result<Loaded, 
     let [nx, ny, nz] = spec.dims;
     let count = checked_voxel_count(nx, ny, nz)?;
     let expected = count * spec.ty.bytes();
+    check_limit(files, expected)?;
     let (mut reader, len) = files.open(path)?;
     let available = len.saturating_sub(spec.header_bytes);
     if available < expected {
