@@ -224,9 +224,21 @@ impl Browser {
     }
 
     /// A PNG of what the page shows.
+    ///
+    /// A page busy for seconds in one piece (a large volume made ready) keeps chromedriver
+    /// from its renderer for a while ("Timed out receiving message from renderer"): asked
+    /// again, three times at most.
     pub fn screenshot(&self) -> Result<Vec<u8>, String> {
-        let b64 = self.session_call("GET", "/screenshot", None)?;
-        decode_base64(b64.as_str().unwrap_or_default())
+        let mut tries = 0;
+        loop {
+            match self.session_call("GET", "/screenshot", None) {
+                Ok(b64) => return decode_base64(b64.as_str().unwrap_or_default()),
+                Err(e) if tries < 2 && e.contains("Timed out receiving message from renderer") => {
+                    tries += 1;
+                }
+                Err(e) => return Err(e),
+            }
+        }
     }
 
     /// Presses the primary button at `from`, moves to each of `through` and releases it there
