@@ -37,7 +37,9 @@ const BROKEN_WEBGPU_FLAGS: [&str; 2] =
     ["--enable-unsafe-webgpu", "--use-webgpu-adapter=swiftshader"];
 
 /// Where WebGPU stops drawing, the loader notices within seconds and opens the page again with
-/// the WebGL2 build, saying so.
+/// the WebGL2 build, saying so; where WebGL2 then loses its context (as a 1 GB volume texture
+/// made it, BENCHMARKS "Large files on the page"; here asked for with `WEBGL_lose_context`),
+/// the page says so instead of staying blank.
 fn falls_back() -> Outcome {
     let dir = page_dir();
     if let Some(skip) = unavailable(&dir, &["webgl2", "webgpu"]) {
@@ -89,6 +91,20 @@ fn falls_back() -> Outcome {
             "note: this chromium offers no WebGPU adapter under these flags: no fallback needed"
         );
     }
+    browser.run(
+        "document.getElementById('voxcast-canvas').getContext('webgl2') \
+           .getExtension('WEBGL_lose_context').loseContext();",
+        json!([]),
+    )?;
+    let said = browser.wait_for(
+        "const e = document.getElementById('voxcast-error'); return !e.hidden && e.textContent",
+        Duration::from_secs(30),
+    )?;
+    println!("WebGL2's context lost: the page says {said}");
+    assert!(
+        said.as_str().unwrap_or_default().contains("lost its context"),
+        "{said}"
+    );
     Ok(Completion::Completed)
 }
 

@@ -238,6 +238,13 @@ async function start() {
   loading.hidden = true;
   window.voxcastStatus = () => JSON.parse(wasm.voxcast_status());
   watch(wasm, graphics);
+  // WebGL2 can lose its context (graphics memory full after a large volume, a driver reset):
+  // the page then stays blank while the sandbox's frames go on, which `watch` cannot see.
+  document.getElementById('voxcast-canvas').addEventListener('webglcontextlost', () => {
+    fail('The browser took back the graphics Voxcast draws with (WebGL2 lost its context, '
+      + 'often for lack of graphics memory after a large volume), so the page can no longer '
+      + "draw. Reload it to start again; a smaller volume, or Voxcast's desktop app, avoids it.");
+  });
 
   // The sandbox asks for a file with `voxcastPick(purpose, accept)` (Open… in its panels).
   const picker = document.createElement('input');
