@@ -102,7 +102,9 @@ fn falls_back() -> Outcome {
     )?;
     println!("WebGL2's context lost: the page says {said}");
     assert!(
-        said.as_str().unwrap_or_default().contains("lost its context"),
+        said.as_str()
+            .unwrap_or_default()
+            .contains("lost its context"),
         "{said}"
     );
     Ok(Completion::Completed)
