@@ -136,10 +136,9 @@ fn compute_row(ui: &mut egui::Ui, p: &mut RayPanel) {
         }
         if let Some((what, seconds)) = p.loading.under_way() {
             ui.spinner();
-            let share = p
-                .loading
-                .fraction()
-                .map_or(String::new(), |f| format!("{:.0} %, ", f * 100.0));
+            let share = p.loading.fraction().map_or(String::new(), |f| {
+                format!("{}, ", voxcast_core::numbers::percent(f))
+            });
             ui.label(format!("{share}{seconds:.1} s"))
                 .on_hover_text(what.to_string());
             if ui.button("Cancel").clicked() {

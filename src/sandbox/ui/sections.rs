@@ -89,7 +89,7 @@ pub(super) fn dataset_section(
         ui.horizontal(|ui| {
             ui.spinner();
             let share = loading.fraction().map_or(String::new(), |f| {
-                format!("{} read, ", voxcast_core::numbers::percent(f))
+                format!("{}, ", voxcast_core::numbers::percent(f))
             });
             ui.label(format!("loading {what} … {share}{seconds:.1} s"));
             cancel = super::target(ui.button("Cancel"), "Cancel loading").clicked();
