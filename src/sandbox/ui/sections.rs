@@ -91,8 +91,10 @@ pub(super) fn dataset_section(
             let share = loading.fraction().map_or(String::new(), |f| {
                 format!("{}, ", voxcast_core::numbers::percent(f))
             });
-            ui.label(format!("loading {what} … {share}{seconds:.1} s"));
+            // Cancel and the figures before the name: a long name pushes what follows it off
+            // the panel.
             cancel = super::target(ui.button("Cancel"), "Cancel loading").clicked();
+            ui.label(format!("{share}{seconds:.1} s: loading {what}"));
         });
         if cancel {
             loading.cancel();
