@@ -4,7 +4,7 @@
 //! with WebGPU (SwiftShader's Vulkan through Dawn). Each run waits for the first frame, checks
 //! that the bunny is drawn where the desktop's `--screenshot` draws it, orbits with a drag,
 //! renders the exact image while the page keeps drawing, opens a dropped NRRD file (and a
-//! damaged one, which leaves it), reads a 512³ 16-bit volume with its progress (and Cancel)
+//! damaged one, which leaves it), computes a dropped `.rayvis` file's density, reads a 512³ 16-bit volume with its progress (and Cancel)
 //! and draws it, refuses a file over the page's limit in words, starts level 1 with a click and reads its first step, checks
 //! that the scene keeps at least half the page in every layout at 1024×576, and fails on any
 //! error in the browser's console. Where chromium, chromedriver or the built page is missing
@@ -27,7 +27,37 @@ fn main() {
             "a_page_whose_webgpu_cannot_draw_falls_back_to_webgl2",
             falls_back,
         ),
+        (
+            "the_loader_fetches_every_real_dataset_the_module_leaves_out",
+            loader_fetches_datasets,
+        ),
     ])
+}
+
+/// The page's module carries no real dataset's file (`embedded-files` is the desktop's): the
+/// loader must fetch each of the core's `builtin::FILES`, and `web/build.sh` put them beside it.
+fn loader_fetches_datasets() -> Outcome {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let loader = std::fs::read_to_string(root.join("web/voxcast.js")).unwrap();
+    let listed = loader
+        .lines()
+        .find_map(|l| l.strip_prefix("const VOLUME_FILES = "))
+        .expect("VOLUME_FILES in web/voxcast.js");
+    let build = std::fs::read_to_string(root.join("web/build.sh")).unwrap();
+    for (dataset, file) in voxcast_core::builtin::FILES {
+        assert!(
+            listed.contains(&format!("'{file}'")),
+            "web/voxcast.js does not fetch {file} ({dataset}): {listed}"
+        );
+        assert!(root.join("assets/volumes").join(file).is_file(), "{file}");
+    }
+    assert!(
+        build.contains("assets/volumes/*.nrrd"),
+        "web/build.sh does not copy the datasets"
+    );
+    let count = listed.matches(".nrrd'").count();
+    assert_eq!(count, voxcast_core::builtin::FILES.len(), "{listed}");
+    Ok(Completion::Completed)
 }
 
 /// The flags under which chromium offers a WebGPU adapter that cannot draw (SwiftShader's
@@ -326,6 +356,7 @@ fn page(graphics: &str) -> Outcome {
         "the damaged file left the volume"
     );
     page.save_screenshot("dropped")?;
+    rayvis_files(&page)?;
     large_files(&page, graphics)?;
     // Nothing moves and nothing is under way: the page comes to rest (it draws only on input
     // or now and then); the clicks below wake it.
@@ -889,6 +920,49 @@ impl Page<'_> {
 /// 1000 in zeros), dropped on the page: it is read with its share shown, Cancel stops it (the
 /// volume before stays), dropped again it loads and is drawn; a 600 MB file is refused before
 /// it is read, in words that give the page's limit, and the ball stays.
+/// A dropped `.rayvis` file's density is computed and shown, as `--volume density:FILE` does
+/// on the desktop; a damaged one says why and leaves it.
+fn rayvis_files(page: &Page) -> Result<(), String> {
+    let browser = page.browser;
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/two_level.rayvis");
+    let bytes = std::fs::read(&data).map_err(|e| e.to_string())?;
+    // What the page says next: a new error, or the density on show.
+    let next = |before: &Value| {
+        format!(
+            "const s = window.voxcastStatus(); \
+             return (!s.loading && (s.load_error != {before} && s.load_error \
+               || s.volume.startsWith('density:') && s.volume)) || null"
+        )
+    };
+    let before = page.status()?["load_error"].clone();
+    page.drop_file("two_level.rayvis", &bytes)?;
+    let shown = browser.wait_for(&next(&before), Duration::from_secs(60))?;
+    let shown = shown.as_str().unwrap_or_default().to_string();
+    assert!(
+        shown.starts_with("density:two_level.rayvis"),
+        "the dropped ray file's density is not on show: {shown}"
+    );
+    page.save_screenshot("rayvis")?;
+    let before = page.status()?["load_error"].clone();
+    page.drop_file("damaged.rayvis", &bytes[..bytes.len() / 2])?;
+    let error = browser.wait_for(
+        &format!(
+            "const s = window.voxcastStatus(); \
+             return (!s.loading && s.load_error != {before} && s.load_error) || null"
+        ),
+        Duration::from_secs(60),
+    )?;
+    let error = error.as_str().unwrap_or_default().to_string();
+    assert!(error.contains("damaged.rayvis: "), "{error}");
+    assert_eq!(
+        page.status()?["volume"],
+        shown,
+        "the damaged file left the density"
+    );
+    println!("a dropped .rayvis file: {shown}; a damaged one: {error}");
+    Ok(())
+}
+
 fn large_files(page: &Page, graphics: &str) -> Result<(), String> {
     let browser = page.browser;
     let make_ball = "const n = 512; \

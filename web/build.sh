@@ -47,5 +47,8 @@ for gpu in "${GRAPHICS[@]}"; do
     echo "== $gpu built in $(($(date +%s) - start)) s"
 done
 cp web/index.html web/voxcast.js "$OUT/"
+# The real embedded datasets, which the page's module leaves out (the loader fetches them).
+mkdir -p "$OUT/volumes"
+cp assets/volumes/*.nrrd assets/volumes/NOTICE.md "$OUT/volumes/"
 echo "== the page is in $OUT/ ($(du -sh "$OUT" | cut -f1)): serve it with"
 echo "   python3 -m http.server 8000 --bind 127.0.0.1 --directory $OUT"

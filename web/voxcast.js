@@ -46,6 +46,25 @@ async function chooseGraphics() {
   return 'webgl2';
 }
 
+/** The real embedded datasets' files (`builtin::FILES` in the core), which the page's module
+ * does not carry: fetched from `volumes/` beside it while the module downloads (0.8 MB that
+ * would not compress inside it). One that cannot be fetched is left out: the sandbox says so
+ * when it is opened. */
+const VOLUME_FILES = ['bunny_sdf.nrrd', 'mri_brainsmall.nrrd'];
+async function fetchVolumes() {
+  const got = {};
+  await Promise.all(VOLUME_FILES.map(async (name) => {
+    try {
+      const r = await fetch(`./volumes/${name}`);
+      if (r.ok) got[name] = new Uint8Array(await r.arrayBuffer());
+      else console.warn(`volumes/${name}: ${r.status} ${r.statusText}`);
+    } catch (e) {
+      console.warn(`volumes/${name}: ${e}`);
+    }
+  }));
+  return got;
+}
+
 /** Reads `files` (File objects) and hands them to the sandbox for `purpose`; a file picked
  * in a folder keeps its path inside it. A volume's files are handed over unread: the sandbox
  * reads them in pieces, with progress and Cancel, and refuses one larger than it can hold. */
@@ -67,6 +86,7 @@ function purposeOf(files) {
   const names = files.map((f) => f.name.toLowerCase());
   if (names.some((n) => n.endsWith('.json'))) return 'levels';
   if (names.length > 0 && names.every((n) => n.endsWith('.csv'))) return 'answers';
+  if (names.length > 0 && names.every((n) => n.endsWith('.rayvis'))) return 'rays';
   return 'volume';
 }
 
@@ -226,8 +246,13 @@ async function start() {
   window.voxcastGraphics = graphics;
   let wasm;
   try {
+    // The module and the datasets download side by side; the sandbox takes the datasets
+    // (`voxcastVolumes`) as it starts.
+    const module = fetch(`./${graphics}/voxcast_bg.wasm`);
+    const volumes = fetchVolumes();
     wasm = await import(`./${graphics}/voxcast.js`);
-    await wasm.default({ module_or_path: `./${graphics}/voxcast_bg.wasm` });
+    window.voxcastVolumes = await volumes;
+    await wasm.default({ module_or_path: module });
   } catch (e) {
     // winit ends its start with an exception it uses for control flow; anything else failed.
     if (!String(e).includes('Using exceptions for control flow')) {

@@ -539,6 +539,7 @@ pub mod page {
 
     /// Starts the sandbox in the page (the wasm module's `main`).
     pub fn run() {
+        shared::web::take_fetched_volumes();
         let args = address_options();
         let options = match <PageOptions as clap::Parser>::try_parse_from(&args) {
             Ok(o) => o,

@@ -61,8 +61,59 @@ pub const DATASETS: &[(&str, &str)] = &[
     ),
 ];
 
-const BUNNY: &[u8] = include_bytes!("../../../assets/volumes/bunny_sdf.nrrd");
-const BRAINSMALL: &[u8] = include_bytes!("../../../assets/volumes/mri_brainsmall.nrrd");
+/// The real datasets' files (in `assets/volumes/`), by the dataset names they open as.
+pub const FILES: &[(&str, &str)] = &[
+    ("bunny", "bunny_sdf.nrrd"),
+    ("brainsmall", "mri_brainsmall.nrrd"),
+];
+
+/// A real dataset's file: compiled in with the `embedded-files` feature (the desktop), or handed
+/// over with [`provide`] (the web page fetches them beside its module, 0.8 MB a visitor would
+/// otherwise download inside it, uncompressible).
+fn file_bytes(file: &str) -> Option<std::sync::Arc<[u8]>> {
+    #[cfg(feature = "embedded-files")]
+    {
+        let embedded: &[u8] = match file {
+            "bunny_sdf.nrrd" => include_bytes!("../../../assets/volumes/bunny_sdf.nrrd"),
+            "mri_brainsmall.nrrd" => include_bytes!("../../../assets/volumes/mri_brainsmall.nrrd"),
+            _ => &[],
+        };
+        if !embedded.is_empty() {
+            return Some(embedded.into());
+        }
+    }
+    let provided = PROVIDED.lock().unwrap_or_else(|e| e.into_inner());
+    provided
+        .iter()
+        .find(|(name, _)| name == file)
+        .map(|(_, bytes)| bytes.clone())
+}
+
+static PROVIDED: std::sync::Mutex<Vec<(String, std::sync::Arc<[u8]>)>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Hands over one of [`FILES`]' files where it is not compiled in; a second copy replaces the first.
+pub fn provide(file: &str, bytes: Vec<u8>) {
+    let mut provided = PROVIDED.lock().unwrap_or_else(|e| e.into_inner());
+    provided.retain(|(name, _)| name != file);
+    provided.push((file.to_string(), bytes.into()));
+}
+
+/// Decodes a real dataset from its file, as `bytes_of` finds it (compiled in or provided).
+fn load_file(
+    name: &str,
+    bytes_of: impl Fn(&str) -> Option<std::sync::Arc<[u8]>>,
+) -> Result<Loaded, LoadError> {
+    let file = FILES.iter().find(|f| f.0 == name).map_or(name, |f| f.1);
+    let stem = file.trim_end_matches(".nrrd");
+    match bytes_of(file) {
+        Some(bytes) => nrrd::load_bytes(stem, &bytes),
+        None => Err(LoadError::new(
+            format!("builtin:{name}"),
+            crate::error::LoadProblem::NotProvided(file.to_string()),
+        )),
+    }
+}
 
 /// Opens `builtin:NAME`, a ray density (`density:…`, [`crate::rays::as_volume`]) or a file
 /// path.
@@ -91,8 +142,7 @@ pub fn load_builtin(name: &str) -> Result<Loaded, LoadError> {
         notes: Vec::new(),
     };
     match name.replace('_', "-").as_str() {
-        "bunny" => nrrd::load_bytes("bunny_sdf", BUNNY),
-        "brainsmall" => nrrd::load_bytes("mri_brainsmall", BRAINSMALL),
+        real @ ("bunny" | "brainsmall") => load_file(real, file_bytes),
         "shells" => Ok(generated(shells())),
         "marschner-lobb" => Ok(generated(marschner_lobb())),
         "bucky" => Ok(generated(bucky())),
@@ -370,5 +420,21 @@ mod tests {
         let v = marschner_lobb();
         let (lo, hi) = v.value_range();
         assert!(lo >= 0.0 && hi <= 1.0, "{lo} {hi}");
+    }
+
+    #[test]
+    fn a_real_dataset_opens_from_handed_bytes_and_says_when_none_came() {
+        let brain = file_bytes("mri_brainsmall.nrrd").expect("compiled in for the tests");
+        let handed = load_file("bunny", |file| {
+            (file == "bunny_sdf.nrrd").then(|| brain.clone())
+        })
+        .unwrap();
+        assert_eq!(handed.volume.dims(), UVec3::new(128, 128, 84));
+        let missing = load_file("brainsmall", |_| None).unwrap_err().to_string();
+        assert!(
+            missing.contains("mri_brainsmall.nrrd did not come with this page")
+                && missing.contains("volumes/"),
+            "{missing}"
+        );
     }
 }

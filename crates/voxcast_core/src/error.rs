@@ -31,6 +31,10 @@ pub enum LoadProblem {
     Io(#[from] std::io::Error),
     #[error("no embedded dataset of that name (choose from {0})")]
     UnknownBuiltin(String),
+    #[error(
+        "{0} did not come with this page (it is fetched from the page's volumes/ folder as the page starts)"
+    )]
+    NotProvided(String),
     #[error("unknown file format (expected .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw)")]
     UnknownFormat,
     #[error("bad header: {0}")]

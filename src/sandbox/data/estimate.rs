@@ -46,6 +46,17 @@ pub struct EstimateWords {
 }
 
 impl Estimator {
+    /// Forgets the data set read from `source` (a file of that name came anew) and the
+    /// estimate made of it.
+    pub fn forget(&mut self, source: &str) {
+        if self.data.as_ref().is_some_and(|(s, _)| s == source) {
+            self.data = None;
+        }
+        if self.key.as_ref().is_some_and(|k| k.source == source) {
+            self.key = None;
+        }
+    }
+
     /// Whether an estimate is being made.
     pub fn busy(&self) -> bool {
         self.task.is_some()

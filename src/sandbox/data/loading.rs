@@ -569,6 +569,37 @@ mod tests {
         assert!(rays.current.is_none() && rays.before.is_none());
     }
 
+    /// A `.rayvis` file a page hands over becomes the Ray data section's file and its density
+    /// is computed at once, as a path's is on the desktop.
+    #[test]
+    fn a_handed_rayvis_file_is_computed_at_once() {
+        use crate::sandbox::data::choices::RayChoices;
+        let mut app = app();
+        app.add_plugins((
+            crate::sandbox::data::choices::plugin,
+            crate::sandbox::data::estimate::plugin,
+        ));
+        let bytes = include_bytes!("../../../tests/data/two_level.rayvis").to_vec();
+        app.world_mut().write_message(FilesChosen {
+            purpose: Purpose::Rays,
+            files: vec![("handed in a page.rayvis".into(), bytes)],
+        });
+        run_until_idle(&mut app);
+        let world = app.world();
+        assert_eq!(world.resource::<Loading>().error, None);
+        let source = &world.resource::<VolumeState>().source;
+        assert!(
+            source.starts_with("density:handed in a page.rayvis"),
+            "{source}"
+        );
+        let choices = world.resource::<RayChoices>();
+        assert_eq!(choices.path, "handed in a page.rayvis");
+        assert_eq!(
+            choices.source,
+            crate::sandbox::data::source::SourceKind::File
+        );
+    }
+
     /// Cancel stops a density's computation itself: its flag is set, and nothing arrives.
     #[test]
     fn cancel_stops_a_density() {

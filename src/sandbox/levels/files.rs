@@ -173,7 +173,7 @@ pub(super) fn receive_files(
                 }
             }
             Purpose::Answers => lessons.message = Some(class_report(files, &lessons.levels)),
-            Purpose::Volume | Purpose::Transfer => {}
+            Purpose::Volume | Purpose::Transfer | Purpose::Rays => {}
         }
     }
 }

@@ -19,6 +19,8 @@ pub enum Purpose {
     Answers,
     /// A level's link: the page's address fragment (`level=…`), as text.
     LevelLink,
+    /// A ray data set (a `.rayvis` file) for the Ray data section, whose density is computed.
+    Rays,
 }
 
 #[cfg(any(test, target_arch = "wasm32"))]
@@ -31,6 +33,7 @@ impl Purpose {
             Purpose::Levels => "levels",
             Purpose::Answers => "answers",
             Purpose::LevelLink => "level-link",
+            Purpose::Rays => "rays",
         }
     }
 
@@ -41,6 +44,7 @@ impl Purpose {
             Purpose::Levels,
             Purpose::Answers,
             Purpose::LevelLink,
+            Purpose::Rays,
         ]
         .into_iter()
         .find(|p| p.name() == name)
@@ -59,6 +63,7 @@ impl Purpose {
             // A level with the data sets it names, picked together.
             Purpose::Levels => format!(".json,{}", Purpose::Volume.accept()),
             Purpose::Answers => ".csv".into(),
+            Purpose::Rays => ".rayvis".into(),
         }
     }
 }
@@ -209,6 +214,7 @@ mod tests {
         assert_eq!(f(&[]), None);
         assert_eq!(Purpose::parse("volume"), Some(Purpose::Volume));
         assert!(Purpose::Volume.accept().contains(".nii.gz"));
+        assert_eq!(Purpose::parse("rays"), Some(Purpose::Rays));
     }
 
     #[test]

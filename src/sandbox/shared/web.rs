@@ -36,6 +36,26 @@ fn set_text(id: &str, text: &str) {
     }
 }
 
+/// Hands the core the real datasets' files the page fetched beside the module
+/// (`voxcastVolumes`, `web/voxcast.js`) and lets the page's copy go.
+pub fn take_fetched_volumes() {
+    let global = js_sys::global();
+    let key = JsValue::from_str("voxcastVolumes");
+    let Ok(fetched) = js_sys::Reflect::get(&global, &key) else {
+        return;
+    };
+    for (_, file) in voxcast_core::builtin::FILES {
+        let bytes = js_sys::Reflect::get(&fetched, &JsValue::from_str(file));
+        if let Some(bytes) = bytes
+            .ok()
+            .and_then(|b| b.dyn_into::<js_sys::Uint8Array>().ok())
+        {
+            voxcast_core::builtin::provide(file, bytes.to_vec());
+        }
+    }
+    let _ = js_sys::Reflect::delete_property(global.unchecked_ref::<js_sys::Object>(), &key);
+}
+
 /// Offers `bytes` to the student as a download named `name` (the browser's own save, into
 /// their downloads folder).
 pub fn download(name: &str, bytes: &[u8], mime: &str) -> Result<(), String> {

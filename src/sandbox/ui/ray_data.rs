@@ -9,6 +9,7 @@ use crate::sandbox::data::estimate::Estimator;
 use crate::sandbox::data::loading::Loading;
 use crate::sandbox::data::source::{RayScene, SourceKind};
 use crate::sandbox::inspect::virtual_camera::VirtualCamera;
+use crate::sandbox::shared::files;
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy_egui::egui;
 use voxcast_core::level::Control;
@@ -151,11 +152,7 @@ fn compute_row(ui: &mut egui::Ui, p: &mut RayPanel) {
 /// Source, path, trace and filter.
 fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
     combo(ui, "Rays", c.source.words(), |ui| {
-        // A page reads no paths, and opening a .rayvis file there is not built yet.
-        let offered = SourceKind::ALL
-            .into_iter()
-            .filter(|s| !(crate::sandbox::shared::files::PICKS_FILES && *s == SourceKind::File));
-        for s in offered {
+        for s in SourceKind::ALL {
             ui.selectable_value(&mut c.source, s, s.words())
                 .on_hover_text(s.doc());
         }
@@ -163,6 +160,24 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
     .response
     .on_hover_text(c.source.doc());
     match c.source {
+        // A page reads no paths: the browser's picker hands the file over, its density
+        // computed at once (`data/choices.rs`).
+        SourceKind::File if files::PICKS_FILES => {
+            ui.horizontal(|ui| {
+                if super::target(ui.button("Open a .rayvis file…"), "Open a rayvis file")
+                    .on_hover_text(SourceKind::File.doc())
+                    .clicked()
+                {
+                    files::pick(files::Purpose::Rays);
+                }
+                let name = if c.path.is_empty() {
+                    "none opened yet"
+                } else {
+                    &c.path
+                };
+                ui.label(name);
+            });
+        }
         SourceKind::File => {
             ui.add(egui::TextEdit::singleline(&mut c.path).desired_width(ui.available_width()))
                 .on_hover_text(SourceKind::File.doc());

@@ -51,7 +51,27 @@ pub enum SourceError {
     File(String, String),
 }
 
-/// The ray data named `name`: `builtin:NAME` or a `.rayvis` file's path.
+/// The `.rayvis` file handed over last (a web page has no paths: the file a student opens there
+/// is kept here under its name), the one [`load_in`] reads before looking on disk.
+static HANDED: std::sync::Mutex<Option<(String, std::sync::Arc<[u8]>)>> =
+    std::sync::Mutex::new(None);
+
+/// Keeps a `.rayvis` file's bytes under `name`, which [`load`] then opens as it would a path;
+/// it replaces the file handed over before (one is kept: a ray file may be large).
+pub fn hand_over(name: &str, bytes: Vec<u8>) {
+    *HANDED.lock().unwrap_or_else(|e| e.into_inner()) = Some((name.to_string(), bytes.into()));
+}
+
+fn handed(name: &str) -> Option<std::sync::Arc<[u8]>> {
+    let handed = HANDED.lock().unwrap_or_else(|e| e.into_inner());
+    handed
+        .as_ref()
+        .filter(|(n, _)| n == name)
+        .map(|(_, bytes)| bytes.clone())
+}
+
+/// The ray data named `name`: `builtin:NAME`, a file handed over under that name
+/// ([`hand_over`]) or a `.rayvis` file's path.
 pub fn load(name: &str) -> Result<RayData, SourceError> {
     load_in(name, &mut TraceSlices::default(), Deadline::NONE).map(Step::whole)
 }
@@ -64,8 +84,12 @@ pub fn load_in(
     deadline: Deadline,
 ) -> Result<Step<RayData>, SourceError> {
     let Some(builtin) = name.strip_prefix("builtin:") else {
-        let bytes = std::fs::read(name)
-            .map_err(|e| SourceError::File(name.into(), crate::error::io_words(&e)))?;
+        let bytes = match handed(name) {
+            Some(bytes) => bytes,
+            None => std::fs::read(name)
+                .map_err(|e| SourceError::File(name.into(), crate::error::io_words(&e)))?
+                .into(),
+        };
         return super::rayvis::read(&bytes, name)
             .map(Step::Done)
             .map_err(|e| SourceError::File(name.into(), e.to_string()));
@@ -118,6 +142,34 @@ pub fn effect_of(trace_id: u32) -> Option<Effect> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A file handed over opens by its name, as a path would; a damaged one is refused in
+    /// words that name it; another name still goes to the disk.
+    #[test]
+    fn a_handed_rayvis_file_opens_by_its_name() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../tests/data/two_level.rayvis"
+        );
+        let bytes = std::fs::read(path).unwrap();
+        let from_disk = load(path).unwrap();
+        hand_over("picked in a page.rayvis", bytes.clone());
+        let handed = load("picked in a page.rayvis").unwrap();
+        assert_eq!(handed.traces.len(), from_disk.traces.len());
+        assert_eq!(
+            handed.all_rays().rays.len(),
+            from_disk.all_rays().rays.len()
+        );
+        let elsewhere = load("not handed.rayvis").unwrap_err().to_string();
+        assert!(elsewhere.starts_with("not handed.rayvis: "), "{elsewhere}");
+        hand_over("damaged.rayvis", bytes[..bytes.len() / 2].to_vec());
+        let damaged = load("damaged.rayvis").unwrap_err().to_string();
+        assert!(damaged.starts_with("damaged.rayvis: "), "{damaged}");
+        assert!(
+            load("picked in a page.rayvis").is_err(),
+            "only the last file handed over is kept"
+        );
+    }
 
     /// The million-ray box traces the same effects at 400 × 400 primary rays.
     #[test]
