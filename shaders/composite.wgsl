@@ -1,4 +1,6 @@
-// Twin: crates/voxcast_core/src/composite.rs: compositing, each a small pure function.
+// Twin: crates/voxcast_core/src/composite.rs (`correct_opacity`, `accumulate_front_to_back`,
+// `accumulate_back_to_front`, `blend_background`, `reaches`, `crossing_fraction`,
+// `sum_to_value`): compositing, each a small pure function.
 #define_import_path voxcast::composite
 
 /// α' = 1 − (1 − α)^(ds/ds_ref), exact at α = 0 and α = 1.

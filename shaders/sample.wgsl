@@ -1,7 +1,13 @@
 // Twin: crates/voxcast_core/src/sample.rs (`cell`, `lerp`, `sample_trilinear`, `nearest_index`,
-// `sample_nearest`, `lattice_difference`, `gradient`, `value_and_gradient_in_cell`). Texels are read one by one with
+// `sample_nearest`, `sample`, `lattice_difference`, `lattice_differences`, `gradient`,
+// `value_and_gradient_in_cell`) and volume.rs (`to_data`). Texels are read one by one with
 // textureLoad and blended with the core's weights in the core's order (x, then y, then z), so the
 // preview does not depend on a device's filtering precision.
+// GPU-only: `is_no_data` and `no_data_at` (the core reads NaN and ±∞ as they are; WGSL need not
+// keep NaN, so non-finite voxels are uploaded as the largest float and found so), `load_raw` and
+// `load_record` (a texel read where the core indexes a slice), `gradient_blended` (`gradient`'s
+// body: the core's non-finite result comes from a flag, as WGSL has no NaN to carry) and `mix4`
+// (`lerp` on four lanes at once: a lattice record's differences and value).
 #define_import_path voxcast::sample
 
 #import voxcast::bindings::{params, volume_texture, records_texture, FLAGS}

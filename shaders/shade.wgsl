@@ -1,5 +1,5 @@
-// Twin: crates/voxcast_core/src/shade.rs (`shade`, `power`), and shade/lights.rs's Cone::factor
-// as spot_factor: the lecture's illumination model with the negated, normalised gradient as the
+// Twin: crates/voxcast_core/src/shade.rs (`shade`, `power`), and shade/lights.rs's
+// `Cone::factor` as `spot_factor`: the lecture's illumination model with the negated, normalised gradient as the
 // normal — emission, global ambient, and per light its ambient, Phong or Blinn–Phong diffuse
 // and specular terms, falloff and spotlight factor; Levoy's highlight takes the sample's colour
 // and Levoy's depth cue sets every light's falloff from the picture plane.

@@ -1,10 +1,15 @@
-// Twin: crates/voxcast_core/src/skip.rs (`EmptyBlocks`, `BlockRanges`, `BlockWalk::exit`;
-// `VisibleCells`: `visible`, `brick_distance`, `leap_exit_at`): blocks of cells the transfer
+// Twin: crates/voxcast_core/src/skip.rs, skip/blocks.rs and skip/cells.rs (`EmptyBlocks`,
+// `BlockRanges`, `VisibleCells`: `visible`, `brick_distance`, `leap_exit_at`), with
+// `BlockWalk::exit` as `block_exit`, `EmptyBlocks::current` as `exit_if_empty` and
+// `VisibleCells::lookup` as `brick_at`: blocks of cells the transfer
 // function makes transparent (value ranges with a one-point apron) are crossed without
 // sampling; once the cells' visibility is uploaded, a ray leaps out of the cube of empty
 // bricks its brick's distance guarantees, and a sample in a cell the table makes transparent
 // is not interpolated — exact, since such a sample would have had opacity 0. First, Maximum
 // and Minimum pass blocks by their value ranges (see trace.wgsl).
+// GPU-only: `block_of` (the core's walk carries its block's index from cell to cell; a GPU ray
+// finds it from the cell) and `block_range` (a texel of the ranges, where the core indexes
+// `BlockRanges`).
 #define_import_path voxcast::skip
 
 #import voxcast::bindings::{params, empty_texture, range_texture, cells_texture}

@@ -1,4 +1,5 @@
-// Twin: crates/voxcast_core/src/step.rs (`plan_steps`, `sample_t`, `segment_length`) and
+// Twin: crates/voxcast_core/src/step.rs (`plan_steps`, `sample_t`, `first_index_from`,
+// `segment_length`) and
 // hash.rs (`pcg_hash`, `jitter_fraction`), computed in the same order with the same types.
 #define_import_path voxcast::step
 

@@ -1,9 +1,13 @@
-// Twin: crates/voxcast_core/src/trace.rs (`Marcher::march` and the methods), with the same
+// Twin: crates/voxcast_core/src/trace.rs (`accumulate`, `project`) with `Marcher::march` as
+// `trace`, trace/first.rs (`first`, `hit`) and volume.rs (`value_at`), with the same
 // skipping (for Accumulate, leaps over empty 4³ bricks by their distance and invisible cells
 // left out once the cells are uploaded — trace/skipping.rs and trace/lanes.rs — and empty 8³
 // blocks before; blocks that cannot hold the First hit or beat the running Maximum/Minimum, by
 // their value ranges — `skip.wgsl`; none changes a pixel) and without recording. One position
 // at a time: the CPU's eight lanes are its own way to the same samples.
+// GPU-only: `classified`, `classified_with`, `shaded` and `shaded_with` (a sample's
+// classification, then its shading, which the core's marches write out where they use them:
+// named once here, as the methods share them).
 #define_import_path voxcast::trace
 
 #import voxcast::bindings::{params, FLAGS, METHOD, CLASSIFICATION, SKIP_EMPTY}

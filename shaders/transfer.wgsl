@@ -1,5 +1,6 @@
-// Twin: crates/voxcast_core/src/transfer.rs (`Lut::locate`, `Lut::lookup`): the same baked table,
-// read entry by entry and interpolated linearly.
+// Twin: crates/voxcast_core/src/transfer.rs (`Lut::locate`, `Lut::lookup`), both in
+// `Lut::lookup` as `lut_lookup`: the same baked table, read entry by entry and interpolated
+// linearly.
 #define_import_path voxcast::transfer
 
 #import voxcast::bindings::{params, lut_texture}

@@ -1,6 +1,9 @@
 // The preview's fragment shader: one ray per pixel of the volume's box, traced by `trace`.
 // Twin: crates/voxcast_core/src/render.rs (the image renderer) and the camera's rays
-// (camera.rs): origin at the eye (perspective) or on the eye's plane (orthographic).
+// (camera.rs), with `Camera::ray` as `trace_sub_pixel`: origin at the eye (perspective) or on
+// the eye's plane (orthographic). GPU-only: `fragment` (the shader's entry point, one pixel)
+// and `srgb_to_linear` (the preview draws into an sRGB target; the CPU writes its display
+// values as they are, see below).
 //
 // The box is drawn back faces only, so the camera may be inside it. With the depth prepass the
 // ray stops at opaque scene geometry (prepass depth 0 means nothing was drawn there).

@@ -71,18 +71,9 @@ impl Timed {
     }
 }
 
+/// The median of `v` (NaN for none: a rate divided by it reads as no figure).
 pub fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    let n = s.len();
-    if n == 0 {
-        return f64::NAN;
-    }
-    if n % 2 == 1 {
-        s[n / 2]
-    } else {
-        0.5 * (s[n / 2 - 1] + s[n / 2])
-    }
+    voxcast_core::numbers::median(v).unwrap_or(f64::NAN)
 }
 
 /// Renders `repeat` times on `threads` threads (or the global pool), with a progress bar.

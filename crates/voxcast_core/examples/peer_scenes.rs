@@ -162,8 +162,7 @@ fn main() {
             times.push(start.elapsed().as_secs_f64());
             last = Some(out.expect("not cancelled"));
         }
-        times.sort_by(f64::total_cmp);
-        let median = times[times.len() / 2];
+        let median = voxcast_core::numbers::median(&times).expect("timed");
         let (image, stats) = last.expect("one render");
         println!(
             "{name:<16} {median:>9.4} {:>11} {:>12} {:>8.1} {:>18x}",

@@ -95,6 +95,19 @@ pub fn count(n: u64) -> String {
     format!("{} {unit}", trim_zeros(&format!("{v:.decimals$}")))
 }
 
+/// The median of `values` (the mean of the middle two where their count is even), `None`
+/// for none: the one every timing, report and benchmark in Voxcast takes.
+pub fn median(values: &[f64]) -> Option<f64> {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(v[n / 2]),
+        _ => Some(0.5 * (v[n / 2 - 1] + v[n / 2])),
+    }
+}
+
 /// A time for people: milliseconds below a second (one decimal below ten), else seconds
 /// with one decimal (`4.2 ms`, `192 ms`, `1.4 s`).
 pub fn duration(seconds: f64) -> String {
@@ -167,6 +180,14 @@ fn trim_zeros(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_median_of_odd_even_and_no_values() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), Some(2.5));
+        assert_eq!(median(&[7.0]), Some(7.0));
+        assert_eq!(median(&[]), None);
+    }
 
     #[test]
     fn a_run_of_values_prints_neighbours_apart() {

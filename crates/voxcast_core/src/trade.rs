@@ -44,21 +44,13 @@ pub struct Timing {
 impl Timing {
     /// Of `runs` seconds (zeros where there are none).
     pub fn of(runs: &[f64]) -> Self {
-        let mut v = runs.to_vec();
-        v.sort_by(f64::total_cmp);
-        let n = v.len();
-        if n == 0 {
+        let Some(median) = crate::numbers::median(runs) else {
             return Self::default();
-        }
-        let median = if n % 2 == 1 {
-            v[n / 2]
-        } else {
-            0.5 * (v[n / 2 - 1] + v[n / 2])
         };
         Self {
             median,
-            fastest: v[0],
-            slowest: v[n - 1],
+            fastest: runs.iter().copied().fold(f64::INFINITY, f64::min),
+            slowest: runs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
         }
     }
 }

@@ -49,8 +49,7 @@ fn the_bunny_on_one_thread() {
             times.push(start.elapsed().as_secs_f64());
             samples = stats.positions;
         }
-        times.sort_by(f64::total_cmp);
-        let median = times[times.len() / 2];
+        let median = voxcast_core::numbers::median(&times).expect("seven renders");
         println!(
             "web_speed {target}, {lanes}: the bunny {}×{} in {:.1} ms (median of 7), {:.0} M sample positions/s",
             SIZE.0,

@@ -172,9 +172,8 @@ fn medians<const N: usize>(frames: &[[f64; N]], last: usize) -> Option<[f64; N]>
         return None;
     }
     Some(std::array::from_fn(|i| {
-        let mut v: Vec<f64> = frames.iter().map(|f| f[i]).collect();
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
+        let v: Vec<f64> = frames.iter().map(|f| f[i]).collect();
+        voxcast_core::numbers::median(&v).unwrap_or_default()
     }))
 }
 

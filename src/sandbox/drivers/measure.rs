@@ -149,10 +149,9 @@ fn measure_frames(
     if refining && waited < 30.0 {
         return; // the preview is still refining the resting view
     }
-    let mut sorted = m.samples.clone();
-    sorted.sort_by(f32::total_cmp);
-    let mean = sorted.iter().sum::<f32>() / sorted.len() as f32;
-    let median = sorted[sorted.len() / 2];
+    let mean = m.samples.iter().sum::<f32>() / m.samples.len() as f32;
+    let samples: Vec<f64> = m.samples.iter().map(|&s| s as f64).collect();
+    let median = voxcast_core::numbers::median(&samples).unwrap_or_default() as f32;
     let live_text = match m.stopped.as_ref().and_then(|s| s.live) {
         Some((rate, size)) => {
             let exact = match (exact_now, request.orbit_degrees != 0.0) {
@@ -200,7 +199,7 @@ fn measure_frames(
              frames{live_text}{lines_text}{parts_text}",
         request.label,
         1000.0 / median,
-        sorted.len()
+        m.samples.len()
     );
     // A page has no standard output and goes on: the figures go to its console and status
     // (`voxcast_status().measured`), once.

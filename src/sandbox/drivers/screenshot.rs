@@ -172,15 +172,14 @@ fn take_screenshot(
         // Full quality: every frame draws the whole preview.
         timed.0.push(time.delta_secs_f64());
         if timed.done(&request) {
-            let mut t = timed.0.clone();
-            t.sort_by(f64::total_cmp);
+            let t = voxcast_core::trade::Timing::of(&timed.0);
             println!(
                 "preview frame: median {:.1} ms, fastest {:.1} ms, slowest {:.1} ms over {} \
                  frames at {}×{}, {}",
-                t[t.len() / 2] * 1000.0,
-                t[0] * 1000.0,
-                t[t.len() - 1] * 1000.0,
-                t.len(),
+                t.median * 1000.0,
+                t.fastest * 1000.0,
+                t.slowest * 1000.0,
+                timed.0.len(),
                 size.0,
                 size.1,
                 match request.orbit_degrees {

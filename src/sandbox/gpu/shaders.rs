@@ -64,6 +64,7 @@ mod tests {
         source
             .lines()
             .take_while(|l| l.starts_with("//"))
+            .map(|l| l.trim_start_matches('/').trim())
             .collect::<Vec<_>>()
             .join(" ")
     }
@@ -101,8 +102,38 @@ mod tests {
         Ok(text)
     }
 
+    /// The functions `source` defines.
+    fn defined(source: &str) -> Vec<String> {
+        source
+            .lines()
+            .filter_map(|l| l.trim_start().strip_prefix("fn "))
+            .filter_map(|l| l.split('(').next())
+            .map(str::to_string)
+            .collect()
+    }
+
+    /// The names in backticks of `text`, with the text before each.
+    fn quoted(text: &str) -> Vec<(&str, &str)> {
+        let parts: Vec<&str> = text.split('`').collect();
+        (1..parts.len())
+            .step_by(2)
+            .map(|i| (parts[i - 1], parts[i]))
+            .collect()
+    }
+
+    /// A function's name, as opposed to a type's or a path's.
+    fn is_function(name: &str) -> bool {
+        let last = name.rsplit("::").next().unwrap_or(name);
+        last.starts_with(|c: char| c.is_ascii_lowercase())
+            && last.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+    }
+
+    /// Every WGSL function has a core twin its header names and the core defines — in the
+    /// parentheses after a Rust file's path (`file.rs (`name`, `Type::method`)`: the Rust
+    /// name, and the WGSL name where it has no `::`) or as `Rust::name` as `wgsl_name` — or is
+    /// listed after "GPU-only:" with why. The twin files' names match the shaders'.
     #[test]
-    fn every_shader_names_a_twin_that_defines_its_functions() {
+    fn every_shader_function_has_a_checked_twin_or_is_gpu_only() {
         let root = env!("CARGO_MANIFEST_DIR");
         let mut mirrored = 0;
         for (name, source) in super::SOURCES {
@@ -116,8 +147,6 @@ mod tests {
                 continue;
             };
             let twin = twin.trim_end_matches([',', ':', '.']);
-            let rust = twin_source(&format!("{root}/{twin}"))
-                .unwrap_or_else(|e| panic!("{name}: twin {twin}: {e}"));
             let stem = name.trim_end_matches(".wgsl");
             if twin.starts_with("crates/voxcast_core/src/") && stem != "volume" {
                 assert!(
@@ -125,33 +154,129 @@ mod tests {
                     "{name} mirrors {twin}: the file names must match"
                 );
             }
-            // Names in backticks inside the parentheses right after the twin's path.
-            let Some(list) = head
-                .split(twin)
-                .nth(1)
-                .filter(|r| r.trim_start().starts_with('('))
-                .and_then(|r| r.split(')').next())
-            else {
-                continue;
-            };
-            for quoted in list.split('`').skip(1).step_by(2) {
-                let function = quoted.rsplit("::").next().unwrap();
-                if !function.starts_with(|c: char| c.is_ascii_lowercase()) {
-                    continue; // a type: its fields are checked by the uniform's layout test
+            let (claims, gpu_only) = head.split_once("GPU-only:").unwrap_or((&head, ""));
+            // Every Rust file the header names, with its parenthesised list.
+            let mut rust = String::new();
+            let mut twins: Vec<String> = Vec::new();
+            let words: Vec<&str> = claims.split(' ').collect();
+            for (i, word) in words.iter().enumerate() {
+                let path = word
+                    .trim_start_matches('(')
+                    .trim_end_matches("'s")
+                    .trim_end_matches([',', ':', '.', ')']);
+                if !path.ends_with(".rs") {
+                    continue;
                 }
-                assert!(
-                    rust.contains(&format!("fn {function}")),
-                    "{name}: {twin} has no fn {function}"
-                );
-                if !quoted.contains("::") {
+                let file = [
+                    format!("{root}/{path}"),
+                    format!("{root}/crates/voxcast_core/src/{path}"),
+                ]
+                .into_iter()
+                .find_map(|p| twin_source(&p).ok())
+                .unwrap_or_else(|| panic!("{name}: no Rust file {path}"));
+                rust.push_str(&file);
+                let after = words[i + 1..].join(" ");
+                if let Some(list) = after.strip_prefix('(').and_then(|r| r.split(')').next()) {
+                    twins.extend(quoted(list).into_iter().map(|(_, q)| q.to_string()));
+                }
+            }
+            let aliases: Vec<(&str, &str)> = {
+                let q = quoted(claims);
+                q.windows(2)
+                    .filter(|w| w[1].0 == " as ")
+                    .map(|w| (w[0].1, w[1].1))
+                    .collect()
+            };
+            let has_fn = |rust_name: &str| {
+                let last = rust_name.rsplit("::").next().unwrap();
+                rust.contains(&format!("fn {last}(")) || rust.contains(&format!("fn {last}<"))
+            };
+            let wgsl = defined(source);
+            let mut covered: Vec<&str> = Vec::new();
+            for t in twins.iter().map(String::as_str).filter(|t| is_function(t)) {
+                assert!(has_fn(t), "{name}: its twins have no fn {t}");
+                let last = t.rsplit("::").next().unwrap();
+                if !t.contains("::") {
                     assert!(
-                        source.contains(&format!("fn {function}(")),
-                        "{name} has no fn {function} (named in its header)"
+                        wgsl.iter().any(|f| f == last),
+                        "{name} has no fn {t} (named in its header)"
                     );
                 }
+                covered.push(last);
                 mirrored += 1;
             }
+            for (rust_name, wgsl_name) in &aliases {
+                assert!(
+                    has_fn(rust_name),
+                    "{name}: its twins have no fn {rust_name}"
+                );
+                assert!(
+                    wgsl.iter().any(|f| f == wgsl_name),
+                    "{name} has no fn {wgsl_name}"
+                );
+                covered.push(wgsl_name);
+                mirrored += 1;
+            }
+            let gpu: Vec<&str> = quoted(gpu_only).into_iter().map(|(_, q)| q).collect();
+            for g in gpu
+                .iter()
+                .filter(|g| is_function(g) && !covered.contains(g))
+            {
+                assert!(
+                    wgsl.iter().any(|f| f == g),
+                    "{name}: GPU-only `{g}` is not defined"
+                );
+            }
+            for f in &wgsl {
+                assert!(
+                    covered.contains(&f.as_str()) || gpu.contains(&f.as_str()),
+                    "{name}: fn {f} names no core twin in its header and is not listed as GPU-only"
+                );
+            }
         }
-        assert!(mirrored >= 20, "only {mirrored} functions named in headers");
+        assert!(mirrored >= 40, "only {mirrored} functions named in headers");
+    }
+
+    /// shaders/README.md's table names, for each file, functions its header names as twins.
+    #[test]
+    fn the_shader_readme_lists_twins_the_headers_name() {
+        let root = env!("CARGO_MANIFEST_DIR");
+        let readme = std::fs::read_to_string(format!("{root}/shaders/README.md")).unwrap();
+        let mut rows = 0;
+        for line in readme.lines().filter(|l| l.starts_with("| `")) {
+            let cells: Vec<&str> = line.split(" | ").collect();
+            let file = cells[0].trim_start_matches("| `").trim_end_matches('`');
+            let Some((_, source)) = super::SOURCES.iter().find(|(n, _)| *n == file) else {
+                panic!("shaders/README.md names {file}, which is not a shader");
+            };
+            let head = header(source);
+            let (claims, gpu) = head.split_once("GPU-only:").unwrap_or((&head, ""));
+            let (listed, listed_gpu) = cells
+                .last()
+                .unwrap()
+                .split_once("(GPU-only:")
+                .unwrap_or((cells.last().unwrap(), ""));
+            for (_, f) in quoted(listed_gpu)
+                .into_iter()
+                .filter(|(_, f)| is_function(f))
+            {
+                assert!(
+                    gpu.contains(&format!("`{f}`")),
+                    "shaders/README.md lists `{f}` as GPU-only for {file}, whose header does not"
+                );
+            }
+            for (_, f) in quoted(listed).into_iter().filter(|(_, f)| is_function(f)) {
+                assert!(
+                    claims.contains(&format!("`{f}`")) || claims.contains(&format!("::{f}`")),
+                    "shaders/README.md lists `{f}` for {file}, whose header names no such twin"
+                );
+                assert!(
+                    defined(source).iter().any(|d| d == f) || f.contains("::"),
+                    "{file} has no fn {f}"
+                );
+            }
+            rows += 1;
+        }
+        assert_eq!(rows, super::SOURCES.len(), "every shader has its row");
     }
 }

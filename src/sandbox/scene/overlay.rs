@@ -53,15 +53,14 @@ impl OverlayLines {
     }
 }
 
-/// Bevy's colour as egui's (sRGB, premultiplied).
+/// A colour as egui's: its sRGB channels quantised as the core writes a picture's
+/// (`image_out::to_u8`), alpha too; the panels' display colours come as
+/// `Color::srgb_from_array`.
 pub fn color32(c: Color) -> egui::Color32 {
     let s = c.to_srgba();
-    egui::Color32::from_rgba_unmultiplied(
-        (s.red.clamp(0.0, 1.0) * 255.0).round() as u8,
-        (s.green.clamp(0.0, 1.0) * 255.0).round() as u8,
-        (s.blue.clamp(0.0, 1.0) * 255.0).round() as u8,
-        (s.alpha.clamp(0.0, 1.0) * 255.0).round() as u8,
-    )
+    let [r, g, b] = voxcast_core::image_out::to_u8(Vec3::new(s.red, s.green, s.blue));
+    let [a, _, _] = voxcast_core::image_out::to_u8(Vec3::splat(s.alpha));
+    egui::Color32::from_rgba_unmultiplied(r, g, b, a)
 }
 
 /// Projects world points into the viewport through the main camera.

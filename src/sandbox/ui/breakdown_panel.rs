@@ -246,7 +246,8 @@ fn summary(ui: &mut egui::Ui, t: &RayTrace, hidden: Option<&crate::sandbox::leve
             sig(t.opacity)
         ));
         let (rect, _) = ui.allocate_exact_size(vec2(14.0, 14.0), Sense::hover());
-        ui.painter().rect_filled(rect, 2.0, color32(t.pixel));
+        ui.painter()
+            .rect_filled(rect, 2.0, color32(Color::srgb_from_array(t.pixel)));
         ui.label(v3(t.pixel));
     });
 }
@@ -328,7 +329,7 @@ fn sample_values(ui: &mut egui::Ui, s: &SampleRecord) {
         ui.painter().rect_filled(
             rect,
             1.0,
-            color32([s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2]]),
+            color32(Color::srgb(s.tf_rgba[0], s.tf_rgba[1], s.tf_rgba[2])),
         );
         let [r, g, b, a] = s.tf_rgba;
         ui.label(format!("{} {} {} {}", sig(r), sig(g), sig(b), sig(a)))

@@ -68,7 +68,11 @@ pub(super) fn legend(ui: &mut egui::Ui, view: CostView, words: Option<&str>) {
             let x = rect.left() + w * i as f32;
             let r = egui::Rect::from_min_size(egui::pos2(x, rect.top()), egui::vec2(w + 0.5, 10.0));
             let c = colour((i as f32 + 0.5) / n as f32);
-            painter.rect_filled(r, 0.0, super::color32(c));
+            painter.rect_filled(
+                r,
+                0.0,
+                super::color32(bevy::color::Color::srgb_from_array(c)),
+            );
         }
     };
     match view {

@@ -165,7 +165,7 @@ fn pixel_grid(ui: &mut egui::Ui, inspection: &Inspection, selection: &mut RaySel
     for y in 0..h {
         for x in 0..w {
             let c = image.get(x, y).to_array();
-            painter.rect_filled(at(x, y), 0.0, color32(c));
+            painter.rect_filled(at(x, y), 0.0, color32(Color::srgb_from_array(c)));
         }
     }
     if cell >= 6.0 {

@@ -187,7 +187,7 @@ impl TransferEditor {
             painter.circle(
                 plot.at(p.value.clamp(lo, hi), p.alpha),
                 if selected { 6.0 } else { 4.5 },
-                super::color32(p.color),
+                super::color32(bevy::color::Color::srgb_from_array(p.color)),
                 Stroke::new(
                     if selected { 2.5 } else { 1.0 },
                     if selected {
@@ -207,7 +207,7 @@ impl TransferEditor {
             painter.rect_filled(
                 Rect::from_min_max(pos2(x0, strip_top), pos2(x0 + 2.0, full.bottom())),
                 0.0,
-                super::color32([rgba.x, rgba.y, rgba.z]),
+                super::color32(bevy::color::Color::srgb(rgba.x, rgba.y, rgba.z)),
             );
         }
         response.on_hover_text(

@@ -3,11 +3,8 @@
 
 use super::*;
 
-/// Display colour of linear-as-stored values (the core's values are display values).
-pub(super) fn color32(c: [f32; 3]) -> egui::Color32 {
-    let [r, g, b] = voxcast_core::image_out::to_u8(Vec3::from_array(c));
-    egui::Color32::from_rgb(r, g, b)
-}
+/// The one conversion of a colour to egui's (the core's values are display values: sRGB).
+pub(super) use crate::sandbox::scene::overlay::color32;
 
 /// The section's title in the panel.
 pub(super) fn title(s: Section) -> &'static str {

@@ -270,8 +270,8 @@ pub fn class_report(files: &[Handed]) -> ClassReport {
         wrong.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
         wrong.truncate(WRONG_LISTED);
         s.wrong = wrong;
-        s.median_tries = median(&mut tries);
-        s.median_seconds = median(&mut seconds);
+        s.median_tries = crate::numbers::median(&tries);
+        s.median_seconds = crate::numbers::median(&seconds);
         report.steps.push(s);
     }
     report
@@ -285,20 +285,6 @@ fn said(answer: &str) -> String {
         Ok(v) if v.is_finite() => sig(v as f32),
         _ => t.to_lowercase(),
     }
-}
-
-/// The median of `xs` (sorted in place), if any.
-fn median(xs: &mut [f64]) -> Option<f64> {
-    if xs.is_empty() {
-        return None;
-    }
-    xs.sort_by(f64::total_cmp);
-    let n = xs.len();
-    Some(if n % 2 == 1 {
-        xs[n / 2]
-    } else {
-        0.5 * (xs[n / 2 - 1] + xs[n / 2])
-    })
 }
 
 /// Text made safe inside HTML.

@@ -30,7 +30,7 @@
 //! every bit.
 
 use super::leaps::Leaps;
-use super::simd::{Backend, Kernel, Simd};
+use super::simd::{Backend, Kernel, Simd, lerp};
 use super::{Accumulation, Marcher};
 use crate::composite::correct_opacity_with;
 use crate::power::StepPower;

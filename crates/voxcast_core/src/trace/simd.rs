@@ -173,6 +173,13 @@ const fn pack4(fill: u8) -> [[u8; 16]; 16] {
     table
 }
 
+/// `a + (b − a)·t`, lane by lane: the lanes' twin of [`crate::sample::lerp`] (a function, not a
+/// closure, so it inlines into the backend's `#[target_feature]` code).
+#[inline(always)]
+pub(super) fn lerp<S: Simd>(s: S, a: S::F, b: S::F, t: S::F) -> S::F {
+    s.add(a, s.mul(s.sub(b, a), t))
+}
+
 /// Eight lanes of `f32` and of `i32`, and what the lanes' march does with them. Every x86-64
 /// backend's CPU has SSE 4.1 (AVX2 implies it), which code beside the lanes relies on
 /// (`leaps.rs`).

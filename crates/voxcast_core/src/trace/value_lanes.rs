@@ -16,7 +16,7 @@
 
 use super::Vectors;
 use super::positions::{Cells, cells};
-use super::simd::{Backend, Kernel, Simd};
+use super::simd::{Backend, Kernel, Simd, lerp};
 use crate::composite::ValueStats;
 use crate::step::StepPlan;
 use crate::volume::{ScalarType, Voxel};
@@ -370,12 +370,6 @@ impl<'g> ValueLanes<'g> {
             _ => (s.and_i(w, s.splat_i(0xffff)), s.shr_i::<16>(w)),
         }
     }
-}
-
-/// `a + (b − a)·t`, lane by lane (a function, not a closure: see `simd.rs`).
-#[inline(always)]
-fn lerp<S: Simd>(s: S, a: S::F, b: S::F, t: S::F) -> S::F {
-    s.add(a, s.mul(s.sub(b, a), t))
 }
 
 #[cfg(all(test, target_arch = "x86_64"))]

@@ -380,12 +380,6 @@ impl Lanes<'_> {
 // compiled without the backend's instructions and may be left out of line, with every
 // intrinsic in it a call.
 
-/// `a + (b − a)·t`, lane by lane.
-#[inline(always)]
-pub(super) fn lerp<S: Simd>(s: S, a: S::F, b: S::F, t: S::F) -> S::F {
-    s.add(a, s.mul(s.sub(b, a), t))
-}
-
 /// `a · b` for eight vectors `a` and one `b`, summed x, y, z in that order.
 #[inline(always)]
 pub(super) fn dot<S: Simd>(s: S, a: &[S::F; 3], b: Vec3) -> S::F {
