@@ -5,7 +5,8 @@
 //! that the bunny is drawn where the desktop's `--screenshot` draws it, orbits with a drag,
 //! renders the exact image while the page keeps drawing, opens a dropped NRRD file (and a
 //! damaged one, which leaves it), computes a dropped `.rayvis` file's density, reads a 512³ 16-bit volume with its progress (and Cancel)
-//! and draws it, refuses a file over the page's limit in words, starts level 1 with a click and reads its first step, checks
+//! and draws it, refuses a file over the page's limit in words, starts level 1 with a click and reads its first step,
+//! opens a level on a dataset the page fetches when first opened, checks
 //! that the scene keeps at least half the page in every layout at 1024×576, and fails on any
 //! error in the browser's console. Where chromium, chromedriver or the built page is missing
 //! the test is reported as ignored with the reason, unless `VOXCAST_REQUIRE_BROWSER=1` (as
@@ -46,7 +47,7 @@ fn loader_fetches_datasets() -> Outcome {
     let build = std::fs::read_to_string(root.join("web/build.sh")).unwrap();
     for (dataset, file) in voxcast_core::builtin::FILES {
         assert!(
-            listed.contains(&format!("'{file}'")),
+            listed.contains(&format!("['{dataset}', '{file}']")),
             "web/voxcast.js does not fetch {file} ({dataset}): {listed}"
         );
         assert!(root.join("assets/volumes").join(file).is_file(), "{file}");
@@ -392,6 +393,31 @@ fn page(graphics: &str) -> Outcome {
          return Object.values(kept.completed || {}).some(n => n >= 1) || null",
         Duration::from_secs(30),
     )?;
+
+    // A level on the MRI head: the page fetches that dataset's file the first time it is
+    // opened (the module carries none; the loader fetched only the bunny).
+    let methods = 1 + voxcast_core::level::Level::all()
+        .iter()
+        .position(|l| l.scene.volume == "builtin:brainsmall")
+        .expect("a level on brainsmall");
+    if !page.has(&format!("level {methods}"))? {
+        page.click("levels menu")?;
+        page.settle(3)?;
+    }
+    page.click(&format!("level {methods}"))?;
+    let opened = browser.wait_for(
+        &format!(
+            "const s = window.voxcastStatus(); \
+             return (s.mode == 'level {methods}' && !s.loading && (s.load_error || s.volume)) \
+               || null"
+        ),
+        Duration::from_secs(60),
+    )?;
+    assert_eq!(
+        opened, "builtin:brainsmall",
+        "the level's dataset was fetched"
+    );
+    page.save_screenshot("fetched_dataset")?;
 
     // On a small laptop's tab the scene keeps at least half the page in every layout, and
     // Render image opens inside it.

@@ -46,14 +46,16 @@ async function chooseGraphics() {
   return 'webgl2';
 }
 
-/** The real embedded datasets' files (`builtin::FILES` in the core), which the page's module
- * does not carry: fetched from `volumes/` beside it while the module downloads (0.8 MB that
- * would not compress inside it). One that cannot be fetched is left out: the sandbox says so
- * when it is opened. */
-const VOLUME_FILES = ['bunny_sdf.nrrd', 'mri_brainsmall.nrrd'];
+/** The real embedded datasets (`builtin::FILES` in the core: name and file), which the page's
+ * module does not carry: the one the page opens with (`?volume=builtin:NAME`, else the bunny)
+ * is fetched from `volumes/` beside it while the module downloads; the sandbox fetches another
+ * the first time it is opened. One that cannot be fetched is left out: the sandbox says so. */
+const VOLUME_FILES = [['bunny', 'bunny_sdf.nrrd'], ['brainsmall', 'mri_brainsmall.nrrd']];
 async function fetchVolumes() {
+  const asked = (new URLSearchParams(location.search).get('volume') || 'builtin:bunny')
+    .replace(/^builtin:/, '').replace('_', '-');
   const got = {};
-  await Promise.all(VOLUME_FILES.map(async (name) => {
+  await Promise.all(VOLUME_FILES.filter(([n]) => n === asked).map(async ([, name]) => {
     try {
       const r = await fetch(`./volumes/${name}`);
       if (r.ok) got[name] = new Uint8Array(await r.arrayBuffer());

@@ -99,6 +99,14 @@ pub fn provide(file: &str, bytes: Vec<u8>) {
     provided.push((file.to_string(), bytes.into()));
 }
 
+/// The file of the real dataset `source` names (`builtin:NAME`) where it is neither compiled
+/// in nor handed over yet: what a page must fetch before opening it.
+pub fn missing_file(source: &str) -> Option<&'static str> {
+    let name = source.strip_prefix("builtin:")?.replace('_', "-");
+    let (_, file) = FILES.iter().find(|f| f.0 == name)?;
+    file_bytes(file).is_none().then_some(*file)
+}
+
 /// Decodes a real dataset from its file, as `bytes_of` finds it (compiled in or provided).
 fn load_file(
     name: &str,
@@ -430,6 +438,10 @@ mod tests {
         })
         .unwrap();
         assert_eq!(handed.volume.dims(), UVec3::new(128, 128, 84));
+        // Compiled in here: nothing to fetch; not a real dataset's: nothing either.
+        assert_eq!(missing_file("builtin:brainsmall"), None);
+        assert_eq!(missing_file("builtin:shells"), None);
+        assert_eq!(missing_file("brain.nrrd"), None);
         let missing = load_file("brainsmall", |_| None).unwrap_err().to_string();
         assert!(
             missing.contains("mri_brainsmall.nrrd did not come with this page")

@@ -31,6 +31,10 @@ pub struct Estimator {
     task: Option<Task<EstimateResult>>,
     /// The last estimate, or why there is none.
     pub result: Option<Result<EstimateWords, String>>,
+    /// Set by the panel that shows the estimate, the first time it is drawn: until then none
+    /// is made (the default source's rays take half a second to trace on a page's one thread,
+    /// at its start, for a section most never open).
+    wanted: std::sync::atomic::AtomicBool,
 }
 
 /// A finished estimate and the data set it read, or why there is none.
@@ -46,6 +50,12 @@ pub struct EstimateWords {
 }
 
 impl Estimator {
+    /// Asks for estimates from now on (the panel showing them is on screen).
+    pub fn want(&self) {
+        self.wanted
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+    }
+
     /// Forgets the data set read from `source` (a file of that name came anew) and the
     /// estimate made of it.
     pub fn forget(&mut self, source: &str) {
@@ -78,6 +88,9 @@ fn estimate(choices: Res<RayChoices>, mut est: ResMut<Estimator>) {
             est.data = Some((source, data));
             words
         }));
+    }
+    if !est.wanted.load(std::sync::atomic::Ordering::Relaxed) {
+        return;
     }
     let Some(spec) = choices.spec() else {
         est.key = None;
@@ -215,4 +228,44 @@ fn fit_range(
         }
         .fit_sum_range((size.x.max(1), size.y.max(1)))
     }));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
+
+    /// No estimate is made (and no ray traced or read) until the panel showing it asks; then
+    /// one is, for the chosen source.
+    #[test]
+    fn no_estimate_until_the_panel_asks_for_one() {
+        AsyncComputeTaskPool::get_or_init(TaskPool::new);
+        let choices = RayChoices {
+            source: crate::sandbox::data::source::SourceKind::File,
+            path: concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/two_level.rayvis").into(),
+            ..default()
+        };
+        let mut app = App::new();
+        app.init_resource::<Estimator>()
+            .insert_resource(choices)
+            .add_systems(Update, estimate);
+        for _ in 0..5 {
+            app.update();
+        }
+        let est = app.world().resource::<Estimator>();
+        assert!(!est.busy() && est.result.is_none() && est.key.is_none());
+        est.want();
+        for _ in 0..2000 {
+            app.update();
+            if app.world().resource::<Estimator>().result.is_some() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+        let words = app.world().resource::<Estimator>().result.clone();
+        let words = words
+            .expect("an estimate once asked")
+            .expect("the file reads");
+        assert!(words.rays > 0 && words.chunks > 0, "{words:?}");
+    }
 }

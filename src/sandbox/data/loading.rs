@@ -136,9 +136,14 @@ impl Loading {
                 .await
             {
                 Some(outcome) => outcome,
-                None => load_source(&spec)
-                    .map(|loaded| Outcome { loaded, rays: None })
-                    .map_err(|e| e.to_string()),
+                None => {
+                    // A page fetches a real dataset's file the first time it is opened.
+                    #[cfg(target_arch = "wasm32")]
+                    crate::sandbox::shared::web::fetch_dataset(&spec).await?;
+                    load_source(&spec)
+                        .map(|loaded| Outcome { loaded, rays: None })
+                        .map_err(|e| e.to_string())
+                }
             }
         });
     }

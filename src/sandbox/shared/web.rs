@@ -56,6 +56,31 @@ pub fn take_fetched_volumes() {
     let _ = js_sys::Reflect::delete_property(global.unchecked_ref::<js_sys::Object>(), &key);
 }
 
+/// Fetches the file of the real dataset `source` names from the page's `volumes/` folder and
+/// hands it to the core, where the page has not yet (the loader fetches only what the page
+/// opens with); nothing for any other source.
+pub async fn fetch_dataset(source: &str) -> Result<(), String> {
+    let Some(file) = voxcast_core::builtin::missing_file(source) else {
+        return Ok(());
+    };
+    let fail = |why: &str| format!("{source}: the page could not fetch volumes/{file} ({why})");
+    let window = web_sys::window().ok_or_else(|| fail("no window"))?;
+    let response =
+        wasm_bindgen_futures::JsFuture::from(window.fetch_with_str(&format!("volumes/{file}")))
+            .await
+            .map_err(|_| fail("no connection"))?;
+    let response: web_sys::Response = response.dyn_into().map_err(|_| fail("no response"))?;
+    if !response.ok() {
+        return Err(fail(&format!("HTTP {}", response.status())));
+    }
+    let buffer = response.array_buffer().map_err(|_| fail("unreadable"))?;
+    let buffer = wasm_bindgen_futures::JsFuture::from(buffer)
+        .await
+        .map_err(|_| fail("cut off"))?;
+    voxcast_core::builtin::provide(file, js_sys::Uint8Array::new(&buffer).to_vec());
+    Ok(())
+}
+
 /// Offers `bytes` to the student as a download named `name` (the browser's own save, into
 /// their downloads folder).
 pub fn download(name: &str, bytes: &[u8], mime: &str) -> Result<(), String> {

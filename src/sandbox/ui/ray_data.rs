@@ -246,6 +246,7 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
 
 /// Cell and chunk, with the memory estimate.
 fn grid_controls(ui: &mut egui::Ui, c: &mut RayChoices, est: &Estimator) {
+    est.want();
     ui.horizontal(|ui| {
         let mut auto = c.params.cell == 0.0;
         ui.checkbox(&mut auto, "automatic cell")
