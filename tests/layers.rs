@@ -6,8 +6,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The sandbox's folders, bottom to top, as `src/sandbox/mod.rs` lists them.
-const LAYERS: [&str; 10] = [
+const LAYERS: [&str; 11] = [
     "shared", "gpu", "scene", "inspect", "data", "preview", "checks", "levels", "drivers", "ui",
+    "app",
 ];
 
 /// Every `.rs` file below `dir`, as its module path below the sandbox (`["preview", "live"]`).

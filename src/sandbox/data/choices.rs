@@ -4,7 +4,6 @@
 
 use crate::sandbox::data::loading::Loading;
 use crate::sandbox::data::source::{Computed, RayScene, SourceKind};
-use crate::sandbox::shared::files::{FilesChosen, Purpose};
 use crate::sandbox::shared::schedule::Frame;
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::prelude::*;
@@ -191,33 +190,7 @@ impl RayChoices {
 
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<RayChoices>()
-        .add_message::<FilesChosen>()
-        .add_systems(Update, take_chosen_rays.in_set(Frame::Input))
         .add_systems(Update, go_back.in_set(Frame::SwapVolume));
-}
-
-/// A `.rayvis` file the browser handed over (a page has no paths): kept under its name, chosen
-/// as the Ray data section's file with every trace, and its density computed at once, as a
-/// volume file opens at once.
-fn take_chosen_rays(
-    mut chosen: MessageReader<FilesChosen>,
-    mut choices: ResMut<RayChoices>,
-    mut estimator: ResMut<crate::sandbox::data::estimate::Estimator>,
-    mut loading: ResMut<Loading>,
-) {
-    for FilesChosen { purpose, files } in chosen.read() {
-        let Some((name, bytes)) = files.first().filter(|_| *purpose == Purpose::Rays) else {
-            continue;
-        };
-        voxcast_core::rays::source::hand_over(name, bytes.clone());
-        estimator.forget(name);
-        choices.source = SourceKind::File;
-        choices.path = name.clone();
-        choices.trace = None;
-        if let Some(spec) = choices.spec() {
-            loading.start_keeping_choices(spec.to_text());
-        }
-    }
 }
 
 /// Brings back the volume (and its settings) the densities replaced.

@@ -372,11 +372,11 @@ fn defaults_for(volume: &Volume) -> (TransferFunction, Option<RenderSettings>) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use bevy::tasks::{AsyncComputeTaskPool, TaskPool};
 
-    fn app() -> App {
+    pub(crate) fn app() -> App {
         AsyncComputeTaskPool::get_or_init(TaskPool::new);
         let mut app = App::new();
         let loaded = voxcast_core::builtin::load_builtin("bucky").unwrap();
@@ -396,7 +396,7 @@ mod tests {
         app
     }
 
-    fn run_until_idle(app: &mut App) {
+    pub(crate) fn run_until_idle(app: &mut App) {
         for _ in 0..2000 {
             app.update();
             if app.world().resource::<Loading>().under_way().is_none() {
@@ -572,37 +572,6 @@ mod tests {
         run_until_idle(&mut app);
         let rays = app.world().resource::<RayScene>();
         assert!(rays.current.is_none() && rays.before.is_none());
-    }
-
-    /// A `.rayvis` file a page hands over becomes the Ray data section's file and its density
-    /// is computed at once, as a path's is on the desktop.
-    #[test]
-    fn a_handed_rayvis_file_is_computed_at_once() {
-        use crate::sandbox::data::choices::RayChoices;
-        let mut app = app();
-        app.add_plugins((
-            crate::sandbox::data::choices::plugin,
-            crate::sandbox::data::estimate::plugin,
-        ));
-        let bytes = include_bytes!("../../../tests/data/two_level.rayvis").to_vec();
-        app.world_mut().write_message(FilesChosen {
-            purpose: Purpose::Rays,
-            files: vec![("handed in a page.rayvis".into(), bytes)],
-        });
-        run_until_idle(&mut app);
-        let world = app.world();
-        assert_eq!(world.resource::<Loading>().error, None);
-        let source = &world.resource::<VolumeState>().source;
-        assert!(
-            source.starts_with("density:handed in a page.rayvis"),
-            "{source}"
-        );
-        let choices = world.resource::<RayChoices>();
-        assert_eq!(choices.path, "handed in a page.rayvis");
-        assert_eq!(
-            choices.source,
-            crate::sandbox::data::source::SourceKind::File
-        );
     }
 
     /// Cancel stops a density's computation itself: its flag is set, and nothing arrives.

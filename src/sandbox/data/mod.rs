@@ -6,6 +6,7 @@
 pub mod choices;
 pub mod cpu_lines;
 pub mod estimate;
+pub mod handed_rays;
 pub mod loading;
 pub mod shortcuts;
 pub mod source;
