@@ -53,18 +53,18 @@ async function chooseGraphics() {
 const VOLUME_FILES = [['bunny', 'bunny_sdf.nrrd'], ['brainsmall', 'mri_brainsmall.nrrd']];
 async function fetchVolumes() {
   const asked = (new URLSearchParams(location.search).get('volume') || 'builtin:bunny')
-    .replace(/^builtin:/, '').replace('_', '-');
-  const got = {};
-  await Promise.all(VOLUME_FILES.filter(([n]) => n === asked).map(async ([, name]) => {
-    try {
-      const r = await fetch(`./volumes/${name}`);
-      if (r.ok) got[name] = new Uint8Array(await r.arrayBuffer());
-      else console.warn(`volumes/${name}: ${r.status} ${r.statusText}`);
-    } catch (e) {
-      console.warn(`volumes/${name}: ${e}`);
-    }
-  }));
-  return got;
+    .replace(/^builtin:/, '').replaceAll('_', '-');
+  const entry = VOLUME_FILES.find(([n]) => n === asked);
+  if (!entry) return {};
+  const name = entry[1];
+  try {
+    const r = await fetch(`./volumes/${name}`);
+    if (r.ok) return { [name]: new Uint8Array(await r.arrayBuffer()) };
+    console.warn(`volumes/${name}: ${r.status} ${r.statusText}`);
+  } catch (e) {
+    console.warn(`volumes/${name}: ${e}`);
+  }
+  return {};
 }
 
 /** Reads `files` (File objects) and hands them to the sandbox for `purpose`; a file picked

@@ -67,20 +67,27 @@ pub const FILES: &[(&str, &str)] = &[
     ("brainsmall", "mri_brainsmall.nrrd"),
 ];
 
-/// A real dataset's file: compiled in with the `embedded-files` feature (the desktop), or handed
-/// over with [`provide`] (the web page fetches them beside its module, 0.8 MB a visitor would
-/// otherwise download inside it, uncompressible).
+/// [`FILES`]' bytes compiled in, by file (the desktop's `embedded-files` feature).
+#[cfg(feature = "embedded-files")]
+const EMBEDDED: &[(&str, &[u8])] = &[
+    (
+        "bunny_sdf.nrrd",
+        include_bytes!("../../../assets/volumes/bunny_sdf.nrrd"),
+    ),
+    (
+        "mri_brainsmall.nrrd",
+        include_bytes!("../../../assets/volumes/mri_brainsmall.nrrd"),
+    ),
+];
+/// None compiled in: the web page fetches them beside its module (0.8 MB a visitor would
+/// otherwise download inside it, uncompressible) and hands them over with [`provide`].
+#[cfg(not(feature = "embedded-files"))]
+const EMBEDDED: &[(&str, &[u8])] = &[];
+
+/// A real dataset's file: compiled in, or handed over with [`provide`].
 fn file_bytes(file: &str) -> Option<std::sync::Arc<[u8]>> {
-    #[cfg(feature = "embedded-files")]
-    {
-        let embedded: &[u8] = match file {
-            "bunny_sdf.nrrd" => include_bytes!("../../../assets/volumes/bunny_sdf.nrrd"),
-            "mri_brainsmall.nrrd" => include_bytes!("../../../assets/volumes/mri_brainsmall.nrrd"),
-            _ => &[],
-        };
-        if !embedded.is_empty() {
-            return Some(embedded.into());
-        }
+    if let Some((_, bytes)) = EMBEDDED.iter().find(|(name, _)| *name == file) {
+        return Some((*bytes).into());
     }
     let provided = PROVIDED.lock().unwrap_or_else(|e| e.into_inner());
     provided

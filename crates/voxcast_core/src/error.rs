@@ -31,9 +31,7 @@ pub enum LoadProblem {
     Io(#[from] std::io::Error),
     #[error("no embedded dataset of that name (choose from {0})")]
     UnknownBuiltin(String),
-    #[error(
-        "{0} did not come with this page (it is fetched from the page's volumes/ folder as the page starts)"
-    )]
+    #[error("{0} did not come with this page (the page fetches it from its volumes/ folder)")]
     NotProvided(String),
     #[error("unknown file format (expected .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw)")]
     UnknownFormat,

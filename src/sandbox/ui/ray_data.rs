@@ -161,7 +161,7 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
     .on_hover_text(c.source.doc());
     match c.source {
         // A page reads no paths: the browser's picker hands the file over, its density
-        // computed at once (`data/choices.rs`).
+        // computed at once (`data/handed_rays.rs`).
         SourceKind::File if files::PICKS_FILES => {
             ui.horizontal(|ui| {
                 if super::target(ui.button("Open a .rayvis file…"), "Open a rayvis file")
