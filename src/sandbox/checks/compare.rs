@@ -24,8 +24,8 @@ use voxcast_core::settings::RenderSettings;
 use voxcast_core::trace::Scene;
 use voxcast_core::transfer::TransferFunction;
 
-/// Frames the preview draws at full quality before it is captured: the material's uniform and
-/// the preview image's size follow a quality change within a frame; the rest is margin.
+/// Frames the GPU preview draws at full quality before it is captured: the material's uniform
+/// and the preview image's size follow a quality change within a frame; the rest is margin.
 const SETTLE_FRAMES: u32 = 3;
 
 /// The difference drawn at full intensity in the heat-map, as a fraction of the full range
@@ -346,16 +346,18 @@ fn start_capture(
         }
         return;
     };
-    if !full.0 {
+    let cpu_live = preview.as_ref().is_some_and(|p| p.cpu_live());
+    if !full.0 && !cpu_live {
         full.0 = true;
     }
-    let cpu_live = preview.as_ref().is_some_and(|p| p.cpu_live());
     if compiling.now() && !cpu_live {
         // The GPU preview for these settings is not drawn until its pipeline is ready (the
         // CPU live view's capture is rendered by the job itself).
         return;
     }
-    if left > 0 {
+    // The CPU live view's image is rendered by the job itself, at the view's own resolution:
+    // nothing to settle (on a software renderer, three frames of the page are half a second).
+    if left > 0 && !cpu_live {
         comparison.settling = Some(left - 1);
         return;
     }
@@ -392,7 +394,9 @@ fn start_capture(
     if cpu_live {
         // The CPU live view is compared as it draws this view at rest (the job renders it,
         // without the scene's spheres, which the render has not either).
-        full.0 = false;
+        if full.0 {
+            full.0 = false;
+        }
     } else if let (true, Some(pass)) = (previewing, finished_pass) {
         let (slot, size) = (gpu.clone(), target.size);
         commands.spawn(Readback::texture(pass)).observe(

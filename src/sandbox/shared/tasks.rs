@@ -1,9 +1,9 @@
 //! Background work, one code for the desktop and the browser. On the desktop a task runs on
 //! Bevy's `AsyncComputeTaskPool`, on threads of its own, and the core's work in it runs whole.
 //! A browser gives the page one thread, which also draws its frames: there a task's core work
-//! runs in slices of [`SLICE`] ([`voxcast_core::slices`]), and between two slices the task
-//! yields to the page, which draws a frame and answers the student, so the page never freezes
-//! (Render image's progress and Cancel work as on the desktop).
+//! runs in slices of [`SLICE`] to [`LONGEST_SLICE`] ([`voxcast_core::slices`]), and between
+//! two slices the task yields to the page, which draws a frame and answers the student, so the
+//! page never freezes (Render image's progress and Cancel work as on the desktop).
 
 use bevy::platform::time::Instant;
 use bevy::tasks::{AsyncComputeTaskPool, ConditionalSend, Task};
@@ -47,15 +47,26 @@ pub fn in_flight() -> usize {
     IN_FLIGHT.load(Ordering::Relaxed)
 }
 
-/// How long a slice of work runs in a browser before the page may draw a frame: short enough
-/// that the page answers a click within a frame or two, long enough that the frames between
-/// slices cost the work little.
+/// The shortest slice of work in a browser before the page may draw a frame: short enough
+/// that the page answers a click within a frame or two.
 pub const SLICE: std::time::Duration = std::time::Duration::from_millis(20);
 
-/// The deadline of the next slice: none on the desktop.
-pub fn deadline() -> Deadline {
+/// The longest slice of work in a browser: where the page's frames are slow (a software
+/// renderer draws a frame of the page in 100–200 ms on 2 cores), a slice lasts as long as the
+/// page took between the last two slices, up to this, so that the work keeps about half of the
+/// time and draws on fewer frames (each frame's drawing competes with it for the cores);
+/// the page still answers a click within a quarter of a second.
+pub const LONGEST_SLICE: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// The next slice's length, given how long the page took since the last one.
+pub fn slice_after(gap: std::time::Duration) -> std::time::Duration {
+    gap.clamp(SLICE, LONGEST_SLICE)
+}
+
+/// The deadline of a slice of `length`: none on the desktop.
+pub fn deadline(length: std::time::Duration) -> Deadline {
     if cfg!(target_arch = "wasm32") {
-        Deadline::after(SLICE)
+        Deadline::after(length)
     } else {
         Deadline::NONE
     }
@@ -81,13 +92,47 @@ pub async fn in_slices<T, E>(
     mut slice: impl FnMut(Deadline) -> Result<Step<T>, E>,
 ) -> Result<(T, f64), E> {
     let mut busy = 0.0;
+    let mut length = SLICE;
     loop {
         let started = Instant::now();
-        let step = slice(deadline())?;
+        let step = slice(deadline(length))?;
         busy += started.elapsed().as_secs_f64();
         match step {
             Step::Done(t) => return Ok((t, busy)),
-            Step::Paused => yield_to_page().await,
+            Step::Paused => {
+                let paused = Instant::now();
+                yield_to_page().await;
+                length = slice_after(paused.elapsed());
+            }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn a_slice_lasts_as_long_as_the_page_took_within_its_bounds() {
+        assert_eq!(
+            slice_after(Duration::ZERO),
+            SLICE,
+            "a quick page: the shortest"
+        );
+        assert_eq!(
+            slice_after(Duration::from_millis(60)),
+            Duration::from_millis(60)
+        );
+        assert_eq!(
+            slice_after(Duration::from_secs(3)),
+            LONGEST_SLICE,
+            "a stalled page"
+        );
+        assert_eq!(
+            deadline(LONGEST_SLICE),
+            Deadline::NONE,
+            "the desktop runs whole"
+        );
     }
 }
