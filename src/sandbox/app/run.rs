@@ -37,7 +37,7 @@ pub fn run(args: &SandboxArgs) -> Result<(), CliError> {
     let background = start.render.settings.background;
     schedule::configure(&mut app);
     app.add_plugins(MaterialPlugin::<VolumeMaterial>::default())
-        .add_plugins(shared::pacing::plugin)
+        .add_plugins((shared::pacing::plugin, shared::render_change::plugin))
         .add_plugins((
             shaders::plugin,
             pipelines::plugin,

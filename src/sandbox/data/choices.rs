@@ -4,6 +4,7 @@
 
 use crate::sandbox::data::loading::Loading;
 use crate::sandbox::data::source::{Computed, RayScene, SourceKind};
+use crate::sandbox::shared::render_change::{Author, ChangeRender};
 use crate::sandbox::shared::schedule::Frame;
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::prelude::*;
@@ -198,7 +199,7 @@ fn go_back(
     mut choices: ResMut<RayChoices>,
     mut rays: ResMut<RayScene>,
     mut volume: ResMut<VolumeState>,
-    mut render: ResMut<RenderState>,
+    mut change: MessageWriter<ChangeRender>,
 ) {
     if !choices.back {
         return;
@@ -206,7 +207,7 @@ fn go_back(
     choices.back = false;
     if let Some(b) = rays.before.take() {
         *volume = b.volume;
-        *render = b.render;
+        change.write(ChangeRender::whole(Author::RayData, b.render));
         rays.current = None;
     }
 }

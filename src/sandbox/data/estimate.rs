@@ -3,8 +3,9 @@
 
 use crate::sandbox::data::choices::RayChoices;
 use crate::sandbox::data::source::RayScene;
+use crate::sandbox::shared::render_change::{Author, Change, RenderChanges};
 use crate::sandbox::shared::schedule::Frame;
-use crate::sandbox::shared::state::{RenderState, VolumeState};
+use crate::sandbox::shared::state::VolumeState;
 use bevy::prelude::*;
 use bevy::tasks::{Task, futures::check_ready};
 use std::sync::Arc;
@@ -170,7 +171,7 @@ impl RangeFit {
 fn fit_range(
     rays: Res<RayScene>,
     volume: Res<VolumeState>,
-    mut render: ResMut<RenderState>,
+    mut render: RenderChanges,
     choices: Res<RayChoices>,
     views: Query<
         (&crate::sandbox::shared::state::View, &Camera),
@@ -189,9 +190,9 @@ fn fit_range(
         fit.task = None;
         if fit.fitted_for == Some(id)
             && let Some(r) = range
-            && render.settings.method == voxcast_core::composite::Method::Sum
+            && render.now.settings.method == voxcast_core::composite::Method::Sum
         {
-            render.settings.sum_range = Some(r);
+            render.ask(Author::RangeFit, Change::SumRange(Some(r)));
         }
     }
     // A new volume is framed this frame: fit the view it is framed in, the next.
@@ -206,7 +207,7 @@ fn fit_range(
         .unwrap_or(UVec2::new(640, 360));
     fit.asked = false;
     fit.fitted_for = Some(id);
-    let (render, shading, view) = (render.clone(), choices.view.shading, view.0);
+    let (render, shading, view) = (render.now.clone(), choices.view.shading, view.0);
     fit.task = Some(crate::sandbox::shared::tasks::spawn(async move {
         let c = &shown.computed;
         let mut settings = render.settings.clone();

@@ -11,6 +11,7 @@
 
 use crate::sandbox::data::source::{Before, Outcome, RayScene};
 use crate::sandbox::shared::files::{FilesChosen, Purpose, volume_entry};
+use crate::sandbox::shared::render_change::{Author, RenderChanges};
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::platform::time::Instant;
 use bevy::prelude::*;
@@ -306,7 +307,7 @@ fn load_handed_volumes(
 pub(crate) fn finish_loading(
     mut loading: ResMut<Loading>,
     mut volume: ResMut<VolumeState>,
-    mut render: ResMut<RenderState>,
+    mut render: RenderChanges,
     mut rays: ResMut<RayScene>,
 ) {
     let Some(job) = loading.job.as_mut() else {
@@ -325,16 +326,17 @@ pub(crate) fn finish_loading(
         }) => {
             let before = Before {
                 volume: volume.clone(),
-                render: render.clone(),
+                render: render.now.clone(),
                 camera: None,
             };
-            let (method, step) = (render.settings.method, render.settings.step);
-            reset_to_defaults(&loaded.volume, &mut render);
+            let (method, step) = (render.now.settings.method, render.now.settings.step);
+            let mut next = render.now.clone();
+            reset_to_defaults(&loaded.volume, &mut next);
             // A ray density brings Sum (its counts mean little to the other methods).
             let keep = keep && !voxcast_core::rays::as_volume::is_density(&loaded.volume);
             if keep {
-                render.settings.method = method;
-                render.settings.step = step;
+                next.settings.method = method;
+                next.settings.step = step;
                 let voxel = loaded.volume.spacing().min_element();
                 loading.note = Some(format!(
                     "Kept your method ({}) and step ({} voxel); the transfer function, shading \
@@ -343,6 +345,7 @@ pub(crate) fn finish_loading(
                     voxcast_core::numbers::sig(step.voxels(voxel))
                 ));
             }
+            render.edited(Author::Loading, next);
             *volume = VolumeState {
                 preset: preset::for_loaded(&loaded.volume),
                 volume: Arc::new(loaded.volume.into()),
@@ -392,7 +395,8 @@ pub(crate) mod tests {
             depth_termination: true,
         })
         .add_message::<FileDragAndDrop>()
-        .add_plugins(plugin);
+        .add_plugins((plugin, crate::sandbox::shared::render_change::plugin));
+        crate::sandbox::shared::schedule::configure(&mut app);
         app
     }
 
@@ -657,7 +661,10 @@ pub(crate) mod tests {
                 .init_resource::<crate::sandbox::scene::overlay::OverlayLines>()
                 .add_message::<bevy::window::FileDragAndDrop>();
             crate::sandbox::shared::schedule::configure(&mut app);
-            app.add_plugins(crate::sandbox::shared::mode::plugin);
+            app.add_plugins((
+                crate::sandbox::shared::mode::plugin,
+                crate::sandbox::shared::render_change::plugin,
+            ));
             for i in order {
                 plugins[i](&mut app);
             }

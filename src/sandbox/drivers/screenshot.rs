@@ -6,8 +6,9 @@
 
 use crate::sandbox::preview::camera::{InitialView, preview_camera};
 use crate::sandbox::shared::quality::PreviewTarget;
+use crate::sandbox::shared::render_change::{Author, Change, RenderChanges};
 use crate::sandbox::shared::state::MainCamera;
-use crate::sandbox::shared::state::{RenderState, View};
+use crate::sandbox::shared::state::View;
 use bevy::camera::RenderTarget;
 use bevy::prelude::*;
 use bevy::render::render_resource::{PollType, TextureFormat, TextureUsages};
@@ -50,7 +51,12 @@ pub(crate) fn image_camera_plugin(app: &mut App) {
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<Saved>()
         .init_resource::<Timed>()
-        .add_systems(Update, (take_screenshot, orbit_while_timed).chain());
+        .add_systems(
+            Update,
+            (take_screenshot, orbit_while_timed)
+                .chain()
+                .in_set(crate::sandbox::shared::schedule::Frame::Drive),
+        );
     let timing = app.world().resource::<Request>().time_frames > 0;
     if let Some(render_app) = app.get_sub_app_mut(RenderApp).filter(|_| timing) {
         render_app.add_systems(Render, wait_for_gpu.in_set(RenderSystems::Cleanup));
@@ -139,7 +145,7 @@ fn take_screenshot(
     mut frames: Local<u32>,
     mut plan: Local<Plan>,
     mut timed: ResMut<Timed>,
-    mut render: ResMut<RenderState>,
+    mut render: RenderChanges,
     shot: Shot,
 ) {
     let Shot {
@@ -157,15 +163,15 @@ fn take_screenshot(
     let shots = plan.get_or_insert_with(|| {
         if request.sweep {
             voxcast_core::settings::agreement_cases(
-                &render.settings,
+                &render.now.settings,
                 volume.volume.volume(),
-                &render.transfer,
+                &render.now.transfer,
             )
             .into_iter()
             .map(|(name, s)| (request.path.join(format!("{name}.png")), s))
             .collect()
         } else {
-            vec![(request.path.clone(), render.settings.clone())]
+            vec![(request.path.clone(), render.now.settings.clone())]
         }
     });
     if *frames >= WARM_UP_FRAMES && !timed.done(&request) {
@@ -202,8 +208,8 @@ fn take_screenshot(
     let Some((path, settings)) = shots.get(i).cloned() else {
         return;
     };
-    if phase == 0 && render.settings != settings {
-        render.settings = settings;
+    if phase == 0 && render.now.settings != settings {
+        render.ask(Author::Screenshot, Change::Settings(Box::new(settings)));
     }
     if phase != SETTLE_FRAMES {
         return;

@@ -16,6 +16,7 @@ use crate::sandbox::inspect::rays::{Inspection, RayAnimation, RaySelection};
 use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use crate::sandbox::levels::{Lessons, LevelCommand};
 use crate::sandbox::shared::mode::Mode;
+use crate::sandbox::shared::render_change::{Author, RenderChanges};
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
@@ -109,7 +110,7 @@ impl Hands<'_, '_> {
 /// What the player's hands change.
 #[derive(bevy::ecs::system::SystemParam)]
 struct Hands<'w, 's> {
-    render: ResMut<'w, RenderState>,
+    render: RenderChanges<'w>,
     selection: ResMut<'w, RaySelection>,
     breakdown: ResMut<'w, BreakdownState>,
     comparison: ResMut<'w, Comparison>,
@@ -318,22 +319,37 @@ fn drive(
                 send.write(LevelCommand::FreePlay);
                 return;
             }
-            act(run.level, &step.objective, &mut hands, &mut lessons);
+            // The hands edit a copy of the settings, sent as one change.
+            let mut edited = hands.render.now.clone();
+            act(
+                run.level,
+                &step.objective,
+                &mut hands,
+                &mut edited,
+                &mut lessons,
+            );
+            hands.render.edited(Author::Script, edited);
         }
     }
 }
 
 /// Does what the objective asks of level `level`'s current step, through the state the step's
 /// control edits. Called every frame until the objective is met (each action is idempotent).
-fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
-    let s = &mut hands.render.settings;
+fn act(
+    level: usize,
+    objective: &Objective,
+    hands: &mut Hands,
+    render: &mut RenderState,
+    lessons: &mut Lessons,
+) {
+    let s = &mut render.settings;
     let (lo, hi) = hands.volume.volume.bounds();
     let centre = (lo + hi) * 0.5;
     match objective {
         Objective::Read => {}
         Objective::All { of } => {
             for o in of {
-                act(level, o, hands, lessons);
+                act(level, o, hands, render, lessons);
             }
         }
         Objective::StepMoved => {
@@ -429,8 +445,11 @@ fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Les
                 .show_render_image
                 .write(crate::sandbox::checks::compare::ShowRenderImage(true));
             let current = hands.comparison.result.as_ref().is_some_and(|r| {
-                r.snapshot
-                    .is_current(hands.main_view.single().ok(), &hands.render, &hands.volume)
+                r.snapshot.is_current(
+                    hands.main_view.single().ok(),
+                    &hands.render.now,
+                    &hands.volume,
+                )
             });
             if !current && !hands.comparison.busy() {
                 hands.comparison.start();
@@ -494,15 +513,15 @@ fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Les
             };
         }
         Objective::TfAlphaAtMost { value, alpha } => {
-            if let Ok((t, _)) = hands.render.transfer.with_point_added(*value, *alpha) {
-                hands.render.transfer = t;
+            if let Ok((t, _)) = render.transfer.with_point_added(*value, *alpha) {
+                render.transfer = t;
             }
         }
         Objective::TfBinary { threshold, within } => {
             // The editor's points dragged to a step: none below, full above, in the colour the
             // function gives the threshold.
             let (lo, hi) = hands.volume.volume.value_range();
-            let c = hands.render.transfer.evaluate(*threshold);
+            let c = render.transfer.evaluate(*threshold);
             let colour = [c.x, c.y, c.z];
             let points = vec![
                 ControlPoint::new(lo.min(threshold - within), colour, 0.0),
@@ -511,7 +530,7 @@ fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Les
                 ControlPoint::new(hi.max(threshold + within), colour, 1.0),
             ];
             if let Ok(t) = TransferFunction::new("binary", points) {
-                hands.render.transfer = t;
+                render.transfer = t;
             }
         }
         Objective::TfColorNear {
@@ -520,10 +539,10 @@ fn act(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Les
             alpha,
             ..
         } => {
-            if let Ok((t, i)) = hands.render.transfer.with_point_added(*value, *alpha)
+            if let Ok((t, i)) = render.transfer.with_point_added(*value, *alpha)
                 && let Ok(t) = t.with_point_color(i, *color)
             {
-                hands.render.transfer = t;
+                render.transfer = t;
             }
         }
         Objective::Compared { .. } => {
@@ -779,7 +798,7 @@ fn compute_density(hands: &mut Hands, source: &str, trace: Option<u32>, side: u3
         &mut hands.loading,
         &hands.rays,
         &hands.volume,
-        &hands.render,
+        &hands.render.now,
         vc.as_ref(),
     );
 }

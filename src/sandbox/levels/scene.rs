@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::sandbox::scene::orbit::Orbit;
+use crate::sandbox::shared::render_change::{Author, RenderChanges};
 use voxcast_core::level::{StepScene, TransferChoice};
 
 /// A level's or a step's scene waiting to be put on screen.
@@ -96,7 +97,7 @@ pub(super) fn open_scene(
     mode: Res<State<Mode>>,
     mut lessons: ResMut<Lessons>,
     stage: Res<Stage>,
-    (volume, mut render, mut loading): (Res<VolumeState>, ResMut<RenderState>, ResMut<Loading>),
+    (volume, mut render, mut loading): (Res<VolumeState>, RenderChanges, ResMut<Loading>),
     mut main: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut cameras: Query<&mut VirtualCamera>,
     (mut selection, held): (ResMut<RaySelection>, Res<super::files::LevelFiles>),
@@ -142,17 +143,18 @@ pub(super) fn open_scene(
     if volume.is_changed() || mode.is_changed() || (stage.rays.is_some() && cameras.is_empty()) {
         return;
     }
+    // The level's scene on a copy of the settings, sent as one change.
+    let mut next = render.now.clone();
     if pending.fresh {
-        reset_to_defaults(&volume.volume, &mut render);
-        let render = &mut *render;
+        reset_to_defaults(&volume.volume, &mut next);
         level
             .scene
-            .over_defaults(&mut render.transfer, &mut render.settings);
+            .over_defaults(&mut next.transfer, &mut next.settings);
     }
     let scene = &pending.scene;
     if let Some(choice) = &scene.transfer {
         match transfer_of(choice) {
-            Some(t) => render.transfer = t,
+            Some(t) => next.transfer = t,
             None => {
                 lessons.message = Some(format!(
                     "This level's transfer function {choice:?} is unknown"
@@ -161,11 +163,12 @@ pub(super) fn open_scene(
         }
     }
     if let Some(changes) = &scene.settings {
-        match voxcast_core::preset::settings_written_over(&render.settings, changes) {
-            Ok(s) => render.settings = s,
+        match voxcast_core::preset::settings_written_over(&next.settings, changes) {
+            Ok(s) => next.settings = s,
             Err(e) => lessons.message = Some(format!("This level's settings are refused: {e}")),
         }
     }
+    render.edited(Author::Level, next);
     if let Some(place) = scene.camera
         && let Ok((mut orbit, mut transform, mut view)) = main.single_mut()
         && let Ok(camera) = camera_at(&place, &view.0)

@@ -24,6 +24,7 @@ fn app(progress: PathBuf) -> App {
         .insert_resource(Lessons::new(ProgressStore::File(progress)))
         .add_plugins((
             crate::sandbox::shared::mode::plugin,
+            crate::sandbox::shared::render_change::plugin,
             crate::sandbox::data::loading::plugin,
             crate::sandbox::inspect::rays::plugin,
             crate::sandbox::scene::light::marker_plugin,
@@ -34,6 +35,7 @@ fn app(progress: PathBuf) -> App {
             Update,
             crate::sandbox::inspect::virtual_camera::stage_camera,
         );
+    crate::sandbox::shared::schedule::configure(&mut app);
     app
 }
 
@@ -78,8 +80,11 @@ fn answers_are_kept_with_the_progress() {
     let mut app = app(path.clone());
     let trilinear = level(&app, "trilinear");
     send(&mut app, LevelCommand::Start(trilinear));
+    // The step is met (read) once its scene is on screen, which the check sees after the
+    // volume's frame: Next before that is refused, as the window's button would be.
     until(&mut app, |a| {
         a.world().resource::<VolumeState>().source == "builtin:voxel"
+            && a.world().resource::<Lessons>().met
     });
     send(&mut app, LevelCommand::Next); // step 1 is read
     until(&mut app, |a| {
@@ -559,8 +564,11 @@ fn a_change_is_asked_of_the_open_step() {
 
     let opacity = level(&app, "opacity");
     send(&mut app, LevelCommand::Start(opacity));
+    // The step is met (read) once its scene is on screen, which the check sees after the
+    // volume's frame: Next before that is refused, as the window's button would be.
     until(&mut app, |a| {
         a.world().resource::<VolumeState>().source == "builtin:brainsmall"
+            && a.world().resource::<Lessons>().met
     });
     send(&mut app, LevelCommand::Next); // read
     assert_eq!(app.world().resource::<Lessons>().step, 1);

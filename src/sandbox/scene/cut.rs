@@ -4,6 +4,7 @@
 //! drawn from it and a drag writes it, so the preview, the CPU render and the breakdown cut alike.
 
 use crate::sandbox::shared::pointer::{MouseHeld, Pointer};
+use crate::sandbox::shared::render_change::{Author, Change, RenderChanges};
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use voxcast_core::clip::{Clip, ResolvedClip};
@@ -156,7 +157,7 @@ fn drag_cut(
     views: Query<&View, With<MainCamera>>,
     volume: Res<VolumeState>,
     shown: Res<CutHandles>,
-    mut render: ResMut<RenderState>,
+    mut render: RenderChanges,
     mut drag: ResMut<CutDrag>,
 ) {
     if !pointer.buttons.pressed(MouseButton::Left) {
@@ -171,7 +172,7 @@ fn drag_cut(
         }
         let bounds = volume.volume.bounds();
         let radius = grab_radius(bounds.0, bounds.1);
-        let clip = &render.settings.clip;
+        let clip = &render.now.settings.clip;
         let resolved = clip.resolve(bounds);
         let polygon = resolved.plane_polygon();
         // The nearest handle the cursor's ray passes within reach of.
@@ -190,10 +191,10 @@ fn drag_cut(
         return;
     };
     if g.scale > 0.0 {
-        let mut edited = render.clone();
+        let mut edited = render.now.clone();
         apply(&mut edited, g.handle, g.start + s / g.scale);
-        if edited.settings.clip != render.settings.clip {
-            *render = edited;
+        if edited.settings.clip != render.now.settings.clip {
+            render.ask(Author::CutDrag, Change::Clip(edited.settings.clip));
         }
     }
 }

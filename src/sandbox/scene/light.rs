@@ -10,6 +10,7 @@
 use crate::sandbox::shared::mode::{Mode, Stage};
 use crate::sandbox::shared::pointer::{MouseHeld, Pointer};
 use crate::sandbox::shared::quality::FullQuality;
+use crate::sandbox::shared::render_change::{Author, Change, RenderChanges};
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::prelude::*;
 use voxcast_core::marker::{
@@ -41,7 +42,12 @@ const GRAB_SLACK: f32 = 1.8;
 
 /// The marker, in the window and headless alike.
 pub(crate) fn marker_plugin(app: &mut App) {
-    app.add_systems(Update, (spawn_marker, place_marker).chain());
+    app.add_systems(
+        Update,
+        (spawn_marker, place_marker)
+            .chain()
+            .in_set(crate::sandbox::shared::schedule::Frame::Show),
+    );
 }
 
 /// Dragging and the gizmo (window only).
@@ -53,7 +59,6 @@ pub(crate) fn plugin(app: &mut App) {
             (
                 (drag_light, hold_mouse)
                     .chain()
-                    .before(place_marker)
                     .in_set(crate::sandbox::shared::schedule::Frame::Grab),
                 draw_ring.in_set(crate::sandbox::shared::schedule::Frame::Show),
             ),
@@ -172,7 +177,7 @@ fn drag_light(
     views: Query<&View, With<MainCamera>>,
     markers: Query<(&LightMarker, &Transform, &Visibility)>,
     volume: Res<VolumeState>,
-    mut render: ResMut<RenderState>,
+    mut render: RenderChanges,
     mut drag: ResMut<LightDrag>,
 ) {
     if !pointer.buttons.pressed(MouseButton::Left) {
@@ -212,7 +217,7 @@ fn drag_light(
         return;
     }
     let at = ray.origin + ray.dir * t;
-    let Some(current) = render.settings.phong.lights.get(index).map(|l| l.light) else {
+    let Some(current) = render.now.settings.phong.lights.get(index).map(|l| l.light) else {
         drag.plane = None; // the light was removed while held
         return;
     };
@@ -230,7 +235,7 @@ fn drag_light(
         Light::Headlight => return,
     };
     if current != light {
-        render.settings.phong.lights[index].light = light;
+        render.ask(Author::LightDrag, Change::Light(index, light));
     }
 }
 
@@ -271,6 +276,7 @@ fn draw_ring(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sandbox::shared::schedule::Frame;
 
     #[test]
     fn sphere_hits_in_front_and_misses_beside_or_behind() {
@@ -312,7 +318,15 @@ mod tests {
         .init_resource::<LightDrag>()
         .init_resource::<MouseHeld>()
         .init_resource::<ButtonInput<MouseButton>>()
-        .add_systems(Update, (drag_light, place_marker).chain());
+        .add_plugins(crate::sandbox::shared::render_change::plugin)
+        .add_systems(
+            Update,
+            (
+                drag_light.in_set(Frame::Grab),
+                place_marker.in_set(Frame::Show),
+            ),
+        );
+        crate::sandbox::shared::schedule::configure(&mut app);
         app.world_mut().spawn((MainCamera, View(camera)));
         for i in 0..MAX_LIGHTS {
             app.world_mut()

@@ -10,6 +10,7 @@ pub mod pacing;
 pub mod platform;
 pub mod pointer;
 pub mod quality;
+pub mod render_change;
 pub mod schedule;
 pub mod state;
 pub mod tasks;

@@ -6,8 +6,8 @@ use bevy::prelude::*;
 use bevy_egui::EguiPrimaryContextPass;
 
 /// The order of a frame's work (as bevy_new_2d orders its frame). In `Update`: who holds the
-/// mouse, the player's input, a volume replaced, the rules that react to what changed, what
-/// stands beside the main camera, the checks of the level's objective, the scripted players,
+/// mouse, the player's input, a volume replaced, the rules that react to what changed, the
+/// render settings' changes applied, what stands beside the main camera, the checks of the level's objective, the scripted players,
 /// then what is shown. In `PostUpdate`, once the engine has placed the cameras (their
 /// transforms propagated, their projections updated for this frame): the GPU's material
 /// synced, then the views that read it.
@@ -25,6 +25,9 @@ pub enum Frame {
     /// The sandbox's rules: the main camera's framing, levels' commands and presets, the
     /// virtual camera's inspection, the breakdown's selection, ray data.
     Rules,
+    /// The render state's changes asked for so far applied, by its one writer
+    /// (`render_change.rs`): what follows sees this frame's settings.
+    Settings,
     /// What stands beside the main camera once it is framed: the virtual camera.
     Follow,
     /// The level's objective, checked once the rules have settled this frame's state.
@@ -44,11 +47,12 @@ pub enum Frame {
 
 impl Frame {
     /// The sets of `Update`, in the order a frame runs them.
-    pub const UPDATE: [Frame; 8] = [
+    pub const UPDATE: [Frame; 9] = [
         Frame::Grab,
         Frame::Input,
         Frame::SwapVolume,
         Frame::Rules,
+        Frame::Settings,
         Frame::Follow,
         Frame::Check,
         Frame::Drive,
@@ -79,8 +83,8 @@ impl Paint {
 /// Orders the sets of all three schedules; every app of the sandbox (and the tests that build
 /// one) calls this once.
 pub fn configure(app: &mut App) {
-    let [a, b, c, d, e, f, g, h] = Frame::UPDATE;
-    app.configure_sets(Update, (a, b, c, d, e, f, g, h).chain());
+    let [a, b, c, d, e, f, g, h, i] = Frame::UPDATE;
+    app.configure_sets(Update, (a, b, c, d, e, f, g, h, i).chain());
     let [p, q, r] = Paint::ALL;
     app.configure_sets(EguiPrimaryContextPass, (p, q, r).chain());
     let [s, v] = Frame::POST_UPDATE;

@@ -18,8 +18,9 @@ pub struct VolumeState {
     pub preset: Option<Preset>,
 }
 
-/// How it is rendered: edited by the UI, read by the preview and the CPU render.
-#[derive(Resource, Clone, PartialEq)]
+/// How it is rendered: read by the preview and the CPU render; written only by
+/// `render_change.rs`, where every feature sends the changes it asks for.
+#[derive(Resource, Clone, PartialEq, Debug)]
 pub struct RenderState {
     pub transfer: TransferFunction,
     pub settings: RenderSettings,

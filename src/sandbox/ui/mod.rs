@@ -1,5 +1,6 @@
 //! The settings panel (egui). Every control's tooltip is its tunable's one documentation
-//! (`voxcast_core::tunables`). Controls edit [`RenderState`]; loading edits [`VolumeState`].
+//! (`voxcast_core::tunables`). Controls ask for changes of [`RenderState`]
+//! (`shared/render_change.rs`); loading edits [`VolumeState`].
 
 mod breakdown_panel;
 mod classify;
@@ -27,6 +28,7 @@ use crate::sandbox::data::loading::Loading;
 use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use crate::sandbox::levels;
 use crate::sandbox::shared::quality::PreviewSettings;
+use crate::sandbox::shared::render_change::{Author, Change, RenderChanges};
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;
@@ -155,16 +157,16 @@ pub(super) fn plugin(app: &mut App) {
 fn take_chosen_transfer(
     mut chosen: MessageReader<crate::sandbox::shared::files::FilesChosen>,
     mut panel: ResMut<PanelState>,
-    mut render: ResMut<crate::sandbox::shared::state::RenderState>,
+    mut render: RenderChanges,
 ) {
     for c in chosen.read() {
         if c.purpose != crate::sandbox::shared::files::Purpose::Transfer {
             continue;
         }
         if let Some((name, bytes)) = c.files.first() {
-            let mut tf = render.transfer.clone();
+            let mut tf = render.now.transfer.clone();
             if panel.editor.receive(name, bytes, &mut tf) {
-                render.transfer = tf;
+                render.ask(Author::TransferFile, Change::Transfer(tf));
             }
         }
     }

@@ -25,7 +25,7 @@ pub(super) fn settings_panel(
         Res<State<crate::sandbox::shared::mode::Mode>>,
     ),
     (mut render, mut step_trade, mut cut_handles): (
-        ResMut<RenderState>,
+        RenderChanges,
         ResMut<crate::sandbox::checks::trade::StepTrade>,
         ResMut<crate::sandbox::scene::cut::CutHandles>,
     ),
@@ -44,7 +44,7 @@ pub(super) fn settings_panel(
 ) -> Result {
     let (mut ray_choices, ray_scene, estimator, ray_report, mut range_fit) = rays;
     let ctx = contexts.ctx_mut()?;
-    let mut edited = render.clone();
+    let mut edited = render.now.clone();
     let mut load: Option<String> = None;
     let spot: Spot = lessons.spot;
     // A level that asks which effect a trace holds names traces by number only.
@@ -66,7 +66,7 @@ pub(super) fn settings_panel(
         panel: lessons.panel_in(*mode.get()),
     };
     let trade_current = step_trade
-        .current(main_views.single().ok(), &render, &volume)
+        .current(main_views.single().ok(), &render.now, &volume)
         .is_some();
     let voxel = volume.volume.spacing().min_element();
     let ctx = ctx.clone();
@@ -213,9 +213,7 @@ pub(super) fn settings_panel(
                     });
             });
     });
-    if edited != *render && edited.settings.validate().is_ok() {
-        *render = edited;
-    }
+    render.edited(Author::Panel, edited);
     if let Some(source) = load {
         loading.start_keeping_choices(source);
     }
