@@ -1,7 +1,8 @@
 //! Every level played to the end in the real window on lavapipe (`voxcast --play-levels`): the
 //! commands the Levels panel sends and, for each step, the change its control makes; window
 //! screenshots. Twice: with the volume drawn by the CPU live view (what a machine without a
-//! GPU gets) and by the GPU preview. Needs an X display: the test uses `$DISPLAY`, or
+//! GPU gets) and by the GPU preview. The play of an edited level also holds the window's
+//! schedules to `tests/data/ambiguities.txt` (Bevy's ambiguity detection). Needs an X display: the test uses `$DISPLAY`, or
 //! starts one with `xvfb-run`; without either (or without a Vulkan device) it is reported as
 //! ignored, unless `VOXCAST_REQUIRE_GPU=1` (as `.ci/run` sets it).
 
@@ -140,5 +141,49 @@ fn play_edited() -> Outcome {
     let progress = std::fs::read_to_string(dir.join("progress.json")).unwrap();
     let progress: voxcast_core::level::Progress = serde_json::from_str(&progress).unwrap();
     assert_eq!(progress.completed["my-bucky"], 2);
+    unordered_conflicts_are_explained(&dir);
     Ok(Completion::Completed)
+}
+
+/// The window's schedules as the play-through built them: every pair of the sandbox's systems
+/// with no order between them that touch the same data is explained in
+/// `tests/data/ambiguities.txt`, and every explanation there is of a pair still found.
+fn unordered_conflicts_are_explained(dir: &Path) {
+    let found = std::fs::read_to_string(dir.join("ambiguities.txt")).unwrap();
+    let found: std::collections::BTreeSet<&str> = found.lines().filter(|l| !l.is_empty()).collect();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/ambiguities.txt");
+    let explained = std::fs::read_to_string(&path).unwrap();
+    let mut known = std::collections::BTreeSet::new();
+    for line in explained
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.is_empty())
+    {
+        let (pair, why) = line
+            .split_once(" — ")
+            .unwrap_or_else(|| panic!("{}: no explanation: {line}", path.display()));
+        assert!(why.len() > 20, "{}: explain {pair}", path.display());
+        known.insert(pair);
+    }
+    let unexplained: Vec<_> = found.difference(&known).collect();
+    let gone: Vec<_> = known.difference(&found).collect();
+    assert!(
+        unexplained.is_empty(),
+        "unordered conflicts not explained in {}: order them (Frame sets) or explain why \
+         their order does not matter:\n{}",
+        path.display(),
+        unexplained
+            .iter()
+            .map(|l| l.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    assert!(
+        gone.is_empty(),
+        "explained in {} but no longer found (remove them):\n{}",
+        path.display(),
+        gone.iter()
+            .map(|l| l.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
 }

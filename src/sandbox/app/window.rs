@@ -110,7 +110,10 @@ pub(super) fn build_window(
         let all = levels::Lessons::new(levels::ProgressStore::Nowhere).with_added(added);
         let i = levels::level_named(&all.levels, level).map_err(CliError::usage)?;
         app.insert_resource(levels::StartStudy(Some(i)))
-            .add_systems(Update, levels::start_study);
+            .add_systems(
+                Update,
+                levels::start_study.in_set(crate::sandbox::shared::schedule::Frame::Drive),
+            );
     }
     if let Some(dir) = &args.play_levels {
         std::fs::create_dir_all(dir)
@@ -127,7 +130,10 @@ pub(super) fn build_window(
         // Draw every frame even without focus (a virtual display never gives it).
         app.insert_resource(bevy::winit::WinitSettings::continuous())
             .insert_resource(measure::KnobRequest(knob))
-            .add_systems(Update, measure::measure_knob);
+            .add_systems(
+                Update,
+                measure::measure_knob.in_set(crate::sandbox::shared::schedule::Frame::Drive),
+            );
     }
     if let Some(frames) = args.measure_frames {
         // Draw every frame even without focus (a virtual display never gives it).

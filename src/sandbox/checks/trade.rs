@@ -120,7 +120,12 @@ impl StepTrade {
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<StepTrade>()
         .add_message::<crate::sandbox::shared::pacing::KeepDrawing>()
-        .add_systems(Update, (start, finish, time_frames).chain());
+        .add_systems(
+            Update,
+            (start, finish, time_frames)
+                .chain()
+                .in_set(crate::sandbox::shared::schedule::Frame::Results),
+        );
 }
 
 fn start(

@@ -17,7 +17,7 @@ use voxcast_core::scene::Scene;
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<Estimator>()
         .init_resource::<RangeFit>()
-        .add_systems(Update, (estimate, fit_range).in_set(Frame::Rules));
+        .add_systems(Update, (estimate, fit_range).in_set(Frame::Results));
 }
 
 /// The memory a density would take, estimated before computing it (the rays are walked

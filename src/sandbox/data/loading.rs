@@ -215,6 +215,7 @@ pub(crate) fn plugin(app: &mut App) {
             Update,
             (
                 (load_dropped_files, load_chosen_files)
+                    .chain()
                     .in_set(crate::sandbox::shared::schedule::Frame::Input),
                 #[cfg(target_arch = "wasm32")]
                 load_handed_volumes.in_set(crate::sandbox::shared::schedule::Frame::Input),

@@ -13,7 +13,10 @@ use std::path::PathBuf;
 pub struct CompareRequest(pub PathBuf);
 
 pub(crate) fn plugin(app: &mut App) {
-    app.add_systems(Update, run_comparison);
+    app.add_systems(
+        Update,
+        run_comparison.in_set(crate::sandbox::shared::schedule::Frame::Drive),
+    );
 }
 
 fn run_comparison(

@@ -37,7 +37,10 @@ struct Stopped {
 const WARM_UP: u32 = 15;
 
 pub(crate) fn plugin(app: &mut App) {
-    app.add_systems(Update, measure_frames);
+    app.add_systems(
+        Update,
+        measure_frames.in_set(crate::sandbox::shared::schedule::Frame::Drive),
+    );
 }
 
 /// What the measurement has seen so far.

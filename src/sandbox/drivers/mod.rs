@@ -2,6 +2,7 @@
 //! preview, a comparison without a window, the frame time measured, every level played.
 //! Imports the layers below (`shared/` to `levels/`).
 
+pub mod ambiguities;
 pub mod compare_cli;
 pub mod frame_parts;
 pub mod measure;

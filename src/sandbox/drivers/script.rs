@@ -80,10 +80,25 @@ enum Phase {
 }
 
 pub(crate) fn plugin(app: &mut App) {
-    app.init_resource::<Run>().add_systems(
-        Update,
-        drive.in_set(crate::sandbox::shared::schedule::Frame::Drive),
-    );
+    app.init_resource::<Run>()
+        .add_systems(
+            Update,
+            drive.in_set(crate::sandbox::shared::schedule::Frame::Drive),
+        )
+        .add_systems(Last, write_ambiguities.run_if(run_once));
+}
+
+/// Writes the frame's unordered conflicts beside the report (`ambiguities.txt`), once the
+/// schedules have been built by their first run.
+fn write_ambiguities(world: &mut World) {
+    let Some(dir) = world.get_resource::<PlayLevels>().map(|p| p.0.clone()) else {
+        return;
+    };
+    let mut text = super::ambiguities::conflicts(world).join("\n");
+    text.push('\n');
+    if let Err(e) = std::fs::write(dir.join("ambiguities.txt"), text) {
+        eprintln!("ambiguities.txt: {e}");
+    }
 }
 
 impl Hands<'_, '_> {

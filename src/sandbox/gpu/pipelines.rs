@@ -29,7 +29,7 @@ impl Compiling {
 pub(crate) fn window_plugin(app: &mut App) {
     app.add_systems(
         bevy_egui::EguiPrimaryContextPass,
-        say_compiling.in_set(crate::sandbox::shared::schedule::Paint::Over),
+        say_compiling.in_set(crate::sandbox::shared::schedule::Paint::Notes),
     );
 }
 

@@ -27,7 +27,7 @@ pub struct BreakdownState {
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<BreakdownState>().add_systems(
         Update,
-        follow_selection.in_set(crate::sandbox::shared::schedule::Frame::Rules),
+        follow_selection.in_set(crate::sandbox::shared::schedule::Frame::Results),
     );
 }
 

@@ -177,7 +177,7 @@ pub(crate) fn plugin(app: &mut App) {
                 show_spheres,
             )
                 .chain()
-                .in_set(crate::sandbox::shared::schedule::Frame::Rules),
+                .in_set(crate::sandbox::shared::schedule::Frame::Trace),
         );
 }
 

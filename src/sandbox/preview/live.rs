@@ -231,7 +231,14 @@ fn frame_image(frame: &LiveFrame) -> Image {
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<LiveView>()
         .add_message::<crate::sandbox::shared::pacing::KeepDrawing>()
-        .add_systems(Update, (choose_backend, keep_drawing_until_exact))
+        .add_systems(
+            Update,
+            choose_backend.in_set(crate::sandbox::shared::schedule::Frame::Input),
+        )
+        .add_systems(
+            Update,
+            keep_drawing_until_exact.in_set(crate::sandbox::shared::schedule::Frame::Show),
+        )
         .add_systems(
             PostUpdate,
             drive_live_view.in_set(crate::sandbox::shared::schedule::Frame::Views),

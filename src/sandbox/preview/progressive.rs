@@ -207,7 +207,12 @@ impl Progressive {
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<Progressive>()
         .add_message::<crate::sandbox::shared::pacing::KeepDrawing>()
-        .add_systems(Update, keep_drawing_until_full_quality);
+        .add_systems(
+            Update,
+            keep_drawing_until_full_quality
+                .after(give_camera_its_work)
+                .in_set(crate::sandbox::shared::schedule::Frame::Show),
+        );
 }
 
 /// The resting view is drawn in strips, a few a frame: the window keeps drawing until the

@@ -18,7 +18,10 @@ use voxcast_core::transfer::TransferFunction;
 
 pub(crate) fn plugin(app: &mut App) {
     app.init_resource::<CellsUpload>()
-        .add_systems(Update, spawn_volume)
+        .add_systems(
+            Update,
+            spawn_volume.in_set(crate::sandbox::shared::schedule::Frame::Show),
+        )
         .add_systems(
             PostUpdate,
             (sync_volume_material, upload_visible_cells, upload_records)

@@ -112,10 +112,14 @@ pub fn scene_painter(
 }
 
 pub(crate) fn plugin(app: &mut App) {
-    app.init_resource::<OverlayLines>().add_systems(
-        bevy_egui::EguiPrimaryContextPass,
-        paint_overlay.in_set(crate::sandbox::shared::schedule::Paint::Over),
-    );
+    // The features draw their lines in any order: each only adds its own, and the order they
+    // are painted in is not seen (no two features' lines are meant to overlap).
+    app.init_resource::<OverlayLines>()
+        .allow_ambiguous_resource::<OverlayLines>()
+        .add_systems(
+            bevy_egui::EguiPrimaryContextPass,
+            paint_overlay.in_set(crate::sandbox::shared::schedule::Paint::Over),
+        );
 }
 
 /// Paints this frame's segments into the viewport, then forgets them.

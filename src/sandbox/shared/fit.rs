@@ -20,7 +20,7 @@ const PATIENCE: u32 = 120;
 
 /// Fits the window to the screen (only where no size was asked for).
 pub(crate) fn plugin(app: &mut App) {
-    app.add_systems(Update, fit_window);
+    app.add_systems(Update, fit_window.in_set(super::schedule::Frame::Input));
 }
 
 /// The logical size a window of `window` logical pixels should take on a monitor of

@@ -99,7 +99,7 @@ impl RenderChanges<'_> {
 
 pub fn plugin(app: &mut App) {
     app.add_message::<ChangeRender>()
-        // Many features send changes, in any order: the owner orders them by author.
+        // Many features ask for changes, in any order: they are ordered by author here.
         .allow_ambiguous_resource::<Messages<ChangeRender>>()
         .add_systems(Update, apply.in_set(Frame::Settings));
 }

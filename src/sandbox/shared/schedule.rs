@@ -7,7 +7,8 @@ use bevy_egui::EguiPrimaryContextPass;
 
 /// The order of a frame's work (as bevy_new_2d orders its frame). In `Update`: who holds the
 /// mouse, the player's input, a volume replaced, the rules that react to what changed, the
-/// render settings' changes applied, what stands beside the main camera, the checks of the level's objective, the scripted players,
+/// render settings' changes applied, what stands beside the main camera, the virtual camera's
+/// rays, what is worked out from it all, the checks of the level's objective, the scripted players,
 /// then what is shown. In `PostUpdate`, once the engine has placed the cameras (their
 /// transforms propagated, their projections updated for this frame): the GPU's material
 /// synced, then the views that read it.
@@ -30,6 +31,13 @@ pub enum Frame {
     Settings,
     /// What stands beside the main camera once it is framed: the virtual camera.
     Follow,
+    /// The virtual camera's rays traced (or collected from their task) and their samples
+    /// placed and shown.
+    Trace,
+    /// What is worked out from this frame's settled state, which the check reads: the step's
+    /// trade timed, the selected ray's breakdown, a density's memory estimate and its range
+    /// fitted to the view.
+    Results,
     /// The level's objective, checked once the rules have settled this frame's state.
     Check,
     /// Scripted players (the levels' play-through, measurements): they act on what the check
@@ -47,13 +55,15 @@ pub enum Frame {
 
 impl Frame {
     /// The sets of `Update`, in the order a frame runs them.
-    pub const UPDATE: [Frame; 9] = [
+    pub const UPDATE: [Frame; 11] = [
         Frame::Grab,
         Frame::Input,
         Frame::SwapVolume,
         Frame::Rules,
         Frame::Settings,
         Frame::Follow,
+        Frame::Trace,
+        Frame::Results,
         Frame::Check,
         Frame::Drive,
         Frame::Show,
@@ -70,23 +80,29 @@ pub enum Paint {
     Panels,
     /// The preview's image in the viewport.
     Preview,
-    /// Over the preview: overlay lines, the rays' overlay, the compiling note, the page's
-    /// status.
+    /// Over the preview: overlay lines and the rays' overlay.
     Over,
+    /// Over those: the compiling note, the page's status.
+    Notes,
 }
 
 impl Paint {
     /// Every set in the order the pass runs them.
-    pub const ALL: [Paint; 3] = [Paint::Panels, Paint::Preview, Paint::Over];
+    pub const ALL: [Paint; 4] = [Paint::Panels, Paint::Preview, Paint::Over, Paint::Notes];
 }
 
-/// Orders the sets of all three schedules; every app of the sandbox (and the tests that build
-/// one) calls this once.
+/// Orders the sets of all three schedules, and names the messages whose writers need no order
+/// between them (and `render_change.rs` its own); every app of the sandbox (and the tests that build one) calls this once.
 pub fn configure(app: &mut App) {
-    let [a, b, c, d, e, f, g, h, i] = Frame::UPDATE;
-    app.configure_sets(Update, (a, b, c, d, e, f, g, h, i).chain());
-    let [p, q, r] = Paint::ALL;
-    app.configure_sets(EguiPrimaryContextPass, (p, q, r).chain());
+    // Any feature may ask for frames; only whether one did counts.
+    app.allow_ambiguous_resource::<Messages<super::pacing::KeepDrawing>>();
+    // Files chosen are read by the feature each is for: one written after its reader ran this
+    // frame is read the next.
+    app.allow_ambiguous_resource::<Messages<super::files::FilesChosen>>();
+    let [a, b, c, d, e, f, g, h, i, j, k] = Frame::UPDATE;
+    app.configure_sets(Update, (a, b, c, d, e, f, g, h, i, j, k).chain());
+    let [p, q, r, n] = Paint::ALL;
+    app.configure_sets(EguiPrimaryContextPass, (p, q, r, n).chain());
     let [s, v] = Frame::POST_UPDATE;
     app.configure_sets(
         PostUpdate,

@@ -149,7 +149,7 @@ pub(super) fn plugin(app: &mut App) {
     #[cfg(target_arch = "wasm32")]
     app.add_systems(
         EguiPrimaryContextPass,
-        page::publish_status.in_set(crate::sandbox::shared::schedule::Paint::Over),
+        page::publish_status.in_set(crate::sandbox::shared::schedule::Paint::Notes),
     );
 }
 
