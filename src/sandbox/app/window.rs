@@ -1,21 +1,17 @@
-//! The window's app: the scene, its panels, the levels — each layer's plugins, in layer order
-//! where they have no other — and the drivers the command line asks for.
+//! The window's app: the scene, its panels, the levels — each layer folder's plugin, in layer
+//! order — and the drivers the command line asks for.
 
 use super::args::SandboxArgs;
 use super::engine::engine;
 use crate::cli::CliError;
-use crate::sandbox::checks::{compare, trade};
-use crate::sandbox::data::{choices, cpu_lines, estimate, loading, shortcuts, views};
+use crate::sandbox::data::choices;
 use crate::sandbox::drivers::{self, measure, script};
-use crate::sandbox::gpu::pipelines;
-use crate::sandbox::inspect::{self, blocks, breakdown, virtual_camera};
 use crate::sandbox::preview::camera::{InitialView, preview_camera, with_depth};
-use crate::sandbox::preview::{live, paint, progressive};
+use crate::sandbox::preview::{live, progressive};
 use crate::sandbox::scene::orbit::Orbit;
-use crate::sandbox::scene::{self, cut, lattice, light, overlay, sharp};
 use crate::sandbox::shared::state::RenderState;
 use crate::sandbox::shared::{fit, mode, platform, quality};
-use crate::sandbox::{levels, ui};
+use crate::sandbox::{checks, data, gpu, inspect, levels, preview, scene, ui};
 use bevy::diagnostic::FrameTimeDiagnosticsPlugin;
 use bevy::prelude::*;
 use bevy::window::WindowResolution;
@@ -71,31 +67,16 @@ pub(super) fn build_window(
             levels::Lessons::new(levels::ProgressStore::players())
                 .with_added(args.levels.as_deref().map(levels::added_from_path)),
         )
+        // Each layer's window features, in layer order (`tests/layers.rs`).
         .add_plugins((
-            (paint::plugin, pipelines::window_plugin),
-            ui::plugin,
+            gpu::plugin,
+            scene::plugin,
+            inspect::plugin,
+            data::plugin,
+            preview::plugin,
+            checks::plugin,
             levels::plugin,
-            breakdown::plugin,
-            scene::orbit::plugin,
-            compare::plugin,
-            (light::plugin, cut::plugin),
-            loading::plugin,
-            virtual_camera::plugin,
-            inspect::rays::plugin,
-            trade::plugin,
-            (lattice::plugin, blocks::plugin, inspect::cells::plugin),
-            live::plugin,
-            overlay::plugin,
-            (
-                progressive::plugin,
-                sharp::plugin,
-                choices::plugin,
-                estimate::plugin,
-                crate::sandbox::data::handed_rays::plugin,
-                views::plugin,
-                cpu_lines::plugin,
-                shortcuts::plugin,
-            ),
+            ui::plugin,
         ))
         .insert_resource(free_play)
         .insert_resource(free_play.0)

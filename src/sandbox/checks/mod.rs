@@ -5,3 +5,8 @@
 pub mod compare;
 pub mod frame_trade;
 pub mod trade;
+
+/// The window's part of this layer: Render image and the step's trade.
+pub(crate) fn plugin(app: &mut bevy::prelude::App) {
+    app.add_plugins((compare::plugin, trade::plugin));
+}

@@ -11,3 +11,17 @@ pub mod loading;
 pub mod shortcuts;
 pub mod source;
 pub mod views;
+
+/// The window's part of this layer: loading, the Ray data section's choices, estimates and
+/// handed files, the density's views and the keys that toggle them.
+pub(crate) fn plugin(app: &mut bevy::prelude::App) {
+    app.add_plugins((
+        loading::plugin,
+        choices::plugin,
+        estimate::plugin,
+        handed_rays::plugin,
+        views::plugin,
+        cpu_lines::plugin,
+        shortcuts::plugin,
+    ));
+}

@@ -5,3 +5,8 @@ pub mod material;
 pub mod pipelines;
 pub mod shaders;
 pub mod uniform;
+
+/// The window's part of this layer: the pipelines' compiling note.
+pub(crate) fn plugin(app: &mut bevy::prelude::App) {
+    app.add_plugins(pipelines::window_plugin);
+}

@@ -7,3 +7,15 @@ pub mod breakdown;
 pub mod cells;
 pub mod rays;
 pub mod virtual_camera;
+
+/// The window's part of this layer: the virtual camera, its rays, the skip blocks and cells
+/// drawn, the selected ray's breakdown.
+pub(crate) fn plugin(app: &mut bevy::prelude::App) {
+    app.add_plugins((
+        virtual_camera::plugin,
+        rays::plugin,
+        blocks::plugin,
+        cells::plugin,
+        breakdown::plugin,
+    ));
+}

@@ -8,3 +8,9 @@ pub mod paint;
 pub mod progressive;
 pub mod quality;
 pub mod sync;
+
+/// The window's part of this layer: the preview painted beneath the panels, the CPU live view,
+/// the strips at rest.
+pub(crate) fn plugin(app: &mut bevy::prelude::App) {
+    app.add_plugins((paint::plugin, live::plugin, progressive::plugin));
+}
