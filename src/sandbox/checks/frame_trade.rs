@@ -16,6 +16,7 @@ use crate::sandbox::preview::live::{LiveFrame, LiveView, render_exact};
 use crate::sandbox::preview::progressive::Progressive;
 use crate::sandbox::shared::quality::Backend;
 use crate::sandbox::shared::quality::{PreviewSettings, PreviewTarget, scaled_size};
+use crate::sandbox::shared::render_change::{Author, PreviewChanges};
 use crate::sandbox::shared::state::{MainCamera, View, VolumeState};
 use crate::sandbox::shared::viewport::Viewport;
 use bevy::prelude::*;
@@ -210,7 +211,7 @@ impl FrameRun {
 /// What the frame's world offers a measurement.
 #[derive(bevy::ecs::system::SystemParam)]
 pub struct Drawing<'w, 's> {
-    preview: Option<ResMut<'w, PreviewSettings>>,
+    preview: PreviewChanges<'w>,
     progressive: Option<ResMut<'w, Progressive>>,
     target: Option<Res<'w, PreviewTarget>>,
     live: Option<Res<'w, LiveView>>,
@@ -233,15 +234,20 @@ pub enum Ended {
 /// Drives `run` one frame on: `None` while it goes on, else how it ended (the player's preview
 /// setting is back in place either way).
 pub fn drive(run: &mut FrameRun, d: &mut Drawing) -> Option<Ended> {
+    // The preview's settings edited on a copy, sent as one change.
+    let mut preview = d.preview.now.as_deref().cloned();
     let ended = if run.cancelled {
         Some(Ended::Cancelled)
     } else {
-        advance(run, d)
+        advance(run, d, preview.as_mut())
     };
     if ended.is_some()
-        && let Some(preview) = d.preview.as_deref_mut()
+        && let Some(preview) = preview.as_mut()
     {
         run.restore(preview, d.progressive.as_deref_mut());
+    }
+    if let Some(preview) = preview {
+        d.preview.edited(Author::Trade, preview);
     }
     ended
 }
@@ -251,8 +257,12 @@ fn stopped(why: &str) -> Option<Ended> {
 }
 
 /// [`drive`] but for putting the player's setting back.
-fn advance(run: &mut FrameRun, d: &mut Drawing) -> Option<Ended> {
-    let Some(preview) = d.preview.as_deref_mut() else {
+fn advance(
+    run: &mut FrameRun,
+    d: &mut Drawing,
+    preview: Option<&mut PreviewSettings>,
+) -> Option<Ended> {
+    let Some(preview) = preview else {
         return stopped("this window has no preview");
     };
     let view = d.views.single().ok().map(|v| v.0);

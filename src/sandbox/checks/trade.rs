@@ -274,7 +274,8 @@ mod tests {
         let mut app = App::new();
         app.insert_resource(volume)
             .insert_resource(render)
-            .add_plugins(plugin);
+            .add_plugins((plugin, crate::sandbox::shared::render_change::plugin));
+        crate::sandbox::shared::schedule::configure(&mut app);
         app.world_mut().spawn((MainCamera, view));
         app.world_mut().resource_mut::<StepTrade>().request();
         for _ in 0..2000 {

@@ -16,7 +16,7 @@ use crate::sandbox::inspect::rays::{Inspection, RayAnimation, RaySelection};
 use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use crate::sandbox::levels::{Lessons, LevelCommand};
 use crate::sandbox::shared::mode::Mode;
-use crate::sandbox::shared::render_change::{Author, RenderChanges};
+use crate::sandbox::shared::render_change::{Author, PreviewChanges, RenderChanges};
 use crate::sandbox::shared::state::{RenderState, VolumeState};
 use bevy::prelude::*;
 use bevy::render::view::screenshot::{Screenshot, save_to_disk};
@@ -104,7 +104,7 @@ fn write_ambiguities(world: &mut World) {
 impl Hands<'_, '_> {
     /// Whether the CPU live view draws the volume.
     fn live_view_on(&self) -> bool {
-        self.preview.as_ref().is_some_and(|p| p.cpu_live())
+        self.preview.now.as_ref().is_some_and(|p| p.cpu_live())
     }
 
     /// Whether the volume is on screen at full quality: the CPU live view's exact render, or
@@ -135,7 +135,7 @@ struct Hands<'w, 's> {
     cameras: Query<'w, 's, &'static mut VirtualCamera>,
     inspection: Res<'w, Inspection>,
     live: Option<Res<'w, crate::sandbox::preview::live::LiveView>>,
-    preview: Option<ResMut<'w, crate::sandbox::shared::quality::PreviewSettings>>,
+    preview: PreviewChanges<'w>,
     inspect: ResMut<'w, crate::sandbox::inspect::rays::InspectSettings>,
     progressive: Option<Res<'w, crate::sandbox::preview::progressive::Progressive>>,
     motion: Option<Res<'w, crate::sandbox::shared::quality::Motion>>,
@@ -334,8 +334,11 @@ fn drive(
                 send.write(LevelCommand::FreePlay);
                 return;
             }
-            // The hands edit a copy of the settings, sent as one change.
-            let mut edited = hands.render.now.clone();
+            // The hands edit copies of the settings, each sent as one change.
+            let mut edited = Edits {
+                render: hands.render.now.clone(),
+                preview: hands.preview.now.as_deref().cloned(),
+            };
             act(
                 run.level,
                 &step.objective,
@@ -343,9 +346,19 @@ fn drive(
                 &mut edited,
                 &mut lessons,
             );
-            hands.render.edited(Author::Script, edited);
+            hands.render.edited(Author::Script, edited.render);
+            if let Some(p) = edited.preview {
+                hands.preview.edited(Author::Script, p);
+            }
         }
     }
+}
+
+/// What the hands edit in a frame: copies of the render state and the preview's settings
+/// (none without a preview), each sent as one change.
+struct Edits {
+    render: RenderState,
+    preview: Option<crate::sandbox::shared::quality::PreviewSettings>,
 }
 
 /// Does what the objective asks of level `level`'s current step, through the state the step's
@@ -354,17 +367,17 @@ fn act(
     level: usize,
     objective: &Objective,
     hands: &mut Hands,
-    render: &mut RenderState,
+    edits: &mut Edits,
     lessons: &mut Lessons,
 ) {
-    let s = &mut render.settings;
+    let s = &mut edits.render.settings;
     let (lo, hi) = hands.volume.volume.bounds();
     let centre = (lo + hi) * 0.5;
     match objective {
         Objective::Read => {}
         Objective::All { of } => {
             for o in of {
-                act(level, o, hands, render, lessons);
+                act(level, o, hands, edits, lessons);
             }
         }
         Objective::StepMoved => {
@@ -528,15 +541,15 @@ fn act(
             };
         }
         Objective::TfAlphaAtMost { value, alpha } => {
-            if let Ok((t, _)) = render.transfer.with_point_added(*value, *alpha) {
-                render.transfer = t;
+            if let Ok((t, _)) = edits.render.transfer.with_point_added(*value, *alpha) {
+                edits.render.transfer = t;
             }
         }
         Objective::TfBinary { threshold, within } => {
             // The editor's points dragged to a step: none below, full above, in the colour the
             // function gives the threshold.
             let (lo, hi) = hands.volume.volume.value_range();
-            let c = render.transfer.evaluate(*threshold);
+            let c = edits.render.transfer.evaluate(*threshold);
             let colour = [c.x, c.y, c.z];
             let points = vec![
                 ControlPoint::new(lo.min(threshold - within), colour, 0.0),
@@ -545,7 +558,7 @@ fn act(
                 ControlPoint::new(hi.max(threshold + within), colour, 1.0),
             ];
             if let Ok(t) = TransferFunction::new("binary", points) {
-                render.transfer = t;
+                edits.render.transfer = t;
             }
         }
         Objective::TfColorNear {
@@ -554,10 +567,10 @@ fn act(
             alpha,
             ..
         } => {
-            if let Ok((t, i)) = render.transfer.with_point_added(*value, *alpha)
+            if let Ok((t, i)) = edits.render.transfer.with_point_added(*value, *alpha)
                 && let Ok(t) = t.with_point_color(i, *color)
             {
-                render.transfer = t;
+                edits.render.transfer = t;
             }
         }
         Objective::Compared { .. } => {
@@ -695,18 +708,18 @@ fn act(
             }
         }
         Objective::PreviewScaleAtMost { scale } | Objective::PreviewScaleAtLeast { scale } => {
-            if let Some(p) = hands.preview.as_mut() {
+            if let Some(p) = edits.preview.as_mut() {
                 p.enabled = true;
                 p.scale = *scale;
             }
         }
         Objective::Preview { on } => {
-            if let Some(p) = hands.preview.as_mut() {
+            if let Some(p) = edits.preview.as_mut() {
                 p.enabled = *on;
             }
         }
         Objective::PreviewCostView { view } => {
-            if let Some(p) = hands.preview.as_mut() {
+            if let Some(p) = edits.preview.as_mut() {
                 p.cost_view = voxcast_core::cost::CostView::parse(view);
             }
         }
@@ -720,7 +733,7 @@ fn act(
             "mesh" => hands.ray_choices.view.mesh = *on,
             "field" => hands.ray_choices.view.field = *on,
             _ => {
-                if let Some(p) = hands.preview.as_mut() {
+                if let Some(p) = edits.preview.as_mut() {
                     p.enabled = *on;
                 }
             }

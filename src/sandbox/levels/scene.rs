@@ -5,7 +5,7 @@
 
 use super::*;
 use crate::sandbox::scene::orbit::Orbit;
-use crate::sandbox::shared::render_change::{Author, RenderChanges};
+use crate::sandbox::shared::render_change::{Author, PreviewChanges, RenderChanges};
 use voxcast_core::level::{StepScene, TransferChoice};
 
 /// A level's or a step's scene waiting to be put on screen.
@@ -45,7 +45,27 @@ pub(super) fn set_up_scene(
     mut lessons: ResMut<Lessons>,
     stage: Res<Stage>,
     volume: Res<VolumeState>,
-    (mut loading, mut preview): (ResMut<Loading>, ResMut<PreviewSettings>),
+    (mut loading, mut preview): (ResMut<Loading>, PreviewChanges),
+    (ray_choices, inspect): (
+        Option<ResMut<crate::sandbox::data::choices::RayChoices>>,
+        Option<ResMut<crate::sandbox::inspect::rays::InspectSettings>>,
+    ),
+) {
+    // The level's preview on a copy of the settings, sent as one change.
+    let Some(mut next) = preview.now.as_deref().cloned() else {
+        return;
+    };
+    set_up(
+        (&mode, &mut lessons, &stage, &volume),
+        (&mut loading, &mut next),
+        (ray_choices, inspect),
+    );
+    preview.edited(Author::Level, next);
+}
+
+fn set_up(
+    (mode, lessons, stage, volume): (&Res<State<Mode>>, &mut Lessons, &Stage, &VolumeState),
+    (loading, preview): (&mut Loading, &mut PreviewSettings),
     (ray_choices, inspect): (
         Option<ResMut<crate::sandbox::data::choices::RayChoices>>,
         Option<ResMut<crate::sandbox::inspect::rays::InspectSettings>>,

@@ -18,6 +18,7 @@
 
 use crate::sandbox::shared::layers::Occluder;
 use crate::sandbox::shared::quality::{Backend, PreviewSettings, scaled_size};
+use crate::sandbox::shared::render_change::{Author, PreviewChange, PreviewChanges};
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use crate::sandbox::shared::tasks::in_slices;
 use crate::sandbox::shared::viewport::Viewport;
@@ -294,9 +295,12 @@ pub fn render_error_handler() -> bevy::render::error_handler::RenderErrorHandler
 fn choose_backend(
     adapter: Option<Res<bevy::render::renderer::RenderAdapterInfo>>,
     failed: Option<Res<GpuFailed>>,
-    mut settings: ResMut<PreviewSettings>,
+    mut preview: PreviewChanges,
     mut done: Local<bool>,
 ) {
+    let Some(settings) = preview.now.as_deref().cloned() else {
+        return;
+    };
     if let Some(failed) = failed
         && settings.backend == Backend::Gpu
     {
@@ -304,7 +308,7 @@ fn choose_backend(
             "the GPU cannot run the preview ({}): the CPU draws it",
             failed.0
         );
-        settings.backend = Backend::Cpu;
+        preview.ask(Author::Adapter, PreviewChange::Backend(Backend::Cpu));
         #[cfg(target_arch = "wasm32")]
         crate::sandbox::shared::web::set_notice(&format!(
             "This browser's graphics could not run the GPU preview ({}): Voxcast's CPU core \
@@ -333,7 +337,7 @@ fn choose_backend(
             },
             adapter.name
         );
-        settings.backend = backend;
+        preview.ask(Author::Adapter, PreviewChange::Backend(backend));
         #[cfg(target_arch = "wasm32")]
         if backend == Backend::Cpu {
             crate::sandbox::shared::web::set_notice(

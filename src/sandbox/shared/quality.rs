@@ -43,7 +43,7 @@ impl Backend {
 }
 
 /// How the preview trades quality for speed (each documented in `voxcast_core::tunables`).
-#[derive(Resource, Clone, PartialEq)]
+#[derive(Resource, Clone, PartialEq, Debug)]
 pub struct PreviewSettings {
     pub enabled: bool,
     /// Who draws the volume: the GPU preview or the CPU live view.

@@ -1,10 +1,13 @@
-//! The one writer of [`RenderState`]: every feature that changes how the volume is rendered
-//! (the panels, the scene's drags, a load, a level, the ray data, the scripted players) sends a
-//! [`ChangeRender`] message, and [`apply`] makes the changes at one point of the frame,
-//! [`Frame::Settings`] (after the rules, before the objective is checked), in the order of
-//! [`Author`]. So this file says what can change a setting, and in which order; a change that
-//! would make the settings invalid is refused here, the settings kept.
+//! The one writer of how the volume is rendered: the render state ([`RenderState`]) and the
+//! preview's settings ([`PreviewSettings`]). Every feature that changes them (the panels, the
+//! scene's drags, a load, a level, the ray data, the step's trade, the adapter's backend, the
+//! scripted players) sends a [`ChangeRender`] or [`ChangePreview`] message, and [`apply`] and
+//! [`apply_preview`] make the changes at one point of the frame, [`Frame::Settings`] (after the
+//! rules, before the objective is checked), in the order of [`Author`]. So this file says what
+//! can change a setting, and in which order; a change that would make the render settings
+//! invalid is refused here, the settings kept.
 
+use super::quality::{Backend, PreviewSettings};
 use super::schedule::Frame;
 use super::state::RenderState;
 use bevy::prelude::*;
@@ -35,8 +38,12 @@ pub enum Author {
     Loading,
     /// A level's scene, over the volume's defaults.
     Level,
+    /// The step's trade, timing the preview's own images (and putting the player's back).
+    Trade,
     /// The range a ray density's sum is shown over, fitted to the view once computed.
     RangeFit,
+    /// The CPU live view chosen where the GPU is a software renderer or cannot run the preview.
+    Adapter,
 }
 
 /// What changes.
@@ -97,11 +104,72 @@ impl RenderChanges<'_> {
     }
 }
 
+/// What changes in the preview's settings.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PreviewChange {
+    /// Everything, as an author edited a copy.
+    Whole(Box<PreviewSettings>),
+    /// Who draws the volume.
+    Backend(Backend),
+}
+
+/// A change asked of the preview settings' owner.
+#[derive(Message, Clone, Debug, PartialEq)]
+pub struct ChangePreview {
+    pub by: Author,
+    pub change: PreviewChange,
+}
+
+/// The preview's settings as they are now (none in a window-less app), and the way to ask for
+/// a change of them.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct PreviewChanges<'w> {
+    pub now: Option<Res<'w, PreviewSettings>>,
+    asked: MessageWriter<'w, ChangePreview>,
+}
+
+impl PreviewChanges<'_> {
+    /// Asks for `change`.
+    pub fn ask(&mut self, by: Author, change: PreviewChange) {
+        self.asked.write(ChangePreview { by, change });
+    }
+
+    /// Asks for `edited`, a copy of the settings as `by` edited it, where it differs from now.
+    pub fn edited(&mut self, by: Author, edited: PreviewSettings) {
+        if self.now.as_deref() != Some(&edited) {
+            self.ask(by, PreviewChange::Whole(Box::new(edited)));
+        }
+    }
+}
+
 pub fn plugin(app: &mut App) {
     app.add_message::<ChangeRender>()
+        .add_message::<ChangePreview>()
         // Many features ask for changes, in any order: they are ordered by author here.
         .allow_ambiguous_resource::<Messages<ChangeRender>>()
-        .add_systems(Update, apply.in_set(Frame::Settings));
+        .allow_ambiguous_resource::<Messages<ChangePreview>>()
+        .add_systems(Update, (apply, apply_preview).in_set(Frame::Settings));
+}
+
+/// Makes the preview's changes asked since the last `Settings` point, in the order of their
+/// authors.
+fn apply_preview(
+    mut changes: MessageReader<ChangePreview>,
+    preview: Option<ResMut<PreviewSettings>>,
+) {
+    let mut asked: Vec<&ChangePreview> = changes.read().collect();
+    let Some(mut preview) = preview else { return };
+    asked.sort_by_key(|c| c.by);
+    let mut next = preview.clone();
+    for c in asked {
+        match &c.change {
+            PreviewChange::Whole(p) => next = (**p).clone(),
+            PreviewChange::Backend(b) => next.backend = *b,
+        }
+    }
+    if next != *preview {
+        *preview = next;
+    }
 }
 
 /// Makes this frame's changes (and those sent since the last `Settings` point: the panels'
@@ -184,6 +252,29 @@ mod tests {
         let s = &app.world().resource::<RenderState>().settings;
         assert_eq!(s.method, Method::Maximum, "the level's over the panel's");
         assert_eq!(s.sum_range, Some((2.0, 3.0)), "the fit over the level's");
+    }
+
+    #[test]
+    fn the_adapters_backend_stands_over_a_levels_whole_preview() {
+        let mut app = app();
+        app.init_resource::<PreviewSettings>();
+        let level = PreviewSettings {
+            enabled: false,
+            scale: 0.5,
+            ..Default::default()
+        };
+        let world = app.world_mut();
+        world.write_message(ChangePreview {
+            by: Author::Adapter,
+            change: PreviewChange::Backend(Backend::Cpu),
+        });
+        world.write_message(ChangePreview {
+            by: Author::Level,
+            change: PreviewChange::Whole(Box::new(level)),
+        });
+        app.update();
+        let p = app.world().resource::<PreviewSettings>();
+        assert_eq!((p.enabled, p.scale, p.backend), (false, 0.5, Backend::Cpu));
     }
 
     #[test]

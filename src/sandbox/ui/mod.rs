@@ -28,7 +28,7 @@ use crate::sandbox::data::loading::Loading;
 use crate::sandbox::inspect::virtual_camera::VirtualCamera;
 use crate::sandbox::levels;
 use crate::sandbox::shared::quality::PreviewSettings;
-use crate::sandbox::shared::render_change::{Author, Change, RenderChanges};
+use crate::sandbox::shared::render_change::{Author, Change, PreviewChanges, RenderChanges};
 use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
 use bevy::diagnostic::{DiagnosticsStore, FrameTimeDiagnosticsPlugin};
 use bevy::prelude::*;

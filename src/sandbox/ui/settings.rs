@@ -29,9 +29,9 @@ pub(super) fn settings_panel(
         ResMut<crate::sandbox::checks::trade::StepTrade>,
         ResMut<crate::sandbox::scene::cut::CutHandles>,
     ),
-    (diagnostics, mut preview, live, rays): (
+    (diagnostics, mut previewing, live, rays): (
         Res<DiagnosticsStore>,
-        ResMut<PreviewSettings>,
+        PreviewChanges,
         Option<Res<crate::sandbox::preview::live::LiveView>>,
         RayParams,
     ),
@@ -45,6 +45,7 @@ pub(super) fn settings_panel(
     let (mut ray_choices, ray_scene, estimator, ray_report, mut range_fit) = rays;
     let ctx = contexts.ctx_mut()?;
     let mut edited = render.now.clone();
+    let mut preview = previewing.now.as_deref().cloned().unwrap_or_default();
     let mut load: Option<String> = None;
     let spot: Spot = lessons.spot;
     // A level that asks which effect a trace holds names traces by number only.
@@ -214,6 +215,7 @@ pub(super) fn settings_panel(
             });
     });
     render.edited(Author::Panel, edited);
+    previewing.edited(Author::Panel, preview);
     if let Some(source) = load {
         loading.start_keeping_choices(source);
     }

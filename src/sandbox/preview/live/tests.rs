@@ -17,7 +17,8 @@ fn app() -> App {
             ..default()
         })
         .init_resource::<Assets<StandardMaterial>>()
-        .add_plugins(plugin);
+        .add_plugins((plugin, crate::sandbox::shared::render_change::plugin));
+    crate::sandbox::shared::schedule::configure(&mut app);
     app.world_mut().spawn((MainCamera, View(view)));
     crate::sandbox::shared::viewport::spawn_test_window(app.world_mut(), 64, 48);
     app
@@ -229,7 +230,12 @@ fn a_gpu_that_cannot_run_the_preview_hands_it_to_the_cpu() {
         backend_chosen: true,
         ..default()
     })
-    .add_systems(Update, choose_backend);
+    .add_plugins(crate::sandbox::shared::render_change::plugin)
+    .add_systems(
+        Update,
+        choose_backend.in_set(crate::sandbox::shared::schedule::Frame::Input),
+    );
+    crate::sandbox::shared::schedule::configure(&mut app);
     app.update();
     assert_eq!(
         app.world().resource::<PreviewSettings>().backend,
