@@ -363,6 +363,8 @@ struct Edits {
 
 /// Does what the objective asks of level `level`'s current step, through the state the step's
 /// control edits. Called every frame until the objective is met (each action is idempotent).
+/// Each kind of action has its function below; this match names every objective, so a new
+/// one does not compile until it is given to one.
 fn act(
     level: usize,
     objective: &Objective,
@@ -370,9 +372,6 @@ fn act(
     edits: &mut Edits,
     lessons: &mut Lessons,
 ) {
-    let s = &mut edits.render.settings;
-    let (lo, hi) = hands.volume.volume.bounds();
-    let centre = (lo + hi) * 0.5;
     match objective {
         Objective::Read => {}
         Objective::All { of } => {
@@ -380,6 +379,81 @@ fn act(
                 act(level, o, hands, edits, lessons);
             }
         }
+        Objective::StepMoved
+        | Objective::StepAtMost { .. }
+        | Objective::StepAtLeast { .. }
+        | Objective::Jitter { .. }
+        | Objective::SupersamplingAtLeast { .. }
+        | Objective::Skipping { .. }
+        | Objective::Interpolation { .. }
+        | Objective::Method { .. }
+        | Objective::EarlyTermination { .. }
+        | Objective::OpacityCorrection { .. }
+        | Objective::Shading { .. }
+        | Objective::BackToFront { .. } => {
+            sampling(objective, &mut edits.render.settings, hands, lessons)
+        }
+        Objective::TargetBetween { .. }
+        | Objective::Classification { .. }
+        | Objective::RegionAround { .. }
+        | Objective::ClipPlane { .. }
+        | Objective::ClipPositionBetween { .. }
+        | Objective::CropAtMost { .. } => {
+            classification_and_cut(objective, &mut edits.render.settings, hands)
+        }
+        Objective::LightMovedAway
+        | Objective::WarmAndCoolLights
+        | Objective::LightInsideVolume
+        | Objective::LightKind { .. }
+        | Objective::Attenuated
+        | Objective::LightsAtLeast { .. }
+        | Objective::DistinctLightColours { .. } => {
+            lights(objective, &mut edits.render.settings, hands, lessons)
+        }
+        Objective::Specular { .. }
+        | Objective::FullModel
+        | Objective::DepthCue { .. }
+        | Objective::LevoyHighlight { .. } => {
+            shading_model(objective, &mut edits.render.settings, hands)
+        }
+        Objective::TfAlphaAtMost { .. }
+        | Objective::TfBinary { .. }
+        | Objective::TfColorNear { .. } => transfer(objective, &mut edits.render.transfer, hands),
+        Objective::PreviewScaleAtMost { .. }
+        | Objective::PreviewScaleAtLeast { .. }
+        | Objective::Preview { .. }
+        | Objective::PreviewCostView { .. } => preview(objective, edits.preview.as_mut()),
+        Objective::SelectRay
+        | Objective::SelectCutRay
+        | Objective::VirtualPixelsAtLeast { .. }
+        | Objective::OpenHighestSample
+        | Objective::OpenLitSample { .. }
+        | Objective::SkipBlocks { .. } => rays_and_samples(objective, hands, lessons),
+        Objective::CostViewed { .. }
+        | Objective::Compared { .. }
+        | Objective::TradeMeasured
+        | Objective::KnobMeasured { .. }
+        | Objective::RayDensity { .. }
+        | Objective::RayView { .. } => windows_and_data(objective, hands, edits.preview.as_mut()),
+        Objective::PredictValue { .. }
+        | Objective::PredictComposite { .. }
+        | Objective::PredictSamples
+        | Objective::PredictCells
+        | Objective::PredictFixedCountStep { .. }
+        | Objective::NameEffect { .. }
+        | Objective::StudyQuestion { .. } => answers(level, objective, hands, lessons),
+    }
+}
+
+/// How the rays sample and composite: the step, jitter, rays per pixel, skipping, interpolation,
+/// method, early termination, opacity correction, shading on or off, the order.
+fn sampling(
+    objective: &Objective,
+    s: &mut voxcast_core::settings::RenderSettings,
+    hands: &Hands,
+    lessons: &Lessons,
+) {
+    match objective {
         Objective::StepMoved => {
             // The slider moved to twice the step the step opened with.
             if let Some(open) = lessons.opened() {
@@ -390,100 +464,12 @@ fn act(
                 }
             }
         }
-        Objective::LightMovedAway => {
-            // The first light that stands somewhere, dragged outwards from the centre to a
-            // tenth of the box's diagonal farther than it stood when the step opened.
-            let open = lessons
-                .opened()
-                .map(|o| o.light_distances.clone())
-                .unwrap_or_default();
-            let diagonal = (hi - lo).length();
-            for (l, then) in s.phong.lights.iter_mut().zip(open) {
-                let (Some(p), Some(then)) = (l.light.position(), then) else {
-                    continue;
-                };
-                let out = (p - centre).try_normalize().unwrap_or(Vec3::X);
-                let to = centre + out * (then + 0.1) * diagonal;
-                if p.distance(centre) < to.distance(centre) {
-                    l.light = match l.light {
-                        Light::Spot(spot) => Light::Spot(voxcast_core::shade::Spot {
-                            position: to,
-                            ..spot
-                        }),
-                        _ => Light::Point(to),
-                    };
-                }
-                break;
-            }
-        }
-        Objective::WarmAndCoolLights => {
-            while s.phong.lights.len() < 2 && s.phong.add_light() {}
-            for (l, c) in s.phong.lights.iter_mut().zip(PALETTE) {
-                l.color = c;
-            }
-        }
-        Objective::Specular { model } => {
-            if let Some(m) = voxcast_core::shade::SpecularModel::ALL
-                .into_iter()
-                .find(|m| m.name() == model)
-            {
-                s.phong.model = m;
-            }
-        }
-        Objective::SelectRay => select_centre(hands, lessons),
-        Objective::VirtualPixelsAtLeast { pixels } => {
-            for mut vc in &mut hands.cameras {
-                (vc.width, vc.height) = (*pixels, *pixels);
-            }
-        }
         Objective::StepAtMost { voxels } | Objective::StepAtLeast { voxels } => {
             s.step = Length::Voxels(*voxels)
         }
         Objective::Jitter { on } => s.jitter = *on,
         Objective::SupersamplingAtLeast { rays } => s.supersampling = *rays,
-        Objective::ClipPlane { on } => {
-            if s.clip.plane.is_some() != *on {
-                // "Face the camera" for the virtual camera: its rays cross the plane.
-                let normal = hands
-                    .cameras
-                    .iter()
-                    .next()
-                    .map_or(Vec3::X, |vc| -vc.view.forward());
-                s.clip.plane = on.then_some(voxcast_core::clip::ClipPlane {
-                    normal,
-                    position: 0.0,
-                });
-            }
-        }
-        Objective::ClipPositionBetween { lo, hi } => {
-            let normal = s.clip.plane.map_or(Vec3::X, |p| p.normal);
-            s.clip.plane = Some(voxcast_core::clip::ClipPlane {
-                normal,
-                position: 0.5 * (lo + hi),
-            });
-        }
-        Objective::CropAtMost { fraction } => {
-            s.clip.crop_hi.x = (s.clip.crop_lo.x + fraction).min(1.0);
-        }
-        Objective::SelectCutRay => select_centre(hands, lessons),
         Objective::Skipping { on } => s.skipping = *on,
-        Objective::CostViewed { view } => {
-            // Render image pressed (again, if the settings changed), then the view chosen.
-            hands
-                .show_render_image
-                .write(crate::sandbox::checks::compare::ShowRenderImage(true));
-            let current = hands.comparison.result.as_ref().is_some_and(|r| {
-                r.snapshot.is_current(
-                    hands.main_view.single().ok(),
-                    &hands.render.now,
-                    &hands.volume,
-                )
-            });
-            if !current && !hands.comparison.busy() {
-                hands.comparison.start();
-            }
-            hands.comparison.cost_view = voxcast_core::cost::CostView::parse(view);
-        }
         Objective::Interpolation { trilinear } => {
             s.interpolation = if *trilinear {
                 voxcast_core::sample::Interpolation::Trilinear
@@ -492,22 +478,28 @@ fn act(
             }
         }
         Objective::Method { method } => s.method = *method,
-        Objective::OpenHighestSample => {
-            // Click a ray, then the row of its highest value.
-            let highest = hands.breakdown.trace.as_ref().and_then(|t| {
-                (0..t.samples.len()).max_by(|&a, &b| {
-                    let v = |i: usize| t.samples[i].reconstruction.value;
-                    v(a).total_cmp(&v(b))
-                })
-            });
-            match highest {
-                Some(i) => hands.breakdown.opened = Some(i),
-                None => select_centre(hands, lessons),
-            }
-        }
         Objective::EarlyTermination { on } => s.early_termination = *on,
         Objective::OpacityCorrection { on } => s.opacity_correction = *on,
         Objective::Shading { on } => s.shading = *on,
+        Objective::BackToFront { on } => {
+            s.order = if *on {
+                voxcast_core::composite::Order::BackToFront
+            } else {
+                voxcast_core::composite::Order::FrontToBack
+            }
+        }
+        _ => {}
+    }
+}
+
+/// What is classified and what is cut away: the target, the classification, a region, the
+/// clip plane and the crop box.
+fn classification_and_cut(
+    objective: &Objective,
+    s: &mut voxcast_core::settings::RenderSettings,
+    hands: &Hands,
+) {
+    match objective {
         Objective::TargetBetween { lo, hi } => s.target = Some(0.5 * (lo + hi)),
         Objective::Classification { mode } => {
             s.classification = match mode.as_str() {
@@ -540,16 +532,165 @@ fn act(
                 }],
             };
         }
+        Objective::ClipPlane { on } if s.clip.plane.is_some() != *on => {
+            // "Face the camera" for the virtual camera: its rays cross the plane.
+            let normal = hands
+                .cameras
+                .iter()
+                .next()
+                .map_or(Vec3::X, |vc| -vc.view.forward());
+            s.clip.plane = on.then_some(voxcast_core::clip::ClipPlane {
+                normal,
+                position: 0.0,
+            });
+        }
+        Objective::ClipPositionBetween { lo, hi } => {
+            let normal = s.clip.plane.map_or(Vec3::X, |p| p.normal);
+            s.clip.plane = Some(voxcast_core::clip::ClipPlane {
+                normal,
+                position: 0.5 * (lo + hi),
+            });
+        }
+        Objective::CropAtMost { fraction } => {
+            s.clip.crop_hi.x = (s.clip.crop_lo.x + fraction).min(1.0);
+        }
+        _ => {}
+    }
+}
+
+/// The lights: moved, placed, of a kind, attenuated, added, coloured.
+fn lights(
+    objective: &Objective,
+    s: &mut voxcast_core::settings::RenderSettings,
+    hands: &Hands,
+    lessons: &Lessons,
+) {
+    let (lo, hi) = hands.volume.volume.bounds();
+    let centre = (lo + hi) * 0.5;
+    match objective {
+        Objective::LightMovedAway => {
+            // The first light that stands somewhere, dragged outwards from the centre to a
+            // tenth of the box's diagonal farther than it stood when the step opened.
+            let open = lessons
+                .opened()
+                .map(|o| o.light_distances.clone())
+                .unwrap_or_default();
+            let diagonal = (hi - lo).length();
+            for (l, then) in s.phong.lights.iter_mut().zip(open) {
+                let (Some(p), Some(then)) = (l.light.position(), then) else {
+                    continue;
+                };
+                let out = (p - centre).try_normalize().unwrap_or(Vec3::X);
+                let to = centre + out * (then + 0.1) * diagonal;
+                if p.distance(centre) < to.distance(centre) {
+                    l.light = match l.light {
+                        Light::Spot(spot) => Light::Spot(voxcast_core::shade::Spot {
+                            position: to,
+                            ..spot
+                        }),
+                        _ => Light::Point(to),
+                    };
+                }
+                break;
+            }
+        }
+        Objective::WarmAndCoolLights => {
+            while s.phong.lights.len() < 2 && s.phong.add_light() {}
+            for (l, c) in s.phong.lights.iter_mut().zip(PALETTE) {
+                l.color = c;
+            }
+        }
+        Objective::LightInsideVolume => first_light(s).light = Light::Point(centre),
+        Objective::LightKind { light } => {
+            first_light(s).light = match light.as_str() {
+                "point" => Light::Point(hi + (hi - lo) * 0.25),
+                "directional" => Light::Directional(Vec3::new(-1.0, -1.0, -1.0).normalize()),
+                _ => Light::Headlight,
+            }
+        }
+        Objective::Attenuated => {
+            let l = first_light(s);
+            if !matches!(l.light, Light::Point(_)) {
+                l.light = Light::Point(hi + (hi - lo) * 0.25);
+            }
+            l.kl = 0.5 / (hi - lo).length();
+        }
+        Objective::LightsAtLeast { count } => {
+            // "Add a light" pressed until there are enough.
+            while s.phong.lights.len() < *count && s.phong.add_light() {}
+        }
+        Objective::DistinctLightColours { count } => {
+            for (l, c) in s.phong.lights.iter_mut().zip(PALETTE).take(*count) {
+                l.color = c;
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The shading model: the specular model, the full model, depth cueing, the highlight.
+fn shading_model(
+    objective: &Objective,
+    s: &mut voxcast_core::settings::RenderSettings,
+    hands: &Hands,
+) {
+    let (lo, hi) = hands.volume.volume.bounds();
+    match objective {
+        Objective::Specular { model } => {
+            if let Some(m) = voxcast_core::shade::SpecularModel::ALL
+                .into_iter()
+                .find(|m| m.name() == model)
+            {
+                s.phong.model = m;
+            }
+        }
+        Objective::FullModel => {
+            // Emission raised, the last light made a spot aimed at the centre with an ambient
+            // share, as a student would in the Shading and light panel.
+            s.phong.ke = 0.15;
+            s.phong.ka = s.phong.ka.max(0.2);
+            let at = hi + (hi - lo) * Vec3::new(0.2, 0.5, 0.3);
+            let spot = Light::Spot(voxcast_core::shade::Spot {
+                position: at,
+                direction: (lo + hi) * 0.5 - at,
+                ..Default::default()
+            });
+            if s.phong.lights.is_empty() {
+                s.phong.lights.push(LightSource::new(spot));
+            }
+            if let Some(l) = s.phong.lights.last_mut() {
+                l.light = spot;
+                l.ambient = 0.4;
+            }
+        }
+        Objective::DepthCue { on } => {
+            s.phong.depth_cue = *on;
+            s.phong.depth_kl = 2.0 / (hi - lo).length();
+        }
+        Objective::LevoyHighlight { on } => {
+            s.phong.highlight = if *on {
+                voxcast_core::shade::Highlight::Levoy
+            } else {
+                voxcast_core::shade::Highlight::White
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The transfer function's points, as the editor drags them.
+fn transfer(objective: &Objective, transfer: &mut TransferFunction, hands: &Hands) {
+    match objective {
         Objective::TfAlphaAtMost { value, alpha } => {
-            if let Ok((t, _)) = edits.render.transfer.with_point_added(*value, *alpha) {
-                edits.render.transfer = t;
+            if let Ok((t, _)) = transfer.with_point_added(*value, *alpha) {
+                *transfer = t;
             }
         }
         Objective::TfBinary { threshold, within } => {
             // The editor's points dragged to a step: none below, full above, in the colour the
             // function gives the threshold.
             let (lo, hi) = hands.volume.volume.value_range();
-            let c = edits.render.transfer.evaluate(*threshold);
+            let c = transfer.evaluate(*threshold);
             let colour = [c.x, c.y, c.z];
             let points = vec![
                 ControlPoint::new(lo.min(threshold - within), colour, 0.0),
@@ -558,7 +699,7 @@ fn act(
                 ControlPoint::new(hi.max(threshold + within), colour, 1.0),
             ];
             if let Ok(t) = TransferFunction::new("binary", points) {
-                edits.render.transfer = t;
+                *transfer = t;
             }
         }
         Objective::TfColorNear {
@@ -567,11 +708,105 @@ fn act(
             alpha,
             ..
         } => {
-            if let Ok((t, i)) = edits.render.transfer.with_point_added(*value, *alpha)
+            if let Ok((t, i)) = transfer.with_point_added(*value, *alpha)
                 && let Ok(t) = t.with_point_color(i, *color)
             {
-                edits.render.transfer = t;
+                *transfer = t;
             }
+        }
+        _ => {}
+    }
+}
+
+/// The preview's own settings: on or off, its resolution, a cost view.
+fn preview(
+    objective: &Objective,
+    preview: Option<&mut crate::sandbox::shared::quality::PreviewSettings>,
+) {
+    match objective {
+        Objective::PreviewScaleAtMost { scale } | Objective::PreviewScaleAtLeast { scale } => {
+            if let Some(p) = preview {
+                p.enabled = true;
+                p.scale = *scale;
+            }
+        }
+        Objective::Preview { on } => {
+            if let Some(p) = preview {
+                p.enabled = *on;
+            }
+        }
+        Objective::PreviewCostView { view } => {
+            if let Some(p) = preview {
+                p.cost_view = voxcast_core::cost::CostView::parse(view);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The virtual camera's rays: one selected, a breakdown row opened, its pixels, the skip blocks.
+fn rays_and_samples(objective: &Objective, hands: &mut Hands, lessons: &Lessons) {
+    match objective {
+        Objective::SelectRay => select_centre(hands, lessons),
+        Objective::SelectCutRay => select_centre(hands, lessons),
+        Objective::VirtualPixelsAtLeast { pixels } => {
+            for mut vc in &mut hands.cameras {
+                (vc.width, vc.height) = (*pixels, *pixels);
+            }
+        }
+        Objective::OpenHighestSample => {
+            // Click a ray, then the row of its highest value.
+            let highest = hands.breakdown.trace.as_ref().and_then(|t| {
+                (0..t.samples.len()).max_by(|&a, &b| {
+                    let v = |i: usize| t.samples[i].reconstruction.value;
+                    v(a).total_cmp(&v(b))
+                })
+            });
+            match highest {
+                Some(i) => hands.breakdown.opened = Some(i),
+                None => select_centre(hands, lessons),
+            }
+        }
+        Objective::OpenLitSample { lights } => {
+            // Click a ray, then a row the lights shaded.
+            let lit = hands.breakdown.trace.as_ref().and_then(|t| {
+                t.samples.iter().position(|x| {
+                    x.shading.is_some_and(|sh| sh.lights_reaching() >= *lights) && x.alpha > 0.0
+                })
+            });
+            match lit {
+                Some(i) => hands.breakdown.opened = Some(i),
+                None => select_centre(hands, lessons),
+            }
+        }
+        Objective::SkipBlocks { on } => hands.inspect.show_blocks = *on,
+        _ => {}
+    }
+}
+
+/// Render image and its cost view, the measurements, a ray density and its views.
+fn windows_and_data(
+    objective: &Objective,
+    hands: &mut Hands,
+    preview: Option<&mut crate::sandbox::shared::quality::PreviewSettings>,
+) {
+    match objective {
+        Objective::CostViewed { view } => {
+            // Render image pressed (again, if the settings changed), then the view chosen.
+            hands
+                .show_render_image
+                .write(crate::sandbox::checks::compare::ShowRenderImage(true));
+            let current = hands.comparison.result.as_ref().is_some_and(|r| {
+                r.snapshot.is_current(
+                    hands.main_view.single().ok(),
+                    &hands.render.now,
+                    &hands.volume,
+                )
+            });
+            if !current && !hands.comparison.busy() {
+                hands.comparison.start();
+            }
+            hands.comparison.cost_view = voxcast_core::cost::CostView::parse(view);
         }
         Objective::Compared { .. } => {
             // As the button does: the window opens and the comparison starts.
@@ -582,7 +817,37 @@ fn act(
                 hands.comparison.start();
             }
         }
-        Objective::LightInsideVolume => first_light(s).light = Light::Point(centre),
+        Objective::TradeMeasured if hands.trade.progress().is_none() => hands.trade.request(),
+        Objective::KnobMeasured { knob } => {
+            if let Some(k) = voxcast_core::knob::Knob::parse(knob) {
+                hands.trade.knob = k;
+            }
+            if hands.trade.progress().is_none() {
+                hands.trade.request();
+            }
+        }
+        Objective::RayDensity {
+            source,
+            trace,
+            side_at_least,
+        } => compute_density(hands, source, *trace, *side_at_least),
+        Objective::RayView { view, on } => match view.as_str() {
+            "mesh" => hands.ray_choices.view.mesh = *on,
+            "field" => hands.ray_choices.view.field = *on,
+            _ => {
+                if let Some(p) = preview {
+                    p.enabled = *on;
+                }
+            }
+        },
+        _ => {}
+    }
+}
+
+/// The answers a step asks for: a prediction typed and checked, an effect named, a study's
+/// question.
+fn answers(level: usize, objective: &Objective, hands: &mut Hands, lessons: &mut Lessons) {
+    match objective {
         Objective::PredictValue { .. } | Objective::PredictComposite { .. } => {
             // The player works the lecture's formula out; here the core's answer is typed and
             // checked, once (a try is kept for each Check).
@@ -622,122 +887,6 @@ fn act(
                 lessons.submit_prediction(level);
             }
         }
-        Objective::BackToFront { on } => {
-            s.order = if *on {
-                voxcast_core::composite::Order::BackToFront
-            } else {
-                voxcast_core::composite::Order::FrontToBack
-            }
-        }
-        Objective::LightKind { light } => {
-            first_light(s).light = match light.as_str() {
-                "point" => Light::Point(hi + (hi - lo) * 0.25),
-                "directional" => Light::Directional(Vec3::new(-1.0, -1.0, -1.0).normalize()),
-                _ => Light::Headlight,
-            }
-        }
-        Objective::Attenuated => {
-            let l = first_light(s);
-            if !matches!(l.light, Light::Point(_)) {
-                l.light = Light::Point(hi + (hi - lo) * 0.25);
-            }
-            l.kl = 0.5 / (hi - lo).length();
-        }
-        Objective::LightsAtLeast { count } => {
-            // "Add a light" pressed until there are enough.
-            while s.phong.lights.len() < *count && s.phong.add_light() {}
-        }
-        Objective::DistinctLightColours { count } => {
-            for (l, c) in s.phong.lights.iter_mut().zip(PALETTE).take(*count) {
-                l.color = c;
-            }
-        }
-        Objective::OpenLitSample { lights } => {
-            // Click a ray, then a row the lights shaded.
-            let lit = hands.breakdown.trace.as_ref().and_then(|t| {
-                t.samples.iter().position(|x| {
-                    x.shading.is_some_and(|sh| sh.lights_reaching() >= *lights) && x.alpha > 0.0
-                })
-            });
-            match lit {
-                Some(i) => hands.breakdown.opened = Some(i),
-                None => select_centre(hands, lessons),
-            }
-        }
-        Objective::FullModel => {
-            // Emission raised, the last light made a spot aimed at the centre with an ambient
-            // share, as a student would in the Shading and light panel.
-            s.phong.ke = 0.15;
-            s.phong.ka = s.phong.ka.max(0.2);
-            let at = hi + (hi - lo) * Vec3::new(0.2, 0.5, 0.3);
-            let spot = Light::Spot(voxcast_core::shade::Spot {
-                position: at,
-                direction: (lo + hi) * 0.5 - at,
-                ..Default::default()
-            });
-            if s.phong.lights.is_empty() {
-                s.phong.lights.push(LightSource::new(spot));
-            }
-            if let Some(l) = s.phong.lights.last_mut() {
-                l.light = spot;
-                l.ambient = 0.4;
-            }
-        }
-        Objective::DepthCue { on } => {
-            s.phong.depth_cue = *on;
-            s.phong.depth_kl = 2.0 / (hi - lo).length();
-        }
-        Objective::LevoyHighlight { on } => {
-            s.phong.highlight = if *on {
-                voxcast_core::shade::Highlight::Levoy
-            } else {
-                voxcast_core::shade::Highlight::White
-            }
-        }
-        Objective::TradeMeasured => {
-            if hands.trade.progress().is_none() {
-                hands.trade.request();
-            }
-        }
-        Objective::KnobMeasured { knob } => {
-            if let Some(k) = voxcast_core::knob::Knob::parse(knob) {
-                hands.trade.knob = k;
-            }
-            if hands.trade.progress().is_none() {
-                hands.trade.request();
-            }
-        }
-        Objective::PreviewScaleAtMost { scale } | Objective::PreviewScaleAtLeast { scale } => {
-            if let Some(p) = edits.preview.as_mut() {
-                p.enabled = true;
-                p.scale = *scale;
-            }
-        }
-        Objective::Preview { on } => {
-            if let Some(p) = edits.preview.as_mut() {
-                p.enabled = *on;
-            }
-        }
-        Objective::PreviewCostView { view } => {
-            if let Some(p) = edits.preview.as_mut() {
-                p.cost_view = voxcast_core::cost::CostView::parse(view);
-            }
-        }
-        Objective::SkipBlocks { on } => hands.inspect.show_blocks = *on,
-        Objective::RayDensity {
-            source,
-            trace,
-            side_at_least,
-        } => compute_density(hands, source, *trace, *side_at_least),
-        Objective::RayView { view, on } => match view.as_str() {
-            "mesh" => hands.ray_choices.view.mesh = *on,
-            "field" => hands.ray_choices.view.field = *on,
-            _ => {
-                if let Some(p) = edits.preview.as_mut() {
-                    p.enabled = *on;
-                }
-            }
-        },
         // The player judges the pictures; here the level's answer is chosen.
         Objective::NameEffect { trace } => lessons.named_effect = Some(*trace),
         Objective::StudyQuestion { trace, question } => {
@@ -757,6 +906,7 @@ fn act(
                 lessons.answer_study(level, (*trace, question), &truth, &truth);
             }
         }
+        _ => {}
     }
 }
 

@@ -7,8 +7,8 @@ use bevy_egui::EguiPrimaryContextPass;
 
 /// The order of a frame's work (as bevy_new_2d orders its frame). In `Update`: who holds the
 /// mouse, the player's input, a volume replaced, the rules that react to what changed, the
-/// render settings' changes applied, what stands beside the main camera, the virtual camera's
-/// rays, what is worked out from it all, the checks of the level's objective, the scripted players,
+/// settings' changes applied, what stands beside the main camera, the virtual camera's rays,
+/// what is worked out from it all, the checks of the level's objective, the scripted players,
 /// then what is shown. In `PostUpdate`, once the engine has placed the cameras (their
 /// transforms propagated, their projections updated for this frame): the GPU's material
 /// synced, then the views that read it.
@@ -24,10 +24,10 @@ pub enum Frame {
     /// frame as every other reaction, or it frames one of them for the old volume.
     SwapVolume,
     /// The sandbox's rules: the main camera's framing, levels' commands and presets, the
-    /// virtual camera's inspection, the breakdown's selection, ray data.
+    /// editor's commands, a transfer function file handed over.
     Rules,
-    /// The render state's changes asked for so far applied, by its one writer
-    /// (`render_change.rs`): what follows sees this frame's settings.
+    /// The changes of the render state and the preview's settings asked for so far, applied
+    /// by their one writer (`render_change.rs`): what follows sees this frame's settings.
     Settings,
     /// What stands beside the main camera once it is framed: the virtual camera.
     Follow,
