@@ -420,6 +420,11 @@ fn page(graphics: &str) -> Outcome {
         page.settle(3)?;
     }
     page.click("render image")?;
+    // The window with its result: the widest it gets (the images, the save buttons).
+    browser.wait_for(
+        "const s = window.voxcastStatus(); return s.render.startsWith('done') && s.render",
+        Duration::from_secs(300),
+    )?;
     page.settle(5)?;
     page.save_screenshot("render_image_1024x576")?;
     page.check_layout("Render image open")?;

@@ -296,7 +296,9 @@ fn result_view(
             });
         }
     });
-    ui.horizontal(|ui| {
+    // Wrapped: on a small screen the page's three buttons go on the next line rather than
+    // past the window's edge.
+    ui.horizontal_wrapped(|ui| {
         ui.text_edit_singleline(&mut window.path).on_hover_text(
             "The render's PNG; the preview and the heat-map are saved beside it as \
              NAME_preview.png and NAME_diff.png",
