@@ -171,187 +171,235 @@ fn drive(
     {
         run.level += 1;
     }
+    let mut out = Out {
+        commands: &mut commands,
+        send: &mut send,
+        dir: &request.0,
+    };
     if run.level >= lessons.levels.len() {
-        // Free play again: its screenshot, then the report.
-        run.ending += 1;
-        let shot = request.0.join("free_play.png");
-        if run.ending == SETTLE_FRAMES {
-            hands.animation.skip();
-            commands
-                .spawn(Screenshot::primary_window())
-                .observe(save_to_disk(shot));
-        } else if run.ending >= SETTLE_FRAMES + SHOT_FRAMES
-            && (shot.exists() || run.ending > SETTLE_FRAMES + MET_FRAMES)
-        {
-            // The picture is written on another thread: wait for it before exiting.
-            finish(run, &request.0, &mut exit);
-        }
+        end_in_free_play(run, &mut out, &mut hands, &mut exit);
         return;
     }
     let level = lessons.levels[run.level].clone();
+    let in_level = *mode.get() == Mode::Level(run.level);
     match run.phase {
         Phase::Start => {
             run.started
                 .get_or_insert_with(bevy::platform::time::Instant::now);
-            send.write(LevelCommand::Start(run.level));
+            out.send.write(LevelCommand::Start(run.level));
             run.asked = Some(bevy::platform::time::Instant::now());
             (run.phase, run.frames) = (Phase::Settle, 0);
         }
-        Phase::Settle => {
-            let ready = *mode.get() == Mode::Level(run.level)
-                && lessons.scene_ready()
-                && hands.loading.under_way().is_none();
-            if !ready {
-                run.frames = 0;
-                return;
-            }
-            if let Some(asked) = run.asked.take() {
-                run.report.push(format!(
-                    "{}: scene set up in {:.2} s",
-                    level.id,
-                    asked.elapsed().as_secs_f32()
-                ));
-            }
-            // The rays drawn whole, not growing.
-            hands.animation.skip();
-            // The picture waits (a little) for the volume at full quality.
-            let drawn = hands.full_quality();
-            if run.frames >= SETTLE_FRAMES && (drawn || run.frames >= MET_FRAMES / 4) {
-                let path = request
-                    .0
-                    .join(format!("{:02}_{}.png", run.level + 1, level.id));
-                commands
-                    .spawn(Screenshot::primary_window())
-                    .observe(save_to_disk(path));
-                (run.phase, run.frames) = (Phase::Shot, 0);
-            }
-        }
+        Phase::Settle => settle(run, &level, in_level, &lessons, &mut hands, &mut out),
         Phase::Shot => {
             if run.frames >= SHOT_FRAMES {
                 (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
             }
         }
-        Phase::Act { acted } => {
+        Phase::Act { .. } if !in_level => {
             // Leaving the level (its last Next) ends it.
-            if *mode.get() != Mode::Level(run.level) {
-                let seconds = run
-                    .started
-                    .get_or_insert_with(bevy::platform::time::Instant::now)
-                    .elapsed();
-                run.report.push(format!(
-                    "{}: done at {:.1} s",
-                    level.id,
-                    seconds.as_secs_f32()
-                ));
-                run.level += 1;
-                (run.phase, run.frames) = (Phase::Start, 0);
-                return;
-            }
-            let Some(step) = level.steps.get(lessons.step).cloned() else {
-                return;
-            };
-            let what = format!("{} step {}", level.id, lessons.step + 1);
-            if !acted && run.frames < 2 {
-                // The check runs once the scene is set: give it a frame.
-                return;
-            }
-            if !acted {
-                if lessons.met && step.objective != Objective::Read {
-                    run.report
-                        .push(format!("{what}: FAILED, met before the player acted"));
-                    run.failed = true;
-                }
-                run.phase = Phase::Act { acted: true };
-                run.frames = 0;
-                run.acted_at = Some(bevy::platform::time::Instant::now());
-            }
-            if lessons.met {
-                // The breakdown, Render image, crop, lights and cost steps are pictured once
-                // done.
-                let pictured = matches!(
-                    step.objective,
-                    Objective::OpenHighestSample
-                        | Objective::Compared { .. }
-                        | Objective::CropAtMost { .. }
-                        | Objective::CostViewed { .. }
-                        | Objective::KnobMeasured { .. }
-                        | Objective::OpenLitSample { .. }
-                        | Objective::LevoyHighlight { .. }
-                        | Objective::FullModel
-                        | Objective::DepthCue { on: true }
-                        | Objective::RegionAround { .. }
-                        | Objective::SkipBlocks { .. }
-                        | Objective::Skipping { on: true }
-                        | Objective::PreviewCostView { .. }
-                        | Objective::RayDensity { .. }
-                        | Objective::RayView { .. }
-                );
-                let met_at = *run.met_at.get_or_insert(run.frames);
-                match run.step_shot {
-                    // A few frames for the panels' new textures and glyphs to arrive.
-                    None if pictured && run.frames < met_at + STEP_SHOT_DELAY => return,
-                    None if pictured => {
-                        let path = request.0.join(format!(
-                            "{:02}_{}_step{}.png",
-                            run.level + 1,
-                            level.id,
-                            lessons.step + 1
-                        ));
-                        commands
-                            .spawn(Screenshot::primary_window())
-                            .observe(save_to_disk(path));
-                        run.step_shot = Some(run.frames);
-                        return;
-                    }
-                    Some(at) if run.frames < at + SHOT_FRAMES => return,
-                    _ => run.step_shot = None,
-                }
-                run.met_at = None;
-                run.report
-                    .push(format!("{what}: ok after {} frames", run.frames));
-                if step.objective == Objective::TradeMeasured
-                    && let Some((t, _)) = &hands.trade.result
-                {
-                    run.report.extend(trade_lines(t));
-                }
-                if matches!(
-                    step.objective,
-                    Objective::Compared { .. } | Objective::CostViewed { .. }
-                ) {
-                    // Done comparing: the player closes the window.
-                    hands
-                        .show_render_image
-                        .write(crate::sandbox::checks::compare::ShowRenderImage(false));
-                }
-                send.write(LevelCommand::Next);
-                (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
-                return;
-            }
-            if run.frames > MET_FRAMES && run.acted_at.is_some_and(|t| t.elapsed() > MET_TIME) {
-                run.report
-                    .push(format!("{what}: FAILED, not met after acting ({step:?})"));
-                run.failed = true;
-                send.write(LevelCommand::FreePlay);
-                return;
-            }
-            // The hands edit copies of the settings, each sent as one change.
-            let mut edited = Edits {
-                render: hands.render.now.clone(),
-                preview: hands.preview.now.as_deref().cloned(),
-            };
-            act(
-                run.level,
-                &step.objective,
-                &mut hands,
-                &mut edited,
-                &mut lessons,
-            );
-            hands.render.edited(Author::Script, edited.render);
-            if let Some(p) = edited.preview {
-                hands.preview.edited(Author::Script, p);
-            }
+            let seconds = run
+                .started
+                .get_or_insert_with(bevy::platform::time::Instant::now)
+                .elapsed();
+            run.report.push(format!(
+                "{}: done at {:.1} s",
+                level.id,
+                seconds.as_secs_f32()
+            ));
+            run.level += 1;
+            (run.phase, run.frames) = (Phase::Start, 0);
         }
+        Phase::Act { acted } => play_step(run, acted, &level, &mut lessons, &mut hands, &mut out),
     }
+}
+
+/// What the driver writes out: screenshots (into `dir`) and the Levels panel's commands.
+struct Out<'a, 'c, 's, 'm> {
+    commands: &'a mut Commands<'c, 's>,
+    send: &'a mut MessageWriter<'m, LevelCommand>,
+    dir: &'a std::path::Path,
+}
+
+impl Out<'_, '_, '_, '_> {
+    /// A screenshot of the window, saved as `name` in the report's folder.
+    fn shot(&mut self, name: &str) {
+        self.commands
+            .spawn(Screenshot::primary_window())
+            .observe(save_to_disk(self.dir.join(name)));
+    }
+}
+
+/// Every level played: free play again, its screenshot, then the report and the exit.
+fn end_in_free_play(
+    run: &mut Run,
+    out: &mut Out,
+    hands: &mut Hands,
+    exit: &mut MessageWriter<AppExit>,
+) {
+    run.ending += 1;
+    if run.ending == SETTLE_FRAMES {
+        hands.animation.skip();
+        out.shot("free_play.png");
+    } else if run.ending >= SETTLE_FRAMES + SHOT_FRAMES
+        && (out.dir.join("free_play.png").exists() || run.ending > SETTLE_FRAMES + MET_FRAMES)
+    {
+        // The picture is written on another thread: wait for it before exiting.
+        finish(run, out.dir, exit);
+    }
+}
+
+/// The level's scene on screen: its time noted, then its picture once the volume is drawn at
+/// full quality (or after a while).
+fn settle(
+    run: &mut Run,
+    level: &voxcast_core::level::Level,
+    in_level: bool,
+    lessons: &Lessons,
+    hands: &mut Hands,
+    out: &mut Out,
+) {
+    let ready = in_level && lessons.scene_ready() && hands.loading.under_way().is_none();
+    if !ready {
+        run.frames = 0;
+        return;
+    }
+    if let Some(asked) = run.asked.take() {
+        run.report.push(format!(
+            "{}: scene set up in {:.2} s",
+            level.id,
+            asked.elapsed().as_secs_f32()
+        ));
+    }
+    // The rays drawn whole, not growing.
+    hands.animation.skip();
+    // The picture waits (a little) for the volume at full quality.
+    let drawn = hands.full_quality();
+    if run.frames >= SETTLE_FRAMES && (drawn || run.frames >= MET_FRAMES / 4) {
+        out.shot(&format!("{:02}_{}.png", run.level + 1, level.id));
+        (run.phase, run.frames) = (Phase::Shot, 0);
+    }
+}
+
+/// The level's current step: checked not met before acting, then acted on every frame until
+/// it is met (or given up on), pictured where its result is worth a look, and left with Next.
+fn play_step(
+    run: &mut Run,
+    acted: bool,
+    level: &voxcast_core::level::Level,
+    lessons: &mut Lessons,
+    hands: &mut Hands,
+    out: &mut Out,
+) {
+    let Some(step) = level.steps.get(lessons.step).cloned() else {
+        return;
+    };
+    let what = format!("{} step {}", level.id, lessons.step + 1);
+    if !acted && run.frames < 2 {
+        // The check runs once the scene is set: give it a frame.
+        return;
+    }
+    if !acted {
+        if lessons.met && step.objective != Objective::Read {
+            run.report
+                .push(format!("{what}: FAILED, met before the player acted"));
+            run.failed = true;
+        }
+        run.phase = Phase::Act { acted: true };
+        run.frames = 0;
+        run.acted_at = Some(bevy::platform::time::Instant::now());
+    }
+    if lessons.met {
+        step_met(run, level, &step.objective, lessons.step, hands, out);
+        return;
+    }
+    if run.frames > MET_FRAMES && run.acted_at.is_some_and(|t| t.elapsed() > MET_TIME) {
+        run.report
+            .push(format!("{what}: FAILED, not met after acting ({step:?})"));
+        run.failed = true;
+        out.send.write(LevelCommand::FreePlay);
+        return;
+    }
+    // The hands edit copies of the settings, each sent as one change.
+    let mut edited = Edits {
+        render: hands.render.now.clone(),
+        preview: hands.preview.now.as_deref().cloned(),
+    };
+    act(run.level, &step.objective, hands, &mut edited, lessons);
+    hands.render.edited(Author::Script, edited.render);
+    if let Some(p) = edited.preview {
+        hands.preview.edited(Author::Script, p);
+    }
+}
+
+/// A step met: pictured (a few frames on, for the panels' new textures and glyphs) where its
+/// result is worth a look, reported, and left with Next.
+fn step_met(
+    run: &mut Run,
+    level: &voxcast_core::level::Level,
+    objective: &Objective,
+    step: usize,
+    hands: &mut Hands,
+    out: &mut Out,
+) {
+    // The breakdown, Render image, crop, lights and cost steps are pictured once done.
+    let pictured = matches!(
+        objective,
+        Objective::OpenHighestSample
+            | Objective::Compared { .. }
+            | Objective::CropAtMost { .. }
+            | Objective::CostViewed { .. }
+            | Objective::KnobMeasured { .. }
+            | Objective::OpenLitSample { .. }
+            | Objective::LevoyHighlight { .. }
+            | Objective::FullModel
+            | Objective::DepthCue { on: true }
+            | Objective::RegionAround { .. }
+            | Objective::SkipBlocks { .. }
+            | Objective::Skipping { on: true }
+            | Objective::PreviewCostView { .. }
+            | Objective::RayDensity { .. }
+            | Objective::RayView { .. }
+    );
+    let met_at = *run.met_at.get_or_insert(run.frames);
+    match run.step_shot {
+        None if pictured && run.frames < met_at + STEP_SHOT_DELAY => return,
+        None if pictured => {
+            out.shot(&format!(
+                "{:02}_{}_step{}.png",
+                run.level + 1,
+                level.id,
+                step + 1
+            ));
+            run.step_shot = Some(run.frames);
+            return;
+        }
+        Some(at) if run.frames < at + SHOT_FRAMES => return,
+        _ => run.step_shot = None,
+    }
+    run.met_at = None;
+    run.report.push(format!(
+        "{} step {}: ok after {} frames",
+        level.id,
+        step + 1,
+        run.frames
+    ));
+    if *objective == Objective::TradeMeasured
+        && let Some((t, _)) = &hands.trade.result
+    {
+        run.report.extend(trade_lines(t));
+    }
+    if matches!(
+        objective,
+        Objective::Compared { .. } | Objective::CostViewed { .. }
+    ) {
+        // Done comparing: the player closes the window.
+        hands
+            .show_render_image
+            .write(crate::sandbox::checks::compare::ShowRenderImage(false));
+    }
+    out.send.write(LevelCommand::Next);
+    (run.phase, run.frames) = (Phase::Act { acted: false }, 0);
 }
 
 /// What the hands edit in a frame: copies of the render state and the preview's settings
