@@ -47,15 +47,15 @@ pub fn conflicts(world: &World) -> Vec<String> {
             let (Some(a), Some(b)) = (name(a), name(b)) else {
                 continue;
             };
-            let data = data
-                .iter()
-                .filter_map(|id| world.components().get_name(*id));
             let (a, b) = if a <= b { (a, b) } else { (b, a) };
+            // Each datum by its type's own name (`Messages<KeepDrawing>` as `KeepDrawing`).
             let mut data: Vec<String> = data
+                .iter()
+                .filter_map(|id| world.components().get_name(*id))
                 .map(|d| {
                     let d = d.to_string();
-                    let short = d.rsplit("::").next().unwrap_or(&d).trim_end_matches('>');
-                    short.to_string()
+                    let short = d.rsplit("::").next().unwrap_or(&d);
+                    short.trim_end_matches('>').to_string()
                 })
                 .collect();
             data.sort();

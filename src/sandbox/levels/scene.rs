@@ -51,61 +51,49 @@ pub(super) fn set_up_scene(
         Option<ResMut<crate::sandbox::inspect::rays::InspectSettings>>,
     ),
 ) {
-    // The level's preview on a copy of the settings, sent as one change.
+    // The level's preview on a copy of the settings, sent as one change once set up.
     let Some(mut next) = preview.now.as_deref().cloned() else {
         return;
     };
-    set_up(
-        (&mode, &mut lessons, &stage, &volume),
-        (&mut loading, &mut next),
-        (ray_choices, inspect),
-    );
+    'set_up: {
+        if let Some(run) = lessons.study {
+            next.enabled = run.preview();
+        }
+        let again = std::mem::take(&mut lessons.set_up_again);
+        if !mode.is_changed() && !again {
+            break 'set_up;
+        }
+        next.enabled = lessons.study.map_or(stage.preview, StudyRun::preview);
+        lessons.pending = None;
+        let Mode::Level(l) = *mode.get() else {
+            break 'set_up;
+        };
+        // The Ray data section starts afresh too (no ray mesh left over from another level).
+        if let Some(mut c) = ray_choices {
+            *c = default();
+        }
+        // So do the skip blocks a level may have turned on.
+        if let Some(mut i) = inspect
+            && i.show_blocks
+        {
+            i.show_blocks = false;
+        }
+        let Some(level) = lessons.levels.get(l) else {
+            break 'set_up;
+        };
+        if let Some(scale) = level.scene.preview_scale {
+            next.scale = scale;
+        }
+        // The preview shows the picture: a cost view a level before asked for is not this
+        // one's.
+        next.cost_view = None;
+        if level.volume_source() == volume.source {
+            // Nothing to load: a load the player started before is not this level's.
+            loading.cancel();
+        }
+        lessons.pending = Some(Pending::of_level(level));
+    }
     preview.edited(Author::Level, next);
-}
-
-fn set_up(
-    (mode, lessons, stage, volume): (&Res<State<Mode>>, &mut Lessons, &Stage, &VolumeState),
-    (loading, preview): (&mut Loading, &mut PreviewSettings),
-    (ray_choices, inspect): (
-        Option<ResMut<crate::sandbox::data::choices::RayChoices>>,
-        Option<ResMut<crate::sandbox::inspect::rays::InspectSettings>>,
-    ),
-) {
-    if let Some(run) = lessons.study
-        && preview.enabled != run.preview()
-    {
-        preview.enabled = run.preview();
-    }
-    let again = std::mem::take(&mut lessons.set_up_again);
-    if !mode.is_changed() && !again {
-        return;
-    }
-    preview.enabled = lessons.study.map_or(stage.preview, StudyRun::preview);
-    lessons.pending = None;
-    let Mode::Level(l) = *mode.get() else { return };
-    // The Ray data section starts afresh too (no ray mesh left over from another level).
-    if let Some(mut c) = ray_choices {
-        *c = default();
-    }
-    // So do the skip blocks a level may have turned on.
-    if let Some(mut i) = inspect
-        && i.show_blocks
-    {
-        i.show_blocks = false;
-    }
-    let Some(level) = lessons.levels.get(l) else {
-        return;
-    };
-    if let Some(scale) = level.scene.preview_scale {
-        preview.scale = scale;
-    }
-    // The preview shows the picture: a cost view a level before asked for is not this one's.
-    preview.cost_view = None;
-    if level.volume_source() == volume.source {
-        // Nothing to load: a load the player started before is not this level's.
-        loading.cancel();
-    }
-    lessons.pending = Some(Pending::of_level(level));
 }
 
 /// Puts the waiting scene on screen: its data set loaded first (the load brings the data set's

@@ -298,11 +298,15 @@ fn choose_backend(
     mut preview: PreviewChanges,
     mut done: Local<bool>,
 ) {
-    let Some(settings) = preview.now.as_deref().cloned() else {
+    let Some((now, chosen)) = preview
+        .now
+        .as_deref()
+        .map(|p| (p.backend, p.backend_chosen))
+    else {
         return;
     };
     if let Some(failed) = failed
-        && settings.backend == Backend::Gpu
+        && now == Backend::Gpu
     {
         warn!(
             "the GPU cannot run the preview ({}): the CPU draws it",
@@ -323,11 +327,11 @@ fn choose_backend(
     *done = true;
     #[cfg(target_arch = "wasm32")]
     crate::sandbox::shared::web::publish(|s| s.adapter = adapter.name.clone());
-    if settings.backend_chosen {
+    if chosen {
         return;
     }
     let backend = Backend::for_adapter(&adapter.name, &format!("{:?}", adapter.device_type));
-    if backend != settings.backend {
+    if backend != now {
         info!(
             "the preview renders on the {} ({})",
             if backend == Backend::Cpu {

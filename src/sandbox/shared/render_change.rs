@@ -134,9 +134,10 @@ impl PreviewChanges<'_> {
         self.asked.write(ChangePreview { by, change });
     }
 
-    /// Asks for `edited`, a copy of the settings as `by` edited it, where it differs from now.
+    /// Asks for `edited`, a copy of the settings as `by` edited it, where it differs from now
+    /// (nothing where there are no preview settings to change).
     pub fn edited(&mut self, by: Author, edited: PreviewSettings) {
-        if self.now.as_deref() != Some(&edited) {
+        if self.now.as_deref().is_some_and(|now| *now != edited) {
             self.ask(by, PreviewChange::Whole(Box::new(edited)));
         }
     }
