@@ -169,69 +169,47 @@ fn the_preview_as_webgl2_compiles_it_matches_the_cpu_render() -> Outcome {
     )
 }
 
+/// Data sets swept at once: one sandbox on lavapipe keeps about one core busy (it waits on
+/// its frames), so two at a time use the two cores CI has.
+const SWEEPS_AT_ONCE: usize = 2;
+
+/// One data set's sweep: its lines for the log, its largest difference and its failures.
+struct Swept {
+    lines: Vec<String>,
+    worst: f32,
+    failures: Vec<String>,
+}
+
 /// The sweep of the preview of `names` (with `args`) against the CPU render, every case within
 /// [`TOLERANCE`]; its images in `tests/out/agreement/NAME[_suffix]`.
 fn sweep_agrees(names: &[&str], args: &[&str], suffix: &str) -> Outcome {
-    let mut worst = 0.0f32;
-    let mut failures = Vec::new();
-    for name in names {
-        let dir = out_dir().join(if suffix.is_empty() {
-            name.to_string()
-        } else {
-            format!("{name}_{suffix}")
-        });
-        let _ = std::fs::remove_dir_all(&dir);
-        let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
-            .args([
-                "--volume",
-                &format!("builtin:{name}"),
-                "--sweep",
-                "--size",
-                &format!("{SIZE}x{SIZE}"),
-            ])
-            .args(args)
-            .arg("--screenshot")
-            .arg(&dir)
-            .output()
-            .expect("the binary runs");
-        if !output.status.success() {
-            let err = String::from_utf8_lossy(&output.stderr);
-            if let Some(skip) = skipped_for_want_of_a_gpu(&err) {
-                return skip;
-            }
-            panic!("the preview of {name} failed:\n{err}");
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let swept = std::sync::Mutex::new(Vec::new());
+    std::thread::scope(|scope| {
+        for _ in 0..SWEEPS_AT_ONCE {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(name) = names.get(i) else { break };
+                    let one = sweep_one(name, args, suffix);
+                    swept.lock().unwrap().push((i, one));
+                }
+            });
         }
-        let volume = voxcast_core::Prepared::from(load_builtin(name).unwrap().volume);
-        let p = preset::for_volume(volume.name()).unwrap();
-        let base = p.settings_over(&RenderSettings::default()).unwrap();
-        let view = p.view.unwrap();
-        let (lo, hi) = volume.bounds();
-        let camera = Camera::framing(lo, hi, view.from, view.up).unwrap();
-        for (stem, s) in agreement_cases(&base, volume.volume(), &p.transfer) {
-            let scene = Scene::new(&volume, &p.transfer, &s, camera.forward()).unwrap();
-            let (cpu, _) = render_with_threads(&scene, &camera, SIZE, SIZE, 2).unwrap();
-            let cpu = LinearImage::from_rgb8(&cpu.to_rgb8());
-            let gpu = LinearImage::from_rgb8(
-                &image::open(dir.join(format!("{stem}.png")))
-                    .unwrap()
-                    .to_rgb8(),
-            );
-            let d = gpu.diff(&cpu).unwrap();
-            let max = d.max_abs * 255.0;
-            println!(
-                "{name:16} {stem:28} max {max:3.0}/255  RMSE {:.3}/255",
-                d.rmse * 255.0
-            );
-            worst = worst.max(max);
-            if max > TOLERANCE {
-                cpu.save_png(&dir.join(format!("{stem}_cpu.png"))).unwrap();
-                gpu.diff_heatmap(&cpu, 8.0 / 255.0)
-                    .unwrap()
-                    .save_png(&dir.join(format!("{stem}_diff.png")))
-                    .unwrap();
-                failures.push(format!("{name} {stem}: {max}/255"));
-            }
+    });
+    let mut swept = swept.into_inner().unwrap();
+    swept.sort_by_key(|(i, _)| *i);
+    let (mut worst, mut failures) = (0.0f32, Vec::new());
+    for (_, one) in swept {
+        let one = match one {
+            Ok(one) => one,
+            Err(skip) => return skip,
+        };
+        for line in &one.lines {
+            println!("{line}");
         }
+        worst = worst.max(one.worst);
+        failures.extend(one.failures);
     }
     println!("largest difference over all cases: {worst}/255");
     assert!(
@@ -241,4 +219,72 @@ fn sweep_agrees(names: &[&str], args: &[&str], suffix: &str) -> Outcome {
         failures.join("\n")
     );
     Ok(Completion::Completed)
+}
+
+/// Data set `name`'s sweep: the sandbox's screenshots of every case, each against the CPU's
+/// image of the same view (`Err`: the test is skipped for want of a GPU).
+fn sweep_one(name: &str, args: &[&str], suffix: &str) -> Result<Swept, Outcome> {
+    let dir = out_dir().join(if suffix.is_empty() {
+        name.to_string()
+    } else {
+        format!("{name}_{suffix}")
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+        .args([
+            "--volume",
+            &format!("builtin:{name}"),
+            "--sweep",
+            "--size",
+            &format!("{SIZE}x{SIZE}"),
+        ])
+        .args(args)
+        .arg("--screenshot")
+        .arg(&dir)
+        .output()
+        .expect("the binary runs");
+    if !output.status.success() {
+        let err = String::from_utf8_lossy(&output.stderr);
+        if let Some(skip) = skipped_for_want_of_a_gpu(&err) {
+            return Err(skip);
+        }
+        panic!("the preview of {name} failed:\n{err}");
+    }
+    let volume = voxcast_core::Prepared::from(load_builtin(name).unwrap().volume);
+    let p = preset::for_volume(volume.name()).unwrap();
+    let base = p.settings_over(&RenderSettings::default()).unwrap();
+    let view = p.view.unwrap();
+    let (lo, hi) = volume.bounds();
+    let camera = Camera::framing(lo, hi, view.from, view.up).unwrap();
+    let mut swept = Swept {
+        lines: Vec::new(),
+        worst: 0.0,
+        failures: Vec::new(),
+    };
+    for (stem, s) in agreement_cases(&base, volume.volume(), &p.transfer) {
+        let scene = Scene::new(&volume, &p.transfer, &s, camera.forward()).unwrap();
+        let (cpu, _) = render_with_threads(&scene, &camera, SIZE, SIZE, 1).unwrap();
+        let cpu = LinearImage::from_rgb8(&cpu.to_rgb8());
+        let gpu = LinearImage::from_rgb8(
+            &image::open(dir.join(format!("{stem}.png")))
+                .unwrap()
+                .to_rgb8(),
+        );
+        let d = gpu.diff(&cpu).unwrap();
+        let max = d.max_abs * 255.0;
+        swept.lines.push(format!(
+            "{name:16} {stem:28} max {max:3.0}/255  RMSE {:.3}/255",
+            d.rmse * 255.0
+        ));
+        swept.worst = swept.worst.max(max);
+        if max > TOLERANCE {
+            cpu.save_png(&dir.join(format!("{stem}_cpu.png"))).unwrap();
+            gpu.diff_heatmap(&cpu, 8.0 / 255.0)
+                .unwrap()
+                .save_png(&dir.join(format!("{stem}_diff.png")))
+                .unwrap();
+            swept.failures.push(format!("{name} {stem}: {max}/255"));
+        }
+    }
+    Ok(swept)
 }

@@ -25,7 +25,9 @@ TOOLS=${VOXCAST_TOOLS:-$HOME/.cache/voxcast-tools}
 BINDGEN="$TOOLS/bin/wasm-bindgen"
 if ! "$BINDGEN" --version 2> /dev/null | grep -qF "$VERSION"; then
     echo "== installing wasm-bindgen-cli $VERSION into $TOOLS"
-    cargo install wasm-bindgen-cli --version "=$VERSION" --root "$TOOLS" --force
+    # Not through a workspace wrapper (.ci/run lints our crates with one): it is not ours.
+    env -u RUSTC_WORKSPACE_WRAPPER -u CLIPPY_ARGS \
+        cargo install wasm-bindgen-cli --version "=$VERSION" --root "$TOOLS" --force
 fi
 
 # The module's panic and log messages name source files: by their place in a crate, not by the

@@ -309,8 +309,6 @@ pub fn image_from_rows(data: &[u8], size: UVec2) -> Result<LinearImage, String> 
     Ok(LinearImage::from_rgb8(&rgb))
 }
 
-/// Counts the settle frames down, then captures the preview and starts the CPU render of the
-/// same view in the same frame.
 /// What a capture waits for: the preview's target, its volume shown, its backend's settings,
 /// the progressive planner and the pipeline's compilation.
 #[derive(bevy::ecs::system::SystemParam)]
@@ -323,6 +321,11 @@ struct PreviewReady<'w, 's> {
     compiling: Res<'w, crate::sandbox::gpu::pipelines::Compiling>,
 }
 
+/// Where the preview's capture arrives (`Err` where there is none).
+type Capture = Arc<Mutex<Option<Result<LinearImage, String>>>>;
+
+/// Counts the settle frames down, then captures the preview and starts the CPU render of the
+/// same view in the same frame.
 fn start_capture(
     mut commands: Commands,
     mut comparison: ResMut<Comparison>,
@@ -332,51 +335,19 @@ fn start_capture(
     render_state: Res<RenderState>,
     ready: PreviewReady,
 ) {
-    let PreviewReady {
-        target,
-        preview_visible,
-        preview,
-        progressive,
-        compiling,
-    } = ready;
-    let Some(left) = comparison.settling else {
-        // Cancelled while settling: nothing will be captured, so nothing else resets it.
-        if full.0 && comparison.job.is_none() {
-            full.0 = false;
-        }
-        return;
-    };
-    let cpu_live = preview.as_ref().is_some_and(|p| p.cpu_live());
-    if !full.0 && !cpu_live {
-        full.0 = true;
-    }
-    if compiling.now() && !cpu_live {
-        // The GPU preview for these settings is not drawn until its pipeline is ready (the
-        // CPU live view's capture is rendered by the job itself).
-        return;
-    }
-    // The CPU live view's image is rendered by the job itself, at the view's own resolution:
-    // nothing to settle (on a software renderer, three frames of the page are half a second).
-    if left > 0 && !cpu_live {
-        comparison.settling = Some(left - 1);
-        return;
-    }
-    // A GPU preview drawn in strips is captured once a full-quality pass has finished, from
-    // that pass's image: the window goes on answering meanwhile (settling stays at zero until
-    // then).
-    let strips = progressive.as_deref().filter(|p| !cpu_live && p.active());
-    if strips.is_some_and(|p| p.finished_full_image().is_none()) {
+    let cpu_live = ready.preview.as_ref().is_some_and(|p| p.cpu_live());
+    if !settled(&mut comparison, &mut full, &ready, cpu_live) {
         return;
     }
     comparison.settling = None;
-    let (Some(target), Ok(view)) = (target, views.single()) else {
+    let (Some(target), Ok(view)) = (ready.target.as_deref(), views.single()) else {
         comparison.message = Some("no preview view to compare with yet".into());
         full.0 = false;
         return;
     };
     // The CPU live view rests at the preview's resolution of the window (the main camera's
     // target, then, is the whole window: its lines are drawn sharp).
-    let live_scale = preview.filter(|_| cpu_live).map(|p| p.scale);
+    let live_scale = ready.preview.as_ref().filter(|_| cpu_live).map(|p| p.scale);
     let size = live_scale.map_or(target.size, |scale| scaled_size(target.size, scale));
     let snapshot = Snapshot {
         live: cpu_live,
@@ -386,117 +357,186 @@ fn start_capture(
         transfer: render_state.transfer.clone(),
         source: state.source.clone(),
     };
-    // Read back rather than screenshot: a screenshot captures only what a camera draws this
-    // frame, and none draws the finished pass's image now.
-    let finished_pass = strips.and_then(|p| p.finished_full_image());
-    let gpu = Arc::new(Mutex::new(None));
-    let previewing = preview_visible.iter().any(|v| *v != Visibility::Hidden);
+    let gpu = Capture::default();
     if cpu_live {
         // The CPU live view is compared as it draws this view at rest (the job renders it,
         // without the scene's spheres, which the render has not either).
         if full.0 {
             full.0 = false;
         }
-    } else if let (true, Some(pass)) = (previewing, finished_pass) {
-        let (slot, size) = (gpu.clone(), target.size);
-        commands.spawn(Readback::texture(pass)).observe(
-            move |done: On<ReadbackComplete>,
-                  mut full: ResMut<FullQuality>,
-                  mut commands: Commands| {
-                if let Ok(mut s) = slot.lock() {
-                    *s = Some(image_from_rows(&done.data, size));
-                }
-                full.0 = false;
-                commands.entity(done.entity).despawn(); // else it reads back every frame
-            },
-        );
-    } else if previewing {
-        let slot = gpu.clone();
-        commands
-            .spawn(Screenshot::image(target.image.clone()))
-            .observe(
-                move |captured: On<ScreenshotCaptured>, mut full: ResMut<FullQuality>| {
-                    let image = captured
-                        .image
-                        .clone()
-                        .try_into_dynamic()
-                        .map(|img| LinearImage::from_rgb8(&img.to_rgb8()))
-                        .map_err(|e| format!("the preview could not be read back: {e}"));
+    } else {
+        capture_preview(&mut commands, &mut full, target, &ready, gpu.clone());
+    }
+    comparison.job = Some(start_render(state.volume.clone(), snapshot, gpu, cpu_live));
+}
+
+/// Whether the preview can be captured this frame; until then it is asked for at full
+/// quality, its pipeline compiled and its settle frames counted down (the CPU live view's
+/// capture is rendered by the job itself: nothing to wait for).
+fn settled(
+    comparison: &mut ResMut<Comparison>,
+    full: &mut ResMut<FullQuality>,
+    ready: &PreviewReady,
+    cpu_live: bool,
+) -> bool {
+    let Some(left) = comparison.settling else {
+        // Cancelled while settling: nothing will be captured, so nothing else resets it.
+        if full.0 && comparison.job.is_none() {
+            full.0 = false;
+        }
+        return false;
+    };
+    if !full.0 && !cpu_live {
+        full.0 = true;
+    }
+    if ready.compiling.now() && !cpu_live {
+        // The GPU preview for these settings is not drawn until its pipeline is ready.
+        return false;
+    }
+    // On a software renderer, three frames of the page are half a second: the CPU live view
+    // has no settle frames.
+    if left > 0 && !cpu_live {
+        comparison.settling = Some(left - 1);
+        return false;
+    }
+    // A GPU preview drawn in strips is captured once a full-quality pass has finished, from
+    // that pass's image: the window goes on answering meanwhile (settling stays at zero until
+    // then).
+    let strips = ready
+        .progressive
+        .as_deref()
+        .filter(|p| !cpu_live && p.active());
+    strips.is_none_or(|p| p.finished_full_image().is_some())
+}
+
+/// Captures the GPU preview into `slot`: a finished full-quality pass read back where the
+/// preview is drawn in strips (a screenshot captures only what a camera draws this frame, and
+/// none draws that pass's image now), else a screenshot of its target; that the preview is
+/// off where it is.
+fn capture_preview(
+    commands: &mut Commands,
+    full: &mut ResMut<FullQuality>,
+    target: &PreviewTarget,
+    ready: &PreviewReady,
+    slot: Capture,
+) {
+    let previewing = ready
+        .preview_visible
+        .iter()
+        .any(|v| *v != Visibility::Hidden);
+    let finished_pass = ready
+        .progressive
+        .as_deref()
+        .filter(|p| p.active())
+        .and_then(|p| p.finished_full_image());
+    match finished_pass {
+        Some(pass) if previewing => {
+            let size = target.size;
+            commands.spawn(Readback::texture(pass)).observe(
+                move |done: On<ReadbackComplete>,
+                      mut full: ResMut<FullQuality>,
+                      mut commands: Commands| {
                     if let Ok(mut s) = slot.lock() {
-                        *s = Some(image);
+                        *s = Some(image_from_rows(&done.data, size));
                     }
                     full.0 = false;
+                    commands.entity(done.entity).despawn(); // else it reads back every frame
                 },
             );
-    } else {
-        if let Ok(mut s) = gpu.lock() {
-            *s = Some(Err("the preview is off".into()));
         }
-        full.0 = false;
+        _ if previewing => {
+            commands
+                .spawn(Screenshot::image(target.image.clone()))
+                .observe(
+                    move |captured: On<ScreenshotCaptured>, mut full: ResMut<FullQuality>| {
+                        let image = captured
+                            .image
+                            .clone()
+                            .try_into_dynamic()
+                            .map(|img| LinearImage::from_rgb8(&img.to_rgb8()))
+                            .map_err(|e| format!("the preview could not be read back: {e}"));
+                        if let Ok(mut s) = slot.lock() {
+                            *s = Some(image);
+                        }
+                        full.0 = false;
+                    },
+                );
+        }
+        _ => {
+            if let Ok(mut s) = slot.lock() {
+                *s = Some(Err("the preview is off".into()));
+            }
+            full.0 = false;
+        }
     }
+}
+
+/// Starts the exact CPU render of `snapshot` (and, for the CPU live view, its capture: the
+/// same view at rest, in `live_slot`), with its progress and Cancel.
+fn start_render(
+    volume: Arc<voxcast_core::Prepared>,
+    snapshot: Snapshot,
+    live_slot: Capture,
+    cpu_live: bool,
+) -> Job {
     let progress = Arc::new((AtomicUsize::new(0), AtomicUsize::new(0)));
     let cancel = Arc::new(AtomicBool::new(false));
-    let task = {
-        let (volume, snapshot, progress, cancel) = (
-            state.volume.clone(),
-            snapshot.clone(),
-            progress.clone(),
-            cancel.clone(),
-        );
-        let live_slot = gpu.clone();
-        crate::sandbox::shared::tasks::spawn(async move {
-            let s = &snapshot;
-            let scene = Scene::new(&volume, &s.transfer, &s.settings, s.camera.forward())
-                .map_err(|e| e.to_string())?;
-            let report = |done: usize, total: usize| {
-                progress.0.store(done, Ordering::Relaxed);
-                progress.1.store(total, Ordering::Relaxed);
-            };
-            let cancelled = |_| "cancelled".to_string();
-            let size = (s.size.x, s.size.y);
-            let job = render::Job::plain(&scene, &s.camera, size, &report, &cancel);
+    let (s, worker_progress, worker_cancel, gpu) = (
+        snapshot.clone(),
+        progress.clone(),
+        cancel.clone(),
+        live_slot.clone(),
+    );
+    let task = crate::sandbox::shared::tasks::spawn(async move {
+        let scene = Scene::new(&volume, &s.transfer, &s.settings, s.camera.forward())
+            .map_err(|e| e.to_string())?;
+        let report = |done: usize, total: usize| {
+            worker_progress.0.store(done, Ordering::Relaxed);
+            worker_progress.1.store(total, Ordering::Relaxed);
+        };
+        let cancelled = |_| "cancelled".to_string();
+        let size = (s.size.x, s.size.y);
+        let job = render::Job::plain(&scene, &s.camera, size, &report, &worker_cancel);
+        let mut tiles = TileSlices::default();
+        // The render's own time (what its samples a second divide by): not the CPU live
+        // view's capture below, which the rate once wrongly counted in.
+        let ((image, stats), seconds) = in_slices(|d| render::render_in(&job, &mut tiles, d))
+            .await
+            .map_err(cancelled)?;
+        let quiet = render::Job {
+            progress: &|_, _| {},
+            ..job
+        };
+        if cpu_live {
             let mut tiles = TileSlices::default();
-            // The render's own time (what its samples a second divide by): not the CPU live
-            // view's capture below, which the rate once wrongly counted in.
-            let ((image, stats), seconds) = in_slices(|d| render::render_in(&job, &mut tiles, d))
+            let ((layer, _), _) = in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
                 .await
                 .map_err(cancelled)?;
-            let quiet = render::Job {
-                progress: &|_, _| {},
-                ..job
-            };
-            if cpu_live {
-                let mut tiles = TileSlices::default();
-                let ((layer, _), _) = in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
-                    .await
-                    .map_err(cancelled)?;
-                let live = layer.over(s.settings.background);
-                if let Ok(mut slot) = live_slot.lock() {
-                    *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));
-                }
+            let live = layer.over(s.settings.background);
+            if let Ok(mut slot) = live_slot.lock() {
+                *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));
             }
-            // The cost view's counts, from the same march (not in the time above).
-            let mut tiles = TileSlices::default();
-            let (cost, _) =
-                in_slices(|d| voxcast_core::cost::render_cost_in(&quiet, &mut tiles, d))
-                    .await
-                    .map_err(cancelled)?;
-            Ok(Rendered {
-                image,
-                stats,
-                seconds,
-                cost: Some(cost),
-            })
+        }
+        // The cost view's counts, from the same march (not in the time above).
+        let mut tiles = TileSlices::default();
+        let (cost, _) = in_slices(|d| voxcast_core::cost::render_cost_in(&quiet, &mut tiles, d))
+            .await
+            .map_err(cancelled)?;
+        Ok(Rendered {
+            image,
+            stats,
+            seconds,
+            cost: Some(cost),
         })
-    };
-    comparison.job = Some(Job {
+    });
+    Job {
         task,
         progress,
         cancel,
         gpu,
         cpu: None,
         snapshot,
-    });
+    }
 }
 
 /// Picks up the finished render and the capture, and builds the comparison.

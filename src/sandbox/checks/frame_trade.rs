@@ -252,6 +252,55 @@ pub fn drive(run: &mut FrameRun, d: &mut Drawing) -> Option<Ended> {
     ended
 }
 
+/// Puts try `i`'s setting in place and says what its visit waits for: the GPU preview's
+/// images (whole frames) or the CPU live view's exact render at that setting; why not where
+/// it cannot be timed.
+fn begin_visit(
+    run: &mut FrameRun,
+    d: &mut Drawing,
+    preview: &mut PreviewSettings,
+    i: usize,
+    volume: &std::sync::Arc<voxcast_core::Prepared>,
+) -> Result<Waiting, &'static str> {
+    let setting = run.tries[i];
+    preview.scale = setting.scale;
+    preview.step_multiplier = setting.step_multiplier;
+    // Exactly this setting, whatever the preview takes for motion (a settings change counts as
+    // one).
+    preview.adaptive = false;
+    let Ok(window) = d.window.single() else {
+        return Err("the preview has no window to draw in");
+    };
+    let (_, size) = Viewport::of(d.viewport.as_deref(), window);
+    if i == 0 {
+        run.size = size;
+    }
+    Ok(match run.drawer {
+        Backend::Gpu => {
+            let Some(p) = d.progressive.as_deref_mut() else {
+                return Err("the GPU preview draws nothing here");
+            };
+            // Whole frames: strips' number is the planner's choice, not the knob's.
+            run.own_whole.get_or_insert(p.whole_frames());
+            p.set_whole_frames(true);
+            Waiting::Images {
+                last: p.passes(),
+                finished: Vec::new(),
+                size: scaled_size(size, setting.scale),
+            }
+        }
+        Backend::Cpu => {
+            let Some(key) = d.live.as_ref().and_then(|l| l.key()) else {
+                return Err("the CPU live view has drawn nothing yet");
+            };
+            let mut key = key.clone();
+            key.full = scaled_size(size, setting.scale);
+            let spheres = setting.scale >= 1.0;
+            Waiting::Render(render_exact(key, volume.clone(), spheres))
+        }
+    })
+}
+
 fn stopped(why: &str) -> Option<Ended> {
     Some(Ended::Stopped(why.to_string()))
 }
@@ -278,54 +327,21 @@ fn advance(
         return stopped("this window has no clock or volume");
     };
     let now = time.elapsed_secs_f64();
+    let volume = volume.volume.clone();
     let total = run.tries.len();
     let (i, timed) = visit(run.visit, total);
-    let setting = run.tries[i];
     if matches!(run.waiting, Waiting::Start) {
         run.visit_began = now;
+        run.waiting = match begin_visit(run, d, preview, i, &volume) {
+            Ok(waiting) => waiting,
+            Err(why) => return stopped(why),
+        };
+        return None;
     } else if now - run.visit_began > VISIT_LIMIT_S {
         return stopped("the preview drew no image for a minute: is its window hidden?");
     }
     let seconds = match &mut run.waiting {
-        Waiting::Start => {
-            preview.scale = setting.scale;
-            preview.step_multiplier = setting.step_multiplier;
-            // Exactly this setting, whatever the preview takes for motion (a settings change
-            // counts as one).
-            preview.adaptive = false;
-            let Ok(window) = d.window.single() else {
-                return stopped("the preview has no window to draw in");
-            };
-            let (_, size) = Viewport::of(d.viewport.as_deref(), window);
-            if i == 0 {
-                run.size = size;
-            }
-            run.waiting = match run.drawer {
-                Backend::Gpu => {
-                    let Some(p) = d.progressive.as_deref_mut() else {
-                        return stopped("the GPU preview draws nothing here");
-                    };
-                    // Whole frames: strips' number is the planner's choice, not the knob's.
-                    run.own_whole.get_or_insert(p.whole_frames());
-                    p.set_whole_frames(true);
-                    Waiting::Images {
-                        last: p.passes(),
-                        finished: Vec::new(),
-                        size: scaled_size(size, setting.scale),
-                    }
-                }
-                Backend::Cpu => {
-                    let Some(key) = d.live.as_ref().and_then(|l| l.key()) else {
-                        return stopped("the CPU live view has drawn nothing yet");
-                    };
-                    let mut key = key.clone();
-                    key.full = scaled_size(size, setting.scale);
-                    let spheres = setting.scale >= 1.0;
-                    Waiting::Render(render_exact(key, volume.volume.clone(), spheres))
-                }
-            };
-            None
-        }
+        Waiting::Start => None,
         Waiting::Images {
             last,
             finished,

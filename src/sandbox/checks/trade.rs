@@ -131,7 +131,8 @@ pub(crate) fn plugin(app: &mut App) {
 fn start(
     mut trade: ResMut<StepTrade>,
     views: Query<&View, With<MainCamera>>,
-    (render, volume): (Res<RenderState>, Res<VolumeState>),
+    render: Res<RenderState>,
+    volume: Res<VolumeState>,
     preview_settings: Option<Res<PreviewSettings>>,
 ) {
     if !std::mem::take(&mut trade.requested) || trade.job.is_some() || trade.frames.is_some() {

@@ -7,7 +7,6 @@
 //! the view rests elsewhere.
 
 use crate::sandbox::shared::quality::{Motion, PreviewSettings};
-use crate::sandbox::shared::state::{MainCamera, View};
 use crate::sandbox::shared::viewport::Viewport;
 use bevy::platform::time::Instant;
 use bevy::prelude::*;
@@ -184,11 +183,7 @@ fn drive_cpu_lines(
     mut lines: ResMut<CpuLines>,
     preview: Res<PreviewSettings>,
     motion: Res<Motion>,
-    (window, viewport): (
-        Query<&Window, With<bevy::window::PrimaryWindow>>,
-        Option<Res<Viewport>>,
-    ),
-    views: Query<&View, With<MainCamera>>,
+    screen: crate::sandbox::shared::viewport::SceneOnScreen,
     mut report: ResMut<crate::sandbox::data::choices::ViewReport>,
 ) {
     if !preview.cpu_live() || lines.lists.is_empty() {
@@ -205,10 +200,10 @@ fn drive_cpu_lines(
             lines.generation += 1;
         }
     }
-    let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
+    let (Ok(window), Ok(view)) = (screen.window.single(), screen.views.single()) else {
         return;
     };
-    let (_, size) = Viewport::of(viewport.as_deref(), window);
+    let (_, size) = Viewport::of(screen.viewport.as_deref(), window);
     let segments: usize = lines.lists.iter().map(|l| l.segments()).sum();
     let thinned = moving_every(segments, lines.rate);
     let every = (thinned > 1).then_some(thinned);
@@ -319,6 +314,7 @@ fn start(key: LinesKey) -> LinesJob {
 mod tests {
     use super::*;
     use crate::sandbox::shared::quality::Backend;
+    use crate::sandbox::shared::state::{MainCamera, View};
 
     /// A windowless app with the CPU live view, a 64×48 window, and `lists` to draw seen from
     /// `camera`.

@@ -122,7 +122,7 @@ fn spawn_scene(
     all_roots: Query<(Entity, &RayRoot)>,
     existing: Query<Entity, With<SceneMesh>>,
     mut last: Local<Option<SceneShading>>,
-    (mut meshes, mut materials): (ResMut<Assets<Mesh>>, ResMut<Assets<StandardMaterial>>),
+    mut assets: crate::sandbox::shared::state::MeshAssets,
 ) {
     let shading = choices.view.shading;
     let root = match roots.iter().next() {
@@ -139,7 +139,7 @@ fn spawn_scene(
         return;
     }
     // One material for every mesh: white, unlit, coloured by its vertices.
-    let material = materials.add(StandardMaterial {
+    let material = assets.materials.add(StandardMaterial {
         unlit: true,
         double_sided: true,
         cull_mode: None,
@@ -160,7 +160,7 @@ fn spawn_scene(
             crate::sandbox::shared::layers::Solid,
             // The GPU's cameras draw it; the CPU live view has it in its image.
             RenderLayers::layer(crate::sandbox::shared::layers::SCENE_LAYER),
-            Mesh3d(meshes.add(mesh)),
+            Mesh3d(assets.meshes.add(mesh)),
             MeshMaterial3d(material.clone()),
             Transform::IDENTITY,
             ChildOf(root),
@@ -376,14 +376,21 @@ fn arrow_lines(arrows: &[Arrow]) -> LineList {
 }
 
 /// Swaps finished line lists in.
+/// Where the lines' meshes go, and the one unlit material they share (made once).
+#[derive(bevy::ecs::system::SystemParam)]
+struct LineAssets<'w, 's> {
+    shapes: crate::sandbox::shared::state::MeshAssets<'w>,
+    material: Local<'s, Option<Handle<StandardMaterial>>>,
+}
+
 fn swap_lines(
     mut commands: Commands,
     mut building: ResMut<Building>,
-    (mut report, mut cpu): (ResMut<ViewReport>, ResMut<CpuLines>),
+    mut report: ResMut<ViewReport>,
+    mut cpu: ResMut<CpuLines>,
     roots: Query<(Entity, &RayRoot)>,
     existing: Query<(Entity, &Lines)>,
-    (mut meshes, mut materials): (ResMut<Assets<Mesh>>, ResMut<Assets<StandardMaterial>>),
-    mut material: Local<Option<Handle<StandardMaterial>>>,
+    mut assets: LineAssets,
 ) {
     let Some(task) = building.task.as_mut() else {
         return;
@@ -405,9 +412,10 @@ fn swap_lines(
         return;
     };
     cpu.set(geometry.cpu, -shown.0.computed.origin);
-    let material = material
+    let material = assets
+        .material
         .get_or_insert_with(|| {
-            materials.add(StandardMaterial {
+            assets.shapes.materials.add(StandardMaterial {
                 unlit: true,
                 ..default()
             })
@@ -422,7 +430,7 @@ fn swap_lines(
             .with_inserted_attribute(Mesh::ATTRIBUTE_COLOR, colours);
         commands.spawn((
             kind,
-            Mesh3d(meshes.add(mesh)),
+            Mesh3d(assets.shapes.meshes.add(mesh)),
             MeshMaterial3d(material.clone()),
             Transform::IDENTITY,
             Visibility::Hidden,

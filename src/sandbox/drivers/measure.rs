@@ -62,28 +62,62 @@ struct Measured {
 
 /// The preview's settings, the CPU live view (and its lines) and the GPU's progressive pass,
 /// where there are.
-type LiveParams<'w> = (
-    Option<Res<'w, crate::sandbox::preview::live::LiveView>>,
-    Option<Res<'w, crate::sandbox::shared::quality::PreviewSettings>>,
-    Option<Res<'w, crate::sandbox::preview::progressive::Progressive>>,
-    Option<Res<'w, crate::sandbox::shared::quality::Motion>>,
-    Option<Res<'w, crate::sandbox::data::cpu_lines::CpuLines>>,
-);
+#[derive(bevy::ecs::system::SystemParam)]
+struct Previews<'w> {
+    live: Option<Res<'w, crate::sandbox::preview::live::LiveView>>,
+    preview: Option<Res<'w, crate::sandbox::shared::quality::PreviewSettings>>,
+    progressive: Option<Res<'w, crate::sandbox::preview::progressive::Progressive>>,
+    motion: Option<Res<'w, crate::sandbox::shared::quality::Motion>>,
+    lines: Option<Res<'w, crate::sandbox::data::cpu_lines::CpuLines>>,
+}
+
+impl Previews<'_> {
+    /// The CPU live view, where it draws the volume.
+    fn live(&self) -> Option<&crate::sandbox::preview::live::LiveView> {
+        let cpu = self.preview.as_ref().is_some_and(|p| p.cpu_live());
+        self.live.as_deref().filter(|_| cpu)
+    }
+
+    /// Whether the GPU preview draws the volume.
+    fn gpu(&self) -> bool {
+        self.preview.as_ref().is_some_and(|p| p.gpu_live())
+    }
+
+    /// The CPU's pictures of a ray density's lines, where they are on screen.
+    fn lines(&self) -> Option<&crate::sandbox::data::cpu_lines::CpuLines> {
+        self.lines.as_deref().filter(|l| l.on_screen().is_some())
+    }
+
+    /// Whether the GPU preview is at full quality: the view rests and its pass (if it draws
+    /// in strips) has finished.
+    fn gpu_full(&self) -> bool {
+        self.gpu()
+            && !self.motion.as_ref().is_some_and(|m| m.moving)
+            && self
+                .progressive
+                .as_ref()
+                .is_some_and(|p| p.full_quality_shown())
+    }
+}
+
+/// Real time (virtual time clamps a frame at 250 ms), and the clock of each frame's parts.
+#[derive(bevy::ecs::system::SystemParam)]
+struct Clocks<'w> {
+    time: Res<'w, Time<Real>>,
+    parts: Option<Res<'w, super::frame_parts::FrameClock>>,
+}
 
 fn measure_frames(
     request: Res<MeasureRequest>,
-    // Real time, and the clock of each frame's parts.
-    (time, clock): (Res<Time<Real>>, Option<Res<super::frame_parts::FrameClock>>),
+    clocks: Clocks,
     mut m: Local<Measured>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
     mut exit: MessageWriter<AppExit>,
     animation: Option<ResMut<crate::sandbox::inspect::rays::RayAnimation>>,
-    (live, preview, progressive, motion, lines): LiveParams,
+    previews: Previews,
 ) {
     m.seen += 1;
-    let gpu = preview.as_ref().is_some_and(|p| p.gpu_live());
-    let live = live.filter(|_| preview.is_some_and(|p| p.cpu_live()));
-    let now = time.elapsed_secs_f64();
+    let now = clocks.time.elapsed_secs_f64();
     // Every ray and sample on screen from the start: the cost of the whole scene.
     if let Some(mut a) = animation
         && a.distance.is_finite()
@@ -94,116 +128,33 @@ fn measure_frames(
     // until the exact render of the resting view is on screen is measured too.
     let measured = m.samples.len() as u32 >= request.frames;
     if request.orbit_degrees != 0.0 && !measured {
-        for (mut orbit, mut transform, mut view) in &mut cameras {
-            orbit.yaw += request.orbit_degrees.to_radians();
-            *transform = orbit.transform();
-            if let Ok(v) = voxcast_core::camera::Camera::new(
-                transform.translation,
-                orbit.focus,
-                orbit.up,
-                view.0.projection,
-            ) {
-                view.0 = v;
-            }
-        }
+        orbit(&mut cameras, request.orbit_degrees);
     }
     if m.seen <= WARM_UP {
         return;
     }
+    let (live, lines) = (previews.live(), previews.lines());
     if m.live_start.is_none() {
-        m.live_start = live.as_ref().map(|l| (l.generation, now));
+        m.live_start = live.map(|l| (l.generation, now));
     }
-    let lines = lines.filter(|l| l.on_screen().is_some());
     if m.lines_start.is_none() {
-        m.lines_start = lines.as_ref().map(|l| (l.pictures(), now));
+        m.lines_start = lines.map(|l| (l.pictures(), now));
     }
-    // Real time: virtual time clamps a frame at 250 ms.
     if !measured {
-        m.samples.push(time.delta_secs() * 1000.0);
+        m.samples.push(clocks.time.delta_secs() * 1000.0);
         if m.samples.len() as u32 == request.frames {
-            m.stopped = Some(Stopped {
-                parts: clock
-                    .as_ref()
-                    .and_then(|c| super::frame_parts::words(c, request.frames as usize)),
-                at: now,
-                live: live.as_ref().zip(m.live_start).map(|(l, (g0, t0))| {
-                    let size = l.shown.as_ref().map_or(UVec2::ZERO, |f| f.size);
-                    ((l.generation - g0) as f64 / (now - t0).max(1e-6), size)
-                }),
-                lines: lines.as_ref().zip(m.lines_start).map(|(l, (g0, t0))| {
-                    let every = l.on_screen().map_or(1, |(_, every)| every);
-                    ((l.pictures() - g0) as f64 / (now - t0).max(1e-6), every)
-                }),
-            });
+            let parts = clocks
+                .parts
+                .as_ref()
+                .and_then(|c| super::frame_parts::words(c, request.frames as usize));
+            m.stopped = Some(m.stop(now, live, lines, parts));
         }
         return;
     }
     let view = cameras.single().ok().map(|(_, _, v)| v.0);
-    let exact_now = live.as_ref().is_some_and(|l| {
-        l.showing_exact() && l.shown.as_ref().is_some_and(|f| Some(f.key.camera) == view)
-    });
-    // The GPU preview is at full quality once the view rests and its pass (if it draws in
-    // strips) has finished.
-    let gpu_full = gpu
-        && !motion.as_ref().is_some_and(|m| m.moving)
-        && progressive.as_ref().is_some_and(|p| p.full_quality_shown());
-    let waited = now - m.stopped.as_ref().map_or(now, |s| s.at);
-    let refining = (live.is_some() && !exact_now) || (gpu && !gpu_full);
-    if refining && waited < 30.0 {
+    let Some(text) = m.report(&request, &previews, view, now) else {
         return; // the preview is still refining the resting view
-    }
-    let mean = m.samples.iter().sum::<f32>() / m.samples.len() as f32;
-    let samples: Vec<f64> = m.samples.iter().map(|&s| s as f64).collect();
-    let median = voxcast_core::numbers::median(&samples).unwrap_or_default() as f32;
-    let live_text = match m.stopped.as_ref().and_then(|s| s.live) {
-        Some((rate, size)) => {
-            let exact = match (exact_now, request.orbit_degrees != 0.0) {
-                (false, _) => "not reached".to_string(),
-                (true, true) => {
-                    format!("{:.0} ms after the camera stopped", waited * 1000.0)
-                }
-                (true, false) => "on screen".to_string(),
-            };
-            format!(
-                "; CPU live view: {rate:.1} images/s at {}×{}, exact render {exact}",
-                size.x, size.y
-            )
-        }
-        None if gpu => {
-            let strips = progressive
-                .as_ref()
-                .filter(|p| p.active())
-                .map_or(String::new(), |p| {
-                    format!(" (drawn in {} strips)", p.strips())
-                });
-            let full = match (gpu_full, request.orbit_degrees != 0.0) {
-                (false, _) => "not reached".to_string(),
-                (true, true) => format!("{:.0} ms after the camera stopped", waited * 1000.0),
-                (true, false) => "on screen".to_string(),
-            };
-            format!("; GPU preview: full quality {full}{strips}")
-        }
-        None => String::new(),
     };
-    let lines_text = match m.stopped.as_ref().and_then(|s| s.lines) {
-        Some((rate, every)) => format!(
-            "; lines drawn by the CPU: {rate:.1} pictures/s, 1 in {every} of the rays and \
-             arrows"
-        ),
-        None => String::new(),
-    };
-    let parts_text = m
-        .stopped
-        .as_ref()
-        .and_then(|s| s.parts.as_ref())
-        .map_or(String::new(), |w| format!("; {w}"));
-    let text = format!(
-        "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} \
-             frames{live_text}{lines_text}{parts_text}",
-        request.label,
-        1000.0 / median,
-        m.samples.len()
-    );
     // A page has no standard output and goes on: the figures go to its console and status
     // (`voxcast_status().measured`), once.
     #[cfg(target_arch = "wasm32")]
@@ -219,6 +170,118 @@ fn measure_frames(
     {
         println!("{text}");
         exit.write(AppExit::Success);
+    }
+}
+
+/// Turns the main camera `degrees` further round its orbit.
+fn orbit(
+    cameras: &mut Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
+    degrees: f32,
+) {
+    for (mut orbit, mut transform, mut view) in cameras {
+        orbit.yaw += degrees.to_radians();
+        *transform = orbit.transform();
+        if let Ok(v) = voxcast_core::camera::Camera::new(
+            transform.translation,
+            orbit.focus,
+            orbit.up,
+            view.0.projection,
+        ) {
+            view.0 = v;
+        }
+    }
+}
+
+impl Measured {
+    /// The measured frames end `now`: the live view's images and the lines' pictures a second
+    /// since measuring began.
+    fn stop(
+        &self,
+        now: f64,
+        live: Option<&crate::sandbox::preview::live::LiveView>,
+        lines: Option<&crate::sandbox::data::cpu_lines::CpuLines>,
+        parts: Option<String>,
+    ) -> Stopped {
+        Stopped {
+            parts,
+            at: now,
+            live: live.zip(self.live_start).map(|(l, (g0, t0))| {
+                let size = l.shown.as_ref().map_or(UVec2::ZERO, |f| f.size);
+                ((l.generation - g0) as f64 / (now - t0).max(1e-6), size)
+            }),
+            lines: lines.zip(self.lines_start).map(|(l, (g0, t0))| {
+                let every = l.on_screen().map_or(1, |(_, every)| every);
+                ((l.pictures() - g0) as f64 / (now - t0).max(1e-6), every)
+            }),
+        }
+    }
+
+    /// The figures, once the preview has finished refining the view the camera rests at (or
+    /// 30 s after the measured frames, whichever comes first); `None` before.
+    fn report(
+        &self,
+        request: &MeasureRequest,
+        previews: &Previews,
+        view: Option<voxcast_core::camera::Camera>,
+        now: f64,
+    ) -> Option<String> {
+        let live = previews.live();
+        let exact_now = live.is_some_and(|l| {
+            l.showing_exact() && l.shown.as_ref().is_some_and(|f| Some(f.key.camera) == view)
+        });
+        let gpu_full = previews.gpu_full();
+        let waited = now - self.stopped.as_ref().map_or(now, |s| s.at);
+        let refining = (live.is_some() && !exact_now) || (previews.gpu() && !gpu_full);
+        if refining && waited < 30.0 {
+            return None;
+        }
+        let mean = self.samples.iter().sum::<f32>() / self.samples.len() as f32;
+        let samples: Vec<f64> = self.samples.iter().map(|&s| s as f64).collect();
+        let median = voxcast_core::numbers::median(&samples).unwrap_or_default() as f32;
+        // How long after the camera stopped the best image was on screen.
+        let reached = |on: bool| match (on, request.orbit_degrees != 0.0) {
+            (false, _) => "not reached".to_string(),
+            (true, true) => format!("{:.0} ms after the camera stopped", waited * 1000.0),
+            (true, false) => "on screen".to_string(),
+        };
+        let stopped = self.stopped.as_ref();
+        let live_text = match stopped.and_then(|s| s.live) {
+            Some((rate, size)) => format!(
+                "; CPU live view: {rate:.1} images/s at {}×{}, exact render {}",
+                size.x,
+                size.y,
+                reached(exact_now)
+            ),
+            None if previews.gpu() => {
+                let strips = previews
+                    .progressive
+                    .as_ref()
+                    .filter(|p| p.active())
+                    .map_or(String::new(), |p| {
+                        format!(" (drawn in {} strips)", p.strips())
+                    });
+                format!("; GPU preview: full quality {}{strips}", reached(gpu_full))
+            }
+            None => String::new(),
+        };
+        let lines_text = stopped
+            .and_then(|s| s.lines)
+            .map_or(String::new(), |(rate, every)| {
+                format!(
+                    "; lines drawn by the CPU: {rate:.1} pictures/s, 1 in {every} of the rays and \
+                 arrows"
+                )
+            });
+        let parts_text = stopped
+            .and_then(|s| s.parts.as_ref())
+            .map_or(String::new(), |w| format!("; {w}"));
+        Some(format!(
+            "{}: frame time mean {mean:.1} ms, median {median:.1} ms ({:.1} fps) over {} \
+             frames{live_text}{lines_text}{parts_text}",
+            request.label,
+            1000.0 / median,
+            self.samples.len()
+        ))
     }
 }
 

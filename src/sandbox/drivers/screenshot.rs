@@ -178,21 +178,7 @@ fn take_screenshot(
         // Full quality: every frame draws the whole preview.
         timed.0.push(time.delta_secs_f64());
         if timed.done(&request) {
-            let t = voxcast_core::trade::Timing::of(&timed.0);
-            println!(
-                "preview frame: median {:.1} ms, fastest {:.1} ms, slowest {:.1} ms over {} \
-                 frames at {}×{}, {}",
-                t.median * 1000.0,
-                t.fastest * 1000.0,
-                t.slowest * 1000.0,
-                timed.0.len(),
-                size.0,
-                size.1,
-                match request.orbit_degrees {
-                    0.0 => "resting".to_string(),
-                    d => format!("orbiting {d}° a frame"),
-                }
-            );
+            print_timing(&timed.0, &request, &size);
         }
         return;
     }
@@ -214,8 +200,32 @@ fn take_screenshot(
     if phase != SETTLE_FRAMES {
         return;
     }
-    let total = shots.len();
-    commands.spawn(Screenshot::image(target.0.clone())).observe(
+    save_shot(&mut commands, target.0.clone(), path, shots.len());
+}
+
+/// Prints the median, fastest and slowest of the preview's full-quality frames.
+fn print_timing(seconds: &[f64], request: &Request, size: &ImageSize) {
+    let t = voxcast_core::trade::Timing::of(seconds);
+    println!(
+        "preview frame: median {:.1} ms, fastest {:.1} ms, slowest {:.1} ms over {} frames at \
+         {}×{}, {}",
+        t.median * 1000.0,
+        t.fastest * 1000.0,
+        t.slowest * 1000.0,
+        seconds.len(),
+        size.0,
+        size.1,
+        match request.orbit_degrees {
+            0.0 => "resting".to_string(),
+            d => format!("orbiting {d}° a frame"),
+        }
+    );
+}
+
+/// Captures `image` to `path` once it is drawn; the app exits once all `total` shots are
+/// saved, or with an error on the first that cannot be.
+fn save_shot(commands: &mut Commands, image: Handle<Image>, path: PathBuf, total: usize) {
+    commands.spawn(Screenshot::image(image)).observe(
         move |captured: On<ScreenshotCaptured>,
               mut saved: ResMut<Saved>,
               mut exit: MessageWriter<AppExit>| {

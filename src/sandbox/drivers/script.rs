@@ -151,6 +151,13 @@ struct Hands<'w, 's> {
     ray_choices: ResMut<'w, crate::sandbox::data::choices::RayChoices>,
 }
 
+/// What the play-through tells the sandbox: the levels' commands, and the exit at its end.
+#[derive(bevy::ecs::system::SystemParam)]
+struct Tells<'w> {
+    levels: MessageWriter<'w, LevelCommand>,
+    exit: MessageWriter<'w, AppExit>,
+}
+
 fn drive(
     mut commands: Commands,
     mut run: ResMut<Run>,
@@ -158,7 +165,7 @@ fn drive(
     mode: Res<State<Mode>>,
     request: Res<PlayLevels>,
     mut hands: Hands,
-    (mut send, mut exit): (MessageWriter<LevelCommand>, MessageWriter<AppExit>),
+    mut tells: Tells,
 ) {
     let run = &mut *run;
     run.frames += 1;
@@ -173,11 +180,11 @@ fn drive(
     }
     let mut out = Out {
         commands: &mut commands,
-        send: &mut send,
+        send: &mut tells.levels,
         dir: &request.0,
     };
     if run.level >= lessons.levels.len() {
-        end_in_free_play(run, &mut out, &mut hands, &mut exit);
+        end_in_free_play(run, &mut out, &mut hands, &mut tells.exit);
         return;
     }
     let level = lessons.levels[run.level].clone();

@@ -196,7 +196,8 @@ fn recompute(
     render_state: Res<RenderState>,
     settings: Res<InspectSettings>,
     cameras: Query<Ref<VirtualCamera>>,
-    (mut inspection, mut selection): (ResMut<Inspection>, ResMut<RaySelection>),
+    mut inspection: ResMut<Inspection>,
+    mut selection: ResMut<RaySelection>,
     mut job: ResMut<InspectJob>,
 ) {
     let Ok(vc) = cameras.single() else {
@@ -237,7 +238,8 @@ fn recompute(
 /// Takes in a finished tracing.
 fn collect_inspection(
     mut job: ResMut<InspectJob>,
-    (mut inspection, mut selection): (ResMut<Inspection>, ResMut<RaySelection>),
+    mut inspection: ResMut<Inspection>,
+    mut selection: ResMut<RaySelection>,
     mut animation: ResMut<RayAnimation>,
 ) {
     let Some(task) = job.task.as_mut() else {
@@ -359,7 +361,8 @@ pub fn sphere_radius_seen(radius: f32, dir: Vec3, forward: Vec3) -> f32 {
 fn fit_spheres_to_view(
     views: Query<Ref<View>, With<MainCamera>>,
     inspection: Res<Inspection>,
-    (volume, render_state): (Res<VolumeState>, Res<RenderState>),
+    volume: Res<VolumeState>,
+    render_state: Res<RenderState>,
     mut spheres: Query<(&SampleSphere, &mut Transform)>,
 ) {
     let Ok(view) = views.single() else { return };
@@ -393,27 +396,27 @@ fn color_key(rgba: [f32; 4], show_opacity: bool) -> [u8; 4] {
     [q(rgba[0]), q(rgba[1]), q(rgba[2]), a]
 }
 
-/// Puts a pooled sphere on every sample after a recomputation (or a change of look).
-/// The mesh and material stores the sample spheres are made in.
+/// The samples the spheres mark, and how they are shown.
 #[derive(bevy::ecs::system::SystemParam)]
-struct SphereAssets<'w> {
-    meshes: ResMut<'w, Assets<Mesh>>,
-    materials: ResMut<'w, Assets<StandardMaterial>>,
+struct Marked<'w> {
+    inspection: Res<'w, Inspection>,
+    settings: Res<'w, InspectSettings>,
 }
 
+/// Puts a pooled sphere on every sample after a recomputation (or a change of look).
 fn place_spheres(
     mut commands: Commands,
-    (inspection, settings): (Res<Inspection>, Res<InspectSettings>),
+    marked: Marked,
     volume: Res<VolumeState>,
     render_state: Res<RenderState>,
     mut pool: ResMut<Pool>,
     cameras: Query<Entity, With<VirtualCamera>>,
-    assets: SphereAssets,
+    mut assets: crate::sandbox::shared::state::MeshAssets,
 ) {
-    let SphereAssets {
-        mut meshes,
-        mut materials,
-    } = assets;
+    let Marked {
+        inspection,
+        settings,
+    } = marked;
     if !(inspection.is_changed() || settings.is_changed()) {
         return;
     }
@@ -427,20 +430,9 @@ fn place_spheres(
     let radius = sphere_radius(&volume, &render_state);
     let mesh = pool
         .mesh
-        .get_or_insert_with(|| meshes.add(Sphere::new(1.0).mesh().ico(1).unwrap()))
+        .get_or_insert_with(|| assets.meshes.add(Sphere::new(1.0).mesh().ico(1).unwrap()))
         .clone();
-    let samples: Vec<(usize, Vec3, f32, [f32; 4])> = inspection
-        .traces
-        .iter()
-        .flatten()
-        .enumerate()
-        .flat_map(|(r, trace)| {
-            trace
-                .samples
-                .iter()
-                .map(move |rec| (r, Vec3::from_array(rec.p_world), rec.t, rec.tf_rgba))
-        })
-        .collect();
+    let samples = sample_points(&inspection);
     // Grow the pool as needed; spare spheres are hidden.
     while pool.entities.len() < samples.len() {
         let e = commands
@@ -453,22 +445,69 @@ fn place_spheres(
             .id();
         pool.entities.push(e);
     }
-    let show_opacity = settings.show_opacity;
     for (i, &entity) in pool.entities.clone().iter().enumerate() {
+        let mut sphere = commands.entity(entity);
         let Some(&(ray, p, t, rgba)) = samples.get(i) else {
-            commands
-                .entity(entity)
-                .insert(Visibility::Hidden)
-                .remove::<(
-                    SampleSphere,
-                    crate::sandbox::shared::layers::Solid,
-                    crate::sandbox::shared::layers::Occluder,
-                )>();
+            sphere.insert(Visibility::Hidden).remove::<(
+                SampleSphere,
+                crate::sandbox::shared::layers::Solid,
+                crate::sandbox::shared::layers::Occluder,
+            )>();
             continue;
         };
-        let key = color_key(rgba, show_opacity);
-        let material = pool
-            .materials
+        let key = color_key(rgba, settings.show_opacity);
+        let material = pool.material(key, &mut assets.materials);
+        // Opaque spheres stop the preview's rays (and are in the CPU live view's image), and
+        // those of a preview drawn below full resolution through a depth-only twin (`sharp`);
+        // transparent ones are drawn over the volume.
+        let opaque = key[3] == 255;
+        if opaque {
+            sphere.insert(crate::sandbox::shared::layers::Solid);
+        } else {
+            sphere.remove::<crate::sandbox::shared::layers::Solid>();
+        }
+        let layer = if opaque {
+            crate::sandbox::shared::layers::OCCLUDER_LAYER
+        } else {
+            0
+        };
+        sphere.insert((
+            SampleSphere { ray, t },
+            // The mesh is a unit sphere: the transform scales it to the sample's radius.
+            crate::sandbox::shared::layers::Occluder { radius: 1.0 },
+            bevy::camera::visibility::RenderLayers::layer(layer),
+            MeshMaterial3d(material),
+            Transform::from_translation(p).with_scale(Vec3::splat(radius)),
+        ));
+    }
+}
+
+/// Every sample of every traced ray: its ray's index, position, distance along the ray and
+/// colour and opacity looked up.
+fn sample_points(inspection: &Inspection) -> Vec<(usize, Vec3, f32, [f32; 4])> {
+    inspection
+        .traces
+        .iter()
+        .flatten()
+        .enumerate()
+        .flat_map(|(r, trace)| {
+            trace
+                .samples
+                .iter()
+                .map(move |rec| (r, Vec3::from_array(rec.p_world), rec.t, rec.tf_rgba))
+        })
+        .collect()
+}
+
+impl Pool {
+    /// The unlit material of colour `key` (translucent where its opacity is below one), made
+    /// once.
+    fn material(
+        &mut self,
+        key: [u8; 4],
+        materials: &mut ResMut<Assets<StandardMaterial>>,
+    ) -> Handle<StandardMaterial> {
+        self.materials
             .entry(key)
             .or_insert_with(|| {
                 let c = key.map(|v| v as f32 / 255.0);
@@ -483,33 +522,7 @@ fn place_spheres(
                     ..default()
                 })
             })
-            .clone();
-        // Opaque spheres stop the preview's rays (and are in the CPU live view's image);
-        // transparent ones are drawn over the volume.
-        let layer = if key[3] == 255 {
-            crate::sandbox::shared::layers::OCCLUDER_LAYER
-        } else {
-            0
-        };
-        // Opaque spheres stop the rays of a preview drawn below full resolution through a
-        // depth-only twin (`sharp`).
-        if key[3] == 255 {
-            commands
-                .entity(entity)
-                .insert(crate::sandbox::shared::layers::Solid);
-        } else {
-            commands
-                .entity(entity)
-                .remove::<crate::sandbox::shared::layers::Solid>();
-        }
-        commands.entity(entity).insert((
-            SampleSphere { ray, t },
-            // The mesh is a unit sphere: the transform scales it to the sample's radius.
-            crate::sandbox::shared::layers::Occluder { radius: 1.0 },
-            bevy::camera::visibility::RenderLayers::layer(layer),
-            MeshMaterial3d(material),
-            Transform::from_translation(p).with_scale(Vec3::splat(radius)),
-        ));
+            .clone()
     }
 }
 

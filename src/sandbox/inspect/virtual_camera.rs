@@ -3,7 +3,6 @@
 //! (one ray per pixel, through the pixel's centre; the inspector traces them). Its view is a
 //! core camera, so the grid drawn here is exactly where the core's rays pass.
 
-use crate::sandbox::shared::mode::{Mode, Stage};
 use crate::sandbox::shared::state::VolumeState;
 use bevy::prelude::*;
 use voxcast_core::camera::{Camera as CoreCamera, Projection};
@@ -105,15 +104,16 @@ pub(crate) fn plugin(app: &mut App) {
 pub(crate) fn stage_camera(
     mut commands: Commands,
     volume: Res<VolumeState>,
-    (mode, stage): (Res<State<Mode>>, Res<Stage>),
+    staged: crate::sandbox::shared::mode::Staged,
     main: Query<
         &crate::sandbox::shared::state::View,
         With<crate::sandbox::shared::state::MainCamera>,
     >,
     mut cameras: Query<&mut VirtualCamera>,
     bodies: Query<Entity, With<Body>>,
-    (mut meshes, mut materials): (ResMut<Assets<Mesh>>, ResMut<Assets<StandardMaterial>>),
+    mut assets: crate::sandbox::shared::state::MeshAssets,
 ) {
+    let (mode, stage) = (&staged.mode, &staged.stage);
     if !(volume.is_changed() || mode.is_changed()) {
         return;
     }
@@ -151,8 +151,8 @@ pub(crate) fn stage_camera(
     commands.spawn((
         Body,
         crate::sandbox::shared::layers::Solid,
-        Mesh3d(meshes.add(Cuboid::new(size, size, size * 1.5))),
-        MeshMaterial3d(materials.add(StandardMaterial {
+        Mesh3d(assets.meshes.add(Cuboid::new(size, size, size * 1.5))),
+        MeshMaterial3d(assets.materials.add(StandardMaterial {
             base_color: {
                 let c = voxcast_core::marker::BODY_COLOR;
                 Color::srgb(c.x, c.y, c.z)

@@ -184,123 +184,141 @@ fn apply_editor_commands(
 ) {
     for command in commands.read() {
         let now = lessons.now.clone();
-        match command {
+        let done = match command {
             EditorCommand::NewFromView => {
                 let preview = scene.preview.as_ref().is_some_and(|p| p.enabled);
-                draft.level = Some(new_level(scene.snapshot(), preview));
-                draft.step = 0;
-                draft.file = "my-level.json".into();
-                draft.open = true;
-                draft.message = Some(
-                    "A new level from this view: write its words, then add a step for each \
-                     view you set up."
-                        .into(),
-                );
+                draft.open_new(new_level(scene.snapshot(), preview));
+                Some(())
             }
-            EditorCommand::Edit(i) => {
-                let Some(level) = lessons.levels.get(*i) else {
-                    continue;
-                };
-                draft.file = match &level.origin {
-                    Origin::File(p) => p.display().to_string(),
-                    _ => format!("{}.json", level.id),
-                };
-                draft.level = Some(level.clone());
-                draft.step = 0;
-                draft.open = true;
-                draft.message = None;
-            }
-            EditorCommand::AddStep => {
-                let draft = &mut *draft;
-                let at = draft.step + 1;
-                let Some(level) = draft.level.as_mut() else {
-                    continue;
-                };
-                let at = at.min(level.steps.len());
-                level.steps.insert(
-                    at,
-                    Step {
-                        text: "What to do, and what the student will see.".into(),
-                        control: None,
-                        objective: Objective::Read,
-                        scene: Some(scene.snapshot()),
-                    },
-                );
-                draft.step = at;
-            }
+            EditorCommand::Edit(i) => lessons.levels.get(*i).map(|l| draft.open_level(l)),
+            EditorCommand::AddStep => draft.add_step(scene.snapshot()),
             EditorCommand::Retake(k) => {
-                if let Some(step) = draft.level.as_mut().and_then(|l| l.steps.get_mut(*k)) {
-                    step.scene = Some(scene.snapshot());
-                    draft.message = Some(format!("Step {} now opens with this view.", k + 1));
-                }
+                draft.retake(*k, scene.snapshot());
+                Some(())
             }
-            EditorCommand::Select(k) => draft.step = *k,
-            EditorCommand::Move(k, by) => {
-                let draft = &mut *draft;
-                let Some(level) = draft.level.as_mut() else {
-                    continue;
-                };
-                let to = k.checked_add_signed(*by).filter(|&t| t < level.steps.len());
-                if let Some(to) = to {
-                    level.steps.swap(*k, to);
-                    draft.step = to;
-                }
+            EditorCommand::Select(k) => {
+                draft.step = *k;
+                Some(())
             }
-            EditorCommand::Delete(k) => {
-                let draft = &mut *draft;
-                let Some(level) = draft.level.as_mut() else {
-                    continue;
-                };
-                if level.steps.len() > 1 && *k < level.steps.len() {
-                    level.steps.remove(*k);
-                    draft.step = draft.step.min(level.steps.len() - 1);
-                } else {
-                    draft.message = Some("A level keeps at least one step.".into());
-                }
-            }
-            EditorCommand::Play(k) => {
-                let Some(level) = draft.level.clone() else {
-                    continue;
-                };
+            EditorCommand::Move(k, by) => draft.move_step(*k, *by),
+            EditorCommand::Delete(k) => draft.delete_step(*k),
+            EditorCommand::Play(k) => draft.level.clone().map(|level| {
                 let i = lessons.keep_level(level);
                 start.write(LevelCommand::StartAt(i, *k));
                 draft.message = Some(
                     "Playing the draft as a student would; Edit this level brings it back.".into(),
                 );
-            }
-            EditorCommand::Save => {
-                let Some(level) = draft.level.clone() else {
-                    continue;
-                };
+            }),
+            EditorCommand::Save => draft.level.clone().map(|level| {
                 draft.message = Some(save(&mut draft, level, &mut lessons));
-            }
-            EditorCommand::CopyLink(page) => {
-                let Some(level) = draft.level.as_ref() else {
-                    continue;
-                };
-                match voxcast_core::level::link::link(level, page) {
-                    Ok(link) => {
-                        draft.message = Some(match files::copy_text(&link) {
-                            Ok(()) => format!(
-                                "The link is copied ({} characters): whoever opens it plays \
-                                 the level on the page.",
-                                link.len()
-                            ),
-                            Err(e) => format!("{e}: copy the link below by hand."),
-                        });
-                        draft.link = Some(link);
-                    }
-                    Err(e) => {
-                        draft.message = Some(e);
-                        draft.link = None;
-                    }
-                }
-            }
-        }
+            }),
+            EditorCommand::CopyLink(page) => draft.copy_link(page),
+        };
         // The step chosen now is judged from the scene as it is now.
-        if !matches!(command, EditorCommand::CopyLink(_) | EditorCommand::Save) {
+        let judged = !matches!(command, EditorCommand::CopyLink(_) | EditorCommand::Save);
+        if done.is_some() && judged {
             draft.baseline = Some(now);
         }
+    }
+}
+
+/// What the editor's commands do to the draft; `None` where there is no draft level to do it
+/// to.
+impl Draft {
+    /// Opens a new level in the editor.
+    fn open_new(&mut self, level: Level) {
+        self.level = Some(level);
+        self.step = 0;
+        self.file = "my-level.json".into();
+        self.open = true;
+        self.message = Some(
+            "A new level from this view: write its words, then add a step for each view you \
+             set up."
+                .into(),
+        );
+    }
+
+    /// Opens a copy of `level` in the editor, to be saved to its own file (or one named after
+    /// its id).
+    fn open_level(&mut self, level: &Level) {
+        self.file = match &level.origin {
+            Origin::File(p) => p.display().to_string(),
+            _ => format!("{}.json", level.id),
+        };
+        self.level = Some(level.clone());
+        self.step = 0;
+        self.open = true;
+        self.message = None;
+    }
+
+    /// A step after the chosen one, opening on `scene`; it becomes the chosen one.
+    fn add_step(&mut self, scene: StepScene) -> Option<()> {
+        let level = self.level.as_mut()?;
+        let at = (self.step + 1).min(level.steps.len());
+        level.steps.insert(
+            at,
+            Step {
+                text: "What to do, and what the student will see.".into(),
+                control: None,
+                objective: Objective::Read,
+                scene: Some(scene),
+            },
+        );
+        self.step = at;
+        Some(())
+    }
+
+    /// Step `k` opens on `scene` from now on.
+    fn retake(&mut self, k: usize, scene: StepScene) {
+        if let Some(step) = self.level.as_mut().and_then(|l| l.steps.get_mut(k)) {
+            step.scene = Some(scene);
+            self.message = Some(format!("Step {} now opens with this view.", k + 1));
+        }
+    }
+
+    /// Step `k` swapped with the one `by` places away, where there is one.
+    fn move_step(&mut self, k: usize, by: isize) -> Option<()> {
+        let level = self.level.as_mut()?;
+        if let Some(to) = k.checked_add_signed(by).filter(|&t| t < level.steps.len()) {
+            level.steps.swap(k, to);
+            self.step = to;
+        }
+        Some(())
+    }
+
+    /// Step `k` deleted, unless it is the last one.
+    fn delete_step(&mut self, k: usize) -> Option<()> {
+        let level = self.level.as_mut()?;
+        if level.steps.len() > 1 && k < level.steps.len() {
+            level.steps.remove(k);
+            self.step = self.step.min(level.steps.len() - 1);
+        } else {
+            self.message = Some("A level keeps at least one step.".into());
+        }
+        Some(())
+    }
+
+    /// The level as a link to `page`, copied where a clipboard is reached and kept to show.
+    fn copy_link(&mut self, page: &str) -> Option<()> {
+        let level = self.level.as_ref()?;
+        match voxcast_core::level::link::link(level, page) {
+            Ok(link) => {
+                self.message = Some(match files::copy_text(&link) {
+                    Ok(()) => format!(
+                        "The link is copied ({} characters): whoever opens it plays the level \
+                         on the page.",
+                        link.len()
+                    ),
+                    Err(e) => format!("{e}: copy the link below by hand."),
+                });
+                self.link = Some(link);
+            }
+            Err(e) => {
+                self.message = Some(e);
+                self.link = None;
+            }
+        }
+        Some(())
     }
 }
 

@@ -421,7 +421,9 @@ fn apply_commands(
     mut commands: MessageReader<LevelCommand>,
     mut lessons: ResMut<Lessons>,
     mode: Res<State<Mode>>,
-    (mut next, mut stage, free): (ResMut<NextState<Mode>>, ResMut<Stage>, Res<FreePlay>),
+    mut next: ResMut<NextState<Mode>>,
+    mut stage: ResMut<Stage>,
+    free: Res<FreePlay>,
 ) {
     for command in commands.read() {
         match *command {
@@ -463,29 +465,9 @@ fn apply_commands(
                     .get(lessons.step)
                     .and_then(|s| s.scene.as_ref())
                     .map(Pending::of_step);
-                if lessons.step == lessons.levels[l].steps.len() {
-                    let title = lessons.levels[l].title.clone();
-                    match lessons.study.and_then(StudyRun::next) {
-                        // The study's next run: the same level from its first step.
-                        Some(run) => {
-                            lessons.study = Some(run);
-                            lessons.step = 0;
-                            lessons.set_up_again = true;
-                            lessons.message = Some(study_words(run, &title));
-                        }
-                        None => {
-                            lessons.message = Some(if lessons.study.take().is_some() {
-                                format!(
-                                    "“{title}” studied: both runs' answers are kept (Export \
-                                     answers)"
-                                )
-                            } else {
-                                format!("“{title}” done!")
-                            });
-                            *stage = free.0;
-                            next.set(Mode::FreePlay);
-                        }
-                    }
+                if lessons.step == lessons.levels[l].steps.len() && lessons.finish_level(l) {
+                    *stage = free.0;
+                    next.set(Mode::FreePlay);
                 }
             }
             LevelCommand::FreePlay => {
@@ -499,6 +481,27 @@ fn apply_commands(
         lessons.opened_at = now_seconds();
         lessons.named_effect = None;
         lessons.studied = None;
+    }
+}
+
+impl Lessons {
+    /// Level `l`'s last step is met: a study's next run starts (the same level from its first
+    /// step), or the level is done and said so; `true` where play goes back to free play.
+    fn finish_level(&mut self, l: usize) -> bool {
+        let title = self.levels[l].title.clone();
+        if let Some(run) = self.study.and_then(StudyRun::next) {
+            self.study = Some(run);
+            self.step = 0;
+            self.set_up_again = true;
+            self.message = Some(study_words(run, &title));
+            return false;
+        }
+        self.message = Some(if self.study.take().is_some() {
+            format!("“{title}” studied: both runs' answers are kept (Export answers)")
+        } else {
+            format!("“{title}” done!")
+        });
+        true
     }
 }
 

@@ -30,21 +30,6 @@ pub(crate) fn check_objective(
     mut trade: ResMut<StepTrade>,
     done: Done,
 ) {
-    let Done {
-        render,
-        volume,
-        cameras,
-        selection,
-        breakdown,
-        comparison,
-        views,
-        preview,
-        inspect,
-        rays,
-        ray_choices,
-        ray_report,
-        loading,
-    } = done;
     let step = lessons.step_in(*mode.get()).cloned();
     // A step about the step's trade measures the step, whatever knob was picked before.
     if step
@@ -56,62 +41,18 @@ pub(crate) fn check_objective(
         trade.knob = voxcast_core::knob::Knob::Step;
     }
     let spot = step.as_ref().and_then(|s| s.control);
-    // A prediction step's answer: the reconstruction at its point, or the worked composite.
-    let (detail, composite) = match step.as_ref().map(|s| &s.objective) {
-        Some(Objective::PredictValue { point, .. }) => (
-            Some(detail_at(
-                &volume.volume,
-                Vec3::from_array(*point),
-                Interpolation::Trilinear,
-            )),
-            None,
-        ),
-        Some(Objective::PredictComposite { points, .. }) => (
-            None,
-            Some(voxcast_core::worked::back_to_front(
-                &volume.volume,
-                &render.transfer,
-                points,
-            )),
-        ),
-        _ => (None, None),
-    };
+    let (detail, composite) = done.predicted(step.as_ref());
     let here = Some((*mode.get(), lessons.step));
     // The step's scene is on screen: nothing waits to be opened or loaded.
-    let ready = lessons.scene_ready() && loading.under_way().is_none();
+    let ready = lessons.scene_ready() && done.loading.under_way().is_none();
     // What the player has done, every frame (the editor judges a draft's objective on it too).
-    let mut sit = situation(
-        &render,
-        &volume,
-        cameras.single().ok(),
-        &selection,
-        &breakdown,
-        (&comparison, views.single().ok()),
-        (&trade, preview.as_deref(), inspect.as_deref()),
-    );
-    let shown = rays.as_ref().and_then(|r| r.on_show(&volume));
-    sit.ray_density = shown.map(|s| s.computed.facts.clone());
-    if shown.is_some() {
-        let drawn = ray_report.as_ref().is_some_and(|r| r.drawn);
-        let view = ray_choices
-            .as_ref()
-            .map(|c| c.view.clone())
-            .unwrap_or_default();
-        sit.ray_views = [
-            ("volume", sit.preview_on),
-            ("mesh", view.mesh && drawn),
-            ("field", view.field && drawn),
-        ]
-        .into_iter()
-        .filter_map(|(name, on)| on.then_some(name))
-        .collect();
-    }
+    let mut sit = done.situation(&trade);
     sit.named_effect = lessons.named_effect;
     sit.studied = lessons.studied.clone();
     // A question about the selected ray: answered for the ray selected now.
     let ray_answer = step.as_ref().and_then(|s| {
-        let trace = breakdown.trace.as_ref()?;
-        voxcast_core::level::ray_answer(&s.objective, trace, &volume.volume)
+        let trace = done.breakdown.trace.as_ref()?;
+        voxcast_core::level::ray_answer(&s.objective, trace, &done.volume.volume)
     });
     // Only a submitted prediction is judged, never one half typed.
     let truth = prediction_truth(detail.as_ref(), composite.as_deref(), ray_answer.as_ref());
@@ -135,7 +76,11 @@ pub(crate) fn check_objective(
         sit.at_open = lessons.at_open.as_ref().map(|(_, o)| Box::new(o.clone()));
         step.objective.met(&sit)
     });
-    lessons.on_show = rays.as_ref().and_then(|r| r.on_show(&volume)).cloned();
+    lessons.on_show = done
+        .rays
+        .as_ref()
+        .and_then(|r| r.on_show(&done.volume))
+        .cloned();
     let met = met || (lessons.met_for == here && lessons.met);
     if met {
         lessons.met_for = here;
@@ -173,68 +118,108 @@ pub fn parse_typed(typed: &str) -> Result<f32, std::num::ParseFloatError> {
     typed.trim().replace(',', ".").parse::<f32>()
 }
 
-/// What the player has done, as the objectives see it.
-fn situation(
-    render: &RenderState,
-    volume: &VolumeState,
-    vc: Option<&VirtualCamera>,
-    selection: &RaySelection,
-    breakdown: &BreakdownState,
-    (comparison, view): (&Comparison, Option<&View>),
-    (trade, preview, inspect): (
-        &StepTrade,
-        Option<&PreviewSettings>,
-        Option<&crate::sandbox::inspect::rays::InspectSettings>,
-    ),
-) -> Situation {
-    let compared_max = comparison
-        .result
-        .as_ref()
-        .filter(|r| r.snapshot.is_current(view, render, volume))
-        .and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0));
-    let measured = trade.current(view, render, volume).map(|t| t.knob);
-    let opened_sample_lights = breakdown
-        .opened
-        .and_then(|i| breakdown.trace.as_ref()?.samples.get(i)?.shading)
-        .filter(|t| t.lit)
-        .map(|t| t.lights_reaching());
-    let v = &volume.volume;
-    let settled = Situation::from_settings(
-        &render.settings,
-        &render.transfer,
-        v.bounds(),
-        v.spacing().min_element(),
-    );
-    Situation {
-        virtual_pixels_across: vc.map_or(0, |v| v.width),
-        ray_selected: selection.selected.is_some(),
-        ray_clicks: selection.clicks,
-        ray_values: breakdown
-            .trace
-            .as_ref()
-            .map(|t| t.samples.iter().map(|s| s.reconstruction.value).collect())
-            .unwrap_or_default(),
-        opened_sample: breakdown.opened,
-        compared_max,
-        opened_sample_lights,
-        // The sampling levels measure the step's trade.
-        trade_measured: measured == Some(voxcast_core::knob::Knob::Step),
-        measured_knob: measured.map(|k| k.name()),
-        preview_on: preview.is_some_and(|p| p.enabled),
-        preview_scale: preview.map_or(1.0, |p| p.scale),
-        preview_cost_view: preview.and_then(|p| p.cost_view).map(|v| v.name()),
-        skip_blocks_shown: inspect.is_some_and(|i| i.show_blocks),
-        cost_view: comparison
+impl Done<'_, '_> {
+    /// A prediction step's answer: the reconstruction at its point, or the worked composite.
+    fn predicted(
+        &self,
+        step: Option<&voxcast_core::level::Step>,
+    ) -> (
+        Option<SampleDetail>,
+        Option<Vec<voxcast_core::worked::WorkedPoint>>,
+    ) {
+        let volume = &self.volume.volume;
+        match step.map(|s| &s.objective) {
+            Some(Objective::PredictValue { point, .. }) => {
+                let point = Vec3::from_array(*point);
+                (
+                    Some(detail_at(volume, point, Interpolation::Trilinear)),
+                    None,
+                )
+            }
+            Some(Objective::PredictComposite { points, .. }) => {
+                let tf = &self.render.transfer;
+                (
+                    None,
+                    Some(voxcast_core::worked::back_to_front(volume, tf, points)),
+                )
+            }
+            _ => (None, None),
+        }
+    }
+
+    /// What the player has done, as the objectives see it (the effect named, the study and the
+    /// prediction are the levels' own, filled in by the caller).
+    fn situation(&self, trade: &StepTrade) -> Situation {
+        let (render, volume, breakdown) = (&*self.render, &*self.volume, &*self.breakdown);
+        let view = self.views.single().ok();
+        let preview = self.preview.as_deref();
+        let current = self
+            .comparison
             .result
             .as_ref()
-            .filter(|r| r.snapshot.is_current(view, render, volume))
-            .and(comparison.cost_view)
-            .map(|v| v.name()),
-        ray_cut: breakdown
-            .trace
+            .filter(|r| r.snapshot.is_current(view, render, volume));
+        let measured = trade.current(view, render, volume).map(|t| t.knob);
+        let opened_sample_lights = breakdown
+            .opened
+            .and_then(|i| breakdown.trace.as_ref()?.samples.get(i)?.shading)
+            .filter(|t| t.lit)
+            .map(|t| t.lights_reaching());
+        let v = &volume.volume;
+        let settled = Situation::from_settings(
+            &render.settings,
+            &render.transfer,
+            v.bounds(),
+            v.spacing().min_element(),
+        );
+        let sit = Situation {
+            virtual_pixels_across: self.cameras.single().map_or(0, |v| v.width),
+            ray_selected: self.selection.selected.is_some(),
+            ray_clicks: self.selection.clicks,
+            ray_values: breakdown
+                .trace
+                .as_ref()
+                .map(|t| t.samples.iter().map(|s| s.reconstruction.value).collect())
+                .unwrap_or_default(),
+            opened_sample: breakdown.opened,
+            compared_max: current.and_then(|r| r.diff.as_ref().map(|(d, _)| d.max_abs * 255.0)),
+            opened_sample_lights,
+            // The sampling levels measure the step's trade.
+            trade_measured: measured == Some(voxcast_core::knob::Knob::Step),
+            measured_knob: measured.map(|k| k.name()),
+            preview_on: preview.is_some_and(|p| p.enabled),
+            preview_scale: preview.map_or(1.0, |p| p.scale),
+            preview_cost_view: preview.and_then(|p| p.cost_view).map(|v| v.name()),
+            skip_blocks_shown: self.inspect.as_ref().is_some_and(|i| i.show_blocks),
+            cost_view: current.and(self.comparison.cost_view).map(|v| v.name()),
+            ray_cut: breakdown
+                .trace
+                .as_ref()
+                .is_some_and(|t| t.cut_words().is_some()),
+            ..settled
+        };
+        self.with_ray_data(sit)
+    }
+
+    /// `sit` with the ray data on show: its density's facts and the views drawn.
+    fn with_ray_data(&self, mut sit: Situation) -> Situation {
+        let Some(shown) = self.rays.as_ref().and_then(|r| r.on_show(&self.volume)) else {
+            return sit;
+        };
+        sit.ray_density = Some(shown.computed.facts.clone());
+        let drawn = self.ray_report.as_ref().is_some_and(|r| r.drawn);
+        let view = self
+            .ray_choices
             .as_ref()
-            .is_some_and(|t| t.cut_words().is_some()),
-        // The ray data, the effect named and the study are filled in by the caller.
-        ..settled
+            .map(|c| c.view.clone())
+            .unwrap_or_default();
+        sit.ray_views = [
+            ("volume", sit.preview_on),
+            ("mesh", view.mesh && drawn),
+            ("field", view.field && drawn),
+        ]
+        .into_iter()
+        .filter_map(|(name, on)| on.then_some(name))
+        .collect();
+        sit
     }
 }

@@ -5,6 +5,7 @@
 
 use super::*;
 use crate::sandbox::scene::orbit::Orbit;
+use crate::sandbox::shared::mode::Staged;
 use crate::sandbox::shared::render_change::{Author, PreviewChanges, RenderChanges};
 use voxcast_core::level::{StepScene, TransferChoice};
 
@@ -41,16 +42,15 @@ impl Pending {
 /// the light marker are spawned by their own plugins from the [`Stage`]. A study's run holds
 /// the preview on or off whatever the player does.
 pub(super) fn set_up_scene(
-    mode: Res<State<Mode>>,
+    staged: Staged,
     mut lessons: ResMut<Lessons>,
-    stage: Res<Stage>,
     volume: Res<VolumeState>,
-    (mut loading, mut preview): (ResMut<Loading>, PreviewChanges),
-    (ray_choices, inspect): (
-        Option<ResMut<crate::sandbox::data::choices::RayChoices>>,
-        Option<ResMut<crate::sandbox::inspect::rays::InspectSettings>>,
-    ),
+    mut loading: ResMut<Loading>,
+    mut preview: PreviewChanges,
+    ray_choices: Option<ResMut<crate::sandbox::data::choices::RayChoices>>,
+    inspect: Option<ResMut<crate::sandbox::inspect::rays::InspectSettings>>,
 ) {
+    let (mode, stage) = (&staged.mode, &staged.stage);
     // The level's preview on a copy of the settings, sent as one change once set up.
     let Some(mut next) = preview.now.as_deref().cloned() else {
         return;
@@ -96,108 +96,59 @@ pub(super) fn set_up_scene(
     preview.edited(Author::Level, next);
 }
 
+/// Where a level's scene puts its cameras and selected ray.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(super) struct SceneCameras<'w, 's> {
+    main: Query<
+        'w,
+        's,
+        (
+            &'static mut Orbit,
+            &'static mut Transform,
+            &'static mut View,
+        ),
+        With<MainCamera>,
+    >,
+    cameras: Query<'w, 's, &'static mut VirtualCamera>,
+    selection: ResMut<'w, RaySelection>,
+}
+
 /// Puts the waiting scene on screen: its data set loaded first (the load brings the data set's
 /// defaults), then — a frame after the volume or the mode changed, once the new volume is
 /// framed and the virtual camera spawned — its transfer function, settings, cameras and ray.
 /// A data set that cannot be loaded is said in the level's message and the rest is opened
 /// over the volume on screen.
 pub(super) fn open_scene(
-    mode: Res<State<Mode>>,
+    staged: Staged,
     mut lessons: ResMut<Lessons>,
-    stage: Res<Stage>,
-    (volume, mut render, mut loading): (Res<VolumeState>, RenderChanges, ResMut<Loading>),
-    mut main: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
-    mut cameras: Query<&mut VirtualCamera>,
-    (mut selection, held): (ResMut<RaySelection>, Res<super::files::LevelFiles>),
+    volume: Res<VolumeState>,
+    mut render: RenderChanges,
+    mut loading: ResMut<Loading>,
+    held: Res<super::files::LevelFiles>,
+    mut cams: SceneCameras,
 ) {
     let Some(pending) = lessons.pending.clone() else {
         return;
     };
-    let Mode::Level(l) = *mode.get() else {
+    let level = match *staged.mode.get() {
+        Mode::Level(l) => lessons.levels.get(l).cloned(),
+        Mode::FreePlay => None,
+    };
+    let Some(level) = level else {
         lessons.pending = None;
         return;
     };
-    let Some(level) = lessons.levels.get(l).cloned() else {
-        lessons.pending = None;
+    if !volume_ready(&mut lessons, &pending, &level, &volume, &mut loading, &held) {
         return;
-    };
-    if let Some(name) = &pending.scene.volume {
-        let source = level.resolve(name);
-        if volume.source != source {
-            match loading.under_way() {
-                Some((loading_now, _)) if loading_now == source => {}
-                _ if !pending.asked => {
-                    start_loading(&mut loading, source, &held);
-                    if let Some(p) = lessons.pending.as_mut() {
-                        p.asked = true;
-                    }
-                }
-                Some(_) => {}
-                None => {
-                    let why = loading.error.clone().unwrap_or_default();
-                    lessons.message = Some(format!(
-                        "This level's data set {source} could not be loaded ({why}); the \
-                         level goes on with the volume on screen."
-                    ));
-                    if let Some(p) = lessons.pending.as_mut() {
-                        p.scene.volume = None;
-                    }
-                }
-            }
-            return;
-        }
     }
     // The new volume (or mode) is framed this frame: place the cameras over it next frame.
-    if volume.is_changed() || mode.is_changed() || (stage.rays.is_some() && cameras.is_empty()) {
+    let camera_missing = staged.stage.rays.is_some() && cams.cameras.is_empty();
+    if volume.is_changed() || staged.mode.is_changed() || camera_missing {
         return;
     }
-    // The level's scene on a copy of the settings, sent as one change.
-    let mut next = render.now.clone();
-    if pending.fresh {
-        reset_to_defaults(&volume.volume, &mut next);
-        level
-            .scene
-            .over_defaults(&mut next.transfer, &mut next.settings);
-    }
-    let scene = &pending.scene;
-    if let Some(choice) = &scene.transfer {
-        match transfer_of(choice) {
-            Some(t) => next.transfer = t,
-            None => {
-                lessons.message = Some(format!(
-                    "This level's transfer function {choice:?} is unknown"
-                ))
-            }
-        }
-    }
-    if let Some(changes) = &scene.settings {
-        match voxcast_core::preset::settings_written_over(&next.settings, changes) {
-            Ok(s) => next.settings = s,
-            Err(e) => lessons.message = Some(format!("This level's settings are refused: {e}")),
-        }
-    }
+    let next = scene_settings(&pending, &level, &render.now, &volume, &mut lessons.message);
     render.edited(Author::Level, next);
-    if let Some(place) = scene.camera
-        && let Ok((mut orbit, mut transform, mut view)) = main.single_mut()
-        && let Ok(camera) = camera_at(&place, &view.0)
-    {
-        *orbit = Orbit::looking_at(camera.eye, camera.target, camera.up);
-        *transform = orbit.transform();
-        view.0 = camera;
-    }
-    if let Some(place) = scene.virtual_camera
-        && let Ok(mut vc) = cameras.single_mut()
-    {
-        if let Ok(camera) = camera_at(&place, &vc.view) {
-            vc.view = camera;
-        }
-        if let Some([w, h]) = place.pixels {
-            (vc.width, vc.height) = (w, h);
-        }
-    }
-    if let Some([x, y]) = scene.ray {
-        selection.selected = Some(UVec2::new(x, y));
-    }
+    cams.place(&pending.scene);
     // After the level's own scene, the scene of the step it starts at (its first, or the one
     // the editor's Play chose), if that step sets one.
     lessons.pending = if pending.fresh {
@@ -209,6 +160,111 @@ pub(super) fn open_scene(
     } else {
         None
     };
+}
+
+/// Whether the volume on screen is the one the waiting scene asks for (or it asks for none).
+/// If not, its load is started, once; a load that failed is said in the level's message and
+/// the scene goes on without its data set.
+fn volume_ready(
+    lessons: &mut Lessons,
+    pending: &Pending,
+    level: &voxcast_core::level::Level,
+    volume: &VolumeState,
+    loading: &mut Loading,
+    held: &super::files::LevelFiles,
+) -> bool {
+    let Some(name) = &pending.scene.volume else {
+        return true;
+    };
+    let source = level.resolve(name);
+    if volume.source == source {
+        return true;
+    }
+    match loading.under_way() {
+        Some((loading_now, _)) if loading_now == source => {}
+        _ if !pending.asked => {
+            start_loading(loading, source, held);
+            if let Some(p) = lessons.pending.as_mut() {
+                p.asked = true;
+            }
+        }
+        Some(_) => {}
+        None => {
+            let why = loading.error.clone().unwrap_or_default();
+            lessons.message = Some(format!(
+                "This level's data set {source} could not be loaded ({why}); the level goes on \
+                 with the volume on screen."
+            ));
+            if let Some(p) = lessons.pending.as_mut() {
+                p.scene.volume = None;
+            }
+        }
+    }
+    false
+}
+
+/// The render state the waiting scene asks for, over `now` (over the data set's defaults and
+/// the level's preset where the level starts afresh); what cannot be used is said in
+/// `message`.
+fn scene_settings(
+    pending: &Pending,
+    level: &voxcast_core::level::Level,
+    now: &RenderState,
+    volume: &VolumeState,
+    message: &mut Option<String>,
+) -> RenderState {
+    let mut next = now.clone();
+    if pending.fresh {
+        reset_to_defaults(&volume.volume, &mut next);
+        level
+            .scene
+            .over_defaults(&mut next.transfer, &mut next.settings);
+    }
+    let scene = &pending.scene;
+    if let Some(choice) = &scene.transfer {
+        match transfer_of(choice) {
+            Some(t) => next.transfer = t,
+            None => {
+                *message = Some(format!(
+                    "This level's transfer function {choice:?} is unknown"
+                ))
+            }
+        }
+    }
+    if let Some(changes) = &scene.settings {
+        match voxcast_core::preset::settings_written_over(&next.settings, changes) {
+            Ok(s) => next.settings = s,
+            Err(e) => *message = Some(format!("This level's settings are refused: {e}")),
+        }
+    }
+    next
+}
+
+impl SceneCameras<'_, '_> {
+    /// Places the main and the virtual camera where `scene` says, and selects its ray.
+    fn place(&mut self, scene: &StepScene) {
+        if let Some(place) = scene.camera
+            && let Ok((mut orbit, mut transform, mut view)) = self.main.single_mut()
+            && let Ok(camera) = camera_at(&place, &view.0)
+        {
+            *orbit = Orbit::looking_at(camera.eye, camera.target, camera.up);
+            *transform = orbit.transform();
+            view.0 = camera;
+        }
+        if let Some(place) = scene.virtual_camera
+            && let Ok(mut vc) = self.cameras.single_mut()
+        {
+            if let Ok(camera) = camera_at(&place, &vc.view) {
+                vc.view = camera;
+            }
+            if let Some([w, h]) = place.pixels {
+                (vc.width, vc.height) = (w, h);
+            }
+        }
+        if let Some([x, y]) = scene.ray {
+            self.selection.selected = Some(UVec2::new(x, y));
+        }
+    }
 }
 
 /// Starts loading a level's data set: from the files handed with the level where it is one

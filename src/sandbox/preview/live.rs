@@ -19,7 +19,7 @@
 use crate::sandbox::shared::layers::Occluder;
 use crate::sandbox::shared::quality::{Backend, PreviewSettings, scaled_size};
 use crate::sandbox::shared::render_change::{Author, PreviewChange, PreviewChanges};
-use crate::sandbox::shared::state::{MainCamera, RenderState, View, VolumeState};
+use crate::sandbox::shared::state::{RenderState, VolumeState};
 use crate::sandbox::shared::tasks::in_slices;
 use crate::sandbox::shared::viewport::Viewport;
 use bevy::platform::time::Instant;
@@ -398,17 +398,8 @@ impl SceneSpheres<'_, '_> {
 fn drive_live_view(
     mut live: ResMut<LiveView>,
     preview: Res<PreviewSettings>,
-    (window, viewport): (
-        Query<&Window, With<bevy::window::PrimaryWindow>>,
-        Option<Res<Viewport>>,
-    ),
-    views: Query<&View, With<MainCamera>>,
-    (volume, render): (Res<VolumeState>, Res<RenderState>),
-    spheres: SceneSpheres,
-    (rays, choices): (
-        Option<Res<crate::sandbox::data::source::RayScene>>,
-        Option<Res<crate::sandbox::data::choices::RayChoices>>,
-    ),
+    screen: crate::sandbox::shared::viewport::SceneOnScreen,
+    scene: LiveScene,
 ) {
     if !preview.cpu_live() {
         live.cancel();
@@ -426,27 +417,12 @@ fn drive_live_view(
             live.generation += 1;
         }
     }
-    let (Ok(window), Ok(view)) = (window.single(), views.single()) else {
+    let (Ok(window), Ok(view)) = (screen.window.single(), screen.views.single()) else {
         return;
     };
-    let (_, viewport_size) = Viewport::of(viewport.as_deref(), window);
+    let (_, viewport_size) = Viewport::of(screen.viewport.as_deref(), window);
     let full = scaled_size(viewport_size, preview.scale);
-    let key = LiveKey {
-        camera: view.0,
-        settings: render.settings.clone(),
-        transfer: render.transfer.clone(),
-        volume: Arc::as_ptr(&volume.volume) as usize,
-        occluders: spheres.occluders(&render),
-        full,
-        cost_view: preview.cost_view,
-        surface: rays
-            .as_ref()
-            .and_then(|r| r.on_show(&volume))
-            .map(|s| LiveSurface {
-                shown: s.clone(),
-                shading: choices.as_ref().map(|c| c.view.shading).unwrap_or_default(),
-            }),
-    };
+    let key = scene.key(view.0, full, preview.cost_view);
     // The same view as in the previous frame: it rests.
     let resting = live.last_key.as_ref() == Some(&key);
     live.last_key = Some(key.clone());
@@ -472,7 +448,46 @@ fn drive_live_view(
     // Spheres are painted into an image only at the window's resolution; below it the main
     // camera draws them sharp over the image (`LiveView::coarse`).
     let spheres = size == full && preview.scale >= 1.0;
-    live.job = Some(start(key, size, volume.volume.clone(), refine, spheres));
+    let volume = scene.volume.volume.clone();
+    live.job = Some(start(key, size, volume, refine, spheres));
+}
+
+/// What the live view renders: the volume with its render settings, the scene's spheres, and
+/// the ray data's surface where one is shown.
+#[derive(bevy::ecs::system::SystemParam)]
+struct LiveScene<'w, 's> {
+    volume: Res<'w, VolumeState>,
+    render: Res<'w, RenderState>,
+    spheres: SceneSpheres<'w, 's>,
+    rays: Option<Res<'w, crate::sandbox::data::source::RayScene>>,
+    choices: Option<Res<'w, crate::sandbox::data::choices::RayChoices>>,
+}
+
+impl LiveScene<'_, '_> {
+    /// The frame of this scene seen by `camera` at `full` size, drawn as `cost_view`.
+    fn key(&self, camera: CoreCamera, full: UVec2, cost_view: Option<CostView>) -> LiveKey {
+        LiveKey {
+            camera,
+            settings: self.render.settings.clone(),
+            transfer: self.render.transfer.clone(),
+            volume: Arc::as_ptr(&self.volume.volume) as usize,
+            occluders: self.spheres.occluders(&self.render),
+            full,
+            cost_view,
+            surface: self
+                .rays
+                .as_ref()
+                .and_then(|r| r.on_show(&self.volume))
+                .map(|s| LiveSurface {
+                    shown: s.clone(),
+                    shading: self
+                        .choices
+                        .as_ref()
+                        .map(|c| c.view.shading)
+                        .unwrap_or_default(),
+                }),
+        }
+    }
 }
 
 /// Whether the render in flight goes on: when it is of the current view, or a quick frame

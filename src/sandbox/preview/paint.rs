@@ -173,48 +173,13 @@ fn camera_for_backend(
     mut sharp: Query<&mut Camera, With<SharpCamera>>,
     mut beneath: ResMut<SharpBeneath>,
 ) {
-    let BackendChoice {
-        settings,
-        quality,
-        render,
-        inspect,
-        progressive,
-        live,
-    } = choice;
-    let cpu = settings.cpu_live();
-    // With rays passing through geometry the CPU image has no spheres: the camera draws them.
-    let through = render.is_some_and(|r| !r.depth_termination);
-    // Below the window's resolution the CPU image has no spheres (they would be as coarse as
-    // the image): the camera draws them over it, sharp (over the volume in front of them).
-    let coarse = settings.scale < 1.0 || live.is_some_and(|l| l.coarse());
-    let transparent = inspect.is_some_and(|i| i.shown && i.show_opacity);
-    let plan = GpuPlan::for_scale(quality.scale());
-    let (clear, layers, active) = if cpu {
-        (
-            ClearColorConfig::Custom(Color::NONE),
-            if through || coarse {
-                RenderLayers::from_layers(&[0, OCCLUDER_LAYER])
-            } else {
-                RenderLayers::layer(0)
-            },
-            // Nothing for it to draw: no pass at all (a software rasterizer pays for each).
-            through || transparent || coarse,
-        )
-    } else {
-        (
-            if plan.transparent {
-                ClearColorConfig::Custom(Color::NONE)
-            } else {
-                ClearColorConfig::Default
-            },
-            plan.preview_layers.clone(),
-            true,
-        )
-    };
+    let cpu = choice.settings.cpu_live();
+    let plan = GpuPlan::for_scale(choice.quality.scale());
+    let (clear, layers, active) = choice.main_camera(&plan);
     // While strips refine, the last whole frame beneath them may be a coarse one, which needs
     // the meshes beneath it: drawn once as the refinement starts (the view rests; a software
     // rasterizer pays for every pass), kept while it lasts.
-    let refining = progressive.is_some_and(|p| p.active());
+    let refining = choice.progressive.as_ref().is_some_and(|p| p.active());
     let starts = refining && !beneath.refining;
     beneath.refining = refining;
     // (With the preview off the meshes are drawn the same way, the volume's box hidden.)
@@ -226,7 +191,7 @@ fn camera_for_backend(
         }
     }
     // The GPU preview reads the prepass only to stop its rays at geometry.
-    let wants = !cpu && GPU_READS_DEPTH && !through;
+    let wants = !cpu && GPU_READS_DEPTH && !choice.through();
     for (entity, has) in &prepass {
         if has != wants {
             match wants {
@@ -250,6 +215,43 @@ fn camera_for_backend(
         if *l != layers {
             *l = layers.clone();
         }
+    }
+}
+
+impl BackendChoice<'_> {
+    /// Whether rays pass through geometry: the CPU image has no spheres then.
+    fn through(&self) -> bool {
+        self.render.as_ref().is_some_and(|r| !r.depth_termination)
+    }
+
+    /// How the main camera draws: what it clears to, the layers it draws and whether it draws
+    /// at all.
+    fn main_camera(&self, plan: &GpuPlan) -> (ClearColorConfig, RenderLayers, bool) {
+        if !self.settings.cpu_live() {
+            let clear = if plan.transparent {
+                ClearColorConfig::Custom(Color::NONE)
+            } else {
+                ClearColorConfig::Default
+            };
+            return (clear, plan.preview_layers.clone(), true);
+        }
+        let through = self.through();
+        // Below the window's resolution the CPU image has no spheres (they would be as coarse
+        // as the image): the camera draws them over it, sharp (over the volume in front of
+        // them).
+        let coarse = self.settings.scale < 1.0 || self.live.as_ref().is_some_and(|l| l.coarse());
+        let transparent = self
+            .inspect
+            .as_ref()
+            .is_some_and(|i| i.shown && i.show_opacity);
+        let layers = if through || coarse {
+            RenderLayers::from_layers(&[0, OCCLUDER_LAYER])
+        } else {
+            RenderLayers::layer(0)
+        };
+        // Nothing for it to draw: no pass at all (a software rasterizer pays for each).
+        let active = through || transparent || coarse;
+        (ClearColorConfig::Custom(Color::NONE), layers, active)
     }
 }
 

@@ -233,13 +233,22 @@ fn pass_image(images: &mut Assets<Image>, size: UVec2) -> Handle<Image> {
     images.add(image)
 }
 
+/// What the preview draws at: its settings, whether the view moves, and full quality asked
+/// for (a comparison capturing).
+#[derive(bevy::ecs::system::SystemParam)]
+pub(crate) struct DrawnAt<'w> {
+    settings: Res<'w, PreviewSettings>,
+    motion: Res<'w, Motion>,
+    full: Res<'w, FullQuality>,
+}
+
 /// Gives the main camera this frame's work: the whole preview target, or the next strip of the
 /// resting pass (the camera's viewport and sub-view select its rows; its output is written into
 /// the pass's image without clearing the rows drawn before).
 pub(crate) fn give_camera_its_work(
     mut p: ResMut<Progressive>,
     time: Res<Time<Real>>,
-    (settings, motion, full): (Res<PreviewSettings>, Res<Motion>, Res<FullQuality>),
+    quality: DrawnAt,
     target: Option<Res<PreviewTarget>>,
     mut images: ResMut<Assets<Image>>,
     mut cameras: Query<(&mut Camera, &mut RenderTarget), With<MainCamera>>,
@@ -248,42 +257,19 @@ pub(crate) fn give_camera_its_work(
     let (Some(target), Ok((mut camera, mut render_target))) = (target, cameras.single_mut()) else {
         return;
     };
-    let gpu = settings.gpu_live() && camera.is_active;
-    let step = f64::from(settings.effective(motion.moving, full.0).1.max(1e-3));
+    let (moving, full) = (quality.motion.moving, quality.full.0);
+    let gpu = quality.settings.gpu_live() && camera.is_active;
+    let step = f64::from(quality.settings.effective(moving, full).1.max(1e-3));
     let work = |size: UVec2| f64::from(size.x) * f64::from(size.y) / step;
     // Seconds of volume work the whole resting frame is predicted to take.
     let predicted = p.cost.per_work.map(|c| c * work(target.size));
     let share = p.cost.share();
     // Full quality (a comparison capturing) is drawn in strips too: the window keeps
     // answering, and the capture waits for a finished full-quality pass.
-    let strips = gpu && !motion.moving && !p.whole_frames && predicted.is_some_and(|s| s > share);
+    let strips = gpu && !moving && !p.whole_frames && predicted.is_some_and(|s| s > share);
     let (image, rows) = if strips {
-        let size = target.size;
-        if p.images.as_ref().is_none_or(|(_, s)| *s != size) {
-            let made = [pass_image(&mut images, size), pass_image(&mut images, size)];
-            p.images = Some((made, size));
-            p.active = false;
-        }
-        if p.active && p.pass_full != full.0 {
-            // The quality changed: a new pass, from the first row.
-            (p.rows, p.drawn, p.pass_full) = (0, 0, full.0);
-        }
-        if !p.active {
-            (p.active, p.finished, p.rows, p.drawn) = (true, None, 0, 0);
-            p.pass_full = full.0;
-        }
-        if p.rows >= size.y {
-            p.finished = Some(p.filling);
-            p.finished_full = p.pass_full;
-            p.took = p.drawn;
-            p.passes += 1;
-            p.filling ^= 1;
-            (p.rows, p.drawn, p.pass_full) = (0, 0, full.0);
-        }
-        let rows = next_strip(p.rows, size.y, predicted.unwrap_or(0.0), share);
-        (p.rows, p.drawn) = (rows.1, p.drawn + 1);
-        let image = p.images.as_ref().map(|(i, _)| i[p.filling].clone());
-        (image.unwrap_or_else(|| target.image.clone()), Some(rows))
+        let (image, rows) = p.next_strip(&mut images, &target, full, predicted.unwrap_or(0.0));
+        (image, Some(rows))
     } else {
         p.active = false;
         if gpu {
@@ -292,28 +278,88 @@ pub(crate) fn give_camera_its_work(
         }
         (target.image.clone(), None)
     };
-    let size = target.size;
-    let (viewport, sub_view, clear) = match rows {
-        Some((y0, y1)) => {
-            let rows = UVec2::new(size.x, (y1 - y0).max(1));
-            (
-                Some(Viewport {
-                    physical_position: UVec2::new(0, y0),
-                    physical_size: rows,
-                    depth: 0.0..1.0,
-                }),
-                Some(SubCameraView {
-                    full_size: size,
-                    offset: Vec2::new(0.0, y0 as f32),
-                    size: rows,
-                }),
-                ClearColorConfig::None,
-            )
-        }
-        None => (None, None, ClearColorConfig::Default),
-    };
-    let given = gpu.then(|| work(viewport.as_ref().map_or(size, |v| v.physical_size)));
+    let viewport = rows_viewport(target.size, rows);
+    let given = gpu.then(|| work(viewport.as_ref().map_or(target.size, |v| v.physical_size)));
     p.pending.push_back(given);
+    point_camera(&mut camera, target.size, viewport, rows);
+    let current = match &*render_target {
+        RenderTarget::Image(i) => Some(i.handle.id()),
+        _ => None,
+    };
+    if current != Some(image.id()) {
+        *render_target = RenderTarget::Image(image.into());
+    }
+}
+
+impl Progressive {
+    /// The resting pass's next strip, `(first row, row past the last)`, and the pass image it
+    /// is drawn into: a new pass where none is under way or the quality changed; a finished
+    /// pass is handed over and the other image filled next.
+    fn next_strip(
+        &mut self,
+        images: &mut Assets<Image>,
+        target: &PreviewTarget,
+        full: bool,
+        predicted: f64,
+    ) -> (Handle<Image>, (u32, u32)) {
+        let size = target.size;
+        if self.images.as_ref().is_none_or(|(_, s)| *s != size) {
+            let made = [pass_image(images, size), pass_image(images, size)];
+            self.images = Some((made, size));
+            self.active = false;
+        }
+        if self.active && self.pass_full != full {
+            // The quality changed: a new pass, from the first row.
+            (self.rows, self.drawn, self.pass_full) = (0, 0, full);
+        }
+        if !self.active {
+            (self.active, self.finished, self.rows, self.drawn) = (true, None, 0, 0);
+            self.pass_full = full;
+        }
+        if self.rows >= size.y {
+            self.finished = Some(self.filling);
+            self.finished_full = self.pass_full;
+            self.took = self.drawn;
+            self.passes += 1;
+            self.filling ^= 1;
+            (self.rows, self.drawn, self.pass_full) = (0, 0, full);
+        }
+        let rows = next_strip(self.rows, size.y, predicted, self.cost.share());
+        (self.rows, self.drawn) = (rows.1, self.drawn + 1);
+        let image = self.images.as_ref().map(|(i, _)| i[self.filling].clone());
+        (image.unwrap_or_else(|| target.image.clone()), rows)
+    }
+}
+
+/// The viewport of the rows `(y0, y1)` of a target of `size` (`None`: all of it).
+fn rows_viewport(size: UVec2, rows: Option<(u32, u32)>) -> Option<Viewport> {
+    rows.map(|(y0, y1)| Viewport {
+        physical_position: UVec2::new(0, y0),
+        physical_size: UVec2::new(size.x, (y1 - y0).max(1)),
+        depth: 0.0..1.0,
+    })
+}
+
+/// Points `camera` at its work: the strip's rows of the full view, drawn over the rows before
+/// (no clearing), or the whole view, cleared; each field written only where it changes.
+fn point_camera(
+    camera: &mut Mut<Camera>,
+    size: UVec2,
+    viewport: Option<Viewport>,
+    rows: Option<(u32, u32)>,
+) {
+    let sub_view = viewport
+        .as_ref()
+        .zip(rows)
+        .map(|(v, (y0, _))| SubCameraView {
+            full_size: size,
+            offset: Vec2::new(0.0, y0 as f32),
+            size: v.physical_size,
+        });
+    let clear = match rows {
+        Some(_) => ClearColorConfig::None,
+        None => ClearColorConfig::Default,
+    };
     let rect = |v: &Option<Viewport>| v.as_ref().map(|v| (v.physical_position, v.physical_size));
     if rect(&camera.viewport) != rect(&viewport) {
         camera.viewport = viewport;
@@ -327,13 +373,6 @@ pub(crate) fn give_camera_its_work(
     };
     if !same_output(&camera.output_mode, &output) {
         camera.output_mode = output;
-    }
-    let current = match &*render_target {
-        RenderTarget::Image(i) => Some(i.handle.id()),
-        _ => None,
-    };
-    if current != Some(image.id()) {
-        *render_target = RenderTarget::Image(image.into());
     }
 }
 

@@ -7,7 +7,6 @@
 //! The marker is a real mesh: inside the volume it writes depth and the preview's rays stop at
 //! it. It is hidden while a comparison captures the preview (the CPU render has no meshes).
 
-use crate::sandbox::shared::mode::{Mode, Stage};
 use crate::sandbox::shared::pointer::{MouseHeld, Pointer};
 use crate::sandbox::shared::quality::FullQuality;
 use crate::sandbox::shared::render_change::{Author, Change, RenderChanges};
@@ -87,11 +86,11 @@ fn marker_position(light: Light, volume: &VolumeState) -> Option<Vec3> {
 fn spawn_marker(
     mut commands: Commands,
     volume: Res<VolumeState>,
-    (mode, stage): (Res<State<Mode>>, Res<Stage>),
+    staged: crate::sandbox::shared::mode::Staged,
     existing: Query<Entity, With<LightMarker>>,
-    mut meshes: ResMut<Assets<Mesh>>,
-    mut materials: ResMut<Assets<StandardMaterial>>,
+    mut assets: crate::sandbox::shared::state::MeshAssets,
 ) {
+    let (mode, stage) = (&staged.mode, &staged.stage);
     if !(volume.is_changed() || mode.is_changed()) {
         return;
     }
@@ -103,13 +102,13 @@ fn spawn_marker(
     }
     let (lo, hi) = volume.volume.bounds();
     let c = LIGHT_MARKER_COLOR;
-    let mesh = meshes.add(
+    let mesh = assets.meshes.add(
         Sphere::new(light_marker_radius(lo, hi))
             .mesh()
             .ico(3)
             .unwrap(),
     );
-    let material = materials.add(StandardMaterial {
+    let material = assets.materials.add(StandardMaterial {
         base_color: Color::srgb(c.x, c.y, c.z),
         unlit: true,
         ..default()

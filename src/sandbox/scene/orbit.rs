@@ -106,8 +106,10 @@ pub(crate) fn reframe_on_new_volume(
 
 pub(crate) fn orbit_camera(
     pointer: Pointer,
-    (motion, scroll): (Res<AccumulatedMouseMotion>, Res<AccumulatedMouseScroll>),
-    (mut last_cursor, mut grabbed): (Local<Option<Vec2>>, Local<bool>),
+    motion: Res<AccumulatedMouseMotion>,
+    scroll: Res<AccumulatedMouseScroll>,
+    mut last_cursor: Local<Option<Vec2>>,
+    mut grabbed: Local<bool>,
     held: Option<Res<MouseHeld>>,
     mut cameras: Query<(&mut Orbit, &mut Transform, &mut View), With<MainCamera>>,
 ) {

@@ -29,6 +29,13 @@ pub struct Stage {
     pub lecture_ray: bool,
 }
 
+/// The mode on screen and what its scene holds, which the spawners read together.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct Staged<'w> {
+    pub mode: Res<'w, State<Mode>>,
+    pub stage: Res<'w, Stage>,
+}
+
 impl Default for Stage {
     /// Free play: everything on, at the default virtual-camera resolution.
     fn default() -> Self {

@@ -9,6 +9,13 @@ use voxcast_core::preset::Preset;
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::transfer::TransferFunction;
 
+/// The mesh and material assets a feature adds its shapes to.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct MeshAssets<'w> {
+    pub meshes: ResMut<'w, Assets<Mesh>>,
+    pub materials: ResMut<'w, Assets<StandardMaterial>>,
+}
+
 /// The volume being looked at: replaced whole when another is loaded.
 #[derive(Resource, Clone)]
 pub struct VolumeState {

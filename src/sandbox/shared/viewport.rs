@@ -47,6 +47,20 @@ impl Viewport {
     }
 }
 
+/// Where the scene is seen in and from: the primary window, the part of it the scene is shown
+/// in (once the panels are laid out) and the main camera's view.
+#[derive(bevy::ecs::system::SystemParam)]
+pub struct SceneOnScreen<'w, 's> {
+    pub window: Query<'w, 's, &'static Window, With<bevy::window::PrimaryWindow>>,
+    pub viewport: Option<Res<'w, Viewport>>,
+    pub views: Query<
+        'w,
+        's,
+        &'static crate::sandbox::shared::state::View,
+        With<crate::sandbox::shared::state::MainCamera>,
+    >,
+}
+
 /// A test's primary window of `w` × `h` pixels at one pixel per point (no display needed):
 /// what the features that read the window's size and cursor are tested against.
 #[cfg(test)]

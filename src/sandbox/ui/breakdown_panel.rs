@@ -35,13 +35,10 @@ impl Default for ExportState {
 /// The breakdown of the selected ray.
 pub(super) fn breakdown_panel(
     mut contexts: EguiContexts,
-    (mut state, mut export_state): (ResMut<BreakdownState>, ResMut<ExportState>),
+    mut state: ResMut<BreakdownState>,
+    mut export_state: ResMut<ExportState>,
     mut selection: ResMut<RaySelection>,
-    (lessons, mode): (
-        Res<crate::sandbox::levels::Lessons>,
-        Res<State<crate::sandbox::shared::mode::Mode>>,
-    ),
-    (mut dock, layout): (ResMut<super::Dock>, Res<super::layout::Layout>),
+    mut place: super::Docked,
 ) -> Result {
     let Some(pixel) = selection.selected else {
         return Ok(());
@@ -50,17 +47,14 @@ pub(super) fn breakdown_panel(
         export_state.key = Some(pixel);
         export_state.message = None;
     }
-    let export_state = &mut *export_state;
-    let spot = lessons.spot;
+    let spot = place.lessons.spot;
     // A prediction open in a level: its answer is not shown until the step is done.
-    let hidden = lessons.hidden(*mode.get());
-    let ctx = contexts.ctx_mut()?;
+    let hidden = place.lessons.hidden(*place.mode.get());
+    let ctx = contexts.ctx_mut()?.clone();
     let mut open = true;
-    let state = &mut *state;
     // Docked below the scene, across the window; it scrolls, with its bars always shown.
-    let ctx = ctx.clone();
-    let most = layout.shares.breakdown_max;
-    dock.show(&ctx, "breakdown", |dock_ui| {
+    let most = place.layout.shares.breakdown_max;
+    place.dock.show(&ctx, "breakdown", |dock_ui| {
         egui::Panel::bottom("breakdown")
             .resizable(true)
             .default_size(most)
@@ -84,47 +78,7 @@ pub(super) fn breakdown_panel(
                     .scroll_bar_visibility(egui::scroll_area::ScrollBarVisibility::AlwaysVisible)
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
-                        let Some(trace) = &state.trace else {
-                            ui.label("This ray cannot be traced with the current settings.");
-                            return;
-                        };
-                        let hidden = hidden.as_ref();
-                        summary(ui, trace, hidden);
-                        if let Some(walk) = &state.cells {
-                            let secret = hidden.is_some_and(|h| h.cells);
-                            if secret {
-                                state.show_cells = false;
-                            }
-                            cells_line(ui, walk, secret, &mut state.show_cells);
-                        }
-                        ui.separator();
-                        match hidden.filter(|h| h.hides_working()) {
-                            Some(_) => {
-                                ui.colored_label(Color32::YELLOW, HIDDEN_WORDS);
-                            }
-                            None => formula(ui, trace, state.opened),
-                        }
-                        ui.separator();
-                        let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
-                            if hidden.is_some_and(|h| h.samples) {
-                                // Its rows would count the samples asked for.
-                                ui.colored_label(Color32::YELLOW, TABLE_HIDDEN_WORDS);
-                                return state.opened;
-                            }
-                            sample_table(ui, trace, state.opened, hidden)
-                        });
-                        if opened != state.opened {
-                            state.opened = opened;
-                        }
-                        if let Some(s) = state.opened.and_then(|k| trace.samples.get(k)) {
-                            ui.separator();
-                            let secret = hidden.is_some_and(|h| h.hides_sample(s.p_voxel));
-                            sample_detail(ui, s, secret);
-                        }
-                        ui.separator();
-                        if !hidden.is_some_and(|h| h.hides_working()) {
-                            export(ui, trace, &mut export_state.path, &mut export_state.message);
-                        }
+                        contents(ui, &mut state, &mut export_state, hidden.as_ref(), spot)
                     });
             });
     });
@@ -132,6 +86,57 @@ pub(super) fn breakdown_panel(
         selection.selected = None;
     }
     Ok(())
+}
+
+/// The breakdown's body: the summary, the cells walked, the formula, the samples' table, the
+/// sample opened and the export; what a prediction open in a level asks for is hidden.
+fn contents(
+    ui: &mut egui::Ui,
+    state: &mut BreakdownState,
+    export_state: &mut ExportState,
+    hidden: Option<&crate::sandbox::levels::Hidden>,
+    spot: super::Spot,
+) {
+    let Some(trace) = &state.trace else {
+        ui.label("This ray cannot be traced with the current settings.");
+        return;
+    };
+    summary(ui, trace, hidden);
+    if let Some(walk) = &state.cells {
+        let secret = hidden.is_some_and(|h| h.cells);
+        if secret {
+            state.show_cells = false;
+        }
+        cells_line(ui, walk, secret, &mut state.show_cells);
+    }
+    ui.separator();
+    match hidden.filter(|h| h.hides_working()) {
+        Some(_) => {
+            ui.colored_label(Color32::YELLOW, HIDDEN_WORDS);
+        }
+        None => formula(ui, trace, state.opened),
+    }
+    ui.separator();
+    let opened = super::marked(ui, spot, Control::Breakdown, |ui| {
+        if hidden.is_some_and(|h| h.samples) {
+            // Its rows would count the samples asked for.
+            ui.colored_label(Color32::YELLOW, TABLE_HIDDEN_WORDS);
+            return state.opened;
+        }
+        sample_table(ui, trace, state.opened, hidden)
+    });
+    if opened != state.opened {
+        state.opened = opened;
+    }
+    if let Some(s) = state.opened.and_then(|k| trace.samples.get(k)) {
+        ui.separator();
+        let secret = hidden.is_some_and(|h| h.hides_sample(s.p_voxel));
+        sample_detail(ui, s, secret);
+    }
+    ui.separator();
+    if !hidden.is_some_and(|h| h.hides_working()) {
+        export(ui, trace, &mut export_state.path, &mut export_state.message);
+    }
 }
 
 /// What stands where a prediction's answer would: the level asks for it first.

@@ -43,18 +43,24 @@ fn texture(ctx: &egui::Context, name: &str, img: &LinearImage) -> egui::TextureH
     ctx.load_texture(name, color, egui::TextureOptions::NEAREST)
 }
 
+/// The scene on screen, which a render is of or not: the main camera's view, the render
+/// settings and the volume, and the part of the window the scene is drawn in.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(super) struct SceneNow<'w, 's> {
+    views: Query<'w, 's, &'static View, With<MainCamera>>,
+    render: Res<'w, RenderState>,
+    volume: Res<'w, VolumeState>,
+    viewport: Option<Res<'w, crate::sandbox::shared::viewport::Viewport>>,
+}
+
 pub(super) fn compare_window(
     mut contexts: EguiContexts,
     mut window: ResMut<CompareWindow>,
     mut comparison: ResMut<Comparison>,
-    views: Query<&View, With<MainCamera>>,
-    (render, volume): (Res<RenderState>, Res<VolumeState>),
-    viewport: Option<Res<crate::sandbox::shared::viewport::Viewport>>,
+    now: SceneNow,
     // The mode (a new one closes the window) and the requests to open or close it.
-    (mode, mut shows): (
-        Res<State<crate::sandbox::shared::mode::Mode>>,
-        MessageReader<crate::sandbox::checks::compare::ShowRenderImage>,
-    ),
+    mode: Res<State<crate::sandbox::shared::mode::Mode>>,
+    mut shows: MessageReader<crate::sandbox::checks::compare::ShowRenderImage>,
 ) -> Result {
     if let Some(show) = shows.read().last() {
         window.open = show.0;
@@ -69,7 +75,7 @@ pub(super) fn compare_window(
     let ctx = contexts.ctx_mut()?.clone();
     let mut open = window.open;
     // Over the scene, below the level's text.
-    let scene = crate::sandbox::shared::viewport::Viewport::rect(viewport.as_deref(), &ctx);
+    let scene = crate::sandbox::shared::viewport::Viewport::rect(now.viewport.as_deref(), &ctx);
     // Inside the scene's part of the window, which it never leaves, movable and shrinkable.
     let window_frame = egui::Window::new("Render image")
         .open(&mut open)
@@ -81,10 +87,10 @@ pub(super) fn compare_window(
         .resizable(true)
         .scroll([false, true]);
     let shown = window_frame.show(&ctx, |ui| {
-        let current = comparison
-            .result
-            .as_ref()
-            .is_none_or(|r| r.snapshot.is_current(views.single().ok(), &render, &volume));
+        let current = comparison.result.as_ref().is_none_or(|r| {
+            r.snapshot
+                .is_current(now.views.single().ok(), &now.render, &now.volume)
+        });
         contents(ui, &mut window, &mut comparison, current)
     });
     if let Some(shown) = shown {

@@ -75,12 +75,36 @@ pub(super) fn editor_ui(
             text.page = default_page();
         }
     }
-    let now = lessons.now.clone();
-    let met_now = draft.met_now(&now);
+    let met_now = draft.met_now(&lessons.now);
     let selected = draft.step;
     let Some(level) = draft.level.as_mut() else {
         return sent;
     };
+    level_words(ui, level);
+    ui.separator();
+    step_list(ui, level, selected, &mut sent);
+    if let Some(step) = level.steps.get_mut(selected) {
+        ui.separator();
+        ui.strong(format!("Step {}", selected + 1));
+        step_editor(ui, step, selected, &mut sent);
+        objective_editor(ui, &mut step.objective, selected, &level.id, text);
+        let (words, colour) = match met_now {
+            Some(true) => ("met now: Next would open", egui::Color32::LIGHT_GREEN),
+            _ => ("not met now", egui::Color32::YELLOW),
+        };
+        ui.colored_label(colour, words).on_hover_text(
+            "Judged on what is on screen now, against the scene when the step was chosen — as \
+             the level will judge it. Set the scene up as the student should, and see it turn.",
+        );
+    }
+    ui.separator();
+    save_and_share(ui, draft, text, &mut sent);
+    sent
+}
+
+/// The level's own words and scene: title, id, concept, data set, what the scene holds and
+/// which panel sections it shows.
+fn level_words(ui: &mut egui::Ui, level: &mut voxcast_core::level::Level) {
     egui::Grid::new("editor level").num_columns(2).show(ui, |ui| {
         ui.label("Title");
         ui.text_edit_singleline(&mut level.title);
@@ -106,7 +130,15 @@ pub(super) fn editor_ui(
             .on_hover_text("Whether the light's sphere stands in the scene");
     });
     panel_sections(ui, &mut level.scene.panel);
-    ui.separator();
+}
+
+/// The steps, one line each (a click chooses one), and what can be done to the chosen one.
+fn step_list(
+    ui: &mut egui::Ui,
+    level: &voxcast_core::level::Level,
+    selected: usize,
+    sent: &mut Vec<EditorCommand>,
+) {
     ui.strong(format!("Steps ({})", level.steps.len()));
     for (k, step) in level.steps.iter().enumerate() {
         ui.horizontal(|ui| {
@@ -128,26 +160,34 @@ pub(super) fn editor_ui(
             sent.push(EditorCommand::AddStep);
         }
         let n = level.steps.len();
-        if ui
-            .add_enabled(selected > 0, egui::Button::new("Up"))
-            .on_hover_text("Move the chosen step up")
-            .clicked()
-        {
-            sent.push(EditorCommand::Move(selected, -1));
-        }
-        if ui
-            .add_enabled(selected + 1 < n, egui::Button::new("Down"))
-            .on_hover_text("Move the chosen step down")
-            .clicked()
-        {
-            sent.push(EditorCommand::Move(selected, 1));
-        }
-        if ui
-            .add_enabled(n > 1, egui::Button::new("Delete"))
-            .on_hover_text("Delete the chosen step")
-            .clicked()
-        {
-            sent.push(EditorCommand::Delete(selected));
+        let buttons = [
+            (
+                "Up",
+                "Move the chosen step up",
+                selected > 0,
+                EditorCommand::Move(selected, -1),
+            ),
+            (
+                "Down",
+                "Move the chosen step down",
+                selected + 1 < n,
+                EditorCommand::Move(selected, 1),
+            ),
+            (
+                "Delete",
+                "Delete the chosen step",
+                n > 1,
+                EditorCommand::Delete(selected),
+            ),
+        ];
+        for (label, tip, enabled, command) in buttons {
+            if ui
+                .add_enabled(enabled, egui::Button::new(label))
+                .on_hover_text(tip)
+                .clicked()
+            {
+                sent.push(command);
+            }
         }
         if super::target(ui.button("Play"), "play draft")
             .on_hover_text("Play the level from the chosen step, as a student would")
@@ -156,51 +196,56 @@ pub(super) fn editor_ui(
             sent.push(EditorCommand::Play(selected));
         }
     });
-    if let Some(step) = level.steps.get_mut(selected) {
-        ui.separator();
-        ui.strong(format!("Step {}", selected + 1));
-        ui.add(
-            egui::TextEdit::multiline(&mut step.text)
-                .desired_rows(3)
-                .desired_width(f32::INFINITY)
-                .hint_text("What the student reads: what to do and what they will see"),
-        );
-        ui.horizontal_wrapped(|ui| {
-            match &step.scene {
-                Some(s) => ui.label(format!(
-                    "Opens on its own view ({})",
-                    s.volume.as_deref().unwrap_or("the data set on screen")
-                )),
-                None => ui.label("Opens on the scene as the step before left it"),
-            };
-            if ui
-                .button("Retake the view")
-                .on_hover_text("The step opens on the scene as it is now")
-                .clicked()
-            {
-                sent.push(EditorCommand::Retake(selected));
-            }
-            if step.scene.is_some()
-                && ui
-                    .button("No view of its own")
-                    .on_hover_text("The step opens on whatever the step before left")
-                    .clicked()
-            {
-                step.scene = None;
-            }
-        });
-        control_choice(ui, &mut step.control);
-        objective_editor(ui, &mut step.objective, (selected, &level.id), text);
-        let (words, colour) = match met_now {
-            Some(true) => ("met now: Next would open", egui::Color32::LIGHT_GREEN),
-            _ => ("not met now", egui::Color32::YELLOW),
+}
+
+/// The chosen step's text, the view it opens on and the control it frames.
+fn step_editor(
+    ui: &mut egui::Ui,
+    step: &mut voxcast_core::level::Step,
+    selected: usize,
+    sent: &mut Vec<EditorCommand>,
+) {
+    ui.add(
+        egui::TextEdit::multiline(&mut step.text)
+            .desired_rows(3)
+            .desired_width(f32::INFINITY)
+            .hint_text("What the student reads: what to do and what they will see"),
+    );
+    ui.horizontal_wrapped(|ui| {
+        match &step.scene {
+            Some(s) => ui.label(format!(
+                "Opens on its own view ({})",
+                s.volume.as_deref().unwrap_or("the data set on screen")
+            )),
+            None => ui.label("Opens on the scene as the step before left it"),
         };
-        ui.colored_label(colour, words).on_hover_text(
-            "Judged on what is on screen now, against the scene when the step was chosen — as \
-             the level will judge it. Set the scene up as the student should, and see it turn.",
-        );
-    }
-    ui.separator();
+        if ui
+            .button("Retake the view")
+            .on_hover_text("The step opens on the scene as it is now")
+            .clicked()
+        {
+            sent.push(EditorCommand::Retake(selected));
+        }
+        if step.scene.is_some()
+            && ui
+                .button("No view of its own")
+                .on_hover_text("The step opens on whatever the step before left")
+                .clicked()
+        {
+            step.scene = None;
+        }
+    });
+    control_choice(ui, &mut step.control);
+}
+
+/// The file to save to with Save, the page a link opens with Copy link, the link made and the
+/// editor's last message.
+fn save_and_share(
+    ui: &mut egui::Ui,
+    draft: &mut Draft,
+    text: &mut EditorText,
+    sent: &mut Vec<EditorCommand>,
+) {
     ui.horizontal_wrapped(|ui| {
         ui.label("File");
         ui.text_edit_singleline(&mut draft.file);
@@ -239,7 +284,6 @@ pub(super) fn editor_ui(
     if let Some(m) = &draft.message {
         ui.colored_label(egui::Color32::LIGHT_BLUE, m);
     }
-    sent
 }
 
 /// Which sections of the settings panel the level shows.
@@ -297,7 +341,8 @@ fn control_choice(ui: &mut egui::Ui, control: &mut Option<Control>) {
 fn objective_editor(
     ui: &mut egui::Ui,
     objective: &mut Objective,
-    (step, id): (usize, &str),
+    step: usize,
+    id: &str,
     text: &mut EditorText,
 ) {
     let key = Some((step, id.to_string()));

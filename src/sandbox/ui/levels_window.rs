@@ -55,11 +55,10 @@ pub(super) fn levels_window(
     mut contexts: EguiContexts,
     mut lessons: ResMut<Lessons>,
     mode: Res<State<Mode>>,
-    (mut commands, mut editor): (
-        MessageWriter<LevelCommand>,
-        MessageWriter<crate::sandbox::levels::editor::EditorCommand>,
-    ),
-    (mut dock, mut layout): (ResMut<super::Dock>, ResMut<super::layout::Layout>),
+    mut commands: MessageWriter<LevelCommand>,
+    mut editor: MessageWriter<crate::sandbox::levels::editor::EditorCommand>,
+    mut dock: ResMut<super::Dock>,
+    mut layout: ResMut<super::layout::Layout>,
 ) -> Result {
     let ctx = contexts.ctx_mut()?.clone();
     let mut command = None;
@@ -74,7 +73,7 @@ pub(super) fn levels_window(
         egui::Panel::top("levels")
             .resizable(false)
             .show(dock_ui, |ui| {
-                command = levels_ui(ui, &mut lessons, *mode.get(), (&mut folded, &mut edit))
+                command = levels_ui(ui, &mut lessons, *mode.get(), &mut folded, &mut edit)
             });
     });
     if folded != was {
@@ -96,14 +95,15 @@ pub(super) fn levels_ui(
     ui: &mut egui::Ui,
     lessons: &mut Lessons,
     mode: Mode,
-    (folded, edit): (&mut bool, &mut Option<EditorCommand>),
+    folded: &mut bool,
+    edit: &mut Option<EditorCommand>,
 ) -> Option<LevelCommand> {
     if let Some(m) = &lessons.message {
         ui.colored_label(egui::Color32::YELLOW, m);
     }
     match mode {
         Mode::FreePlay => level_list(ui, lessons, folded, edit),
-        Mode::Level(l) => level_step(ui, lessons, l, (folded, edit)),
+        Mode::Level(l) => level_step(ui, lessons, l, folded, edit),
     }
 }
 
@@ -300,7 +300,8 @@ fn level_step(
     ui: &mut egui::Ui,
     lessons: &mut Lessons,
     l: usize,
-    (folded, edit): (&mut bool, &mut Option<EditorCommand>),
+    folded: &mut bool,
+    edit: &mut Option<EditorCommand>,
 ) -> Option<LevelCommand> {
     let step = lessons.step_in(Mode::Level(l))?.clone();
     let level = &lessons.levels[l];
@@ -401,7 +402,7 @@ fn level_step(
         name_effect(ui, lessons, (l, trace), met);
     }
     if let Objective::StudyQuestion { trace, question } = &step.objective {
-        study_question(ui, lessons, l, (*trace, question), met);
+        study_question(ui, lessons, l, *trace, question, met);
     }
     // One row: the buttons, whether the step is done and, folded, where to look.
     let mut command = None;
@@ -467,7 +468,8 @@ fn study_question(
     ui: &mut egui::Ui,
     lessons: &mut Lessons,
     l: usize,
-    (trace, key): (u32, &str),
+    trace: u32,
+    key: &str,
     met: bool,
 ) {
     use voxcast_core::rays::set::Filter;

@@ -72,6 +72,16 @@ impl Dock {
     }
 }
 
+/// What a docked panel needs to be placed and guided: the part of the window left
+/// ([`Dock`]), the layout's shares and which panels are shown, and the level on screen.
+#[derive(bevy::ecs::system::SystemParam)]
+pub(super) struct Docked<'w> {
+    pub(super) dock: ResMut<'w, Dock>,
+    pub(super) layout: Res<'w, layout::Layout>,
+    pub(super) lessons: Res<'w, levels::Lessons>,
+    pub(super) mode: Res<'w, State<crate::sandbox::shared::mode::Mode>>,
+}
+
 /// A new frame: the whole window is free again, and no control has been drawn yet.
 fn begin_dock(mut dock: ResMut<Dock>, mut contexts: EguiContexts) {
     dock.0 = None;

@@ -12,7 +12,7 @@ use crate::sandbox::shared::quality::Backend;
 use crate::sandbox::shared::quality::PreviewSettings;
 use crate::sandbox::shared::state::VolumeState;
 use crate::sandbox::shared::viewport::Viewport;
-use crate::sandbox::shared::web::publish;
+use crate::sandbox::shared::web::{PageStatus, publish};
 use bevy::prelude::*;
 use bevy_egui::EguiContexts;
 
@@ -77,18 +77,7 @@ pub(super) fn publish_status(
             set_step(&s.step_text);
         }
         s.levels_message = lessons.message.clone().unwrap_or_default();
-        s.editor_steps = draft
-            .as_ref()
-            .and_then(|d| d.level.as_ref())
-            .map_or(0, |l| l.steps.len());
-        s.editor_link = draft
-            .as_ref()
-            .and_then(|d| d.link.clone())
-            .unwrap_or_default();
-        s.editor_message = draft
-            .as_ref()
-            .and_then(|d| d.message.clone())
-            .unwrap_or_default();
+        editor_status(s, draft.as_deref());
         s.targets = targets
             .0
             .iter()
@@ -111,21 +100,41 @@ pub(super) fn publish_status(
         } else {
             String::new()
         };
-        s.live = live.as_ref().map(|l| l.status()).unwrap_or_default();
         s.resting = pacing.as_ref().is_some_and(|p| p.resting);
         s.woken_by = pacing.as_ref().map_or("", |p| p.woken_by).into();
-        s.settled = match preview.backend {
-            Backend::Cpu => live.as_ref().is_some_and(|l| l.showing_exact()),
-            Backend::Gpu => progressive.as_ref().is_none_or(|p| p.full_quality_shown()),
-        };
-        s.backend = match (preview.enabled, preview.backend) {
-            (false, _) => "off",
-            (true, Backend::Gpu) => "gpu",
-            (true, Backend::Cpu) => "cpu",
-        }
-        .into();
+        preview_status(s, &preview, live.as_deref(), progressive.as_deref());
     });
     Ok(())
+}
+
+/// The level editor's draft: its number of steps, the link made and its last message.
+fn editor_status(s: &mut PageStatus, draft: Option<&crate::sandbox::levels::editor::Draft>) {
+    s.editor_steps = draft
+        .and_then(|d| d.level.as_ref())
+        .map_or(0, |l| l.steps.len());
+    s.editor_link = draft.and_then(|d| d.link.clone()).unwrap_or_default();
+    s.editor_message = draft.and_then(|d| d.message.clone()).unwrap_or_default();
+}
+
+/// The preview: its backend (or off), the CPU live view's state, and whether the resting view
+/// is drawn at its best.
+fn preview_status(
+    s: &mut PageStatus,
+    preview: &PreviewSettings,
+    live: Option<&LiveView>,
+    progressive: Option<&crate::sandbox::preview::progressive::Progressive>,
+) {
+    s.live = live.map(|l| l.status()).unwrap_or_default();
+    s.settled = match preview.backend {
+        Backend::Cpu => live.is_some_and(|l| l.showing_exact()),
+        Backend::Gpu => progressive.is_none_or(|p| p.full_quality_shown()),
+    };
+    s.backend = match (preview.enabled, preview.backend) {
+        (false, _) => "off",
+        (true, Backend::Gpu) => "gpu",
+        (true, Backend::Cpu) => "cpu",
+    }
+    .into();
 }
 
 /// The step's text in the page, for a screen reader.

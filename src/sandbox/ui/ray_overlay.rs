@@ -14,7 +14,6 @@ use bevy_egui::EguiContexts;
 use bevy_egui::egui::{self, Color32, Pos2, Stroke, vec2};
 use voxcast_core::breakdown::SampleRecord;
 
-/// Paints the rays (and an opened sample's cell) over the preview, beneath every window.
 /// What the overlay draws the rays from: the inspection, how it is shown and animated, the
 /// two cameras, the breakdown's ray, the volume and the viewport.
 #[derive(bevy::ecs::system::SystemParam)]
@@ -29,6 +28,7 @@ pub(super) struct RaysShown<'w, 's> {
     viewport: Option<Res<'w, crate::sandbox::shared::viewport::Viewport>>,
 }
 
+/// Paints the rays (and an opened sample's cell) over the preview, beneath every window.
 pub(super) fn ray_overlay(
     mut contexts: EguiContexts,
     mut selection: ResMut<RaySelection>,
@@ -62,15 +62,7 @@ pub(super) fn ray_overlay(
     let pick_at = pointer.filter(|_| clicked && !ctx.is_pointer_over_egui());
     let mut nearest: Option<(f32, usize)> = None;
     for (i, path) in inspection.paths.iter().enumerate() {
-        let dim = selected.is_some_and(|s| s != i);
-        let (width, inside_color) = if selected == Some(i) {
-            (2.5, Color32::YELLOW)
-        } else if hovered == Some(i) {
-            (2.0, Color32::from_rgb(80, 220, 255))
-        } else {
-            (1.0, Color32::WHITE)
-        };
-        let alpha = if dim { 35 } else { 255 };
+        let (width, inside_color, alpha) = ray_style(i, selected, hovered);
         let fade = |c: Color32| Color32::from_rgba_unmultiplied(c.r(), c.g(), c.b(), alpha);
         let outside = fade(Color32::from_gray(130));
         let (t_in, t_out) = path.interval.unwrap_or((reach, reach));
@@ -110,6 +102,23 @@ pub(super) fn ray_overlay(
         draw_cell(&painter, &projector, s, volume.volume.spacing());
     }
     Ok(())
+}
+
+/// How ray `i` is drawn inside the volume: the selected one wide and yellow, the hovered one
+/// cyan, the others white and, while another is selected, faded (width, colour, alpha).
+fn ray_style(i: usize, selected: Option<usize>, hovered: Option<usize>) -> (f32, Color32, u8) {
+    let alpha = if selected.is_some_and(|s| s != i) {
+        35
+    } else {
+        255
+    };
+    if selected == Some(i) {
+        (2.5, Color32::YELLOW, alpha)
+    } else if hovered == Some(i) {
+        (2.0, Color32::from_rgb(80, 220, 255), alpha)
+    } else {
+        (1.0, Color32::WHITE, alpha)
+    }
 }
 
 /// How near (points) a click must fall to a ray's line to pick it.

@@ -17,21 +17,21 @@ pub(super) fn rays_panel(
     inspection: Res<Inspection>,
     mut selection: ResMut<RaySelection>,
     mut settings: ResMut<InspectSettings>,
-    (mut animation, lessons): (ResMut<RayAnimation>, Res<crate::sandbox::levels::Lessons>),
+    mut animation: ResMut<RayAnimation>,
     cameras: Query<&VirtualCamera>,
-    (mut dock, layout): (ResMut<super::Dock>, Res<super::layout::Layout>),
+    mut place: super::Docked,
 ) -> Result {
     // No virtual camera shown (a level without one, or turned off in the panel), or the panel
     // hidden: no panel.
-    if !cameras.single().is_ok_and(|c| c.shown) || !layout.rays {
+    if !cameras.single().is_ok_and(|c| c.shown) || !place.layout.rays {
         return Ok(());
     }
-    let spot = lessons.spot;
-    let ctx = contexts.ctx_mut()?;
+    let spot = place.lessons.spot;
+    let ctx = contexts.ctx_mut()?.clone();
     let mut edited = settings.clone();
     let mut new_selection = *selection;
-    let ctx = ctx.clone();
-    dock.show(&ctx, "rays", |dock_ui| {
+    let layout = &place.layout;
+    place.dock.show(&ctx, "rays", |dock_ui| {
         egui::Panel::right("rays")
             .resizable(true)
             .default_size(layout.shares.side_width(super::layout::Side::Rays))

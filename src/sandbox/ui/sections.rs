@@ -321,7 +321,8 @@ pub(super) fn preset_menu(
 /// The virtual camera: shown or not, its resolution and field of view, and where it stands.
 pub(super) fn virtual_camera_section(
     ui: &mut egui::Ui,
-    (vc, settings): (&mut Mut<VirtualCamera>, &mut RenderSettings),
+    vc: &mut Mut<VirtualCamera>,
+    settings: &mut RenderSettings,
     main: Option<voxcast_core::camera::Camera>,
     volume: &VolumeState,
     spot: Spot,
@@ -403,7 +404,8 @@ pub(super) fn preview_section(
     ui: &mut egui::Ui,
     preview: &mut PreviewSettings,
     live: Option<&crate::sandbox::preview::live::LiveView>,
-    (depth, method): (&mut bool, Method),
+    depth: &mut bool,
+    method: Method,
     spot: Spot,
 ) {
     let mut q = preview.clone();

@@ -1,223 +1,292 @@
 //! The settings panel: its sections in order, each drawn from the state it edits.
 
 use super::*;
+use crate::sandbox::checks::trade::StepTrade;
+use crate::sandbox::data::choices::{RayChoices, ViewReport};
+use crate::sandbox::data::estimate::{Estimator, RangeFit};
+use crate::sandbox::data::source::RayScene;
+use crate::sandbox::preview::live::LiveView;
+use crate::sandbox::scene::cut::CutHandles;
+use crate::sandbox::shared::mode::Mode;
+use crate::sandbox::shared::pacing::{Pacing, REST_WAIT};
+use bevy::ecs::system::SystemParam;
+
+/// The panel's top row: the frame time, and Render image.
+#[derive(SystemParam)]
+pub(super) struct TopRow<'w> {
+    diagnostics: Res<'w, DiagnosticsStore>,
+    pacing: Option<Res<'w, Pacing>>,
+    window: ResMut<'w, compare::CompareWindow>,
+    comparison: ResMut<'w, Comparison>,
+}
+
+/// What the sections change: the render's and the preview's settings (asked for through
+/// their owner), and the controls' state that is not a setting.
+#[derive(SystemParam)]
+pub(super) struct Controls<'w, 's> {
+    render: RenderChanges<'w>,
+    preview: PreviewChanges<'w>,
+    panel: ResMut<'w, PanelState>,
+    loading: ResMut<'w, Loading>,
+    step_trade: ResMut<'w, StepTrade>,
+    cut_handles: ResMut<'w, CutHandles>,
+    virtual_cameras: Query<'w, 's, &'static mut VirtualCamera>,
+}
+
+/// What the sections show: the volume, the main camera's view and the preview's live view.
+#[derive(SystemParam)]
+pub(super) struct Shown<'w, 's> {
+    volume: Res<'w, VolumeState>,
+    main_views: Query<'w, 's, &'static View, With<MainCamera>>,
+    live: Option<Res<'w, LiveView>>,
+}
 
 /// What the Ray data section reads and edits.
-pub(super) type RayParams<'w> = (
-    ResMut<'w, crate::sandbox::data::choices::RayChoices>,
-    Res<'w, crate::sandbox::data::source::RayScene>,
-    Res<'w, crate::sandbox::data::estimate::Estimator>,
-    Res<'w, crate::sandbox::data::choices::ViewReport>,
-    ResMut<'w, crate::sandbox::data::estimate::RangeFit>,
-);
+#[derive(SystemParam)]
+pub(super) struct RayParams<'w> {
+    choices: ResMut<'w, RayChoices>,
+    scene: Res<'w, RayScene>,
+    estimator: Res<'w, Estimator>,
+    report: Res<'w, ViewReport>,
+    range_fit: ResMut<'w, RangeFit>,
+}
+
+/// What the level on screen asks of the panel: which sections and control it shows, and
+/// whether traces are named by number only (it asks which effect a trace holds).
+#[derive(Clone, Copy)]
+struct LevelAsks<'a> {
+    guide: Guide<'a>,
+    hide_effects: bool,
+}
+
+/// The settings as this frame's controls leave them, and a volume asked for: sent once the
+/// panel is drawn.
+struct Draft {
+    render: RenderState,
+    preview: PreviewSettings,
+    load: Option<String>,
+}
 
 pub(super) fn settings_panel(
     mut contexts: EguiContexts,
-    (mut panel, mut dock, pacing): (
-        ResMut<PanelState>,
-        ResMut<Dock>,
-        Option<Res<crate::sandbox::shared::pacing::Pacing>>,
-    ),
-    (volume, mut loading, lessons, mode): (
-        Res<VolumeState>,
-        ResMut<Loading>,
-        Res<levels::Lessons>,
-        Res<State<crate::sandbox::shared::mode::Mode>>,
-    ),
-    (mut render, mut step_trade, mut cut_handles): (
-        RenderChanges,
-        ResMut<crate::sandbox::checks::trade::StepTrade>,
-        ResMut<crate::sandbox::scene::cut::CutHandles>,
-    ),
-    (diagnostics, mut previewing, live, rays): (
-        Res<DiagnosticsStore>,
-        PreviewChanges,
-        Option<Res<crate::sandbox::preview::live::LiveView>>,
-        RayParams,
-    ),
-    mut comparison: (ResMut<compare::CompareWindow>, ResMut<Comparison>),
-    (mut virtual_cameras, main_views, layout): (
-        Query<&mut VirtualCamera>,
-        Query<&View, With<MainCamera>>,
-        Res<layout::Layout>,
-    ),
+    mut place: Docked,
+    mut top: TopRow,
+    mut controls: Controls,
+    shown: Shown,
+    mut rays: RayParams,
 ) -> Result {
-    let (mut ray_choices, ray_scene, estimator, ray_report, mut range_fit) = rays;
-    let ctx = contexts.ctx_mut()?;
-    let mut edited = render.now.clone();
-    let mut preview = previewing.now.as_deref().cloned().unwrap_or_default();
-    let mut load: Option<String> = None;
-    let spot: Spot = lessons.spot;
-    // A level that asks which effect a trace holds names traces by number only.
-    let hide_effects = match *mode.get() {
-        crate::sandbox::shared::mode::Mode::Level(l) => {
-            lessons.levels.get(l).is_some_and(|level| {
-                level.steps.iter().any(|s| {
-                    matches!(
-                        s.objective,
-                        voxcast_core::level::Objective::NameEffect { .. }
-                    )
-                })
-            })
-        }
-        crate::sandbox::shared::mode::Mode::FreePlay => false,
-    };
-    let guide = Guide {
-        spot,
-        panel: lessons.panel_in(*mode.get()),
-    };
-    let trade_current = step_trade
-        .current(main_views.single().ok(), &render.now, &volume)
-        .is_some();
-    let voxel = volume.volume.spacing().min_element();
-    let ctx = ctx.clone();
-    if !layout.settings {
+    let ctx = contexts.ctx_mut()?.clone();
+    if !place.layout.settings {
         return Ok(());
     }
-    dock.show(&ctx, "settings", |dock_ui| {
+    let mode = *place.mode.get();
+    let asks = LevelAsks {
+        guide: Guide {
+            spot: place.lessons.spot,
+            panel: place.lessons.panel_in(mode),
+        },
+        hide_effects: asks_for_effects(&place.lessons, mode),
+    };
+    let mut draft = Draft {
+        render: controls.render.now.clone(),
+        preview: controls.preview.now.as_deref().cloned().unwrap_or_default(),
+        load: None,
+    };
+    let shares = place.layout.shares;
+    place.dock.show(&ctx, "settings", |dock_ui| {
         egui::Panel::left("settings")
             .resizable(true)
-            .default_size(layout.shares.side_width(layout::Side::Settings))
-            .max_size(layout.shares.side_max(layout::Side::Settings))
+            .default_size(shares.side_width(layout::Side::Settings))
+            .max_size(shares.side_max(layout::Side::Settings))
             .min_size(layout::SIDE_MIN)
             .show(dock_ui, |ui| {
                 // The frame time and Render image stay at the top; the sections scroll.
-                let fps = diagnostics
-                    .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
-                    .and_then(|d| d.smoothed());
-                let resting = pacing.as_ref().is_some_and(|p| p.resting);
-                ui.horizontal(|ui| {
-                    if resting {
-                        ui.label("frame time: at rest").on_hover_text(format!(
-                            "Nothing moves and nothing is under way, so the window draws only \
-                             when something changes (and at least every {} s), leaving the \
-                             computer free; the frame time shows again once something moves.",
-                            crate::sandbox::shared::pacing::REST_WAIT.as_secs_f32()
-                        ));
-                    } else {
-                        ui.label(format!(
-                            "frame time: {}",
-                            fps.map_or("…".into(), |ms| format!("{ms:.1} ms"))
-                        ));
-                    }
-                    let clicked = marked(ui, spot, Control::RenderImage, |ui| {
-                        target(ui.button("Render image…"), "render image")
-                            .on_hover_text(
-                                "Render this view exactly on the CPU and compare it with \
-                                     the preview",
-                            )
-                            .clicked()
-                    });
-                    if clicked {
-                        comparison.0.open = true;
-                        comparison.1.start();
-                    }
-                });
+                top_row(ui, &mut top, asks.guide.spot);
                 ui.separator();
                 egui::ScrollArea::vertical()
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
-                        section(ui, Section::Dataset, true, guide, |ui| {
-                            load = dataset_section(ui, &mut panel, &volume, &mut loading);
-                        });
-                        section(ui, Section::RayCasting, true, guide, |ui| {
-                            ray_section(ui, &mut edited.settings, &volume, spot)
-                        });
-                        section(ui, Section::SpeedAccuracy, false, guide, |ui| {
-                            trade::trade_section(
-                                ui,
-                                &mut step_trade,
-                                trade_current,
-                                edited.settings.step.voxels(voxel),
-                                spot,
-                            )
-                        });
-                        section(ui, Section::LookingInside, false, guide, |ui| {
-                            let forward = main_views.single().ok().map(|v| v.0.forward());
-                            cut::cut_section(
-                                ui,
-                                &mut edited.settings.clip,
-                                &mut cut_handles,
-                                forward,
-                                spot,
-                            )
-                        });
-                        section(ui, Section::ShadingAndLight, false, guide, |ui| {
-                            shading_section(ui, &mut edited.settings, &volume, spot)
-                        });
-                        section(ui, Section::TransferFunction, true, guide, |ui| {
-                            preset_menu(ui, &mut edited, &volume.volume);
-                            panel.editor.show(
-                                ui,
-                                &mut edited.transfer,
-                                &volume.volume,
-                                &volume.source,
-                            );
-                            marked(ui, spot, Control::Classification, |ui| {
-                                classify::classification_controls(
-                                    ui,
-                                    &mut edited.settings.classification,
-                                    &mut panel.classify,
-                                    &volume.volume,
-                                    &volume.source,
-                                )
-                            });
-                        });
-                        if let Ok(mut vc) = virtual_cameras.single_mut() {
-                            section(ui, Section::VirtualCamera, false, guide, |ui| {
-                                let main = main_views.single().ok().map(|v| v.0);
-                                virtual_camera_section(
-                                    ui,
-                                    (&mut vc, &mut edited.settings),
-                                    main,
-                                    &volume,
-                                    spot,
-                                )
-                            });
-                        }
-                        section(ui, Section::RayData, false, guide, |ui| {
-                            let vc = virtual_cameras.single().ok().cloned();
-                            let mut choices = ray_choices.clone();
-                            let mut back = false;
-                            ray_data::ray_data_section(
-                                ui,
-                                ray_data::RayPanel {
-                                    choices: &mut choices,
-                                    rays: &ray_scene,
-                                    estimator: &estimator,
-                                    report: &ray_report,
-                                    volume: &volume,
-                                    render: &mut edited,
-                                    loading: &mut loading,
-                                    virtual_camera: vc.as_ref(),
-                                    preview_on: &mut preview.enabled,
-                                    back: &mut back,
-                                    fit: &mut range_fit,
-                                    hide_effects,
-                                },
-                                spot,
-                            );
-                            choices.back = back;
-                            if choices != *ray_choices {
-                                *ray_choices = choices;
-                            }
-                        });
-                        section(ui, Section::Preview, false, guide, |ui| {
-                            preview_section(
-                                ui,
-                                &mut preview,
-                                live.as_deref(),
-                                (&mut edited.depth_termination, edited.settings.method),
-                                spot,
-                            )
-                        });
+                        image_sections(ui, asks.guide, &mut draft, &mut controls, &shown);
+                        camera_and_data_sections(
+                            ui,
+                            asks,
+                            &mut draft,
+                            &mut controls,
+                            &shown,
+                            &mut rays,
+                        );
                     });
             });
     });
-    render.edited(Author::Panel, edited);
-    previewing.edited(Author::Panel, preview);
-    if let Some(source) = load {
-        loading.start_keeping_choices(source);
+    controls.render.edited(Author::Panel, draft.render);
+    controls.preview.edited(Author::Panel, draft.preview);
+    if let Some(source) = draft.load {
+        controls.loading.start_keeping_choices(source);
     }
     Ok(())
+}
+
+/// Whether the level on screen asks which effect a trace holds: then traces are named by
+/// number only.
+fn asks_for_effects(lessons: &levels::Lessons, mode: Mode) -> bool {
+    let Mode::Level(l) = mode else {
+        return false;
+    };
+    lessons.levels.get(l).is_some_and(|level| {
+        level.steps.iter().any(|s| {
+            matches!(
+                s.objective,
+                voxcast_core::level::Objective::NameEffect { .. }
+            )
+        })
+    })
+}
+
+/// The frame time (or that the window rests) and the Render image button.
+fn top_row(ui: &mut egui::Ui, top: &mut TopRow, spot: Spot) {
+    let frame_time = top
+        .diagnostics
+        .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
+        .and_then(|d| d.smoothed());
+    let resting = top.pacing.as_ref().is_some_and(|p| p.resting);
+    ui.horizontal(|ui| {
+        if resting {
+            ui.label("frame time: at rest").on_hover_text(format!(
+                "Nothing moves and nothing is under way, so the window draws only when \
+                 something changes (and at least every {} s), leaving the computer free; the \
+                 frame time shows again once something moves.",
+                REST_WAIT.as_secs_f32()
+            ));
+        } else {
+            ui.label(format!(
+                "frame time: {}",
+                frame_time.map_or("…".into(), |ms| format!("{ms:.1} ms"))
+            ));
+        }
+        let clicked = marked(ui, spot, Control::RenderImage, |ui| {
+            target(ui.button("Render image…"), "render image")
+                .on_hover_text(
+                    "Render this view exactly on the CPU and compare it with the preview",
+                )
+                .clicked()
+        });
+        if clicked {
+            top.window.open = true;
+            top.comparison.start();
+        }
+    });
+}
+
+/// The sections that decide the image: the dataset, how rays are cast, the step's trade, the
+/// cut, shading and light, and the transfer function.
+fn image_sections(
+    ui: &mut egui::Ui,
+    guide: Guide,
+    draft: &mut Draft,
+    controls: &mut Controls,
+    shown: &Shown,
+) {
+    let spot = guide.spot;
+    let volume = &*shown.volume;
+    let view = shown.main_views.single().ok();
+    let trade_current = controls
+        .step_trade
+        .current(view, &controls.render.now, volume)
+        .is_some();
+    let voxel = volume.volume.spacing().min_element();
+    let settings = &mut draft.render.settings;
+    section(ui, Section::Dataset, true, guide, |ui| {
+        draft.load = dataset_section(ui, &mut controls.panel, volume, &mut controls.loading);
+    });
+    section(ui, Section::RayCasting, true, guide, |ui| {
+        ray_section(ui, settings, volume, spot)
+    });
+    section(ui, Section::SpeedAccuracy, false, guide, |ui| {
+        let step = settings.step.voxels(voxel);
+        trade::trade_section(ui, &mut controls.step_trade, trade_current, step, spot)
+    });
+    section(ui, Section::LookingInside, false, guide, |ui| {
+        let forward = view.map(|v| v.0.forward());
+        cut::cut_section(
+            ui,
+            &mut settings.clip,
+            &mut controls.cut_handles,
+            forward,
+            spot,
+        )
+    });
+    section(ui, Section::ShadingAndLight, false, guide, |ui| {
+        shading_section(ui, settings, volume, spot)
+    });
+    section(ui, Section::TransferFunction, true, guide, |ui| {
+        let render = &mut draft.render;
+        preset_menu(ui, render, &volume.volume);
+        let panel = &mut controls.panel;
+        panel
+            .editor
+            .show(ui, &mut render.transfer, &volume.volume, &volume.source);
+        marked(ui, spot, Control::Classification, |ui| {
+            classify::classification_controls(
+                ui,
+                &mut render.settings.classification,
+                &mut panel.classify,
+                &volume.volume,
+                &volume.source,
+            )
+        });
+    });
+}
+
+/// The sections around the image: the virtual camera, the ray data and the preview.
+fn camera_and_data_sections(
+    ui: &mut egui::Ui,
+    asks: LevelAsks,
+    draft: &mut Draft,
+    controls: &mut Controls,
+    shown: &Shown,
+    rays: &mut RayParams,
+) {
+    let LevelAsks {
+        guide,
+        hide_effects,
+    } = asks;
+    let spot = guide.spot;
+    let volume = &*shown.volume;
+    if let Ok(mut vc) = controls.virtual_cameras.single_mut() {
+        section(ui, Section::VirtualCamera, false, guide, |ui| {
+            let main = shown.main_views.single().ok().map(|v| v.0);
+            let settings = &mut draft.render.settings;
+            virtual_camera_section(ui, &mut vc, settings, main, volume, spot)
+        });
+    }
+    section(ui, Section::RayData, false, guide, |ui| {
+        let vc = controls.virtual_cameras.single().ok().cloned();
+        let mut choices = rays.choices.clone();
+        let mut back = false;
+        let panel = ray_data::RayPanel {
+            choices: &mut choices,
+            rays: &rays.scene,
+            estimator: &rays.estimator,
+            report: &rays.report,
+            volume,
+            render: &mut draft.render,
+            loading: &mut controls.loading,
+            virtual_camera: vc.as_ref(),
+            preview_on: &mut draft.preview.enabled,
+            back: &mut back,
+            fit: &mut rays.range_fit,
+            hide_effects,
+        };
+        ray_data::ray_data_section(ui, panel, spot);
+        choices.back = back;
+        if choices != *rays.choices {
+            *rays.choices = choices;
+        }
+    });
+    section(ui, Section::Preview, false, guide, |ui| {
+        let (live, render) = (shown.live.as_deref(), &mut draft.render);
+        let method = render.settings.method;
+        let depth = &mut render.depth_termination;
+        preview_section(ui, &mut draft.preview, live, depth, method, spot)
+    });
 }

@@ -260,7 +260,7 @@ fn first_preview_section(
     live: &crate::sandbox::preview::live::LiveView,
     depth: &mut bool,
 ) {
-    preview_section(ui, preview, Some(live), (depth, Method::First), None);
+    preview_section(ui, preview, Some(live), depth, Method::First, None);
 }
 
 /// Drawing a slider leaves its value as it is, whatever decimals it shows: a preview scale of
@@ -347,7 +347,7 @@ fn the_virtual_camera_shows_its_angle_in_tenths() {
     let mut settings = render.settings.clone();
     let (text, _) = drawn_text(|ui| {
         let mut camera = world.get_mut::<VirtualCamera>(id).unwrap();
-        virtual_camera_section(ui, (&mut camera, &mut settings), None, &volume, None);
+        virtual_camera_section(ui, &mut camera, &mut settings, None, &volume, None);
     });
     let lines: Vec<&str> = text.lines().collect();
     assert!(lines.contains(&"61.5"), "no 61.5 among {lines:?}");

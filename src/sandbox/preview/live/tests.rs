@@ -1,6 +1,7 @@
 //! The CPU live view's tests in a windowless app: frames, refinement, cost and depth views.
 
 use super::*;
+use crate::sandbox::shared::state::{MainCamera, View};
 
 /// A windowless app with the live view on the CPU, a 64×48 window and the bunny.
 fn app() -> App {

@@ -31,7 +31,7 @@ impl Harness {
         let mut command = None;
         self.ctx
             .run_ui(input, |ui| {
-                command = levels_ui(ui, lessons, mode, (&mut false, &mut None))
+                command = levels_ui(ui, lessons, mode, &mut false, &mut None)
             })
             .drop_without_applying_deltas();
         command
