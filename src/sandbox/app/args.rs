@@ -75,6 +75,10 @@ pub struct SandboxArgs {
     /// behaved.
     #[arg(long, conflicts_with_all = ["screenshot", "compare", "measure_frames"])]
     pub play_levels: Option<PathBuf>,
+    /// With --play-levels: play only the levels numbered FIRST to LAST in the levels list
+    /// (`3-7`; `12-` to the end), so that a long play-through can run in parts side by side.
+    #[arg(long, value_name = "FIRST-LAST", requires = "play_levels", value_parser = parse_level_range)]
+    pub play_range: Option<std::ops::RangeInclusive<usize>>,
     /// Add the levels in this file, or in the .json files of this folder, to the levels list
     /// (after the built-in ones); a file with errors is left out and said why (`voxcast
     /// levels check PATH` prints every problem).
@@ -122,10 +126,40 @@ fn parse_knob(s: &str) -> Result<voxcast_core::knob::Knob, String> {
     })
 }
 
+/// Levels numbered `FIRST-LAST` (from 1; `FIRST-` runs to the end), as indices in the list.
+fn parse_level_range(s: &str) -> Result<std::ops::RangeInclusive<usize>, String> {
+    let words = "give the levels' numbers as FIRST-LAST (3-7) or FIRST- (to the end), from 1";
+    let (first, last) = s.split_once('-').ok_or(words)?;
+    let first: usize = first.trim().parse().map_err(|_| words)?;
+    let last: usize = match last.trim() {
+        "" => usize::MAX,
+        n => n.parse().map_err(|_| words)?,
+    };
+    if first == 0 || last < first {
+        return Err(words.into());
+    }
+    Ok(first - 1..=last - 1)
+}
+
 fn parse_preview_scale(s: &str) -> Result<f32, String> {
     let t = &voxcast_core::tunables::PREVIEW_SCALE;
     match s.parse::<f32>() {
         Ok(v) if (t.min..=t.max).contains(&v) => Ok(v),
         _ => Err(format!("give a number from {} to {}", t.min, t.max)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_level_range;
+
+    #[test]
+    fn a_range_of_levels_is_read_from_one_and_checked() {
+        assert_eq!(parse_level_range("3-7"), Ok(2..=6));
+        assert_eq!(parse_level_range("12-"), Ok(11..=usize::MAX - 1));
+        assert_eq!(parse_level_range(" 1 - 1 "), Ok(0..=0));
+        for bad in ["", "7", "0-3", "5-2", "a-b", "-4", "1-x"] {
+            assert!(parse_level_range(bad).is_err(), "{bad}");
+        }
     }
 }

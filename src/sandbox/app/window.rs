@@ -104,7 +104,11 @@ pub(super) fn build_window(
                 levels::Lessons::new(levels::ProgressStore::File(dir.join("progress.json")))
                     .with_added(args.levels.as_deref().map(levels::added_from_path)),
             )
-            .insert_resource(script::PlayLevels(dir.clone(), args.levels.is_some()))
+            .insert_resource(script::PlayLevels {
+                dir: dir.clone(),
+                added_only: args.levels.is_some(),
+                range: args.play_range.clone(),
+            })
             .add_plugins(script::plugin);
     }
     if let Some(knob) = args.measure_knob {

@@ -39,10 +39,23 @@ const MET_FRAMES: u32 = 600;
 /// [`MET_FRAMES`] frames before one ends (Measure's ladder, the preview's cost view).
 const MET_TIME: std::time::Duration = std::time::Duration::from_secs(60);
 
-/// Where the screenshots and the report go, and whether only the levels added from files
-/// (`--levels`) are played.
+/// Where the screenshots and the report go, and which levels are played.
 #[derive(Resource)]
-pub struct PlayLevels(pub PathBuf, pub bool);
+pub struct PlayLevels {
+    pub dir: PathBuf,
+    /// Only the levels added from files (`--levels`).
+    pub added_only: bool,
+    /// Only the levels at these places in the list (`--play-range`).
+    pub range: Option<std::ops::RangeInclusive<usize>>,
+}
+
+impl PlayLevels {
+    /// Whether `level`, at place `i` in the list, is played.
+    fn plays(&self, i: usize, level: &voxcast_core::level::Level) -> bool {
+        let added = level.origin != voxcast_core::level::Origin::Embedded;
+        (added || !self.added_only) && self.range.as_ref().is_none_or(|r| r.contains(&i))
+    }
+}
 
 /// Where the run is.
 #[derive(Resource, Default)]
@@ -91,7 +104,7 @@ pub(crate) fn plugin(app: &mut App) {
 /// Writes the frame's unordered conflicts beside the report (`ambiguities.txt`), once the
 /// schedules have been built by their first run.
 fn write_ambiguities(world: &mut World) {
-    let Some(dir) = world.get_resource::<PlayLevels>().map(|p| p.0.clone()) else {
+    let Some(dir) = world.get_resource::<PlayLevels>().map(|p| p.dir.clone()) else {
         return;
     };
     let mut text = super::ambiguities::conflicts(world).join("\n");
@@ -169,19 +182,18 @@ fn drive(
 ) {
     let run = &mut *run;
     run.frames += 1;
-    // With --levels, the added levels alone: the built-in ones are passed over.
-    while request.1
-        && lessons
-            .levels
-            .get(run.level)
-            .is_some_and(|l| l.origin == voxcast_core::level::Origin::Embedded)
+    // With --levels, the added levels alone; with --play-range, the levels in it.
+    while lessons
+        .levels
+        .get(run.level)
+        .is_some_and(|l| !request.plays(run.level, l))
     {
         run.level += 1;
     }
     let mut out = Out {
         commands: &mut commands,
         send: &mut tells.levels,
-        dir: &request.0,
+        dir: &request.dir,
     };
     if run.level >= lessons.levels.len() {
         end_in_free_play(run, &mut out, &mut hands, &mut tells.exit);
