@@ -27,7 +27,7 @@ fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/agreement")
 }
 
-use support::{Completion, Outcome, run_or_skip, skipped_for_want_of_a_gpu};
+use support::{Completion, Outcome, run_or_skip};
 
 fn main() {
     support::run(&[
@@ -230,7 +230,8 @@ fn sweep_one(name: &str, args: &[&str], suffix: &str) -> Result<Swept, Outcome> 
         format!("{name}_{suffix}")
     });
     let _ = std::fs::remove_dir_all(&dir);
-    let output = Command::new(env!("CARGO_BIN_EXE_voxcast"))
+    let mut command = Command::new(env!("CARGO_BIN_EXE_voxcast"));
+    command
         .args([
             "--volume",
             &format!("builtin:{name}"),
@@ -240,16 +241,8 @@ fn sweep_one(name: &str, args: &[&str], suffix: &str) -> Result<Swept, Outcome> 
         ])
         .args(args)
         .arg("--screenshot")
-        .arg(&dir)
-        .output()
-        .expect("the binary runs");
-    if !output.status.success() {
-        let err = String::from_utf8_lossy(&output.stderr);
-        if let Some(skip) = skipped_for_want_of_a_gpu(&err) {
-            return Err(skip);
-        }
-        panic!("the preview of {name} failed:\n{err}");
-    }
+        .arg(&dir);
+    run_or_skip(&mut command)?;
     let volume = voxcast_core::Prepared::from(load_builtin(name).unwrap().volume);
     let p = preset::for_volume(volume.name()).unwrap();
     let base = p.settings_over(&RenderSettings::default()).unwrap();
