@@ -472,20 +472,21 @@ fn capture_preview(
 }
 
 /// Starts the exact CPU render of `snapshot` (and, for the CPU live view, its capture: the
-/// same view at rest, in `live_slot`), with its progress and Cancel.
+/// same view at rest, into `gpu`), with its progress and Cancel.
 fn start_render(
     volume: Arc<voxcast_core::Prepared>,
     snapshot: Snapshot,
-    live_slot: Capture,
+    gpu: Capture,
     cpu_live: bool,
 ) -> Job {
     let progress = Arc::new((AtomicUsize::new(0), AtomicUsize::new(0)));
     let cancel = Arc::new(AtomicBool::new(false));
-    let (s, worker_progress, worker_cancel, gpu) = (
+    // The worker's own handles on the snapshot, the progress, Cancel and the capture.
+    let (s, worker_progress, worker_cancel, live_slot) = (
         snapshot.clone(),
         progress.clone(),
         cancel.clone(),
-        live_slot.clone(),
+        gpu.clone(),
     );
     let task = crate::sandbox::shared::tasks::spawn(async move {
         let scene = Scene::new(&volume, &s.transfer, &s.settings, s.camera.forward())

@@ -260,7 +260,7 @@ fn begin_visit(
     d: &mut Drawing,
     preview: &mut PreviewSettings,
     i: usize,
-    volume: &std::sync::Arc<voxcast_core::Prepared>,
+    volume: std::sync::Arc<voxcast_core::Prepared>,
 ) -> Result<Waiting, &'static str> {
     let setting = run.tries[i];
     preview.scale = setting.scale;
@@ -296,7 +296,7 @@ fn begin_visit(
             let mut key = key.clone();
             key.full = scaled_size(size, setting.scale);
             let spheres = setting.scale >= 1.0;
-            Waiting::Render(render_exact(key, volume.clone(), spheres))
+            Waiting::Render(render_exact(key, volume, spheres))
         }
     })
 }
@@ -327,12 +327,12 @@ fn advance(
         return stopped("this window has no clock or volume");
     };
     let now = time.elapsed_secs_f64();
-    let volume = volume.volume.clone();
     let total = run.tries.len();
     let (i, timed) = visit(run.visit, total);
     if matches!(run.waiting, Waiting::Start) {
+        let volume = volume.volume.clone();
         run.visit_began = now;
-        run.waiting = match begin_visit(run, d, preview, i, &volume) {
+        run.waiting = match begin_visit(run, d, preview, i, volume) {
             Ok(waiting) => waiting,
             Err(why) => return stopped(why),
         };

@@ -180,15 +180,7 @@ fn orbit(
 ) {
     for (mut orbit, mut transform, mut view) in cameras {
         orbit.yaw += degrees.to_radians();
-        *transform = orbit.transform();
-        if let Ok(v) = voxcast_core::camera::Camera::new(
-            transform.translation,
-            orbit.focus,
-            orbit.up,
-            view.0.projection,
-        ) {
-            view.0 = v;
-        }
+        orbit.place(&mut transform, &mut view);
     }
 }
 

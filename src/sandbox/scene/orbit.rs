@@ -57,6 +57,18 @@ impl Orbit {
         Transform::from_translation(self.focus + dir * self.distance)
             .looking_at(self.focus, self.up)
     }
+
+    /// Puts the main camera where this orbit says: its transform, and its view (kept as it
+    /// was where the orbit makes no camera).
+    pub fn place(&self, transform: &mut Transform, view: &mut Mut<View>) {
+        *transform = self.transform();
+        let eye = transform.translation;
+        if let Ok(v) =
+            voxcast_core::camera::Camera::new(eye, self.focus, self.up, view.0.projection)
+        {
+            view.0 = v;
+        }
+    }
 }
 
 /// Two axes perpendicular to `up`.
@@ -160,13 +172,7 @@ pub(crate) fn orbit_camera(
             changed = true;
         }
         if changed {
-            *transform = orbit.transform();
-            let eye = transform.translation;
-            if let Ok(v) =
-                voxcast_core::camera::Camera::new(eye, orbit.focus, orbit.up, view.0.projection)
-            {
-                view.0 = v;
-            }
+            orbit.place(&mut transform, &mut view);
         }
     }
 }

@@ -51,14 +51,6 @@ pub(super) struct RayParams<'w> {
     range_fit: ResMut<'w, RangeFit>,
 }
 
-/// What the level on screen asks of the panel: which sections and control it shows, and
-/// whether traces are named by number only (it asks which effect a trace holds).
-#[derive(Clone, Copy)]
-struct LevelAsks<'a> {
-    guide: Guide<'a>,
-    hide_effects: bool,
-}
-
 /// The settings as this frame's controls leave them, and a volume asked for: sent once the
 /// panel is drawn.
 struct Draft {
@@ -80,13 +72,11 @@ pub(super) fn settings_panel(
         return Ok(());
     }
     let mode = *place.mode.get();
-    let asks = LevelAsks {
-        guide: Guide {
-            spot: place.lessons.spot,
-            panel: place.lessons.panel_in(mode),
-        },
-        hide_effects: asks_for_effects(&place.lessons, mode),
+    let guide = Guide {
+        spot: place.lessons.spot,
+        panel: place.lessons.panel_in(mode),
     };
+    let hide_effects = asks_for_effects(&place.lessons, mode);
     let mut draft = Draft {
         render: controls.render.now.clone(),
         preview: controls.preview.now.as_deref().cloned().unwrap_or_default(),
@@ -101,19 +91,20 @@ pub(super) fn settings_panel(
             .min_size(layout::SIDE_MIN)
             .show(dock_ui, |ui| {
                 // The frame time and Render image stay at the top; the sections scroll.
-                top_row(ui, &mut top, asks.guide.spot);
+                top_row(ui, &mut top, guide.spot);
                 ui.separator();
                 egui::ScrollArea::vertical()
                     .auto_shrink([false, false])
                     .show(ui, |ui| {
-                        image_sections(ui, asks.guide, &mut draft, &mut controls, &shown);
+                        image_sections(ui, guide, &mut draft, &mut controls, &shown);
                         camera_and_data_sections(
                             ui,
-                            asks,
+                            guide,
                             &mut draft,
                             &mut controls,
                             &shown,
                             &mut rays,
+                            hide_effects,
                         );
                     });
             });
@@ -240,16 +231,13 @@ fn image_sections(
 /// The sections around the image: the virtual camera, the ray data and the preview.
 fn camera_and_data_sections(
     ui: &mut egui::Ui,
-    asks: LevelAsks,
+    guide: Guide,
     draft: &mut Draft,
     controls: &mut Controls,
     shown: &Shown,
     rays: &mut RayParams,
+    hide_effects: bool,
 ) {
-    let LevelAsks {
-        guide,
-        hide_effects,
-    } = asks;
     let spot = guide.spot;
     let volume = &*shown.volume;
     if let Ok(mut vc) = controls.virtual_cameras.single_mut() {
