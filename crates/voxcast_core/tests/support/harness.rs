@@ -12,7 +12,17 @@ pub type Test = (&'static str, fn() -> Outcome);
 
 /// Runs the named tests as `cargo test` would, with its filters and flags.
 pub fn run(tests: &[Test]) -> ! {
-    let args = libtest_mimic::Arguments::from_args();
+    run_side_by_side(tests, None)
+}
+
+/// [`run`], with `threads` tests at a time unless `--test-threads` says otherwise (by default
+/// as many as the machine has cores): for tests that spend their time waiting on other
+/// processes (a window on a software GPU, a browser), which leave the cores partly idle.
+pub fn run_side_by_side(tests: &[Test], threads: Option<usize>) -> ! {
+    let mut args = libtest_mimic::Arguments::from_args();
+    if args.test_threads.is_none() {
+        args.test_threads = threads;
+    }
     let trials = tests
         .iter()
         .map(|&(name, f)| libtest_mimic::Trial::ignorable_test(name, f))
