@@ -35,7 +35,7 @@ echo
 
 echo "== the page in headless chromium (tests/browser.rs)"
 log=$(mktemp)
-cargo test --test browser -- --nocapture --test-threads 1 > "$log" 2>&1 || true
+VOXCAST_PAGE_FIGURES=1 cargo test --test browser -- --nocapture --test-threads 1 > "$log" 2>&1 || true
 grep -oE "(webgl2|webgpu|chromium \[).*" "$log" || echo "(the browser test printed no figures)"
 echo
 

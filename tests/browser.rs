@@ -10,7 +10,9 @@
 //! that the scene keeps at least half the page in every layout at 1024×576, and fails on any
 //! error in the browser's console. Where chromium, chromedriver or the built page is missing
 //! the test is reported as ignored with the reason, unless `VOXCAST_REQUIRE_BROWSER=1` (as
-//! `.ci/run` sets it).
+//! `.ci/run` sets it). The page's figures for BENCHMARKS.md (Render image five times, 40 frames
+//! orbiting and resting) are taken with `VOXCAST_PAGE_FIGURES=1`, as `benches/web.sh` sets it;
+//! without it, once and over a few frames, which checks the same paths.
 
 mod support;
 
@@ -200,6 +202,13 @@ fn out_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/out/browser")
 }
 
+/// Whether to take the page's figures for BENCHMARKS.md (`benches/web.sh` asks): Render image
+/// five times for a median and 40 frames orbiting and resting, some 40 s a build on 2 cores;
+/// otherwise once, and 8 frames orbiting.
+fn figures_asked() -> bool {
+    std::env::var_os("VOXCAST_PAGE_FIGURES").is_some_and(|v| v == "1")
+}
+
 /// How long the page may take to show its first frame in headless chromium on 2 cores.
 const FIRST_FRAME: Duration = Duration::from_secs(120);
 
@@ -297,19 +306,22 @@ fn page(graphics: &str) -> Outcome {
         "the page froze while rendering"
     );
     page.save_screenshot("render_image")?;
-    // Four more renders of the same view: one render's time of work varies by half from run
-    // to run, the median of five is the figure to compare (benches/web.sh).
+    // Four more renders of the same view, for the figures: one render's time of work varies
+    // by half from run to run, the median of five is the figure to compare (benches/web.sh).
+    // Otherwise one more, which checks that Render image runs again on the same view.
     let mut works = vec![work_seconds(&rendered)];
-    for _ in 0..4 {
+    for _ in 0..if figures_asked() { 4 } else { 1 } {
         works.push(work_seconds(&page.render_again()?));
     }
     let shown: Vec<String> = works.iter().map(|w| format!("{w:.3}")).collect();
     works.sort_by(f64::total_cmp);
-    println!(
-        "{graphics}: Render image's work, median of 5: {:.3} s ({} s)",
-        works[2],
-        shown.join(", ")
-    );
+    if works.len() == 5 {
+        println!(
+            "{graphics}: Render image's work, median of 5: {:.3} s ({} s)",
+            works[2],
+            shown.join(", ")
+        );
+    }
     // Saving: one download a button (a browser asks before a page downloads several files
     // at once); each image is the scene's size (the status gives it in fractional pixels).
     let scene = page.status()?["scene"].clone();
@@ -524,10 +536,15 @@ fn page(graphics: &str) -> Outcome {
     // The page's frame times at 1280×720, orbiting and resting (`--measure-frames`, as the
     // desktop's `benches/frames.sh` measures them): printed for BENCHMARKS.md, not judged.
     browser.set_viewport(1280, 720)?;
-    for (what, query) in [
-        ("orbiting", "measure-frames=40&auto-orbit=5"),
-        ("resting", "measure-frames=40"),
-    ] {
+    let measures: &[(&str, &str)] = if figures_asked() {
+        &[
+            ("orbiting", "measure-frames=40&auto-orbit=5"),
+            ("resting", "measure-frames=40"),
+        ]
+    } else {
+        &[("orbiting", "measure-frames=8&auto-orbit=5")]
+    };
+    for (what, query) in measures {
         browser.open(&format!(
             "http://127.0.0.1:{port}/?gpu={graphics}&no-rays&{query}"
         ))?;
