@@ -77,8 +77,21 @@ pub fn compute_source(
             };
             Ok(Computed::outcome(d, None, facts))
         })()
-        .map_err(|e: String| format!("{source}: {e}")),
+        .map_err(|e: String| density_error(source, &e)),
     )
+}
+
+/// Why the density `source` could not be made, in words: "Ray density of r.rayvis: the file
+/// ends inside …" — the reader's own error names the file, which is not said twice. A source
+/// that does not parse leads with its text, which is what is wrong.
+fn density_error(source: &str, e: &str) -> String {
+    match voxcast_core::rays::as_volume::parse(source) {
+        Some(Ok(spec)) => {
+            let why = e.strip_prefix(&format!("{}: ", spec.source)).unwrap_or(e);
+            format!("Ray density of {}: {why}", spec.source)
+        }
+        _ => format!("{source}: {e}"),
+    }
 }
 
 /// [`compute_source`] in slices, yielding to the page between them (`crate::sandbox::shared::tasks`).
@@ -108,7 +121,11 @@ pub async fn compute_source_in_slices(
         };
         Ok(Computed::outcome(d, None, facts))
     };
-    Some(computed.await.map_err(|e: String| format!("{source}: {e}")))
+    Some(
+        computed
+            .await
+            .map_err(|e: String| density_error(source, &e)),
+    )
 }
 
 /// A density on show: what it came from, and its volume (the one [`VolumeState`] holds).
@@ -229,4 +246,39 @@ impl SourceKind {
 pub struct Outcome {
     pub loaded: Loaded,
     pub rays: Option<Computed>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_damaged_ray_file_is_named_once_in_words() {
+        let dir = std::env::temp_dir().join(format!("voxcast-density-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let whole = std::fs::read(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/two_level.rayvis"),
+        )
+        .unwrap();
+        let file = dir.join("damaged.rayvis");
+        std::fs::write(&file, &whole[..whole.len() / 2]).unwrap();
+        let file = file.display().to_string();
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        let said = compute_source(&format!("density:{file}"), &|_, _| {}, &cancel)
+            .expect("a density source")
+            .err()
+            .expect("the half file fails");
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(
+            said.starts_with(&format!("Ray density of {file}: ")),
+            "{said}"
+        );
+        assert_eq!(said.matches(&file).count(), 1, "{said}");
+        // A source whose text is wrong leads with it.
+        let said = compute_source("density:r.rayvis@trace=x", &|_, _| {}, &cancel)
+            .expect("a density source")
+            .err()
+            .expect("a bad trace");
+        assert!(said.starts_with("density:r.rayvis@trace=x: "), "{said}");
+    }
 }
