@@ -17,7 +17,28 @@ pub(super) struct ClassifyText {
     regions: super::value_gradient::RegionEditor,
 }
 
-/// Draws the controls for a volume (from `source`).
+/// The four classifications: what each is called and what it does (the menu's tooltips).
+const KINDS: [(&str, &str); 4] = [
+    ("Transfer function", "Opacity is the transfer function's"),
+    (
+        "Iso-contours (Levoy)",
+        "Opacity peaks at each isovalue and falls off with the distance to it, measured in \
+         gradient steps: thin, even surfaces",
+    ),
+    (
+        "Boundaries (Levoy)",
+        "The table's opacity scaled by the gradient magnitude: region boundaries show, \
+         homogeneous insides fade",
+    ),
+    (
+        "Value and gradient (2-D)",
+        "Opacity from rectangles you draw over the histogram of value × gradient magnitude: \
+         a boundary (high gradient) can be kept apart from a material of the same value (low \
+         gradient), which a transfer function of the value alone cannot",
+    ),
+];
+
+/// Draws the controls for a volume (from `source`): the classification chosen, then its own.
 pub(super) fn classification_controls(
     ui: &mut egui::Ui,
     c: &mut Classification,
@@ -26,85 +47,13 @@ pub(super) fn classification_controls(
     source: &str,
 ) {
     let (lo, hi) = volume.value_range();
-    let names = [
-        "Transfer function",
-        "Iso-contours (Levoy)",
-        "Boundaries (Levoy)",
-        "Value and gradient (2-D)",
-    ];
-    let docs = [
-        "Opacity is the transfer function's",
-        "Opacity peaks at each isovalue and falls off with the distance to it, measured in \
-         gradient steps: thin, even surfaces",
-        "The table's opacity scaled by the gradient magnitude: region boundaries show, \
-         homogeneous insides fade",
-        "Opacity from rectangles you draw over the histogram of value × gradient magnitude: \
-         a boundary (high gradient) can be kept apart from a material of the same value (low \
-         gradient), which a transfer function of the value alone cannot",
-    ];
-    let current = match c {
-        Classification::Table => 0,
-        Classification::IsoContours { .. } => 1,
-        Classification::Boundaries { .. } => 2,
-        Classification::ValueGradient { .. } => 3,
-    };
-    let mut chosen = current;
-    super::combo(ui, "Classification", names[current], |ui| {
-        for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
-            ui.selectable_value(&mut chosen, i, *name)
-                .on_hover_text(doc);
-        }
-    });
-    if chosen != current {
-        *c = match chosen {
-            0 => Classification::Table,
-            1 => {
-                let mid = 0.5 * (lo + hi);
-                text.isovalues = mid.to_string();
-                text.error = None;
-                Classification::IsoContours {
-                    isovalues: vec![mid],
-                    thickness_voxels: t::ISO_THICKNESS.default,
-                }
-            }
-            2 => Classification::Boundaries {
-                full_gradient: None,
-            },
-            _ => Classification::ValueGradient {
-                regions: Vec::new(),
-            },
-        };
-    }
+    choose_kind(ui, c, text, (lo, hi));
     match c {
         Classification::Table => {}
         Classification::IsoContours {
             isovalues,
             thickness_voxels,
-        } => {
-            if text.isovalues.is_empty() {
-                text.isovalues = join(isovalues);
-            }
-            ui.horizontal(|ui| {
-                ui.label("isovalues");
-                if ui
-                    .text_edit_singleline(&mut text.isovalues)
-                    .on_hover_text("Values (data units) to show as surfaces, separated by commas")
-                    .changed()
-                {
-                    match parse(&text.isovalues) {
-                        Ok(v) => {
-                            *isovalues = v;
-                            text.error = None;
-                        }
-                        Err(e) => text.error = Some(e),
-                    }
-                }
-            });
-            if let Some(e) = &text.error {
-                ui.colored_label(egui::Color32::LIGHT_RED, e);
-            }
-            slider(ui, thickness_voxels, &t::ISO_THICKNESS, 0.1..=8.0, true);
-        }
+        } => iso_controls(ui, isovalues, thickness_voxels, text),
         Classification::Boundaries { full_gradient } => {
             let mut auto = full_gradient.is_none();
             ui.checkbox(&mut auto, "automatic full-opacity gradient")
@@ -122,6 +71,83 @@ pub(super) fn classification_controls(
             text.regions.show(ui, regions, volume, source);
         }
     }
+}
+
+/// The classification menu; a new choice starts from its defaults (iso-contours at the middle
+/// of the value range `lo`…`hi`).
+fn choose_kind(
+    ui: &mut egui::Ui,
+    c: &mut Classification,
+    text: &mut ClassifyText,
+    (lo, hi): (f32, f32),
+) {
+    let current = match c {
+        Classification::Table => 0,
+        Classification::IsoContours { .. } => 1,
+        Classification::Boundaries { .. } => 2,
+        Classification::ValueGradient { .. } => 3,
+    };
+    let mut chosen = current;
+    super::combo(ui, "Classification", KINDS[current].0, |ui| {
+        for (i, (name, doc)) in KINDS.iter().enumerate() {
+            ui.selectable_value(&mut chosen, i, *name)
+                .on_hover_text(*doc);
+        }
+    });
+    if chosen == current {
+        return;
+    }
+    *c = match chosen {
+        0 => Classification::Table,
+        1 => {
+            let mid = 0.5 * (lo + hi);
+            text.isovalues = mid.to_string();
+            text.error = None;
+            Classification::IsoContours {
+                isovalues: vec![mid],
+                thickness_voxels: t::ISO_THICKNESS.default,
+            }
+        }
+        2 => Classification::Boundaries {
+            full_gradient: None,
+        },
+        _ => Classification::ValueGradient {
+            regions: Vec::new(),
+        },
+    };
+}
+
+/// The isovalues, typed as a list (a list that does not read says why and changes nothing),
+/// and the contours' thickness.
+fn iso_controls(
+    ui: &mut egui::Ui,
+    isovalues: &mut Vec<f32>,
+    thickness_voxels: &mut f32,
+    text: &mut ClassifyText,
+) {
+    if text.isovalues.is_empty() {
+        text.isovalues = join(isovalues);
+    }
+    ui.horizontal(|ui| {
+        ui.label("isovalues");
+        if ui
+            .text_edit_singleline(&mut text.isovalues)
+            .on_hover_text("Values (data units) to show as surfaces, separated by commas")
+            .changed()
+        {
+            match parse(&text.isovalues) {
+                Ok(v) => {
+                    *isovalues = v;
+                    text.error = None;
+                }
+                Err(e) => text.error = Some(e),
+            }
+        }
+    });
+    if let Some(e) = &text.error {
+        ui.colored_label(egui::Color32::LIGHT_RED, e);
+    }
+    slider(ui, thickness_voxels, &t::ISO_THICKNESS, 0.1..=8.0, true);
 }
 
 fn join(values: &[f32]) -> String {

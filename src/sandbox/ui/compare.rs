@@ -212,6 +212,8 @@ fn cost_choice(
     ui.label(egui::RichText::new(legend).small());
 }
 
+/// A comparison's result: what was rendered and how fast, how far the preview is from the
+/// render, the three images side by side, and saving them.
 fn result_view(
     ui: &mut egui::Ui,
     window: &mut CompareWindow,
@@ -230,8 +232,43 @@ fn result_view(
         window.textures = Some((result.generation, [gpu, cpu, heat]));
         window.saved = None;
     }
+    figures(ui, result);
+    cost_choice(ui, window, cost_view, result);
+    let Some((_, textures)) = &window.textures else {
+        return;
+    };
+    let mut textures = textures.clone();
+    let mut render_label = "CPU render";
+    if let (Some(view), Some(((_, shown), tex))) = (*cost_view, &window.cost_texture)
+        && view == *shown
+    {
+        textures[1] = Some(tex.clone());
+        render_label = match view {
+            CostView::Samples => "samples interpolated",
+            CostView::Skipped => "positions skipped",
+            CostView::Stops => "how rays stopped",
+            CostView::Depth => "distance to the first hit",
+            CostView::DepthOfHits => "distance to the first hit, hits' range",
+        };
+    }
+    let preview = if result.snapshot.live {
+        "CPU live view"
+    } else {
+        "GPU preview"
+    };
+    images(
+        ui,
+        result.snapshot.size,
+        [preview, render_label, "difference"],
+        &textures,
+    );
+    save_row(ui, window, result);
+}
+
+/// The render's size, time and counts, and the preview's difference from it.
+fn figures(ui: &mut egui::Ui, result: &Compared) {
     let s = &result.stats;
-    let (size, live) = (result.snapshot.size, result.snapshot.live);
+    let size = result.snapshot.size;
     // Millions a second of each count (positions: as BENCHMARKS.md's samples/s, comparable
     // across ray casters; interpolated: what this one reconstructed).
     let per_second = |n: u64| count((n as f64 / result.seconds.max(1e-9)) as u64);
@@ -263,29 +300,20 @@ fn result_view(
             result.gpu.as_ref().err().map_or("", |e| e.as_str())
         )),
     };
-    cost_choice(ui, window, cost_view, result);
-    let Some((_, textures)) = &window.textures else {
-        return;
-    };
-    let mut textures = textures.clone();
-    let mut render_label = "CPU render";
-    if let (Some(view), Some(((_, shown), tex))) = (*cost_view, &window.cost_texture)
-        && view == *shown
-    {
-        textures[1] = Some(tex.clone());
-        render_label = match view {
-            CostView::Samples => "samples interpolated",
-            CostView::Skipped => "positions skipped",
-            CostView::Stops => "how rays stopped",
-            CostView::Depth => "distance to the first hit",
-            CostView::DepthOfHits => "distance to the first hit, hits' range",
-        };
-    }
+}
+
+/// The three images side by side, each a third of the width at the scene's aspect, under
+/// its label; an image missing (no preview to compare) leaves its place empty.
+fn images(
+    ui: &mut egui::Ui,
+    size: bevy::math::UVec2,
+    labels: [&str; 3],
+    textures: &[Option<egui::TextureHandle>; 3],
+) {
     let width = ((ui.available_width() - 16.0) / 3.0).max(64.0);
     let height = width * size.y as f32 / size.x.max(1) as f32;
     ui.horizontal(|ui| {
-        let preview = if live { "CPU live view" } else { "GPU preview" };
-        for (label, tex) in [preview, render_label, "difference"].iter().zip(&textures) {
+        for (label, tex) in labels.iter().zip(textures) {
             ui.vertical(|ui| {
                 ui.label(*label);
                 match tex {
@@ -302,6 +330,10 @@ fn result_view(
             });
         }
     });
+}
+
+/// The PNGs' path and the save buttons (on a page, one a file), and what the last save said.
+fn save_row(ui: &mut egui::Ui, window: &mut CompareWindow, result: &Compared) {
     // Wrapped: on a small screen the page's three buttons go on the next line rather than
     // past the window's edge.
     ui.horizontal_wrapped(|ui| {

@@ -296,6 +296,8 @@ fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
     chosen
 }
 
+/// The level's current step: its heading and text, what to look at, the question it asks
+/// (with the answer once met), and the row of buttons.
 fn level_step(
     ui: &mut egui::Ui,
     lessons: &mut Lessons,
@@ -304,16 +306,54 @@ fn level_step(
     edit: &mut Option<EditorCommand>,
 ) -> Option<LevelCommand> {
     let step = lessons.step_in(Mode::Level(l))?.clone();
+    step_heading(ui, lessons, l, &step, folded);
+    let look_at = step
+        .control
+        .map(|c| format!("Look at: {}, framed in yellow", control_name(c)));
+    if !*folded && let Some(look_at) = &look_at {
+        ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
+    }
+    step_questions(ui, lessons, l, &step);
+    // One row: the buttons, whether the step is done and, folded, where to look.
+    let (met, reading) = (lessons.met, step.objective == Objective::Read);
+    let mut command = None;
+    ui.horizontal_wrapped(|ui| {
+        let label = if reading { "Next" } else { "Next ✔" };
+        if super::target(ui.add_enabled(met, egui::Button::new(label)), "next").clicked() {
+            command = Some(LevelCommand::Next);
+        }
+        if super::target(ui.button("Free play"), "free play").clicked() {
+            command = Some(LevelCommand::FreePlay);
+        }
+        if !reading {
+            ui.label(if met { "✔ done" } else { "… not yet" });
+        }
+        if *folded && let Some(look_at) = &look_at {
+            ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
+        }
+        if !*folded {
+            editor_button(ui, edit, EditorCommand::Edit(l));
+        }
+    });
+    command
+}
+
+/// The level's title, the step's number and its text: on one line each when folded, with
+/// the level's concept when not.
+fn step_heading(
+    ui: &mut egui::Ui,
+    lessons: &Lessons,
+    l: usize,
+    step: &voxcast_core::level::Step,
+    folded: &mut bool,
+) {
     let level = &lessons.levels[l];
     let text = egui::RichText::new(&step.text).size(15.0);
+    let number = format!("· step {} of {}", lessons.step + 1, level.steps.len());
     if *folded {
         ui.horizontal(|ui| {
             ui.strong(&level.title);
-            ui.label(format!(
-                "· step {} of {}",
-                lessons.step + 1,
-                level.steps.len()
-            ));
+            ui.label(number);
             fold_toggle(ui, folded);
         });
         ui.add(egui::Label::new(text).truncate());
@@ -321,52 +361,29 @@ fn level_step(
         ui.horizontal_wrapped(|ui| {
             ui.strong(&level.title);
             ui.label(egui::RichText::new(&level.concept).italics());
-            ui.label(format!(
-                "· step {} of {}",
-                lessons.step + 1,
-                level.steps.len()
-            ));
+            ui.label(number);
             fold_toggle(ui, folded);
         });
         ui.label(text);
     }
-    let look_at = step
-        .control
-        .map(|c| format!("Look at: {}, framed in yellow", control_name(c)));
-    if !*folded && let Some(look_at) = &look_at {
-        ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
-    }
+}
+
+/// What the step asks the student to predict or name, each with its field or buttons, a
+/// hint after a wrong try, and the worked answer once met.
+fn step_questions(
+    ui: &mut egui::Ui,
+    lessons: &mut Lessons,
+    l: usize,
+    step: &voxcast_core::level::Step,
+) {
     let met = lessons.met;
-    let reading = step.objective == Objective::Read;
     if let Some(d) = lessons.detail.clone() {
         prediction_field(ui, lessons, l, "your value:", met);
         if !met && let Some(hint) = lessons.tried.and_then(|v| prediction_hint(v, &d)) {
             ui.colored_label(egui::Color32::YELLOW, hint);
         }
         if met {
-            // The answer: each corner (the lecture's name beside the core's), its weight and
-            // its share.
-            egui::Grid::new("prediction").striped(true).show(ui, |ui| {
-                super::header_row(ui, &["corner", "value", "weight", "weight × value"]);
-                // In the lecture's order, f1 … f8.
-                let mut order: Vec<usize> = (0..8).collect();
-                order.sort_by_key(|&i| voxcast_core::worked::lecture_corner(i));
-                for i in order {
-                    let c = d.corners[i];
-                    ui.label(format!(
-                        "f{} ({}, {}, {})",
-                        voxcast_core::worked::lecture_corner(i),
-                        c[0],
-                        c[1],
-                        c[2]
-                    ));
-                    ui.label(sig(d.values[i]));
-                    ui.label(sig(d.weights[i]));
-                    ui.label(sig(d.values[i] * d.weights[i]));
-                    ui.end_row();
-                }
-            });
-            ui.label(format!("value = {}", sig(d.value)));
+            interpolation_table(ui, &d);
         }
     }
     if let Some(rows) = lessons.composite.clone() {
@@ -404,27 +421,6 @@ fn level_step(
     if let Objective::StudyQuestion { trace, question } = &step.objective {
         study_question(ui, lessons, l, *trace, question, met);
     }
-    // One row: the buttons, whether the step is done and, folded, where to look.
-    let mut command = None;
-    ui.horizontal_wrapped(|ui| {
-        let label = if reading { "Next" } else { "Next ✔" };
-        if super::target(ui.add_enabled(met, egui::Button::new(label)), "next").clicked() {
-            command = Some(LevelCommand::Next);
-        }
-        if super::target(ui.button("Free play"), "free play").clicked() {
-            command = Some(LevelCommand::FreePlay);
-        }
-        if !reading {
-            ui.label(if met { "✔ done" } else { "… not yet" });
-        }
-        if *folded && let Some(look_at) = &look_at {
-            ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);
-        }
-        if !*folded {
-            editor_button(ui, edit, EditorCommand::Edit(l));
-        }
-    });
-    command
 }
 
 /// The answers to "which effect cast these rays?": one button per effect, and what a wrong
@@ -609,6 +605,31 @@ pub(super) fn composite_hint(
         side(tried, truth),
         values.join(", ")
     ))
+}
+
+/// The worked interpolation: each corner (the lecture's name beside the core's), its value,
+/// its weight and its share, in the lecture's order f1 … f8, and the value they make.
+fn interpolation_table(ui: &mut egui::Ui, d: &voxcast_core::sample::SampleDetail) {
+    egui::Grid::new("prediction").striped(true).show(ui, |ui| {
+        super::header_row(ui, &["corner", "value", "weight", "weight × value"]);
+        let mut order: Vec<usize> = (0..8).collect();
+        order.sort_by_key(|&i| voxcast_core::worked::lecture_corner(i));
+        for i in order {
+            let c = d.corners[i];
+            ui.label(format!(
+                "f{} ({}, {}, {})",
+                voxcast_core::worked::lecture_corner(i),
+                c[0],
+                c[1],
+                c[2]
+            ));
+            ui.label(sig(d.values[i]));
+            ui.label(sig(d.weights[i]));
+            ui.label(sig(d.values[i] * d.weights[i]));
+            ui.end_row();
+        }
+    });
+    ui.label(format!("value = {}", sig(d.value)));
 }
 
 /// The worked composite, point by point: value, colour and opacity looked up, and the ray's

@@ -78,46 +78,30 @@ pub(super) fn light_controls(ui: &mut egui::Ui, p: &mut Phong, lo: Vec3, hi: Vec
     .on_hover_text(SpecularModel::SPECULAR_DOC);
 }
 
+/// The four kinds of light: what each is called and what it does (the menu's tooltips).
+const KINDS: [(&str, &str); 4] = [
+    (
+        "Headlight",
+        "Shines along the view direction, wherever the camera goes",
+    ),
+    (
+        "Point",
+        "A point in the scene (drag its marker); its light falls off with distance",
+    ),
+    (
+        "Directional",
+        "Parallel light from far away along a fixed direction (drag its marker)",
+    ),
+    (
+        "Spot",
+        "A point light that shines in a cone only, brightest along its axis (the lecture's \
+         spotlight factor s); drag its marker and it keeps aiming at the volume's centre",
+    ),
+];
+
 /// One light's kind, place, colour and attenuation.
 fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
-    let names = ["Headlight", "Point", "Directional", "Spot"];
-    let current = match source.light {
-        Light::Headlight => 0,
-        Light::Point(_) => 1,
-        Light::Directional(_) => 2,
-        Light::Spot(_) => 3,
-    };
-    let mut chosen = current;
-    super::combo(ui, "Kind", names[current], |ui| {
-        let docs = [
-            "Shines along the view direction, wherever the camera goes",
-            "A point in the scene (drag its marker); its light falls off with distance",
-            "Parallel light from far away along a fixed direction (drag its marker)",
-            "A point light that shines in a cone only, brightest along its axis (the \
-                 lecture's spotlight factor s); drag its marker and it keeps aiming at the \
-                 volume's centre",
-        ];
-        for (i, (name, doc)) in names.iter().zip(docs).enumerate() {
-            ui.selectable_value(&mut chosen, i, *name)
-                .on_hover_text(doc);
-        }
-    });
-    if chosen != current {
-        let point = source
-            .light
-            .position()
-            .unwrap_or_else(|| default_point(lo, hi));
-        source.light = match chosen {
-            0 => Light::Headlight,
-            1 => Light::Point(point),
-            2 => Light::Directional(direction_from_marker(point, lo, hi).unwrap_or(Vec3::NEG_Y)),
-            _ => Light::Spot(Spot {
-                position: point,
-                direction: (lo + hi) * 0.5 - point,
-                ..Spot::default()
-            }),
-        };
-    }
+    choose_kind(ui, source, lo, hi);
     let diagonal = (hi - lo).length().max(f32::MIN_POSITIVE);
     match &mut source.light {
         Light::Headlight => {}
@@ -156,28 +140,69 @@ fn one_light(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
     source.color = Vec3::from_array(color);
     slider(ui, &mut source.ambient, &t::LIGHT_AMBIENT, 0.0..=1.0, false);
     if source.light.positional() {
-        slider(
-            ui,
-            &mut source.kc,
-            &t::ATTENUATION_CONSTANT,
-            0.0..=4.0,
-            false,
-        );
-        slider(
-            ui,
-            &mut source.kl,
-            &t::ATTENUATION_LINEAR,
-            0.0..=10.0 / diagonal,
-            true,
-        );
-        slider(
-            ui,
-            &mut source.kq,
-            &t::ATTENUATION_QUADRATIC,
-            0.0..=100.0 / (diagonal * diagonal),
-            true,
-        );
+        attenuation_controls(ui, source, diagonal);
     }
+}
+
+/// The light's kind; a new kind keeps the light's place (or takes one beside the volume, whose
+/// corners are `lo` and `hi`), a spot aiming at the volume's centre.
+fn choose_kind(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) {
+    let current = match source.light {
+        Light::Headlight => 0,
+        Light::Point(_) => 1,
+        Light::Directional(_) => 2,
+        Light::Spot(_) => 3,
+    };
+    let mut chosen = current;
+    super::combo(ui, "Kind", KINDS[current].0, |ui| {
+        for (i, (name, doc)) in KINDS.iter().enumerate() {
+            ui.selectable_value(&mut chosen, i, *name)
+                .on_hover_text(*doc);
+        }
+    });
+    if chosen == current {
+        return;
+    }
+    let point = source
+        .light
+        .position()
+        .unwrap_or_else(|| default_point(lo, hi));
+    source.light = match chosen {
+        0 => Light::Headlight,
+        1 => Light::Point(point),
+        2 => Light::Directional(direction_from_marker(point, lo, hi).unwrap_or(Vec3::NEG_Y)),
+        _ => Light::Spot(Spot {
+            position: point,
+            direction: (lo + hi) * 0.5 - point,
+            ..Spot::default()
+        }),
+    };
+}
+
+/// A positional light's attenuation: constant, linear and quadratic, the last two on ranges
+/// scaled to the volume's `diagonal`.
+fn attenuation_controls(ui: &mut egui::Ui, source: &mut LightSource, diagonal: f32) {
+    slider(
+        ui,
+        &mut source.kc,
+        &t::ATTENUATION_CONSTANT,
+        0.0..=4.0,
+        false,
+    );
+    slider(
+        ui,
+        &mut source.kl,
+        &t::ATTENUATION_LINEAR,
+        0.0..=10.0 / diagonal,
+        true,
+    );
+    slider(
+        ui,
+        &mut source.kq,
+        &t::ATTENUATION_QUADRATIC,
+        0.0..=100.0 / (diagonal * diagonal),
+        true,
+    );
 }
 
 /// A spot light's place, axis and cone.

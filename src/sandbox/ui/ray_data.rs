@@ -3,8 +3,8 @@
 //! it, and the views — the density volume, the ray mesh, the vector field and the scene.
 
 use super::{Spot, combo, marked, tunable_slider};
-use crate::sandbox::data::choices::RayChoices;
 use crate::sandbox::data::choices::ViewReport;
+use crate::sandbox::data::choices::{RayChoices, ViewChoices};
 use crate::sandbox::data::estimate::Estimator;
 use crate::sandbox::data::loading::Loading;
 use crate::sandbox::data::source::{RayScene, SourceKind};
@@ -159,6 +159,42 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
     })
     .response
     .on_hover_text(c.source.doc());
+    source_details(ui, c, hide_effects);
+    if c.source == SourceKind::File {
+        ui.horizontal(|ui| {
+            let mut every = c.trace.is_none();
+            ui.checkbox(&mut every, "every trace")
+                .on_hover_text("Count the rays of every trace in the file");
+            let mut id = c.trace.unwrap_or(0);
+            if !every {
+                ui.add(egui::DragValue::new(&mut id).prefix("trace "))
+                    .on_hover_text("The trace id (voxcast rays info lists them)");
+            }
+            c.trace = (!every).then_some(id);
+        });
+    }
+    ui.horizontal(|ui| {
+        for f in Filter::ALL {
+            ui.radio_value(&mut c.params.filter, f, f.name())
+                .on_hover_text(match f {
+                    Filter::All => "Count every ray",
+                    Filter::Hit => "Count the rays that hit something, up to the hit",
+                    Filter::Miss => "Count the rays that hit nothing",
+                });
+        }
+    });
+    ui.add(
+        egui::DragValue::new(&mut c.params.tolerance)
+            .range(0.0..=f32::MAX)
+            .speed(0.01)
+            .prefix(format!("{}: ", t::MISS_TOLERANCE.label)),
+    )
+    .on_hover_text(t::MISS_TOLERANCE.doc);
+}
+
+/// What the chosen source needs: a file (picked on a page, a path on the desktop), the
+/// virtual camera's side, or which of the Cornell box's traces.
+fn source_details(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
     match c.source {
         // A page reads no paths: the browser's picker hands the file over, its density
         // computed at once (`data/handed_rays.rs`).
@@ -212,36 +248,6 @@ fn source_controls(ui: &mut egui::Ui, c: &mut RayChoices, hide_effects: bool) {
             .on_hover_text("Which of the box's ray sets is counted");
         }
     }
-    if c.source == SourceKind::File {
-        ui.horizontal(|ui| {
-            let mut every = c.trace.is_none();
-            ui.checkbox(&mut every, "every trace")
-                .on_hover_text("Count the rays of every trace in the file");
-            let mut id = c.trace.unwrap_or(0);
-            if !every {
-                ui.add(egui::DragValue::new(&mut id).prefix("trace "))
-                    .on_hover_text("The trace id (voxcast rays info lists them)");
-            }
-            c.trace = (!every).then_some(id);
-        });
-    }
-    ui.horizontal(|ui| {
-        for f in Filter::ALL {
-            ui.radio_value(&mut c.params.filter, f, f.name())
-                .on_hover_text(match f {
-                    Filter::All => "Count every ray",
-                    Filter::Hit => "Count the rays that hit something, up to the hit",
-                    Filter::Miss => "Count the rays that hit nothing",
-                });
-        }
-    });
-    ui.add(
-        egui::DragValue::new(&mut c.params.tolerance)
-            .range(0.0..=f32::MAX)
-            .speed(0.01)
-            .prefix(format!("{}: ", t::MISS_TOLERANCE.label)),
-    )
-    .on_hover_text(t::MISS_TOLERANCE.doc);
 }
 
 /// Cell and chunk, with the memory estimate.
@@ -313,86 +319,14 @@ fn view_controls(
     ui.checkbox(&mut v.mesh, "Ray mesh")
         .on_hover_text("Every counted ray as a line from its start to its hit or end");
     if v.mesh {
-        ui.indent("mesh", |ui| {
-            let mut stride = v.stride as f32;
-            if tunable_slider(
-                ui,
-                egui::Slider::new(&mut stride, 1.0..=4096.0)
-                    .logarithmic(true)
-                    .integer(),
-                &t::RAY_STRIDE,
-            )
-            .changed()
-            {
-                v.stride = stride as usize;
-            }
-            ui.checkbox(&mut v.glyphs, "Start and end glyphs")
-                .on_hover_text(
-                    "A cross where each ray starts and an arrowhead where it hit or ended (G)",
-                );
-            ui.horizontal(|ui| {
-                ui.color_edit_button_rgb(&mut v.hit_colour)
-                    .on_hover_text("The colour of rays that hit");
-                ui.label("hit");
-                ui.color_edit_button_rgb(&mut v.miss_colour)
-                    .on_hover_text("The colour of rays that missed");
-                ui.label("miss");
-            });
-            ui.label(
-                egui::RichText::new(format!(
-                    "{} lines{}",
-                    count(report.lines as u64),
-                    if report.left_out > 0 {
-                        format!(
-                            " ({} rays outside the drawn box)",
-                            count(report.left_out as u64)
-                        )
-                    } else {
-                        String::new()
-                    }
-                ))
-                .small(),
-            );
-        });
+        ui.indent("mesh", |ui| mesh_controls(ui, v, report));
     }
     ui.checkbox(&mut v.field, "Vector field")
         .on_hover_text("An arrow per sample cube along the rays' mean direction");
     ui.label(egui::RichText::new(crate::sandbox::data::shortcuts::SHORTCUTS).small())
         .on_hover_text("Over the scene (not while typing in a field)");
     if v.field {
-        ui.indent("field", |ui| {
-            let sizes = cube_sizes(chunk);
-            if !sizes.contains(&v.cube) {
-                v.cube = *sizes.iter().rfind(|k| **k <= v.cube).unwrap_or(&1);
-            }
-            combo(ui, t::SAMPLE_CUBE.label, v.cube.to_string(), |ui| {
-                for k in sizes {
-                    ui.selectable_value(&mut v.cube, k, k.to_string());
-                }
-            })
-            .response
-            .on_hover_text(t::SAMPLE_CUBE.doc);
-            ui.horizontal(|ui| {
-                for s in ArrowScale::ALL {
-                    ui.radio_value(&mut v.arrow_scale, s, s.name())
-                        .on_hover_text(s.doc());
-                }
-            });
-            ui.horizontal(|ui| {
-                ui.add(egui::DragValue::new(&mut v.min_count).speed(1.0))
-                    .on_hover_text(t::FIELD_MIN_COUNT.doc);
-                ui.label(t::FIELD_MIN_COUNT.label)
-                    .on_hover_text(t::FIELD_MIN_COUNT.doc);
-            });
-            let words = match &report.field_error {
-                Some(e) => e.clone(),
-                None => format!(
-                    "{} arrows, coloured by count (inferno)",
-                    count(report.arrows as u64)
-                ),
-            };
-            ui.label(egui::RichText::new(words).small());
-        });
+        ui.indent("field", |ui| field_controls(ui, v, report, chunk));
     }
     if let Some(n) = report.moving_every.filter(|_| v.mesh || v.field) {
         ui.label(
@@ -418,4 +352,77 @@ fn view_controls(
                 .on_hover_text(s.doc());
         }
     });
+}
+
+/// The ray mesh's settings: which rays, the glyphs, the colours, and how many lines are drawn.
+fn mesh_controls(ui: &mut egui::Ui, v: &mut ViewChoices, report: &ViewReport) {
+    let mut stride = v.stride as f32;
+    if tunable_slider(
+        ui,
+        egui::Slider::new(&mut stride, 1.0..=4096.0)
+            .logarithmic(true)
+            .integer(),
+        &t::RAY_STRIDE,
+    )
+    .changed()
+    {
+        v.stride = stride as usize;
+    }
+    ui.checkbox(&mut v.glyphs, "Start and end glyphs")
+        .on_hover_text("A cross where each ray starts and an arrowhead where it hit or ended (G)");
+    ui.horizontal(|ui| {
+        ui.color_edit_button_rgb(&mut v.hit_colour)
+            .on_hover_text("The colour of rays that hit");
+        ui.label("hit");
+        ui.color_edit_button_rgb(&mut v.miss_colour)
+            .on_hover_text("The colour of rays that missed");
+        ui.label("miss");
+    });
+    let left_out = if report.left_out > 0 {
+        format!(
+            " ({} rays outside the drawn box)",
+            count(report.left_out as u64)
+        )
+    } else {
+        String::new()
+    };
+    ui.label(
+        egui::RichText::new(format!("{} lines{left_out}", count(report.lines as u64))).small(),
+    );
+}
+
+/// The vector field's settings: the sample cube (one the chunk divides), the arrows' scale,
+/// the fewest rays a cube needs, and how many arrows are drawn.
+fn field_controls(ui: &mut egui::Ui, v: &mut ViewChoices, report: &ViewReport, chunk: u32) {
+    let sizes = cube_sizes(chunk);
+    if !sizes.contains(&v.cube) {
+        v.cube = *sizes.iter().rfind(|k| **k <= v.cube).unwrap_or(&1);
+    }
+    combo(ui, t::SAMPLE_CUBE.label, v.cube.to_string(), |ui| {
+        for k in sizes {
+            ui.selectable_value(&mut v.cube, k, k.to_string());
+        }
+    })
+    .response
+    .on_hover_text(t::SAMPLE_CUBE.doc);
+    ui.horizontal(|ui| {
+        for s in ArrowScale::ALL {
+            ui.radio_value(&mut v.arrow_scale, s, s.name())
+                .on_hover_text(s.doc());
+        }
+    });
+    ui.horizontal(|ui| {
+        ui.add(egui::DragValue::new(&mut v.min_count).speed(1.0))
+            .on_hover_text(t::FIELD_MIN_COUNT.doc);
+        ui.label(t::FIELD_MIN_COUNT.label)
+            .on_hover_text(t::FIELD_MIN_COUNT.doc);
+    });
+    let words = match &report.field_error {
+        Some(e) => e.clone(),
+        None => format!(
+            "{} arrows, coloured by count (inferno)",
+            count(report.arrows as u64)
+        ),
+    };
+    ui.label(egui::RichText::new(words).small());
 }

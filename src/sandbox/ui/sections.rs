@@ -11,7 +11,6 @@ pub(super) fn dataset_section(
     volume: &VolumeState,
     loading: &mut Loading,
 ) -> Option<String> {
-    let mut load = None;
     ui.label(dataset_words(volume.volume.name(), &volume.source))
         .on_hover_text(format!(
             "The volume {} from {}",
@@ -21,6 +20,30 @@ pub(super) fn dataset_section(
     if let Some(p) = &volume.preset {
         ui.label(egui::RichText::new(&p.description).small());
     }
+    let embedded = embedded_menu(ui);
+    let typed = if crate::sandbox::shared::files::PICKS_FILES {
+        // A page reads no paths: the browser's picker (or a file dropped on the page).
+        if ui
+            .button("Open a volume file…")
+            .on_hover_text(
+                "A .nrrd, .nii, .nii.gz or .raw file from this computer (or drop one on the \
+                 page); a detached .nhdr or a .hdr with its data file: choose both together",
+            )
+            .clicked()
+        {
+            crate::sandbox::shared::files::pick(crate::sandbox::shared::files::Purpose::Volume);
+        }
+        None
+    } else {
+        path_row(ui, &mut panel.path)
+    };
+    loading_state(ui, loading);
+    embedded.or(typed)
+}
+
+/// The embedded datasets and the Cornell box's ray densities, in one menu: the source chosen.
+fn embedded_menu(ui: &mut egui::Ui) -> Option<String> {
+    let mut load = None;
     combo(ui, "Embedded", "choose…", |ui| {
         for (name, what) in DATASETS {
             if ui
@@ -53,37 +76,30 @@ pub(super) fn dataset_section(
             }
         }
     });
-    if crate::sandbox::shared::files::PICKS_FILES {
-        // A page reads no paths: the browser's picker (or a file dropped on the page).
-        if ui
-            .button("Open a volume file…")
-            .on_hover_text(
-                "A .nrrd, .nii, .nii.gz or .raw file from this computer (or drop one on the \
-                 page); a detached .nhdr or a .hdr with its data file: choose both together",
-            )
+    load
+}
+
+/// The desktop's path field and Load (or Enter): the path typed, once it is asked for.
+fn path_row(ui: &mut egui::Ui, path: &mut String) -> Option<String> {
+    // Nothing to load until a path is typed (an empty one read as ": unknown file format").
+    let typed = path_to_load(path).is_some();
+    let (field, clicked) = field_row(ui, path, |ui| {
+        ui.add_enabled(typed, egui::Button::new("Load"))
+            .on_disabled_hover_text("Type a file's path in the field first")
             .clicked()
-        {
-            crate::sandbox::shared::files::pick(crate::sandbox::shared::files::Purpose::Volume);
-        }
-    } else {
-        // Nothing to load until a path is typed (an empty one read as ": unknown file format").
-        let typed = path_to_load(&panel.path).is_some();
-        let (field, clicked) = field_row(ui, &mut panel.path, |ui| {
-            ui.add_enabled(typed, egui::Button::new("Load"))
-                .on_disabled_hover_text("Type a file's path in the field first")
-                .clicked()
-        });
-        // Enter in the field loads it too, as a student who typed a path expects.
-        let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-        field.on_hover_text(
-            "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); \
-             or a ray density: density:FILE.rayvis or density:builtin:cornell, optionally \
-             followed by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
-        );
-        if clicked || entered {
-            load = path_to_load(&panel.path);
-        }
-    }
+    });
+    // Enter in the field loads it too, as a student who typed a path expects.
+    let entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+    field.on_hover_text(
+        "A .nrrd, .nhdr, .nii, .nii.gz, .hdr or .raw file (or drop one on the window); \
+         or a ray density: density:FILE.rayvis or density:builtin:cornell, optionally \
+         followed by @cell=S,trace=ID,filter=all|hit|miss,chunk=N,tolerance=T",
+    );
+    (clicked || entered).then(|| path_to_load(path)).flatten()
+}
+
+/// A load under way (its share, its time, Cancel), the last load's error, and its note.
+fn loading_state(ui: &mut egui::Ui, loading: &mut Loading) {
     if let Some((what, seconds)) = loading.under_way() {
         let mut cancel = false;
         ui.horizontal(|ui| {
@@ -106,7 +122,6 @@ pub(super) fn dataset_section(
     if let Some(note) = &loading.note {
         ui.label(egui::RichText::new(note).small());
     }
-    load
 }
 
 /// Method, step, interpolation, opacity correction, termination, jitter and the target.
@@ -148,7 +163,41 @@ pub(super) fn ray_section(
             Interpolation::Nearest
         };
     }
-    // Controls that do not apply to the method are greyed out, their tooltip saying why.
+    compositing_controls(ui, s, voxel, spot);
+    marked(ui, spot, Control::Skipping, |ui| {
+        checkbox(ui, &mut s.skipping, &t::SKIPPING)
+    });
+    marked(ui, spot, Control::Jitter, |ui| {
+        checkbox(ui, &mut s.jitter, &t::JITTER)
+    });
+    marked(ui, spot, Control::Supersampling, |ui| {
+        // Whole rays: an integer slider (1 to 4: 16 rays a pixel is already 16 times the work).
+        tunable_slider(
+            ui,
+            egui::Slider::new(&mut s.supersampling, 1..=4),
+            &t::SUPERSAMPLING,
+        )
+    });
+    let (lo, hi) = volume.volume.value_range();
+    let mut target = s.target.unwrap_or(0.5 * (lo + hi));
+    applies(ui, s.method.uses_target(), |ui| {
+        if marked(ui, spot, Control::Target, |ui| {
+            slider(ui, &mut target, &t::TARGET, lo..=hi, false)
+        }) {
+            s.target = Some(target);
+        }
+    });
+    applies(ui, s.method.uses_sum_range(), |ui| {
+        marked(ui, spot, Control::SumRange, |ui| {
+            sum_range(ui, &mut s.sum_range, &volume.volume)
+        });
+    });
+}
+
+/// What applies to methods that use opacity (greyed out for the others, their tooltip saying
+/// why): opacity correction and its reference step, early termination, the order, and the
+/// cutoff (which also needs early termination, front to back).
+fn compositing_controls(ui: &mut egui::Ui, s: &mut RenderSettings, voxel: f32, spot: Spot) {
     let opacity = s.method.uses_opacity();
     applies(ui, opacity, |ui| {
         marked(ui, spot, Control::OpacityCorrection, |ui| {
@@ -181,34 +230,6 @@ pub(super) fn ray_section(
         // Thousandths: 1 − cutoff bounds each pixel's error, and 0.999 is a setting to try.
         let cutoff = shown_with(egui::Slider::new(&mut s.cutoff, 0.0..=1.0), 3);
         tunable_slider(ui, cutoff, &t::CUTOFF);
-    });
-    marked(ui, spot, Control::Skipping, |ui| {
-        checkbox(ui, &mut s.skipping, &t::SKIPPING)
-    });
-    marked(ui, spot, Control::Jitter, |ui| {
-        checkbox(ui, &mut s.jitter, &t::JITTER)
-    });
-    marked(ui, spot, Control::Supersampling, |ui| {
-        // Whole rays: an integer slider (1 to 4: 16 rays a pixel is already 16 times the work).
-        tunable_slider(
-            ui,
-            egui::Slider::new(&mut s.supersampling, 1..=4),
-            &t::SUPERSAMPLING,
-        )
-    });
-    let (lo, hi) = volume.volume.value_range();
-    let mut target = s.target.unwrap_or(0.5 * (lo + hi));
-    applies(ui, s.method.uses_target(), |ui| {
-        if marked(ui, spot, Control::Target, |ui| {
-            slider(ui, &mut target, &t::TARGET, lo..=hi, false)
-        }) {
-            s.target = Some(target);
-        }
-    });
-    applies(ui, s.method.uses_sum_range(), |ui| {
-        marked(ui, spot, Control::SumRange, |ui| {
-            sum_range(ui, &mut s.sum_range, &volume.volume)
-        });
     });
 }
 

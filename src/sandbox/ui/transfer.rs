@@ -107,29 +107,67 @@ impl TransferEditor {
             hi,
         };
         painter.rect_filled(plot.rect, 0.0, Color32::from_gray(24));
-        if let Some((_, h)) = &self.histogram {
-            let scale = if self.log {
-                HistogramScale::Log
-            } else {
-                HistogramScale::Linear
-            };
-            let bar = plot.rect.width() / h.counts.len() as f32;
-            for (i, height) in h.heights(scale).iter().enumerate() {
-                let x = plot.rect.left() + i as f32 * bar;
-                let top = plot.rect.bottom() - height * plot.rect.height();
-                painter.rect_filled(
-                    Rect::from_min_max(pos2(x, top), pos2(x + bar, plot.rect.bottom())),
-                    0.0,
-                    Color32::from_gray(70),
-                );
-            }
+        self.draw_histogram(&painter, &plot);
+        self.follow_pointer(&response, &plot, &mut edited);
+        self.draw_curve(&painter, &plot, &edited);
+        draw_strip(&painter, full, &plot, &edited);
+        response.on_hover_text(
+            "Opacity (up) against value (across), over the histogram. Click: add a point · \
+             drag: move it · right-click: delete it. The strip shows each value's colour.",
+        );
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.log, "log counts")
+                .on_hover_text("Histogram heights as ln(1 + count): rare values stay visible");
+            ui.label(format!(
+                "{} … {}",
+                voxcast_core::numbers::sig(lo),
+                voxcast_core::numbers::sig(hi)
+            ));
+        });
+        changed |= self.selected_point(ui, &mut edited, lo, hi);
+        changed |= self.save_load(ui, &mut edited);
+        if edited != *tf {
+            *tf = edited;
+            changed = true;
         }
-        // Pointer interaction.
+        changed
+    }
+
+    /// The volume's histogram as grey bars under the curve, linear or log as chosen.
+    fn draw_histogram(&self, painter: &egui::Painter, plot: &Plot) {
+        let Some((_, h)) = &self.histogram else {
+            return;
+        };
+        let scale = if self.log {
+            HistogramScale::Log
+        } else {
+            HistogramScale::Linear
+        };
+        let bar = plot.rect.width() / h.counts.len() as f32;
+        for (i, height) in h.heights(scale).iter().enumerate() {
+            let x = plot.rect.left() + i as f32 * bar;
+            let top = plot.rect.bottom() - height * plot.rect.height();
+            painter.rect_filled(
+                Rect::from_min_max(pos2(x, top), pos2(x + bar, plot.rect.bottom())),
+                0.0,
+                Color32::from_gray(70),
+            );
+        }
+    }
+
+    /// The pointer's edits of `edited`: a drag moves the point grabbed, a click selects the
+    /// point under it or adds one on the curve, a right-click deletes the point under it.
+    fn follow_pointer(
+        &mut self,
+        response: &egui::Response,
+        plot: &Plot,
+        edited: &mut TransferFunction,
+    ) {
         let pointer = response.interact_pointer_pos();
         if response.drag_started()
             && let Some(p) = pointer
         {
-            self.dragging = plot.grab(&edited, p);
+            self.dragging = plot.grab(edited, p);
             if self.dragging.is_some() {
                 self.selected = self.dragging;
             }
@@ -139,7 +177,7 @@ impl TransferEditor {
         {
             let (v, a) = plot.value_alpha(p);
             if let Ok((moved, j)) = edited.with_point_moved(i, v, a) {
-                edited = moved;
+                *edited = moved;
                 self.dragging = Some(j);
                 self.selected = Some(j);
             }
@@ -150,29 +188,33 @@ impl TransferEditor {
         if response.clicked()
             && let Some(p) = pointer
         {
-            match plot.grab(&edited, p) {
+            match plot.grab(edited, p) {
                 Some(i) => self.selected = Some(i),
                 None => {
                     let (v, a) = plot.value_alpha(p);
                     if let Ok((added, i)) = edited.with_point_added(v, a) {
-                        edited = added;
+                        *edited = added;
                         self.selected = Some(i);
                     }
                 }
             }
         }
         if response.secondary_clicked()
-            && let Some(i) = pointer.and_then(|p| plot.grab(&edited, p))
+            && let Some(i) = pointer.and_then(|p| plot.grab(edited, p))
         {
             match edited.with_point_removed(i) {
                 Ok(removed) => {
-                    edited = removed;
+                    *edited = removed;
                     self.selected = None;
                 }
                 Err(e) => self.message = Some(Err(e.to_string())),
             }
         }
-        // The curve, its points and the colour strip.
+    }
+
+    /// The opacity curve across the value range and its points, the selected one ringed.
+    fn draw_curve(&self, painter: &egui::Painter, plot: &Plot, edited: &TransferFunction) {
+        let (lo, hi) = (plot.lo, plot.hi);
         let points = edited.points();
         let mut line = vec![plot.at(lo, points[0].alpha)];
         line.extend(
@@ -198,38 +240,6 @@ impl TransferEditor {
                 ),
             );
         }
-        let strip_top = plot.rect.bottom();
-        let columns = (full.width() / 2.0).ceil() as usize;
-        for c in 0..columns {
-            let x0 = full.left() + c as f32 * 2.0;
-            let v = lo + (c as f32 + 0.5) / columns as f32 * (hi - lo);
-            let rgba = edited.evaluate(v);
-            painter.rect_filled(
-                Rect::from_min_max(pos2(x0, strip_top), pos2(x0 + 2.0, full.bottom())),
-                0.0,
-                super::color32(bevy::color::Color::srgb(rgba.x, rgba.y, rgba.z)),
-            );
-        }
-        response.on_hover_text(
-            "Opacity (up) against value (across), over the histogram. Click: add a point · \
-             drag: move it · right-click: delete it. The strip shows each value's colour.",
-        );
-        ui.horizontal(|ui| {
-            ui.checkbox(&mut self.log, "log counts")
-                .on_hover_text("Histogram heights as ln(1 + count): rare values stay visible");
-            ui.label(format!(
-                "{} … {}",
-                voxcast_core::numbers::sig(lo),
-                voxcast_core::numbers::sig(hi)
-            ));
-        });
-        changed |= self.selected_point(ui, &mut edited, lo, hi);
-        changed |= self.save_load(ui, &mut edited);
-        if edited != *tf {
-            *tf = edited;
-            changed = true;
-        }
-        changed
     }
 
     /// The selected point's value, opacity and colour, and Delete.
@@ -378,6 +388,22 @@ fn load(path: &str) -> Result<TransferFunction, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read {path}: {}", io_words(&e)))?;
     TransferFunction::from_json(&text).map_err(|e| format!("{path}: {e}"))
+}
+
+/// The colour strip under the plot: each value's colour from `edited`, in 2-point columns.
+fn draw_strip(painter: &egui::Painter, full: Rect, plot: &Plot, edited: &TransferFunction) {
+    let strip_top = plot.rect.bottom();
+    let columns = (full.width() / 2.0).ceil() as usize;
+    for c in 0..columns {
+        let x0 = full.left() + c as f32 * 2.0;
+        let v = plot.lo + (c as f32 + 0.5) / columns as f32 * (plot.hi - plot.lo);
+        let rgba = edited.evaluate(v);
+        painter.rect_filled(
+            Rect::from_min_max(pos2(x0, strip_top), pos2(x0 + 2.0, full.bottom())),
+            0.0,
+            super::color32(bevy::color::Color::srgb(rgba.x, rgba.y, rgba.z)),
+        );
+    }
 }
 
 #[cfg(test)]

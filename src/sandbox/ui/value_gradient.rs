@@ -110,6 +110,22 @@ fn moved(r: &Region, df: f32, dg: f32) -> Region {
     }
 }
 
+/// What the plot's axes and shade mean for histogram `h`.
+fn histogram_words(h: &JointHistogram) -> String {
+    format!(
+        "Across: value {} … {}; up: gradient magnitude 0 … {} per world unit; shade: how many \
+         lattice points (log){}.",
+        voxcast_core::numbers::sig(h.value[0]),
+        voxcast_core::numbers::sig(h.value[1]),
+        voxcast_core::numbers::sig(h.gradient[1]),
+        if h.stride > 1 {
+            format!(", every {}th along each axis", h.stride)
+        } else {
+            String::new()
+        }
+    )
+}
+
 impl RegionEditor {
     /// Draws the editor for `regions` over the joint histogram of `volume` (from `source`).
     pub(super) fn show(
@@ -132,6 +148,7 @@ impl RegionEditor {
         let Some((_, h, texture)) = &self.histogram else {
             return;
         };
+        let (texture, legend) = (texture.id(), histogram_words(h));
         let width = ui.available_width().max(120.0);
         let (response, painter) =
             ui.allocate_painter(vec2(width, PLOT_HEIGHT), Sense::click_and_drag());
@@ -141,11 +158,32 @@ impl RegionEditor {
             gradient: h.gradient,
         };
         painter.image(
-            texture.id(),
+            texture,
             axes.rect,
             Rect::from_min_max(pos2(0.0, 0.0), pos2(1.0, 1.0)),
             Color32::WHITE,
         );
+        let pointer = self.follow_pointer(ui, &response, &axes, regions);
+        self.draw_regions(&painter, &axes, regions, pointer);
+        ui.label(legend);
+        ui.label(format!(
+            "Drag on the plot to draw a rectangle (at most {MAX_REGIONS}), drag one to move it. \
+             A sample inside a rectangle takes its opacity, elsewhere none; the colour stays the \
+             transfer function's."
+        ));
+        self.selected_controls(ui, regions);
+    }
+
+    /// The pointer's edits: a drag on a rectangle moves it, a drag elsewhere draws a new one
+    /// (added when the button comes up), a click selects the rectangle under it. Returns the
+    /// pointer's place on the plot.
+    fn follow_pointer(
+        &mut self,
+        ui: &egui::Ui,
+        response: &egui::Response,
+        axes: &Axes,
+        regions: &mut Vec<Region>,
+    ) -> Option<[f32; 2]> {
         let pointer = response.interact_pointer_pos().map(|p| axes.plot_at(p));
         // A drag starts where the button went down, not where it was seen to move.
         let origin = ui
@@ -182,6 +220,18 @@ impl RegionEditor {
         if response.clicked() {
             self.selected = pointer.and_then(|at| region_at(regions, at));
         }
+        pointer
+    }
+
+    /// The rectangles, numbered, shaded by their opacity, the selected one in yellow; and the
+    /// one being drawn, outlined.
+    fn draw_regions(
+        &self,
+        painter: &egui::Painter,
+        axes: &Axes,
+        regions: &[Region],
+        pointer: Option<[f32; 2]>,
+    ) {
         for (i, r) in regions.iter().enumerate() {
             let selected = self.selected == Some(i);
             let fill = Color32::from_rgba_unmultiplied(255, 200, 60, (r.opacity * 90.0) as u8);
@@ -210,24 +260,6 @@ impl RegionEditor {
                 egui::StrokeKind::Inside,
             );
         }
-        ui.label(format!(
-            "Across: value {} … {}; up: gradient magnitude 0 … {} per world unit; shade: how \
-             many lattice points (log){}.",
-            voxcast_core::numbers::sig(h.value[0]),
-            voxcast_core::numbers::sig(h.value[1]),
-            voxcast_core::numbers::sig(h.gradient[1]),
-            if h.stride > 1 {
-                format!(", every {}th along each axis", h.stride)
-            } else {
-                String::new()
-            }
-        ));
-        ui.label(format!(
-            "Drag on the plot to draw a rectangle (at most {MAX_REGIONS}), drag one to move it. \
-             A sample inside a rectangle takes its opacity, elsewhere none; the colour stays the \
-             transfer function's."
-        ));
-        self.selected_controls(ui, regions);
     }
 
     /// The selected rectangle's bounds, opacity and removal.
