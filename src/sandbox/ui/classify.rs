@@ -87,13 +87,7 @@ fn choose_kind(
         Classification::Boundaries { .. } => 2,
         Classification::ValueGradient { .. } => 3,
     };
-    let mut chosen = current;
-    super::combo(ui, "Classification", KINDS[current].0, |ui| {
-        for (i, (name, doc)) in KINDS.iter().enumerate() {
-            ui.selectable_value(&mut chosen, i, *name)
-                .on_hover_text(*doc);
-        }
-    });
+    let chosen = super::kind_menu(ui, "Classification", &KINDS, current);
     if chosen == current {
         return;
     }

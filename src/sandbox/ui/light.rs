@@ -153,13 +153,7 @@ fn choose_kind(ui: &mut egui::Ui, source: &mut LightSource, lo: Vec3, hi: Vec3) 
         Light::Directional(_) => 2,
         Light::Spot(_) => 3,
     };
-    let mut chosen = current;
-    super::combo(ui, "Kind", KINDS[current].0, |ui| {
-        for (i, (name, doc)) in KINDS.iter().enumerate() {
-            ui.selectable_value(&mut chosen, i, *name)
-                .on_hover_text(*doc);
-        }
-    });
+    let chosen = super::kind_menu(ui, "Kind", &KINDS, current);
     if chosen == current {
         return;
     }

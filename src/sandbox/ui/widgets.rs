@@ -152,6 +152,24 @@ pub(super) fn field_row<R>(
     .inner
 }
 
+/// A drop-down of kinds, each a name with its tooltip, showing `current`'s: the index chosen
+/// (`current` where none was).
+pub(super) fn kind_menu(
+    ui: &mut egui::Ui,
+    label: &str,
+    kinds: &[(&str, &str)],
+    current: usize,
+) -> usize {
+    let mut chosen = current;
+    combo(ui, label, kinds[current].0, |ui| {
+        for (i, (name, doc)) in kinds.iter().enumerate() {
+            ui.selectable_value(&mut chosen, i, *name)
+                .on_hover_text(*doc);
+        }
+    });
+    chosen
+}
+
 /// A drop-down with its label beside it, each shortened with "…" where the row is too narrow
 /// (the drop-down takes at most [`COMBO_SHARE`] of it): egui's own drop-down label never
 /// shortens, and a long choice ("White (OpenGL, VTK)") widened the panel.
