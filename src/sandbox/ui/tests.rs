@@ -161,6 +161,30 @@ fn sliders_show_the_decimals_their_values_mean() {
     }
 }
 
+/// A logarithmic slider shows four significant digits, as the breakdown prints numbers: a
+/// point light's attenuation at 0 and at a small value, the step at half a voxel.
+#[test]
+fn logarithmic_sliders_show_significant_digits() {
+    let (volume, render) = crate::sandbox::inspect::rays::tests::scene("head");
+    let mut s = render.settings.clone();
+    s.step = Length::Voxels(0.5);
+    let light = &mut s.phong.lights[0];
+    light.light = voxcast_core::shade::Light::Point(Vec3::splat(100.0));
+    (light.kl, light.kq) = (0.0, 0.000_123_4);
+    let (text, _) = drawn_text(|ui| {
+        ray_section(ui, &mut s, &volume, None);
+        shading_section(ui, &mut s, &volume, None);
+    });
+    let lines: Vec<&str> = text.lines().collect();
+    for shown in ["0.5", "0", "1.234e-4"] {
+        assert!(lines.contains(&shown), "{shown} not among {lines:?}");
+    }
+    assert!(
+        !lines.iter().any(|l| l.starts_with("0.0000")),
+        "six decimals among {lines:?}"
+    );
+}
+
 /// Whether `s`'s body is drawn under `guide` (closed by default).
 fn drawn(s: Section, guide: Guide) -> bool {
     let ctx = egui::Context::default();

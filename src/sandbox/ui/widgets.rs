@@ -98,7 +98,9 @@ pub(super) fn shown_with(slider: egui::Slider<'_>, decimals: usize) -> egui::Sli
 }
 
 /// A slider of `f32` for a tunable ([`tunable_slider`]), showing [`FINE_DECIMALS`] where its
-/// range is linear and at most [`FINE_SPAN`] wide: whether it changed.
+/// range is linear and at most [`FINE_SPAN`] wide, and four significant digits where it is
+/// logarithmic (the breakdown's rule, `voxcast_core::numbers::sig`: egui showed an attenuation
+/// at 0 as "0.000000"): whether it changed.
 pub(super) fn slider(
     ui: &mut egui::Ui,
     value: &mut f32,
@@ -110,6 +112,8 @@ pub(super) fn slider(
     let slider = egui::Slider::new(value, range).logarithmic(log);
     let slider = if fine {
         shown_with(slider, FINE_DECIMALS)
+    } else if log {
+        slider.custom_formatter(|v, _| voxcast_core::numbers::sig64(v))
     } else {
         slider
     };
