@@ -13,9 +13,9 @@ use support::{Completion, Outcome, gpu_required, run_or_skip, windowed};
 use voxcast_core::level::Level;
 
 fn main() {
-    // All four at once, whatever the cores: a window on lavapipe leaves a third of two cores
-    // idle, and two at a time left the third play-through to run alone (344 s against 174 s
-    // for the first two; BENCHMARKS.md, "CI's time").
+    // All four at once, whatever the cores: two at a time left the third play-through to run
+    // alone after the first two (344 s against 174 s). At once the test took 309 s alone but
+    // 302–357 s in cold CI runs, the three sharing two cores (BENCHMARKS.md, "CI's time").
     support::run_side_by_side(
         &[
             ("every_level_plays_through_in_the_cpu_live_view", || {

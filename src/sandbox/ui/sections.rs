@@ -251,17 +251,13 @@ pub(super) fn sum_range(
         let (floor, log) = (0.0f32.min(a), a >= 0.0);
         let low = labelled(
             ui,
-            egui::Slider::new(&mut a, floor..=b - tiny)
-                .logarithmic(log)
-                .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32)),
+            significant(egui::Slider::new(&mut a, floor..=b - tiny).logarithmic(log)),
             "low end",
         )
         .on_hover_text(t::SUM_RANGE.doc);
         let high = labelled(
             ui,
-            egui::Slider::new(&mut b, tiny..=top)
-                .logarithmic(true)
-                .custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32)),
+            significant(egui::Slider::new(&mut b, tiny..=top).logarithmic(true)),
             "high end",
         )
         .on_hover_text(t::SUM_RANGE.doc);

@@ -97,10 +97,15 @@ pub(super) fn shown_with(slider: egui::Slider<'_>, decimals: usize) -> egui::Sli
     slider.custom_formatter(move |v, _| format!("{v:.decimals$}"))
 }
 
+/// `slider` showing its value with four significant digits, as the breakdown prints numbers
+/// (`voxcast_core::numbers::sig`): for logarithmic ranges, where egui showed 0 as "0.000000".
+pub(super) fn significant(slider: egui::Slider<'_>) -> egui::Slider<'_> {
+    slider.custom_formatter(|v, _| voxcast_core::numbers::sig(v as f32))
+}
+
 /// A slider of `f32` for a tunable ([`tunable_slider`]), showing [`FINE_DECIMALS`] where its
-/// range is linear and at most [`FINE_SPAN`] wide, and four significant digits where it is
-/// logarithmic (the breakdown's rule, `voxcast_core::numbers::sig`: egui showed an attenuation
-/// at 0 as "0.000000"): whether it changed.
+/// range is linear and at most [`FINE_SPAN`] wide, and [`significant`] digits where it is
+/// logarithmic: whether it changed.
 pub(super) fn slider(
     ui: &mut egui::Ui,
     value: &mut f32,
@@ -113,7 +118,7 @@ pub(super) fn slider(
     let slider = if fine {
         shown_with(slider, FINE_DECIMALS)
     } else if log {
-        slider.custom_formatter(|v, _| voxcast_core::numbers::sig64(v))
+        significant(slider)
     } else {
         slider
     };
