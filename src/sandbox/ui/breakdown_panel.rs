@@ -579,7 +579,6 @@ mod tests {
             crate::sandbox::ui::drawn_text(|ui| {
                 sample_table(ui, &t, None, hidden);
             })
-            .0
         };
         let shown = table(None);
         assert!(
@@ -609,10 +608,9 @@ mod tests {
             2 * t.samples.len()
         );
         assert!(text.contains(&value(p2)));
-        let (detail, _) =
-            crate::sandbox::ui::drawn_text(|ui| sample_detail(ui, &t.samples[p2], true));
+        let detail = crate::sandbox::ui::drawn_text(|ui| sample_detail(ui, &t.samples[p2], true));
         assert!(!detail.contains(&value(p2)), "{detail}");
-        let (summary_text, _) = crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, Some(&h)));
+        let summary_text = crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, Some(&h)));
         assert!(!summary_text.contains(&red), "{summary_text}");
     }
 
@@ -627,7 +625,7 @@ mod tests {
         let t = pixel_trace(&volume, &render, &vc, UVec2::new(1, 1)).unwrap();
         let n = t.plan.unwrap().count;
         let said = format!("; {n} samples");
-        let text = |h: Option<&Hidden>| crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, h)).0;
+        let text = |h: Option<&Hidden>| crate::sandbox::ui::drawn_text(|ui| summary(ui, &t, h));
         assert!(text(None).contains(&said), "{}", text(None));
         let asked = Hidden {
             samples: true,
@@ -652,7 +650,7 @@ mod tests {
         let line = |secret: bool| {
             let mut show = true;
             let text =
-                crate::sandbox::ui::drawn_text(|ui| cells_line(ui, &walk, secret, &mut show)).0;
+                crate::sandbox::ui::drawn_text(|ui| cells_line(ui, &walk, secret, &mut show));
             (text, show)
         };
         assert!(line(false).0.contains(&crosses));

@@ -230,12 +230,12 @@ fn strip(ui: &mut egui::Ui, layout: &mut Layout, shares: &Shares, rays_shown: bo
     let buttons = [
         (
             Side::Settings,
-            "⚙",
+            "≡",
             "Settings: the volume, ray casting, shading, transfer function, preview",
         ),
         (
             Side::Rays,
-            "☰",
+            "⇶",
             "Rays: the virtual camera's rays, their image, and a ray's breakdown",
         ),
     ];

@@ -270,7 +270,7 @@ fn level_buttons(ui: &mut egui::Ui, lessons: &Lessons) -> Option<LevelCommand> {
             .copied()
             .unwrap_or(0);
         let total = level.steps.len();
-        let mark = if done >= total { "✔" } else { " " };
+        let mark = if done >= total { "●" } else { " " };
         let button = ui.button(format!("{mark} {}. {}", i + 1, level.title));
         if super::target(button, &format!("level {}", i + 1))
             .on_hover_text(format!(
@@ -318,15 +318,14 @@ fn level_step(
     let (met, reading) = (lessons.met, step.objective == Objective::Read);
     let mut command = None;
     ui.horizontal_wrapped(|ui| {
-        let label = if reading { "Next" } else { "Next ✔" };
-        if super::target(ui.add_enabled(met, egui::Button::new(label)), "next").clicked() {
+        if super::target(ui.add_enabled(met, egui::Button::new("Next")), "next").clicked() {
             command = Some(LevelCommand::Next);
         }
         if super::target(ui.button("Free play"), "free play").clicked() {
             command = Some(LevelCommand::FreePlay);
         }
         if !reading {
-            ui.label(if met { "✔ done" } else { "… not yet" });
+            ui.label(if met { "● done" } else { "… not yet" });
         }
         if *folded && let Some(look_at) = &look_at {
             ui.colored_label(egui::Color32::LIGHT_BLUE, look_at);

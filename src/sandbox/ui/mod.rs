@@ -7,6 +7,7 @@ mod classify;
 pub(crate) mod compare;
 mod cost_view;
 mod cut;
+mod fonts;
 mod layout;
 mod level_editor;
 mod levels_window;
@@ -123,7 +124,8 @@ struct PanelState {
 }
 
 pub(super) fn plugin(app: &mut App) {
-    app.init_resource::<PanelState>()
+    app.add_plugins(fonts::plugin)
+        .init_resource::<PanelState>()
         .init_resource::<Dock>()
         .init_resource::<layout::Layout>()
         .init_resource::<compare::CompareWindow>()
@@ -210,19 +212,17 @@ fn record_viewport(
 /// egui paints its warning with a '🔥' the font lacks.
 #[cfg(test)]
 pub(super) fn missing_glyphs(add: impl FnMut(&mut egui::Ui)) -> std::collections::BTreeSet<char> {
-    let (all, ctx) = drawn_text(add);
+    let all = drawn_text(add);
     assert!(all.len() > 100, "little text drawn: {all}");
-    let font = egui::FontId::proportional(14.0);
     all.chars()
         .filter(|c| !c.is_whitespace())
-        .filter(|&c| !ctx.fonts_mut(|f| f.has_glyph(&font, c)))
+        .filter(|&c| !fonts::has_glyph(&egui::FontFamily::Proportional, c))
         .collect()
 }
 
-/// Every text `add` draws in a 1200×4000-point window, one a line, and the context that drew
-/// them.
+/// Every text `add` draws in a 1200×4000-point window, one a line.
 #[cfg(test)]
-pub(super) fn drawn_text(add: impl FnMut(&mut egui::Ui)) -> (String, egui::Context) {
+pub(super) fn drawn_text(add: impl FnMut(&mut egui::Ui)) -> String {
     fn texts(shape: &egui::Shape, out: &mut String) {
         match shape {
             egui::Shape::Text(t) => {
@@ -233,7 +233,7 @@ pub(super) fn drawn_text(add: impl FnMut(&mut egui::Ui)) -> (String, egui::Conte
             _ => {}
         }
     }
-    let ctx = egui::Context::default();
+    let ctx = crate::sandbox::ui::fonts::context();
     let input = || egui::RawInput {
         screen_rect: Some(egui::Rect::from_min_size(
             egui::Pos2::ZERO,
@@ -251,7 +251,7 @@ pub(super) fn drawn_text(add: impl FnMut(&mut egui::Ui)) -> (String, egui::Conte
     for clipped in &shapes {
         texts(&clipped.shape, &mut all);
     }
-    (all, ctx)
+    all
 }
 
 /// The size `add` takes when given a column `room` points wide and [`COLUMN`] high: wider than
@@ -259,7 +259,7 @@ pub(super) fn drawn_text(add: impl FnMut(&mut egui::Ui)) -> (String, egui::Conte
 /// cuts its rows), as high as the column where a row takes all the height it is given.
 #[cfg(test)]
 pub(super) fn size_in(room: f32, mut add: impl FnMut(&mut egui::Ui)) -> egui::Vec2 {
-    let ctx = egui::Context::default();
+    let ctx = crate::sandbox::ui::fonts::context();
     let mut size = egui::Vec2::ZERO;
     // Twice: the second frame lays out what the first measured.
     for _ in 0..2 {

@@ -219,7 +219,7 @@ mod tests {
         (vc.width, vc.height) = (8, 8);
         let mut inspection = Inspection::default();
         compute(&volume, &render, &vc, 1_000_000, &mut inspection);
-        let ctx = egui::Context::default();
+        let ctx = crate::sandbox::ui::fonts::context();
         let mut selection = RaySelection::default();
         let origin = std::cell::Cell::new(Pos2::ZERO);
         let frame = |events: Vec<egui::Event>, selection: &mut RaySelection| {

@@ -148,7 +148,7 @@ fn sliders_show_the_decimals_their_values_mean() {
     let p = &mut s.phong;
     (p.ke, p.global_ambient, p.ka, p.kd, p.ks) = (0.0, 1.0, 0.0, 0.7, 0.3);
     s.cutoff = 0.99;
-    let (text, _) = drawn_text(|ui| {
+    let text = drawn_text(|ui| {
         ray_section(ui, &mut s, &volume, None);
         shading_section(ui, &mut s, &volume, None);
     });
@@ -171,7 +171,7 @@ fn logarithmic_sliders_show_significant_digits() {
     let light = &mut s.phong.lights[0];
     light.light = voxcast_core::shade::Light::Point(Vec3::splat(100.0));
     (light.kl, light.kq) = (0.0, 0.000_123_4);
-    let (text, _) = drawn_text(|ui| {
+    let text = drawn_text(|ui| {
         ray_section(ui, &mut s, &volume, None);
         shading_section(ui, &mut s, &volume, None);
     });
@@ -187,7 +187,7 @@ fn logarithmic_sliders_show_significant_digits() {
 
 /// Whether `s`'s body is drawn under `guide` (closed by default).
 fn drawn(s: Section, guide: Guide) -> bool {
-    let ctx = egui::Context::default();
+    let ctx = crate::sandbox::ui::fonts::context();
     let mut drawn = false;
     ctx.run_ui(egui::RawInput::default(), |ui| {
         section(ui, s, false, guide, |_| drawn = true)
@@ -295,7 +295,7 @@ fn first_preview_section(
 fn drawing_a_slider_leaves_its_value() {
     let (mut scale, mut side) = (0.125f32, 1.0f32 / 3.0);
     let mut changed = false;
-    let (text, _) = drawn_text(|ui| {
+    let text = drawn_text(|ui| {
         changed |= slider(ui, &mut scale, &t::PREVIEW_SCALE, 0.05..=1.0, false);
         changed |= ui
             .add(shown_with(
@@ -339,7 +339,7 @@ fn the_levels_name_each_control_as_the_panel_shows_it() {
         let mut text = String::new();
         for method in Method::ALL {
             let mut panel = Panel::new(method);
-            text.push_str(&drawn_text(|ui| panel.draw_section(ui, section)).0);
+            text.push_str(&drawn_text(|ui| panel.draw_section(ui, section)));
         }
         let name = super::levels_window::control_name(c);
         let label = name.rsplit(" › ").next().unwrap_or(&name);
@@ -369,7 +369,7 @@ fn the_virtual_camera_shows_its_angle_in_tenths() {
     let mut world = World::new();
     let id = world.spawn(vc).id();
     let mut settings = render.settings.clone();
-    let (text, _) = drawn_text(|ui| {
+    let text = drawn_text(|ui| {
         let mut camera = world.get_mut::<VirtualCamera>(id).unwrap();
         virtual_camera_section(ui, &mut camera, &mut settings, None, &volume, None);
     });

@@ -447,7 +447,7 @@ mod tests {
             selected: Some(1),
             ..Default::default()
         };
-        let (text, _) =
+        let text =
             super::super::drawn_text(|ui| _ = editor.selected_point(ui, &mut tf, 0.0, 100.0));
         let lines: Vec<&str> = text.lines().map(str::trim).collect();
         let after = |prefix: &str| {

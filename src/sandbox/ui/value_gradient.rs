@@ -363,8 +363,7 @@ mod tests {
                 selected: Some(0),
                 ..Default::default()
             };
-            let (text, _) =
-                super::super::drawn_text(|ui| editor.selected_controls(ui, &mut regions));
+            let text = super::super::drawn_text(|ui| editor.selected_controls(ui, &mut regions));
             let numbers: Vec<&str> = text.lines().filter(|l| l.parse::<f32>().is_ok()).collect();
             assert!(numbers.contains(&shown), "{shown} not among {numbers:?}");
             assert!(!numbers.contains(&wrong), "{wrong} among {numbers:?}");

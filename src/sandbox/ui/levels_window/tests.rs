@@ -2,6 +2,8 @@
 
 use super::*;
 use crate::sandbox::levels::ProgressStore;
+use crate::sandbox::ui::fonts::has_glyph;
+use egui::FontFamily::{Monospace, Proportional};
 use egui::{Pos2, Rect, vec2};
 
 /// Drives the window's contents with the pointer events a player's clicks make.
@@ -11,7 +13,7 @@ struct Harness {
 
 impl Harness {
     fn new() -> Self {
-        let ctx = egui::Context::default();
+        let ctx = crate::sandbox::ui::fonts::context();
         // Debug builds then record each widget's label, to find buttons by their text.
         ctx.all_styles_mut(|s| s.debug.show_interactive_widgets = true);
         Self { ctx }
@@ -80,7 +82,7 @@ fn clicks_on_the_window_send_the_levels_commands() {
     let title = format!("  2. {}", lessons.levels[1].title);
     h.frame(&mut lessons, Mode::FreePlay, vec![]);
     for (i, level) in lessons.levels.iter().enumerate() {
-        // None done: no ✔ before the number.
+        // None done: no ● before the number.
         assert!(
             h.find(&format!("  {}. {}", i + 1, level.title)).is_some(),
             "{} listed",
@@ -96,11 +98,11 @@ fn clicks_on_the_window_send_the_levels_commands() {
     lessons.step = 1;
     lessons.met = false;
     h.frame(&mut lessons, mode, vec![]);
-    assert_eq!(h.find("Next ✔").map(|f| f.1), Some(false), "greyed out");
-    assert_eq!(h.click(&mut lessons, mode, "Next ✔"), None);
+    assert_eq!(h.find("Next").map(|f| f.1), Some(false), "greyed out");
+    assert_eq!(h.click(&mut lessons, mode, "Next"), None);
     lessons.met = true;
     assert_eq!(
-        h.click(&mut lessons, mode, "Next ✔"),
+        h.click(&mut lessons, mode, "Next"),
         Some(LevelCommand::Next)
     );
     assert_eq!(
@@ -116,7 +118,6 @@ fn every_levels_text_can_be_drawn() {
     let h = Harness::new();
     let mut lessons = Lessons::new(ProgressStore::Nowhere);
     h.frame(&mut lessons, Mode::FreePlay, vec![]);
-    let font = egui::FontId::proportional(14.0);
     let mut missing = Vec::new();
     for level in &lessons.levels {
         let texts = [&level.title, &level.concept]
@@ -124,7 +125,7 @@ fn every_levels_text_can_be_drawn() {
             .chain(level.steps.iter().map(|s| &s.text));
         for text in texts {
             for c in text.chars() {
-                if !h.ctx.fonts_mut(|f| f.has_glyph(&font, c)) {
+                if !has_glyph(&Proportional, c) {
                     missing.push((level.id.clone(), c));
                 }
             }
@@ -133,7 +134,7 @@ fn every_levels_text_can_be_drawn() {
     // The tooltips quote the tunables' documentation.
     for t in voxcast_core::tunables::ALL {
         for c in t.label.chars().chain(t.doc.chars()) {
-            if !h.ctx.fonts_mut(|f| f.has_glyph(&font, c)) {
+            if !has_glyph(&Proportional, c) {
                 missing.push((t.key.to_string(), c));
             }
         }
@@ -195,12 +196,11 @@ fn every_levels_text_can_be_drawn() {
         let answer = voxcast_core::level::ray_answer(&asked, &t, &volume).unwrap();
         built.push(answer.working);
     }
-    // (The breakdown shows its formulas in the monospace font, whose fallbacks are the
-    // proportional font's; egui's glyph query answers only for the proportional one.)
+    // (The breakdown shows its formulas in the monospace font.)
     let mut lacking = std::collections::BTreeSet::new();
     for text in &built {
         for c in text.chars().filter(|c| *c != '\n') {
-            if !h.ctx.fonts_mut(|fonts| fonts.has_glyph(&font, c)) {
+            if !has_glyph(&Proportional, c) || !has_glyph(&Monospace, c) {
                 lacking.insert(c);
             }
         }
