@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The web page's figures for BENCHMARKS.md ("In a browser"), beside the desktop's and the web
 # peers' on the same machine: the bundle's size (raw and gzip), the time to the first frame in
-# headless chromium, the frame time at 1280×720 orbiting and resting, the page's exact render
-# against the desktop's on one thread (the same view and size), and niivue's and vtk.js's frames
-# beside the page's (benches/peers/run.py: the same files and canvas, screenshots of each). The
-# page's own figures come from tests/browser.rs, which prints them.
+# headless chromium (on the page's own clock, benches/peers/first_frame.py), the frame time at
+# 1280×720 orbiting and resting, the page's exact render against the desktop's on one thread
+# (the same view and size), and niivue's and vtk.js's frames beside the page's
+# (benches/peers/run.py: the same files and canvas, screenshots of each). The page's other
+# figures come from tests/browser.rs, which prints them.
 #
 #   bash benches/web.sh            (SKIP_BUILD=1 uses the page already in dist/)
 #
@@ -31,6 +32,12 @@ for gpu in webgl2 webgpu; do
     echo "| $gpu | $(awk -v b="$raw" 'BEGIN{printf "%.1f MB", b/1e6}') | $(awk -v b="$gz" 'BEGIN{printf "%.1f MB", b/1e6}') | $(awk -v b="$js" 'BEGIN{printf "%.0f kB", b/1e3}') | $(awk -v b="$((gz + js + page))" 'BEGIN{printf "%.1f MB", b/1e6}') |"
 done
 echo "(the whole folder, both builds: $(du -sh dist | cut -f1) raw)"
+echo
+
+echo "== the first frame on the page's clock (benches/peers/first_frame.py; goal: 1.5 s)"
+for gpu in webgl2 webgpu; do
+    python3 benches/peers/first_frame.py dist "$gpu" 4
+done
 echo
 
 echo "== the page in headless chromium (tests/browser.rs)"

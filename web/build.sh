@@ -31,8 +31,16 @@ if ! "$BINDGEN" --version 2> /dev/null | grep -qF "$VERSION"; then
 fi
 
 # The module's panic and log messages name source files: by their place in a crate, not by the
-# build machine's folders (.cargo/config.toml adds WebAssembly's SIMD to these flags).
-export CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUSTFLAGS="--remap-path-prefix=$HOME/.cargo/registry/src= --remap-path-prefix=$HOME= --remap-path-prefix=$PWD=voxcast"
+# build machine's folders (.cargo/config.toml adds WebAssembly's SIMD to these flags). Where two
+# prefixes match, rustc applies the one given last: each registry's after the home folder's.
+# (The crates fetched first: each build of a run then has the same flags, and reuses the last.)
+cargo fetch --locked --target "$TARGET" > /dev/null
+shopt -s nullglob
+REMAP="--remap-path-prefix=$HOME="
+for registry in "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/; do
+    REMAP="$REMAP --remap-path-prefix=${registry%/}="
+done
+export CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUSTFLAGS="$REMAP --remap-path-prefix=$PWD=voxcast"
 
 TARGET_DIR=${CARGO_TARGET_DIR:-target}
 # The `web` profile (Cargo.toml): small and fast, its link some 6 minutes a build on 2 cores;
