@@ -1,9 +1,9 @@
 //! The window's two fonts: Ubuntu Light for text and Hack for numbers laid out in columns, each
 //! the other's fallback (Hack draws the arrows and shapes Ubuntu lacks: ≡ ⇶ ● ▶).
 //!
-//! egui's own default adds two emoji fonts, 0.46 MB of the page's 8 MB download (gzip) for
-//! three glyphs our texts used; our texts keep to what these two fonts draw (the panels'
-//! tests list any glyph they lack, `missing_glyphs`).
+//! egui's own default adds two emoji fonts, 0.46 MB of the page's download with gzip (of 8.1 MB
+//! then) for three glyphs our texts used; our texts keep to what these two fonts draw (the
+//! test below lists any character of ours they lack).
 
 use bevy::prelude::*;
 use bevy_egui::{EguiContext, egui};
