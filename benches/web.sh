@@ -15,6 +15,11 @@
 # ../shared (data/, tools/peer/), where the CT's rows are left out if it is missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if ! python3 -c "import PIL" 2> /dev/null; then
+    # Found before the run, not at its end (the peers' screenshots are read with it).
+    echo "benches/web.sh needs Pillow for python3 (pip install pillow, or Debian's python3-pil)" >&2
+    exit 1
+fi
 source benches/common.sh
 
 if [ -z "${SKIP_BUILD:-}" ]; then
