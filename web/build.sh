@@ -40,6 +40,7 @@ REMAP="--remap-path-prefix=$HOME="
 for registry in "${CARGO_HOME:-$HOME/.cargo}"/registry/src/*/; do
     REMAP="$REMAP --remap-path-prefix=${registry%/}="
 done
+shopt -u nullglob # (a missing file below stays an error)
 export CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUSTFLAGS="$REMAP --remap-path-prefix=$PWD=voxcast"
 
 TARGET_DIR=${CARGO_TARGET_DIR:-target}
