@@ -8,12 +8,14 @@
 
 @group(#{MATERIAL_BIND_GROUP}) @binding(0) var<uniform> params: VolumeUniform;
 /// The pipeline's variant, compiled in (src/sandbox/gpu/uniform.rs, `PreviewVariant`): the uniform's
-/// flags, method, classification and skip switch as constants, so each pipeline holds only the
-/// branches its settings take. The uniform's own members carry the same values.
+/// flags, method, classification, skip switch and no-data switch as constants (and the number of
+/// lights, shade.wgsl), so each pipeline holds only the branches its settings take. The
+/// uniform's own members carry the same values.
 const FLAGS: u32 = #{VARIANT_FLAGS}u;
 const METHOD: u32 = #{VARIANT_METHOD}u;
 const CLASSIFICATION: u32 = #{VARIANT_CLASSIFICATION}u;
 const SKIP_EMPTY: u32 = #{VARIANT_SKIP_EMPTY}u;
+const NO_DATA: u32 = #{VARIANT_NO_DATA}u;
 @group(#{MATERIAL_BIND_GROUP}) @binding(1) var volume_texture: texture_3d<f32>;
 @group(#{MATERIAL_BIND_GROUP}) @binding(2) var lut_texture: texture_2d<f32>;
 /// 1 for each block of cells the transfer function makes transparent (crates/voxcast_core/src/skip.rs).

@@ -10,7 +10,7 @@
 // (`lerp` on four lanes at once: a lattice record's differences and value).
 #define_import_path voxcast::sample
 
-#import voxcast::bindings::{params, volume_texture, records_texture, FLAGS}
+#import voxcast::bindings::{params, volume_texture, records_texture, FLAGS, NO_DATA}
 
 struct Cell {
     lo: vec3<u32>,
@@ -43,7 +43,7 @@ fn is_no_data(raw: f32) -> bool {
 /// Whether the sample at p_voxel has no value: a corner of its cell (trilinear) or its
 /// nearest lattice point holds no data — the core's non-finite interpolation.
 fn no_data_at(p_voxel: vec3<f32>) -> bool {
-    if params.no_data == 0u {
+    if NO_DATA == 0u {
         return false;
     }
     if (FLAGS & #{FLAG_TRILINEAR}u) == 0u {
@@ -116,7 +116,7 @@ fn lattice_difference(idx: vec3<u32>, a: i32) -> f32 {
     let inv_steps = select(0.5, 1.0, hi - lo == 1u);
     let vp = load_raw(p);
     let vm = load_raw(m);
-    if params.no_data != 0u && (is_no_data(vp) || is_no_data(vm)) {
+    if NO_DATA != 0u && (is_no_data(vp) || is_no_data(vm)) {
         difference_undefined = true;
     }
     return (vp - vm) * inv_steps;

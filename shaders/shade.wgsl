@@ -3,6 +3,8 @@
 // normal — emission, global ambient, and per light its ambient, Phong or Blinn–Phong diffuse
 // and specular terms, falloff and spotlight factor; Levoy's highlight takes the sample's colour
 // and Levoy's depth cue sets every light's falloff from the picture plane.
+// GPU-only: `add_light` (the body of the core's loop over the lights in `shade`, called once per
+// light with its index written out: see `shade`).
 #define_import_path voxcast::shade
 
 #import voxcast::bindings::{params, FLAGS}
@@ -58,47 +60,72 @@ fn shade(c: vec3<f32>, grad: vec3<f32>, p_world: vec3<f32>, view: vec3<f32>) -> 
         let denom = params.depth_kc + params.depth_kl * d;
         cue = select(1.0, 1.0 / denom, denom > 0.0);
     }
-    var diffuse = vec3(0.0);
-    var specular = vec3(0.0);
-    var light_ambient = vec3(0.0);
-    for (var i = 0u; i < params.light_count; i++) {
-        let light = params.lights[i];
-        var l = light.at;
-        var attenuation = 1.0;
-        if light.kind != #{LIGHT_TOWARD}u {
-            let to = light.at - p_world;
-            let d = length(to);
-            let denom = light.kc + light.kl * d + light.kq * d * d;
-            attenuation = select(1.0, 1.0 / denom, denom > 0.0);
-            l = select(view, to / d, d > 0.0);
-        }
-        if (FLAGS & #{FLAG_DEPTH_CUE}u) != 0u {
-            attenuation = cue;
-        }
-        var spot = 1.0;
-        if light.kind == #{LIGHT_SPOT}u {
-            spot = spot_factor(i, l);
-        }
-        let fs = attenuation * spot;
-        let n_dot_l = dot(n, l);
-        let lambert = max(n_dot_l, 0.0);
-        var spec = 0.0;
-        if n_dot_l > 0.0 {
-            var base: f32;
-            if (FLAGS & #{FLAG_BLINN_PHONG}u) != 0u {
-                let h = l + view;
-                let h_len = length(h);
-                base = dot(n, select(n, h / h_len, h_len > 0.0));
-            } else {
-                base = dot(n * (2.0 * n_dot_l) - l, view);
-            }
-            spec = power(max(base, 0.0), params.shininess);
-        }
-        diffuse += c * (light.color * (fs * params.kd * lambert));
-        specular += tint * light.color * (fs * params.ks * spec);
-        light_ambient += c * (light.ambient * (fs * params.ka));
-    }
+    // One share per light, each called with its index written out (the pipeline is compiled
+    // for the scene's number of lights, VARIANT_LIGHTS): a GPU that runs a group's lanes in
+    // step, as SwiftShader does, reads a light indexed by a loop's variable lane by lane.
+    var sum = LightShare(vec3(0.0), vec3(0.0), vec3(0.0));
+#if VARIANT_LIGHTS > 0
+    sum = add_light(sum, 0u, c, n, tint, cue, p_world, view);
+#endif
+#if VARIANT_LIGHTS > 1
+    sum = add_light(sum, 1u, c, n, tint, cue, p_world, view);
+#endif
+#if VARIANT_LIGHTS > 2
+    sum = add_light(sum, 2u, c, n, tint, cue, p_world, view);
+#endif
+#if VARIANT_LIGHTS > 3
+    sum = add_light(sum, 3u, c, n, tint, cue, p_world, view);
+#endif
     let emission = c * params.ke;
     let ambient = c * (params.global_ambient * params.ka);
-    return clamp(emission + ambient + light_ambient + diffuse + specular, vec3(0.0), vec3(1.0));
+    return clamp(emission + ambient + sum.ambient + sum.diffuse + sum.specular, vec3(0.0), vec3(1.0));
+}
+
+/// A sample's light from the scene's lights so far: their ambient, diffuse and specular terms.
+struct LightShare {
+    ambient: vec3<f32>,
+    diffuse: vec3<f32>,
+    specular: vec3<f32>,
+}
+
+/// `sum` with light i's share added (the core's loop over the lights, one light at a time): for
+/// colour c, unit normal n, specular tint, depth cue, at p_world seen along view.
+fn add_light(sum: LightShare, i: u32, c: vec3<f32>, n: vec3<f32>, tint: vec3<f32>, cue: f32, p_world: vec3<f32>, view: vec3<f32>) -> LightShare {
+    let light = params.lights[i];
+    var l = light.at;
+    var attenuation = 1.0;
+    if light.kind != #{LIGHT_TOWARD}u {
+        let to = light.at - p_world;
+        let d = length(to);
+        let denom = light.kc + light.kl * d + light.kq * d * d;
+        attenuation = select(1.0, 1.0 / denom, denom > 0.0);
+        l = select(view, to / d, d > 0.0);
+    }
+    if (FLAGS & #{FLAG_DEPTH_CUE}u) != 0u {
+        attenuation = cue;
+    }
+    var spot = 1.0;
+    if light.kind == #{LIGHT_SPOT}u {
+        spot = spot_factor(i, l);
+    }
+    let fs = attenuation * spot;
+    let n_dot_l = dot(n, l);
+    let lambert = max(n_dot_l, 0.0);
+    var spec = 0.0;
+    if n_dot_l > 0.0 {
+        var base: f32;
+        if (FLAGS & #{FLAG_BLINN_PHONG}u) != 0u {
+            let h = l + view;
+            let h_len = length(h);
+            base = dot(n, select(n, h / h_len, h_len > 0.0));
+        } else {
+            base = dot(n * (2.0 * n_dot_l) - l, view);
+        }
+        spec = power(max(base, 0.0), params.shininess);
+    }
+    return LightShare(
+        sum.ambient + c * (light.ambient * (fs * params.ka)),
+        sum.diffuse + c * (light.color * (fs * params.kd * lambert)),
+        sum.specular + tint * light.color * (fs * params.ks * spec),
+    );
 }

@@ -104,44 +104,59 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
     let margin_t = params.skip_margin / length(d_v);
     var checked = vec3(0xffffffffu);
     var i = 0u;
-    while i < plan.count {
-        var k = i;
-        if back_to_front {
-            k = plan.count - 1u - i;
-        }
-        let t = sample_t(plan, k);
-        let pv = o_v + d_v * t;
-        if skip && leaping {
-            // The core's leaps (skip.rs, `VisibleCells`): out of the cube of empty bricks
-            // around an empty one; in the others, only the cells the table can show.
-            let lo = cell(pv).lo;
-            let brick = brick_at(lo);
-            let distance = brick_distance(brick);
-            if distance > 0u {
-                i = max(i + 1u, first_index_from(plan, leap_exit_at(lo, distance, o_v, d_v)));
-                continue;
+    loop {
+        // The next sample to read (k, at t and pv): empty space and hidden cells are passed in
+        // this inner loop, which reads no values, so that the reading, classifying and shading
+        // below run once per sample read — not once per sample passed (a GPU that runs a
+        // group's lanes in step pays for the code of every branch any lane takes).
+        var found = false;
+        var k = 0u;
+        var t = 0.0;
+        var pv = vec3(0.0);
+        while i < plan.count {
+            k = i;
+            if back_to_front {
+                k = plan.count - 1u - i;
             }
-            i += 1u;
-            if !visible(lo, brick) {
-                continue;
-            }
-        } else {
-            if skip {
-                // Before the cells are uploaded: leave an empty 8³ block at once.
-                let b = block_of(cell(pv).lo);
-                if any(b != checked) {
-                    checked = b;
-                    let t_out = exit_if_empty(b, o_v, d_v);
-                    if t_out >= 0.0 {
-                        let next = ceil((t_out - margin_t - plan.t_enter) / plan.dt - plan.jitter);
-                        if next > f32(k) {
-                            i = select(u32(next), plan.count, next >= f32(plan.count));
-                            continue;
+            t = sample_t(plan, k);
+            pv = o_v + d_v * t;
+            if skip && leaping {
+                // The core's leaps (skip.rs, `VisibleCells`): out of the cube of empty bricks
+                // around an empty one; in the others, only the cells the table can show.
+                let lo = cell(pv).lo;
+                let brick = brick_at(lo);
+                let distance = brick_distance(brick);
+                if distance > 0u {
+                    i = max(i + 1u, first_index_from(plan, leap_exit_at(lo, distance, o_v, d_v)));
+                    continue;
+                }
+                i += 1u;
+                if !visible(lo, brick) {
+                    continue;
+                }
+            } else {
+                if skip {
+                    // Before the cells are uploaded: leave an empty 8³ block at once.
+                    let b = block_of(cell(pv).lo);
+                    if any(b != checked) {
+                        checked = b;
+                        let t_out = exit_if_empty(b, o_v, d_v);
+                        if t_out >= 0.0 {
+                            let next = ceil((t_out - margin_t - plan.t_enter) / plan.dt - plan.jitter);
+                            if next > f32(k) {
+                                i = select(u32(next), plan.count, next >= f32(plan.count));
+                                continue;
+                            }
                         }
                     }
                 }
+                i += 1u;
             }
-            i += 1u;
+            found = true;
+            break;
+        }
+        if !found {
+            break;
         }
         if no_data_at(pv) {
             continue; // no data: transparent

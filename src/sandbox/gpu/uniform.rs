@@ -49,7 +49,8 @@ pub const CLASSIFY_VALUE_GRADIENT: u32 = 3;
 pub use voxcast_core::classify::{MAX_ISOVALUES, MAX_REGIONS};
 
 /// What a preview pipeline is compiled for: the uniform's members that choose which code runs
-/// (the method, the flags, the classification, the skip switch), compiled in as constants
+/// (the method, the flags, the classification, the skip switch, whether the volume holds
+/// voxels with no data, the number of lights), compiled in as constants
 /// (`shaders/bindings.wgsl`). Each combination a session uses is compiled once and kept (Bevy
 /// caches pipelines), so a frame runs only the branches its settings take; changing one of
 /// these settings compiles a pipeline (once) instead of branching in every sample.
@@ -59,6 +60,12 @@ pub struct PreviewVariant {
     pub flags: u32,
     pub classification: u32,
     pub skip_empty: u32,
+    /// 1 where the volume has voxels with no data (each sample then checks its corners).
+    pub no_data: u32,
+    /// How many lights shine: each light's share is called with its index written out
+    /// (`shaders/shade.wgsl`), as SwiftShader reads a uniform's array lane by lane where the index
+    /// is a loop's variable (a fifth of the bunny's frame there, BENCHMARKS.md).
+    pub lights: u32,
 }
 
 impl PreviewVariant {
@@ -69,6 +76,8 @@ impl PreviewVariant {
             flags: u.flags,
             classification: u.classification,
             skip_empty: u.skip_empty,
+            no_data: u.no_data,
+            lights: u.light_count,
         }
     }
 }
@@ -80,6 +89,8 @@ pub fn shader_defs(variant: PreviewVariant) -> Vec<ShaderDefVal> {
         ShaderDefVal::UInt("VARIANT_METHOD".into(), variant.method),
         ShaderDefVal::UInt("VARIANT_CLASSIFICATION".into(), variant.classification),
         ShaderDefVal::UInt("VARIANT_SKIP_EMPTY".into(), variant.skip_empty),
+        ShaderDefVal::UInt("VARIANT_NO_DATA".into(), variant.no_data),
+        ShaderDefVal::UInt("VARIANT_LIGHTS".into(), variant.lights),
         ShaderDefVal::UInt("LUT_SIZE".into(), LUT_SIZE as u32),
         ShaderDefVal::UInt("BLOCK".into(), voxcast_core::skip::BLOCK as u32),
         ShaderDefVal::UInt("FLAG_OPACITY_CORRECTION".into(), FLAG_OPACITY_CORRECTION),

@@ -71,7 +71,8 @@ fn the_wgsl_composes_and_validates() {
 }
 
 /// The pipeline variants compose and validate: each method with no flag, and with every
-/// flag under each classification (so every branch is compiled in at least once).
+/// flag under each classification (so every branch is compiled in at least once), with and
+/// without no-data voxels, with no light and with each number of lights up to the most.
 #[test]
 fn every_variant_composes_and_validates() {
     let all_flags = FLAG_OPACITY_CORRECTION
@@ -87,18 +88,27 @@ fn every_variant_composes_and_validates() {
         | FLAG_RECORDS
         | FLAG_DEPTH_CUE;
     let ways = [
-        (0, CLASSIFY_TABLE, 0),
-        (all_flags, CLASSIFY_ISO_CONTOURS, 1),
-        (all_flags & !FLAG_BACK_TO_FRONT, CLASSIFY_BOUNDARIES, 1),
-        (all_flags, CLASSIFY_VALUE_GRADIENT, 0),
+        (0, CLASSIFY_TABLE, 0, 0, 0),
+        (all_flags, CLASSIFY_ISO_CONTOURS, 1, 1, 1),
+        (
+            all_flags & !FLAG_BACK_TO_FRONT,
+            CLASSIFY_BOUNDARIES,
+            1,
+            0,
+            2,
+        ),
+        (all_flags, CLASSIFY_VALUE_GRADIENT, 0, 1, 3),
+        (all_flags, CLASSIFY_TABLE, 1, 0, MAX_LIGHTS as u32),
     ];
     for method in Method::ALL {
-        for (flags, classification, skip_empty) in ways {
+        for (flags, classification, skip_empty, no_data, lights) in ways {
             module_for(PreviewVariant {
                 method: method.code(),
                 flags,
                 classification,
                 skip_empty,
+                no_data,
+                lights,
             });
         }
     }
@@ -113,6 +123,8 @@ fn the_variant_follows_the_settings() {
         flags: FLAG_SHADING | FLAG_RECORDS,
         classification: CLASSIFY_BOUNDARIES,
         skip_empty: 1,
+        no_data: 1,
+        light_count: 2,
         dt: 0.25,
         ..VolumeUniform::default()
     };
@@ -124,6 +136,8 @@ fn the_variant_follows_the_settings() {
             flags: FLAG_SHADING | FLAG_RECORDS,
             classification: CLASSIFY_BOUNDARIES,
             skip_empty: 1,
+            no_data: 1,
+            lights: 2,
         }
     );
     // What is not a switch (a step, a colour) does not make a new pipeline.
