@@ -202,8 +202,14 @@ def main():
             for peer in PEERS:
                 url = (f"{base}/peers/peer.html?peer={peer}&volume=../data/{file}&tf=../tf/{tf}"
                        f"&camera=../cams/{cam}&size={w}x{h}&frames={opts.frames}")
-                browser.open(url)
-                result = browser.wait("return window.peerResult", 600)
+                try:
+                    browser.open(url)
+                    result = browser.wait("return window.peerResult", 600)
+                except Exception as e:  # a peer that hangs or crashes the tab: its row says so
+                    result = {"error": f"{type(e).__name__}: {e}"}
+                    browser.close()
+                    browser = Browser([], (w + 100, h + 200))
+                    browser.viewport(w, h)
                 if "error" in result:
                     print(f"| {peer} | {name} | – | – | failed: {result['error'].splitlines()[0]} | | |")
                     continue
@@ -222,7 +228,10 @@ def main():
     # preview forced to whole frames; the page's own measurement (`?measure-frames`).
     for graphics in ("webgl2", "webgpu") if opts.only != "peers" else ():
         extra = WEBGPU_ARGS if graphics == "webgpu" else []
-        for forced in ("", "&preview-backend=gpu&whole-frames"):
+        # The third: forced as the second, at niivue's step (one voxel: its shader's `stepSize`)
+        # and unshaded, as niivue draws by default — the same step as the faster peer.
+        for forced in ("", "&preview-backend=gpu&whole-frames",
+                       "&preview-backend=gpu&whole-frames&step=1&shading=off"):
             row = {}
             scene = None
             for label, orbit in (("resting", ""), ("orbiting", "&auto-orbit=5")):
@@ -237,8 +246,10 @@ def main():
                     row[label] = float(m.group(1)) if m else float("nan")
                     scene = status["scene"]
                     if label == "resting":
+                        suffix = ("_gpu_niivue_step" if "step=" in forced
+                                  else "_gpu" if forced else "")
                         png = browser.screenshot(os.path.join(
-                            opts.out, f"voxcast_{graphics}{'_gpu' if forced else ''}_bunny.png"))
+                            opts.out, f"voxcast_{graphics}{suffix}_bunny.png"))
                         ratio = browser.run("return window.innerWidth") / status["canvas"][0]
                         box = tuple(round(v * ratio) for v in (scene[0], scene[1], scene[0] + scene[2], scene[1] + scene[3]))
                         row["share"] = coverage(png, box)
@@ -246,7 +257,9 @@ def main():
                 finally:
                     browser.close()
             who = {"gpu": "GPU preview", "cpu": "CPU live view"}.get(row.get("backend"), row.get("backend"))
-            how = "GPU preview forced, whole frames" if forced else "as a visitor gets it"
+            how = ("GPU preview forced, whole frames, niivue's step (1 voxel), unshaded"
+                   if "step=" in forced else
+                   "GPU preview forced, whole frames" if forced else "as a visitor gets it")
             print(f"| Voxcast {graphics} ({how}) | bunny | {who} | {scene[2]:.0f}×{scene[3]:.0f} | "
                   f"{ms(row['resting'])} | {ms(row['orbiting'])} | {100 * row['share']:.0f} % |", flush=True)
     print()
