@@ -29,26 +29,13 @@ const MAX_STRIPS: u32 = 64;
 const FIXED_WINDOW: usize = 60;
 /// The weight of a new frame in the smoothed cost per unit of work.
 const SMOOTHING: f64 = 0.3;
-/// Recent frames the slope of frame time against work needs at least.
-const SLOPE_FRAMES: usize = 8;
-/// How much the recent frames' work must differ (its standard deviation over its mean) for
-/// their slope to be the cost per unit of work.
-const SLOPE_SPREAD: f64 = 0.2;
 
 /// The window's frame time as `fixed + per_work · work`: the fixed part is the shortest of the
 /// recent frames (every frame pays it; the frames with least work come closest to it, and an
-/// overestimate only means more strips), the rest is charged to the work, smoothed — or, where
-/// the recent frames were given different amounts of work (the resting pass's strips alternate
-/// two heights), the slope of their frame times against their work (least squares). A frame's
-/// time less the shortest one's is its work and its noise: where the work is a sliver (a strip
-/// on a software rasterizer, whose frames swing by 10–20 ms), charging it all to the work
-/// overstates the cost per unit of work, which asks for thinner strips, whose noise overstates
-/// it further (SwiftShader's WebGPU page: 64 strips, 9–10 s to the full-quality picture); the
-/// slope leaves the noise out.
+/// overestimate only means more strips), the rest is charged to the work, smoothed.
 #[derive(Default, Clone, Debug)]
 pub struct CostModel {
-    /// The recent frames: the work each was given and its seconds.
-    recent: std::collections::VecDeque<(f64, f64)>,
+    recent: std::collections::VecDeque<f64>,
     /// Seconds a frame costs whatever it draws, and seconds per unit of work.
     pub fixed: f64,
     pub per_work: Option<f64>,
@@ -63,41 +50,13 @@ impl CostModel {
         if self.recent.len() == FIXED_WINDOW {
             self.recent.pop_front();
         }
-        self.recent.push_back((work, seconds));
-        self.fixed = self
-            .recent
-            .iter()
-            .map(|r| r.1)
-            .fold(f64::INFINITY, f64::min);
+        self.recent.push_back(seconds);
+        self.fixed = self.recent.iter().copied().fold(f64::INFINITY, f64::min);
         let sample = (seconds - self.fixed).max(0.0) / work;
-        let smoothed = self
-            .per_work
-            .map_or(sample, |c| c + SMOOTHING * (sample - c));
-        self.per_work = Some(self.slope().unwrap_or(smoothed));
-    }
-
-    /// The least-squares slope of the recent frames' seconds against their work (at least
-    /// zero), where there are enough of them and their work differs enough ([`SLOPE_SPREAD`])
-    /// to tell the work's part from the noise.
-    fn slope(&self) -> Option<f64> {
-        let n = self.recent.len() as f64;
-        if self.recent.len() < SLOPE_FRAMES {
-            return None;
-        }
-        let (mw, mt) = self
-            .recent
-            .iter()
-            .fold((0.0, 0.0), |(w, t), r| (w + r.0 / n, t + r.1 / n));
-        let (mut sww, mut swt) = (0.0, 0.0);
-        for &(w, t) in &self.recent {
-            sww += (w - mw) * (w - mw);
-            swt += (w - mw) * (t - mt);
-        }
-        let spread = (sww / n).sqrt() / mw;
-        let slope = swt / sww;
-        // A slope at or below zero: the work is lost in the noise, so charge it nothing — the
-        // next resting frame is then drawn whole, and its work stands out.
-        (spread >= SLOPE_SPREAD && slope.is_finite()).then_some(slope.max(0.0))
+        self.per_work = Some(
+            self.per_work
+                .map_or(sample, |c| c + SMOOTHING * (sample - c)),
+        );
     }
 
     /// Seconds of volume work the camera may be given a frame: what the budget leaves beside
@@ -365,14 +324,7 @@ impl Progressive {
             self.filling ^= 1;
             (self.rows, self.drawn, self.pass_full) = (0, 0, full);
         }
-        let (y0, y1) = next_strip(self.rows, size.y, predicted, self.cost.share());
-        // Every other strip half as high: frames given two amounts of work, whose times'
-        // slope is the cost per unit of work without the frames' noise (`CostModel`).
-        let rows = if self.drawn % 2 == 1 {
-            (y0, y0 + (y1 - y0).div_ceil(2))
-        } else {
-            (y0, y1)
-        };
+        let rows = next_strip(self.rows, size.y, predicted, self.cost.share());
         (self.rows, self.drawn) = (rows.1, self.drawn + 1);
         let image = self.images.as_ref().map(|(i, _)| i[self.filling].clone());
         (image.unwrap_or_else(|| target.image.clone()), rows)
@@ -522,27 +474,6 @@ mod tests {
             slow.add(work, 0.080 + 1e-6 * work);
         }
         assert_eq!(slow.share(), FRAME_BUDGET_S / 2.0);
-    }
-
-    /// Strips of a sliver of work on a window whose frames swing by more than it (SwiftShader:
-    /// 140 ms a frame, ±15 ms, 2–4 ms of work a strip): charging each frame's excess over the
-    /// shortest to the work overstates its cost severalfold; the slope over strips of two
-    /// heights does not.
-    #[test]
-    fn noisy_frames_of_little_work_do_not_inflate_the_cost_of_work() {
-        let per_work = 4e-6;
-        let frame = |i: usize, work: f64| 0.140 + per_work * work + 0.015 * (i as f64 * 2.4).sin();
-        let mut m = CostModel::default();
-        let mut smoothed = CostModel::default();
-        for i in 0..FIXED_WINDOW {
-            let work = if i % 2 == 0 { 1000.0 } else { 500.0 };
-            m.add(work, frame(i, work));
-            // The same frames all given the same work: no slope, the smoothed excess.
-            smoothed.add(750.0, frame(i, work));
-        }
-        let fitted = m.per_work.unwrap();
-        assert!((fitted / per_work - 1.0).abs() < 0.25, "{fitted:e}");
-        assert!(smoothed.per_work.unwrap() > 3.0 * per_work, "{smoothed:?}");
     }
 
     /// Before a pass finishes the window shows the last whole frame with the strips drawn so
