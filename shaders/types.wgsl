@@ -55,7 +55,8 @@ struct VolumeUniform {
     refine_steps: u32,
     max_samples: u32,
     jitter_seed: u32,
-    /// How many of `lights` shine (0 … MAX_LIGHTS).
+    /// How many of `lights` shine (0 … MAX_LIGHTS); compiled into the pipeline too, as
+    /// VARIANT_LIGHTS, which shade.wgsl reads.
     light_count: u32,
     classification: u32,
     iso_count: u32,
@@ -90,7 +91,8 @@ struct VolumeUniform {
     skip_ranges: u32,
     /// 1 where a block that can only tie the running extreme may be passed (integer data).
     ties_skippable: u32,
-    /// 1 when some voxels hold no data (non-finite floats), else 0.
+    /// 1 when some voxels hold no data (non-finite floats), else 0; compiled into the pipeline
+    /// too, as NO_DATA (bindings.wgsl), which sample.wgsl reads.
     no_data: u32,
     /// Raw texels above this hold no data (the largest finite raw value; see sample.wgsl).
     no_data_above: f32,
@@ -116,6 +118,6 @@ struct VolumeUniform {
     region_count: u32,
     region_opacity: vec4<f32>,
     regions: array<vec4<f32>, #{MAX_REGIONS}>,
-    /// The lights (shade.wgsl sums over the first light_count).
+    /// The lights (shade.wgsl sums over the first light_count, VARIANT_LIGHTS).
     lights: array<LightUniform, #{MAX_LIGHTS}>,
 }

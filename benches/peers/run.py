@@ -193,11 +193,15 @@ def main():
     print("| --- | --- | --- | --- | ---: | ---: | ---: |")
     # The peers: WebGL2 (both draw with it), SwiftShader here.
     notes = []
-    browser = Browser([], (w + 100, h + 200))
+    def peers_browser():
+        b = Browser([], (w + 100, h + 200))
+        b.viewport(w, h)
+        return b
+
+    browser = peers_browser()
     try:
         if opts.only == "page":
             volumes = {}
-        browser.viewport(w, h)
         for name, (file, tf, cam) in volumes.items():
             for peer in PEERS:
                 url = (f"{base}/peers/peer.html?peer={peer}&volume=../data/{file}&tf=../tf/{tf}"
@@ -208,8 +212,7 @@ def main():
                 except Exception as e:  # a peer that hangs or crashes the tab: its row says so
                     result = {"error": f"{type(e).__name__}: {e}"}
                     browser.close()
-                    browser = Browser([], (w + 100, h + 200))
-                    browser.viewport(w, h)
+                    browser = peers_browser()
                 if "error" in result:
                     print(f"| {peer} | {name} | – | – | failed: {result['error'].splitlines()[0]} | | |")
                     continue
@@ -230,8 +233,11 @@ def main():
         extra = WEBGPU_ARGS if graphics == "webgpu" else []
         # The third: forced as the second, at niivue's step (one voxel: its shader's `stepSize`)
         # and unshaded, as niivue draws by default — the same step as the faster peer.
-        for forced in ("", "&preview-backend=gpu&whole-frames",
-                       "&preview-backend=gpu&whole-frames&step=1&shading=off"):
+        for forced, suffix, how in (
+                ("", "", "as a visitor gets it"),
+                ("&preview-backend=gpu&whole-frames", "_gpu", "GPU preview forced, whole frames"),
+                ("&preview-backend=gpu&whole-frames&step=1&shading=off", "_gpu_niivue_step",
+                 "GPU preview forced, whole frames, niivue's step (1 voxel), unshaded")):
             row = {}
             scene = None
             for label, orbit in (("resting", ""), ("orbiting", "&auto-orbit=5")):
@@ -246,8 +252,6 @@ def main():
                     row[label] = float(m.group(1)) if m else float("nan")
                     scene = status["scene"]
                     if label == "resting":
-                        suffix = ("_gpu_niivue_step" if "step=" in forced
-                                  else "_gpu" if forced else "")
                         png = browser.screenshot(os.path.join(
                             opts.out, f"voxcast_{graphics}{suffix}_bunny.png"))
                         ratio = browser.run("return window.innerWidth") / status["canvas"][0]
@@ -257,9 +261,6 @@ def main():
                 finally:
                     browser.close()
             who = {"gpu": "GPU preview", "cpu": "CPU live view"}.get(row.get("backend"), row.get("backend"))
-            how = ("GPU preview forced, whole frames, niivue's step (1 voxel), unshaded"
-                   if "step=" in forced else
-                   "GPU preview forced, whole frames" if forced else "as a visitor gets it")
             print(f"| Voxcast {graphics} ({how}) | bunny | {who} | {scene[2]:.0f}×{scene[3]:.0f} | "
                   f"{ms(row['resting'])} | {ms(row['orbiting'])} | {100 * row['share']:.0f} % |", flush=True)
     print()

@@ -145,6 +145,49 @@ fn the_variant_follows_the_settings() {
     assert_eq!(PreviewVariant::of(&other_step), v);
 }
 
+/// A pipeline compiled for n lights shades with each of the n, once: `shade` calls `add_light`
+/// once per light, each written out under `#if VARIANT_LIGHTS > i` (shaders/shade.wgsl), so a
+/// larger `MAX_LIGHTS` without its call would leave the last lights dark on the GPU alone.
+#[test]
+fn a_pipeline_shades_with_each_of_its_lights_once() {
+    fn calls_to(block: &naga::Block, target: naga::Handle<naga::Function>) -> usize {
+        block
+            .iter()
+            .map(|statement| match statement {
+                naga::Statement::Call { function, .. } => usize::from(*function == target),
+                naga::Statement::Block(b) => calls_to(b, target),
+                naga::Statement::If { accept, reject, .. } => {
+                    calls_to(accept, target) + calls_to(reject, target)
+                }
+                naga::Statement::Loop {
+                    body, continuing, ..
+                } => calls_to(body, target) + calls_to(continuing, target),
+                _ => 0,
+            })
+            .sum()
+    }
+    for lights in 0..=MAX_LIGHTS as u32 {
+        let module = module_for(PreviewVariant {
+            flags: FLAG_SHADING,
+            lights,
+            ..PreviewVariant::default()
+        });
+        let named = |name: &str| {
+            module
+                .functions
+                .iter()
+                .find(|(_, f)| f.name.as_deref().is_some_and(|n| n.starts_with(name)))
+        };
+        let (_, shade) = named("shade").expect("shade is compiled in");
+        // With no light nothing calls `add_light`, and the composer leaves it out.
+        let calls = named("add_light").map_or(0, |(h, _)| calls_to(&shade.body, h));
+        assert_eq!(
+            calls, lights as usize,
+            "calls to add_light in a pipeline for {lights} lights"
+        );
+    }
+}
+
 /// Bytes of one member of `u`, by its WGSL name.
 fn member_bytes(u: &VolumeUniform, name: &str) -> Vec<u8> {
     let f = |v: f32| v.to_le_bytes().to_vec();
