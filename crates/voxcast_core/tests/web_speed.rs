@@ -1,6 +1,7 @@
 //! A measurement, not a check (ignored unless asked for; `benches/web.sh` runs it): the exact
 //! render of the bunny's preset view at the page's scene size (896×669) on one thread, with the
-//! widest lanes this target has and with none, the median of seven. Built for wasm32 and run
+//! widest lanes this target has and with none, the median of seven, and with the lanes in
+//! slices of 20 ms as the page runs it (which costs nothing measurable). Built for wasm32 and run
 //! under Node (V8, the engine of chromium's page) and built natively, it sets the page's core
 //! beside the desktop's, the same code on the same view:
 //!
@@ -11,10 +12,12 @@
 #[cfg(target_arch = "wasm32")]
 use wasm_bindgen_test::{console_log as println, wasm_bindgen_test as test};
 
+use std::sync::atomic::AtomicBool;
 use voxcast_core::builtin::load_builtin;
 use voxcast_core::camera::Camera;
-use voxcast_core::render::render_with_threads;
+use voxcast_core::render::{Job, TileSlices, render_in, render_with_threads};
 use voxcast_core::settings::RenderSettings;
+use voxcast_core::slices::{Duration, until_done};
 use voxcast_core::trace::{Scene, Vectors, lane_instructions};
 use voxcast_core::{Prepared, preset};
 use web_time::Instant;
@@ -57,5 +60,42 @@ fn the_bunny_on_one_thread() {
             median * 1e3,
             samples as f64 / median / 1e6
         );
+        if vectors == Vectors::Wide {
+            sliced(&s, &camera, &format!("{target}, {lanes}"));
+        }
     }
+}
+
+/// Runs `work` on one thread: a pool of one natively (the page has one thread).
+fn one_thread<R: Send>(work: impl FnOnce() -> R + Send) -> R {
+    if cfg!(target_arch = "wasm32") {
+        return work();
+    }
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+    pool.expect("a thread pool can be built").install(work)
+}
+
+/// The same render as the page runs it: in slices of 20 ms (`tasks::SLICE`), each a call of
+/// [`render_in`] that carries on where the last stopped, with nothing between them.
+fn sliced(scene: &voxcast_core::trace::Scene<'_>, camera: &Camera, label: &str) {
+    let cancel = AtomicBool::new(false);
+    let job = Job::plain(scene, camera, SIZE, &|_, _| {}, &cancel);
+    let mut times = Vec::new();
+    let mut calls = 0;
+    for _ in 0..7 {
+        let mut tiles = TileSlices::default();
+        let start = Instant::now();
+        let run = || {
+            until_done(Duration::from_millis(20), |d| {
+                render_in(&job, &mut tiles, d)
+            })
+        };
+        (_, calls) = one_thread(run).expect("not cancelled");
+        times.push(start.elapsed().as_secs_f64());
+    }
+    let median = voxcast_core::numbers::median(&times).expect("seven renders");
+    println!(
+        "web_speed {label}, in {calls} slices of 20 ms: {:.1} ms (median of 7)",
+        median * 1e3
+    );
 }

@@ -5,12 +5,15 @@
 //!
 //! The window counts as active for [`KEEP_DRAWING`] after the student's last input, the last
 //! [`KeepDrawing`] message (features send one each frame while they move: the preview until
-//! its exact image shows, the rays while they grow, a timed measurement), while the view moves
-//! ([`Motion`]) and while any background task runs ([`super::tasks::in_flight`]). While
-//! active the window draws as the app was started ([`WinitSettings`] as inserted, Bevy's
-//! default: every frame when focused); at rest it waits for input, a redraw request or
-//! [`REST_WAIT`]. An app started with [`WinitSettings::continuous`] (the measurements and the
-//! scripted players) is left as it is.
+//! its exact image shows, the rays while they grow, a timed measurement) and while the view
+//! moves ([`Motion`]). While active the window draws as the app was started ([`WinitSettings`]
+//! as inserted, Bevy's default: every frame when focused); at rest it waits for input, a redraw
+//! request or [`REST_WAIT`]. While a background task runs ([`super::tasks::in_flight`]) and
+//! nothing else asks for frames, the window is paced for the work: it draws its progress every
+//! [`WORK_WAIT`] and leaves the cores to the task (in a browser the task's slices and the
+//! frames share one thread, and the browser's software drawing the other core), and it wakes
+//! the moment the task ends. An app started with [`WinitSettings::continuous`] (the
+//! measurements and the scripted players) is left as it is.
 
 use super::quality::Motion;
 use bevy::input::keyboard::KeyboardInput;
@@ -29,6 +32,11 @@ pub const KEEP_DRAWING: Duration = Duration::from_secs(2);
 /// that sends no [`KeepDrawing`] waits at most to be shown.
 pub const REST_WAIT: Duration = Duration::from_millis(100);
 
+/// While only background work runs (a render, a load, a measurement), the longest the window
+/// waits between two frames without input: its progress shown four times a second, the rest
+/// of the time left to the work.
+pub const WORK_WAIT: Duration = Duration::from_millis(250);
+
 /// Sent by a feature in every frame in which it needs the next one soon (it moves, or waits
 /// for the window to draw).
 #[derive(Message, Clone, Copy, Debug, Default)]
@@ -41,8 +49,15 @@ pub struct Pacing {
     awake: Option<WinitSettings>,
     /// When the window was last active, seconds of real time.
     last_active: f64,
+    /// How many background tasks run ([`super::tasks::in_flight`]; the tests' own count).
+    in_flight: fn() -> usize,
+    /// Whether a background task ran in the last frame.
+    tasks_ran: bool,
     /// Whether the window is at rest (drawing only on input, requests and [`REST_WAIT`]).
     pub resting: bool,
+    /// Whether the window is paced for background work (drawing only on input, requests,
+    /// a task's end and [`WORK_WAIT`]).
+    pub working: bool,
     /// What last kept the window drawing, in words.
     pub woken_by: &'static str,
 }
@@ -52,7 +67,10 @@ impl Default for Pacing {
         Self {
             awake: None,
             last_active: 0.0,
+            in_flight: super::tasks::in_flight,
+            tasks_ran: false,
             resting: false,
+            working: false,
             woken_by: "starting",
         }
     }
@@ -61,6 +79,7 @@ impl Default for Pacing {
 pub fn plugin(app: &mut App) {
     app.add_message::<KeepDrawing>()
         .init_resource::<Pacing>()
+        .add_systems(Startup, wake_on_finish)
         .add_systems(Last, pace)
         .add_systems(
             PreUpdate,
@@ -89,11 +108,23 @@ fn drop_unchanged_modifiers(
     }
 }
 
-/// The settings at rest.
-fn at_rest() -> WinitSettings {
+/// The settings at rest, or (`wait` [`WORK_WAIT`]) while only background work runs.
+fn waiting(wait: Duration) -> WinitSettings {
     WinitSettings {
-        focused_mode: UpdateMode::reactive(REST_WAIT),
-        unfocused_mode: UpdateMode::reactive_low_power(REST_WAIT),
+        focused_mode: UpdateMode::reactive(wait),
+        unfocused_mode: UpdateMode::reactive_low_power(wait),
+    }
+}
+
+/// Wakes the window when a background task ends, so that its result shows at once while the
+/// window waits ([`super::tasks::on_finish`]).
+fn wake_on_finish(proxy: Option<Res<bevy::winit::EventLoopProxyWrapper>>) {
+    if let Some(proxy) = proxy {
+        let proxy = (**proxy).clone();
+        super::tasks::on_finish(move || {
+            // An event loop that has ended has no window to wake.
+            let _ = proxy.send_event(bevy::winit::WinitUserEvent::WakeUp);
+        });
     }
 }
 
@@ -124,13 +155,11 @@ impl Activity<'_, '_> {
             (self.cursor.read().count(), "the pointer moved"),
         ];
         let message = messages.iter().find(|(n, _)| *n > 0).map(|(_, why)| *why);
-        message
-            .or(self
-                .motion
-                .as_ref()
-                .is_some_and(|m| m.moving)
-                .then_some("the view moves"))
-            .or((super::tasks::in_flight() > 0).then_some("a task runs"))
+        message.or(self
+            .motion
+            .as_ref()
+            .is_some_and(|m| m.moving)
+            .then_some("the view moves"))
     }
 }
 
@@ -149,14 +178,26 @@ fn pace(
     if continuous(&awake) {
         return;
     }
-    if let Some(why) = activity.reason() {
+    let asked = activity.reason();
+    if let Some(why) = asked {
         pacing.last_active = now;
         pacing.woken_by = why;
     }
-    let resting = now - pacing.last_active >= KEEP_DRAWING.as_secs_f64();
-    if resting != pacing.resting {
-        pacing.resting = resting;
-        *settings = if resting { at_rest() } else { awake };
+    let working = (pacing.in_flight)() > 0;
+    if std::mem::replace(&mut pacing.tasks_ran, working) && !working {
+        // The work is done: its result shows with every frame for a while.
+        pacing.last_active = now;
+        pacing.woken_by = "a task finished";
+    }
+    let working = working && asked.is_none();
+    let resting = !working && now - pacing.last_active >= KEEP_DRAWING.as_secs_f64();
+    if (working, resting) != (pacing.working, pacing.resting) {
+        (pacing.working, pacing.resting) = (working, resting);
+        *settings = match (working, resting) {
+            (true, _) => waiting(WORK_WAIT),
+            (false, true) => waiting(REST_WAIT),
+            (false, false) => awake,
+        };
     }
 }
 
@@ -177,6 +218,8 @@ mod tests {
                 250,
             )))
             .add_plugins(plugin);
+        // No task of this test's (the process's count holds the other tests').
+        app.world_mut().resource_mut::<Pacing>().in_flight = || 0;
         app
     }
 
@@ -213,21 +256,50 @@ mod tests {
     }
 
     #[test]
-    fn a_task_under_way_keeps_the_window_drawing() {
-        bevy::tasks::AsyncComputeTaskPool::get_or_init(bevy::tasks::TaskPool::new);
+    fn a_task_under_way_paces_the_window_for_the_work_until_input() {
+        static TASKS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(1);
         let mut app = app(WinitSettings::game());
-        let (tx, rx) = std::sync::mpsc::channel::<()>();
-        let task = super::super::tasks::spawn(async move {
-            let _ = rx.recv();
-        });
+        app.world_mut().resource_mut::<Pacing>().in_flight =
+            || TASKS.load(std::sync::atomic::Ordering::Relaxed);
+        // Right after the click that started it (within KEEP_DRAWING), with nothing else
+        // asking for frames, the window draws at the work's pace.
+        app.update();
+        let pacing = app.world().resource::<Pacing>();
+        assert!(pacing.working && !pacing.resting, "{pacing:?}");
+        assert_eq!(focused(&app), UpdateMode::reactive(WORK_WAIT));
+        // A feature that moves (or the student's input) has every frame again.
+        app.world_mut().write_message(KeepDrawing);
+        app.update();
+        assert!(!app.world().resource::<Pacing>().working);
+        assert_eq!(focused(&app), UpdateMode::Continuous);
         for _ in 0..20 {
             app.update();
         }
-        assert!(!app.world().resource::<Pacing>().resting, "the task runs");
-        tx.send(()).unwrap();
-        bevy::tasks::block_on(task);
-        // (Whether it rests once the task is done depends on the other tests' tasks: the
-        // count is the process's.)
+        assert!(app.world().resource::<Pacing>().working, "the task runs");
+        assert_eq!(focused(&app), UpdateMode::reactive(WORK_WAIT));
+        // The task ends: every frame for a while, to show its result, then rest.
+        TASKS.store(0, std::sync::atomic::Ordering::Relaxed);
+        app.update();
+        let pacing = app.world().resource::<Pacing>();
+        assert!(!pacing.working && !pacing.resting, "{pacing:?}");
+        assert_eq!(pacing.woken_by, "a task finished");
+        assert_eq!(focused(&app), UpdateMode::Continuous);
+        for _ in 0..12 {
+            app.update();
+        }
+        assert!(app.world().resource::<Pacing>().resting);
+    }
+
+    #[test]
+    fn a_task_that_ends_calls_what_on_finish_was_given() {
+        static ENDED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        bevy::tasks::AsyncComputeTaskPool::get_or_init(bevy::tasks::TaskPool::new);
+        super::super::tasks::on_finish(|| {
+            ENDED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        });
+        let before = ENDED.load(std::sync::atomic::Ordering::Relaxed);
+        bevy::tasks::block_on(super::super::tasks::spawn(async {}));
+        assert!(ENDED.load(std::sync::atomic::Ordering::Relaxed) > before);
     }
 
     #[test]

@@ -191,6 +191,8 @@ pub struct PageStatus {
     /// The page rests: nothing moves or is under way, so it draws only on input or now and
     /// then (`pacing.rs`).
     pub resting: bool,
+    /// Only background work runs: the page draws its progress now and then (`pacing.rs`).
+    pub working: bool,
     /// What last kept it drawing, in words.
     pub woken_by: String,
 }

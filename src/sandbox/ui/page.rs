@@ -101,6 +101,7 @@ pub(super) fn publish_status(
             String::new()
         };
         s.resting = pacing.as_ref().is_some_and(|p| p.resting);
+        s.working = pacing.as_ref().is_some_and(|p| p.working);
         s.woken_by = pacing.as_ref().map_or("", |p| p.woken_by).into();
         preview_status(s, &preview, live.as_deref(), progressive.as_deref());
     });

@@ -8,7 +8,7 @@ use crate::sandbox::data::source::RayScene;
 use crate::sandbox::preview::live::LiveView;
 use crate::sandbox::scene::cut::CutHandles;
 use crate::sandbox::shared::mode::Mode;
-use crate::sandbox::shared::pacing::{Pacing, REST_WAIT};
+use crate::sandbox::shared::pacing::{Pacing, REST_WAIT, WORK_WAIT};
 use bevy::ecs::system::SystemParam;
 
 /// The panel's top row: the frame time, and Render image.
@@ -140,8 +140,17 @@ fn top_row(ui: &mut egui::Ui, top: &mut TopRow, spot: Spot) {
         .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
         .and_then(|d| d.smoothed());
     let resting = top.pacing.as_ref().is_some_and(|p| p.resting);
+    let working = top.pacing.as_ref().is_some_and(|p| p.working);
     ui.horizontal(|ui| {
-        if resting {
+        if working {
+            ui.label("frame time: paced for the work")
+                .on_hover_text(format!(
+                    "Only background work is under way (a render, a load, a measurement), so \
+                     the window draws its progress every {} s and leaves the computer to the \
+                     work; it draws every frame again as soon as something moves.",
+                    WORK_WAIT.as_secs_f32()
+                ));
+        } else if resting {
             ui.label("frame time: at rest").on_hover_text(format!(
                 "Nothing moves and nothing is under way, so the window draws only when \
                  something changes (and at least every {} s), leaving the computer free; the \
