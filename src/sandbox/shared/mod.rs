@@ -15,5 +15,6 @@ pub mod schedule;
 pub mod state;
 pub mod tasks;
 pub mod viewport;
+pub mod wake;
 #[cfg(target_arch = "wasm32")]
 pub mod web;

@@ -8,11 +8,12 @@
 //! its exact image shows, the rays while they grow, a timed measurement) and while the view
 //! moves ([`Motion`]). While active the window draws as the app was started ([`WinitSettings`]
 //! as inserted, Bevy's default: every frame when focused); at rest it waits for input, a redraw
-//! request or [`REST_WAIT`]. While a background task runs ([`super::tasks::in_flight`]) and
+//! request, a wake ([`super::wake`]: a task's end, files the page hands over) or [`REST_WAIT`].
+//! While a background task runs ([`super::tasks::in_flight`]) and
 //! nothing else asks for frames, the window is paced for the work: it draws its progress every
 //! [`WORK_WAIT`] and leaves the cores to the task (in a browser the task's slices and the
-//! frames share one thread, and the browser's software drawing the other core), and it wakes
-//! the moment the task ends. An app started with [`WinitSettings::continuous`] (the
+//! frames share one thread, and the browser's software drawing the other core), and the task's
+//! end wakes it. An app started with [`WinitSettings::continuous`] (the
 //! measurements and the scripted players) is left as it is.
 
 use super::quality::Motion;
@@ -29,8 +30,11 @@ use std::time::Duration;
 pub const KEEP_DRAWING: Duration = Duration::from_secs(2);
 
 /// At rest, the longest the window waits between two frames without input: what anything
-/// that sends no [`KeepDrawing`] waits at most to be shown.
-pub const REST_WAIT: Duration = Duration::from_millis(100);
+/// that neither sends [`KeepDrawing`] nor wakes the window ([`super::wake`]) waits at most to
+/// be shown. Long, because a resting frame is not free: in a browser without a graphics card
+/// each frame of the page is some 150–200 ms of the CPU's drawing, so a frame every 0.1 s kept
+/// both cores of a 2-core laptop busy with the page at rest (BENCHMARKS.md).
+pub const REST_WAIT: Duration = Duration::from_secs(1);
 
 /// While only background work runs (a render, a load, a measurement), the longest the window
 /// waits between two frames without input: its progress shown four times a second, the rest
@@ -79,7 +83,7 @@ impl Default for Pacing {
 pub fn plugin(app: &mut App) {
     app.add_message::<KeepDrawing>()
         .init_resource::<Pacing>()
-        .add_systems(Startup, wake_on_finish)
+        .add_systems(Startup, wake_through_winit)
         .add_systems(Last, pace)
         .add_systems(
             PreUpdate,
@@ -116,12 +120,11 @@ fn waiting(wait: Duration) -> WinitSettings {
     }
 }
 
-/// Wakes the window when a background task ends, so that its result shows at once while the
-/// window waits ([`super::tasks::on_finish`]).
-fn wake_on_finish(proxy: Option<Res<bevy::winit::EventLoopProxyWrapper>>) {
+/// Gives [`super::wake`] the window's way of waking (a task's end, files the page hands over).
+fn wake_through_winit(proxy: Option<Res<bevy::winit::EventLoopProxyWrapper>>) {
     if let Some(proxy) = proxy {
         let proxy = (**proxy).clone();
-        super::tasks::on_finish(move || {
+        super::wake::set(move || {
             // An event loop that has ended has no window to wake.
             let _ = proxy.send_event(bevy::winit::WinitUserEvent::WakeUp);
         });
@@ -291,15 +294,15 @@ mod tests {
     }
 
     #[test]
-    fn a_task_that_ends_calls_what_on_finish_was_given() {
-        static ENDED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    fn a_task_that_ends_wakes_the_window() {
+        static WOKEN: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
         bevy::tasks::AsyncComputeTaskPool::get_or_init(bevy::tasks::TaskPool::new);
-        super::super::tasks::on_finish(|| {
-            ENDED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        super::super::wake::set(|| {
+            WOKEN.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         });
-        let before = ENDED.load(std::sync::atomic::Ordering::Relaxed);
+        let before = WOKEN.load(std::sync::atomic::Ordering::Relaxed);
         bevy::tasks::block_on(super::super::tasks::spawn(async {}));
-        assert!(ENDED.load(std::sync::atomic::Ordering::Relaxed) > before);
+        assert!(WOKEN.load(std::sync::atomic::Ordering::Relaxed) > before);
     }
 
     #[test]

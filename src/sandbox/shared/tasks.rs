@@ -7,21 +7,11 @@
 
 use bevy::platform::time::Instant;
 use bevy::tasks::{AsyncComputeTaskPool, ConditionalSend, Task};
-use std::sync::OnceLock;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use voxcast_core::slices::{Deadline, Step};
 
 /// Tasks [`spawn`]ed and not yet finished or dropped.
 static IN_FLIGHT: AtomicUsize = AtomicUsize::new(0);
-
-/// What [`on_finish`] was given: called as each task ends.
-static ON_FINISH: OnceLock<Box<dyn Fn() + Send + Sync>> = OnceLock::new();
-
-/// Calls `wake` whenever a [`spawn`]ed task ends (the window, waiting between frames while
-/// tasks run, wakes to show the result: `pacing.rs`). The first call sets it for the process.
-pub fn on_finish(wake: impl Fn() + Send + Sync + 'static) {
-    let _ = ON_FINISH.set(Box::new(wake));
-}
 
 /// One task counted in [`IN_FLIGHT`] while it lives.
 struct Counted;
@@ -36,9 +26,8 @@ impl Counted {
 impl Drop for Counted {
     fn drop(&mut self) {
         IN_FLIGHT.fetch_sub(1, Ordering::Relaxed);
-        if let Some(wake) = ON_FINISH.get() {
-            wake();
-        }
+        // The window may be waiting between frames: the result shows at once.
+        super::wake::wake();
     }
 }
 

@@ -246,6 +246,7 @@ pub fn voxcast_receive_files(purpose: String, names: Vec<String>, files: Vec<js_
         .map(|(name, bytes)| (name, bytes.to_vec()))
         .collect();
     HANDED.with(|h| h.borrow_mut().push(FilesHanded { purpose, files }));
+    super::wake::wake();
 }
 
 /// The page hands over a volume's files (picked or dropped): their names and the browser's
@@ -261,6 +262,7 @@ pub fn voxcast_receive_volume(names: Vec<String>, files: Vec<web_sys::Blob>) {
         .collect();
     HANDLES.with(|h| h.borrow_mut().push((id, files)));
     VOLUMES.with(|v| v.borrow_mut().push(VolumeHanded { id, files: sized }));
+    super::wake::wake();
 }
 
 /// The handles of the volume files handed over as `id`, in their order (once; none after).
