@@ -1,7 +1,8 @@
-//! How often the window draws: every frame while something moves, changes or is under way,
-//! and only now and then once all is still — so that a student's laptop is not kept busy
-//! drawing the same picture (on a software renderer such as lavapipe a resting frame of the
-//! 1280×720 window is some 20 ms of both cores, drawn ~47 times a second).
+//! How often the window draws: every frame while something moves or changes, a few times a
+//! second while only background work is under way, and only now and then once all is still — so
+//! that a student's laptop is not kept busy drawing the same picture (on a software renderer
+//! such as lavapipe a resting frame of the 1280×720 window is some 20 ms of both cores, drawn
+//! ~47 times a second; in a browser without a graphics card some 150–200 ms).
 //!
 //! The window counts as active for [`KEEP_DRAWING`] after the student's last input, the last
 //! [`KeepDrawing`] message (features send one each frame while they move: the preview until
@@ -9,12 +10,12 @@
 //! moves ([`Motion`]). While active the window draws as the app was started ([`WinitSettings`]
 //! as inserted, Bevy's default: every frame when focused); at rest it waits for input, a redraw
 //! request, a wake ([`super::wake`]: a task's end, files the page hands over) or [`REST_WAIT`].
-//! While a background task runs ([`super::tasks::in_flight`]) and
-//! nothing else asks for frames, the window is paced for the work: it draws its progress every
-//! [`WORK_WAIT`] and leaves the cores to the task (in a browser the task's slices and the
-//! frames share one thread, and the browser's software drawing the other core), and the task's
-//! end wakes it. An app started with [`WinitSettings::continuous`] (the
-//! measurements and the scripted players) is left as it is.
+//! While a background task runs ([`super::tasks::in_flight`]) and nothing else asks for
+//! frames, the window is paced for the work: it draws its progress every [`WORK_WAIT`] and
+//! leaves the cores to the task (in a browser the task's slices and the frames share one
+//! thread, and the browser's software drawing the other core), and the task's end wakes it. An
+//! app started with [`WinitSettings::continuous`] (the measurements and the scripted players)
+//! is left as it is.
 
 use super::quality::Motion;
 use bevy::input::keyboard::KeyboardInput;
