@@ -362,6 +362,13 @@ fn hit(ta_in: f32, va_in: f32, tb_in: f32, vb_in: f32, o_v: vec3<f32>, d_v: vec3
     let t = ta + (tb - ta) * crossing_fraction(va, vb, target_value);
     let pv = o_v + d_v * t;
     let rgba = lut_lookup(target_value);
-    let color = shaded(rgba.rgb, pv, view);
+    // As in accumulate(): with the lattice records uploaded, the gradient from one read of the
+    // cell's 8 corners (the same numbers as `gradient`).
+    var color: vec3<f32>;
+    if (FLAGS & #{FLAG_RECORDS}u) != 0u && (FLAGS & #{FLAG_TRILINEAR}u) != 0u {
+        color = shaded_with(rgba.rgb, value_and_gradient_in_cell(cell(pv)).xyz, pv, view);
+    } else {
+        color = shaded(rgba.rgb, pv, view);
+    }
     return vec4(color * rgba.a, rgba.a);
 }
