@@ -65,6 +65,9 @@ pub struct Pacing {
     pub working: bool,
     /// What last kept the window drawing, in words.
     pub woken_by: &'static str,
+    /// Frames drawn since the window last woke from rest or from the work's pace (the first
+    /// one's frame time is the wait: the frame time shown leaves such frames out).
+    pub awake_frames: u32,
 }
 
 impl Default for Pacing {
@@ -77,6 +80,7 @@ impl Default for Pacing {
             resting: false,
             working: false,
             woken_by: "starting",
+            awake_frames: 0,
         }
     }
 }
@@ -195,6 +199,11 @@ fn pace(
     }
     let working = working && asked.is_none();
     let resting = !working && now - pacing.last_active >= KEEP_DRAWING.as_secs_f64();
+    pacing.awake_frames = if working || resting {
+        0
+    } else {
+        pacing.awake_frames.saturating_add(1)
+    };
     if (working, resting) != (pacing.working, pacing.resting) {
         (pacing.working, pacing.resting) = (working, resting);
         *settings = match (working, resting) {

@@ -133,12 +133,25 @@ fn asks_for_effects(lessons: &levels::Lessons, mode: Mode) -> bool {
     })
 }
 
+/// The median of the last `frames` of `values` (oldest first, at most 20), none before the
+/// third.
+fn recent_median(values: Vec<f64>, frames: u32) -> Option<f64> {
+    let n = (frames.min(20) as usize).min(values.len());
+    if n < 3 {
+        return None;
+    }
+    voxcast_core::numbers::median(&values[values.len() - n..])
+}
+
 /// The frame time (or that the window rests) and the Render image button.
 fn top_row(ui: &mut egui::Ui, top: &mut TopRow, spot: Spot) {
+    // The median of the frames drawn since the window last woke (up to the last 20): the
+    // frame that ended a wait measures the wait, not the drawing.
+    let awake = top.pacing.as_ref().map_or(u32::MAX, |p| p.awake_frames);
     let frame_time = top
         .diagnostics
         .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
-        .and_then(|d| d.smoothed());
+        .and_then(|d| recent_median(d.values().copied().collect(), awake));
     let resting = top.pacing.as_ref().is_some_and(|p| p.resting);
     let working = top.pacing.as_ref().is_some_and(|p| p.working);
     ui.horizontal(|ui| {
@@ -286,4 +299,26 @@ fn camera_and_data_sections(
         let depth = &mut render.depth_termination;
         preview_section(ui, &mut draft.preview, live, depth, method, spot)
     });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::recent_median;
+
+    #[test]
+    fn the_frame_time_shown_leaves_out_the_wait_that_ended_a_rest() {
+        // Resting frames a second apart, then the wake (its frame measures the wait) and three
+        // frames of some 17 ms.
+        let values = vec![1000.0, 1000.0, 1000.0, 1000.0, 17.0, 18.0, 16.0];
+        assert_eq!(
+            recent_median(values.clone(), 2),
+            None,
+            "too few frames awake"
+        );
+        let shown = recent_median(values.clone(), 4).unwrap();
+        assert!((16.0..=18.0).contains(&shown), "{shown}");
+        // Long awake: the last 20 frames.
+        let busy: Vec<f64> = (0..100).map(|i| if i < 80 { 50.0 } else { 20.0 }).collect();
+        assert_eq!(recent_median(busy, u32::MAX), Some(20.0));
+    }
 }
