@@ -270,7 +270,7 @@ pub fn render_with_threads(
     height: u32,
     threads: usize,
 ) -> Result<(LinearImage, RenderStats), Cancelled> {
-    let run = || {
+    on_threads(threads, || {
         render(
             scene,
             camera,
@@ -279,15 +279,21 @@ pub fn render_with_threads(
             &|_, _| {},
             &AtomicBool::new(false),
         )
-    };
+    })
+}
+
+/// Runs `work` on a dedicated pool of `threads` threads (at least one): what
+/// [`render_with_threads`] renders on. In WebAssembly, which has no threads here, on the
+/// calling one whatever `threads` says.
+pub fn on_threads<R: Send>(threads: usize, work: impl FnOnce() -> R + Send) -> R {
     if cfg!(target_arch = "wasm32") {
-        return run();
+        return work();
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.max(1))
         .build()
         .expect("a thread pool can be built");
-    pool.install(run)
+    pool.install(work)
 }
 
 /// A finished tile: its top-left corner, its pixels row by row, the samples it interpolated and

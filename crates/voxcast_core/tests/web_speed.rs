@@ -15,7 +15,7 @@ use wasm_bindgen_test::{console_log as println, wasm_bindgen_test as test};
 use std::sync::atomic::AtomicBool;
 use voxcast_core::builtin::load_builtin;
 use voxcast_core::camera::Camera;
-use voxcast_core::render::{Job, TileSlices, render_in, render_with_threads};
+use voxcast_core::render::{Job, TileSlices, on_threads, render_in, render_with_threads};
 use voxcast_core::settings::RenderSettings;
 use voxcast_core::slices::{Duration, until_done};
 use voxcast_core::trace::{Scene, Vectors, lane_instructions};
@@ -66,15 +66,6 @@ fn the_bunny_on_one_thread() {
     }
 }
 
-/// Runs `work` on one thread: a pool of one natively (the page has one thread).
-fn one_thread<R: Send>(work: impl FnOnce() -> R + Send) -> R {
-    if cfg!(target_arch = "wasm32") {
-        return work();
-    }
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
-    pool.expect("a thread pool can be built").install(work)
-}
-
 /// The same render as the page runs it: in slices of 20 ms (`tasks::SLICE`), each a call of
 /// [`render_in`] that carries on where the last stopped, with nothing between them.
 fn sliced(scene: &voxcast_core::trace::Scene<'_>, camera: &Camera, label: &str) {
@@ -90,7 +81,7 @@ fn sliced(scene: &voxcast_core::trace::Scene<'_>, camera: &Camera, label: &str) 
                 render_in(&job, &mut tiles, d)
             })
         };
-        (_, calls) = one_thread(run).expect("not cancelled");
+        (_, calls) = on_threads(1, run).expect("not cancelled");
         times.push(start.elapsed().as_secs_f64());
     }
     let median = voxcast_core::numbers::median(&times).expect("seven renders");

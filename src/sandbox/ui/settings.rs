@@ -135,7 +135,7 @@ fn asks_for_effects(lessons: &levels::Lessons, mode: Mode) -> bool {
 
 /// The median of the last `frames` of `values` (oldest first, at most 20), none before the
 /// third.
-fn recent_median(values: Vec<f64>, frames: u32) -> Option<f64> {
+fn recent_median(values: &[f64], frames: u32) -> Option<f64> {
     let n = (frames.min(20) as usize).min(values.len());
     if n < 3 {
         return None;
@@ -151,7 +151,7 @@ fn top_row(ui: &mut egui::Ui, top: &mut TopRow, spot: Spot) {
     let frame_time = top
         .diagnostics
         .get(&FrameTimeDiagnosticsPlugin::FRAME_TIME)
-        .and_then(|d| recent_median(d.values().copied().collect(), awake));
+        .and_then(|d| recent_median(&d.values().copied().collect::<Vec<_>>(), awake));
     let resting = top.pacing.as_ref().is_some_and(|p| p.resting);
     let working = top.pacing.as_ref().is_some_and(|p| p.working);
     ui.horizontal(|ui| {
@@ -310,15 +310,11 @@ mod tests {
         // Resting frames a second apart, then the wake (its frame measures the wait) and three
         // frames of some 17 ms.
         let values = vec![1000.0, 1000.0, 1000.0, 1000.0, 17.0, 18.0, 16.0];
-        assert_eq!(
-            recent_median(values.clone(), 2),
-            None,
-            "too few frames awake"
-        );
-        let shown = recent_median(values.clone(), 4).unwrap();
+        assert_eq!(recent_median(&values, 2), None, "too few frames awake");
+        let shown = recent_median(&values, 4).unwrap();
         assert!((16.0..=18.0).contains(&shown), "{shown}");
         // Long awake: the last 20 frames.
         let busy: Vec<f64> = (0..100).map(|i| if i < 80 { 50.0 } else { 20.0 }).collect();
-        assert_eq!(recent_median(busy, u32::MAX), Some(20.0));
+        assert_eq!(recent_median(&busy, u32::MAX), Some(20.0));
     }
 }
