@@ -1,5 +1,5 @@
 // Twin: crates/voxcast_core/src/sample.rs (`cell`, `lerp`, `sample_trilinear`, `nearest_index`,
-// `sample_nearest`, `sample`, `lattice_difference`, `lattice_differences`, `gradient`,
+// `sample_nearest`, `sample`, `lattice_differences`, `gradient`,
 // `value_and_gradient_in_cell`) and volume.rs (`to_data`). Texels are read one by one with
 // textureLoad and blended with the core's weights in the core's order (x, then y, then z), so the
 // preview does not depend on a device's filtering precision.
@@ -30,7 +30,7 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
     return a + (b - a) * t;
 }
 
-/// Set by `lattice_difference` when a difference needs a lattice point that holds no data.
+/// Set by `lattice_differences` when a difference needs a lattice point that holds no data.
 var<private> difference_undefined: bool;
 
 /// Whether a raw texel holds no data: non-finite voxels are uploaded as the largest float
@@ -100,30 +100,35 @@ fn sample(p_voxel: vec3<f32>) -> f32 {
     return sample_nearest(p_voxel);
 }
 
-/// The raw difference along axis a at lattice index idx, per lattice step: central inside,
-/// one-sided at the borders, zero on a one-point axis.
-fn lattice_difference(idx: vec3<u32>, a: i32) -> f32 {
-    let n_last = u32(params.last[a]);
-    let lo = select(idx[a] - 1u, 0u, idx[a] == 0u);
-    let hi = min(idx[a] + 1u, n_last);
-    if hi == lo {
-        return 0.0;
-    }
-    var p = idx;
-    var m = idx;
-    p[a] = hi;
-    m[a] = lo;
-    let inv_steps = select(0.5, 1.0, hi - lo == 1u);
-    let vp = load_raw(p);
-    let vm = load_raw(m);
-    if NO_DATA != 0u && (is_no_data(vp) || is_no_data(vm)) {
-        difference_undefined = true;
-    }
-    return (vp - vm) * inv_steps;
-}
-
+/// The raw differences along x, y and z at lattice index idx, per lattice step: central
+/// inside, one-sided at the borders, zero on a one-point axis (the core's `lattice_difference`
+/// for each axis). The three axes at once, with no axis chosen by a variable: a rasterizer that
+/// runs lanes in step pays for every dynamic pick, and SwiftShader's Vulkan compiler stalled
+/// for minutes on the per-axis version.
 fn lattice_differences(idx: vec3<u32>) -> vec3<f32> {
-    return vec3(lattice_difference(idx, 0), lattice_difference(idx, 1), lattice_difference(idx, 2));
+    let lo = idx - min(idx, vec3(1u));
+    let hi = min(idx + vec3(1u), vec3<u32>(params.last));
+    let vp = vec3(
+        load_raw(vec3(hi.x, idx.y, idx.z)),
+        load_raw(vec3(idx.x, hi.y, idx.z)),
+        load_raw(vec3(idx.x, idx.y, hi.z)),
+    );
+    let vm = vec3(
+        load_raw(vec3(lo.x, idx.y, idx.z)),
+        load_raw(vec3(idx.x, lo.y, idx.z)),
+        load_raw(vec3(idx.x, idx.y, lo.z)),
+    );
+    let steps = hi - lo;
+    if NO_DATA != 0u {
+        let x = steps.x != 0u && (is_no_data(vp.x) || is_no_data(vm.x));
+        let y = steps.y != 0u && (is_no_data(vp.y) || is_no_data(vm.y));
+        let z = steps.z != 0u && (is_no_data(vp.z) || is_no_data(vm.z));
+        if x || y || z {
+            difference_undefined = true;
+        }
+    }
+    let inv_steps = select(vec3(0.5), vec3(1.0), steps == vec3(1u));
+    return select((vp - vm) * inv_steps, vec3(0.0), steps == vec3(0u));
 }
 
 /// The gradient at p_voxel in data units per world unit: lattice differences blended with the

@@ -8,8 +8,8 @@
 // is not interpolated — exact, since such a sample would have had opacity 0. First, Maximum
 // and Minimum pass blocks by their value ranges (see trace.wgsl).
 // GPU-only: `block_of` (the core's walk carries its block's index from cell to cell; a GPU ray
-// finds it from the cell) and `block_range` (a texel of the ranges, where the core indexes
-// `BlockRanges`).
+// finds it from the cell), `block_range` (a texel of the ranges, where the core indexes
+// `BlockRanges`) and `nearest_exit` (the core's per-axis loop keeps the nearest as it goes).
 #define_import_path voxcast::skip
 
 #import voxcast::bindings::{params, empty_texture, range_texture, cells_texture}
@@ -36,16 +36,13 @@ fn block_range(b: vec3<u32>) -> vec2<f32> {
 /// The t where the ray (voxel-space origin o_v, direction d_v, for world-unit t) leaves block
 /// b. Border blocks extend outwards.
 fn block_exit(b: vec3<u32>, o_v: vec3<f32>, d_v: vec3<f32>) -> f32 {
-    var t_exit = 3.4e38;
-    for (var a = 0; a < 3; a++) {
-        let d = d_v[a];
-        if d > 0.0 && b[a] + 1u < params.blocks[a] {
-            t_exit = min(t_exit, (f32((b[a] + 1u) * #{BLOCK}u) - o_v[a]) / d);
-        } else if d < 0.0 && b[a] > 0u {
-            t_exit = min(t_exit, (f32(b[a] * #{BLOCK}u) - o_v[a]) / d);
-        }
-    }
-    return t_exit;
+    // The three axes at once, as in `leap_exit_at`.
+    let up = vec3<f32>((b + vec3(1u)) * #{BLOCK}u);
+    let down = vec3<f32>(b * #{BLOCK}u);
+    let exits = (select(down, up, d_v > vec3(0.0)) - o_v) / d_v;
+    let open = select(select(vec3(0.0), vec3(1.0), b > vec3(0u)), select(vec3(0.0), vec3(1.0), b + vec3(1u) < params.blocks), d_v > vec3(0.0))
+        * select(vec3(0.0), vec3(1.0), d_v != vec3(0.0));
+    return nearest_exit(exits, open);
 }
 
 /// The texel of the brick holding the cell with lower corner `lo`: its visibility word's two
@@ -74,17 +71,22 @@ fn visible(lo: vec3<u32>, brick: vec4<u32>) -> bool {
 fn leap_exit_at(lo: vec3<u32>, distance: u32, o_v: vec3<f32>, d_v: vec3<f32>) -> f32 {
     let b = lo >> vec3(2u);
     let reach = max(distance, 1u) - 1u;
-    var t_exit = 3.4e38;
-    for (var a = 0; a < 3; a++) {
-        let d = d_v[a];
-        if d > 0.0 {
-            let above = b[a] + reach + 1u;
-            if above < params.bricks[a] {
-                t_exit = min(t_exit, (f32(above * 4u) - params.brick_margin - o_v[a]) / d);
-            }
-        } else if d < 0.0 && b[a] > reach {
-            t_exit = min(t_exit, (f32((b[a] - reach) * 4u) + params.brick_margin - o_v[a]) / d);
-        }
-    }
-    return t_exit;
+    // The three axes at once, with no loop and no axis chosen by a variable (a rasterizer
+    // that runs lanes in step pays every iteration and every dynamic pick): per axis the face
+    // the ray moves towards, open unless it lies on the volume's border or the ray does not
+    // move along the axis.
+    let above = b + vec3(reach + 1u);
+    let up = vec3<f32>(above * 4u) - params.brick_margin;
+    let down = vec3<f32>((b - vec3(reach)) * 4u) + params.brick_margin;
+    let exits = (select(down, up, d_v > vec3(0.0)) - o_v) / d_v;
+    let open = select(select(vec3(0.0), vec3(1.0), b > vec3(reach)), select(vec3(0.0), vec3(1.0), above < params.bricks), d_v > vec3(0.0))
+        * select(vec3(0.0), vec3(1.0), d_v != vec3(0.0));
+    return nearest_exit(exits, open);
+}
+
+/// The nearest of three axes' exits, counting those whose `open` is 1 (none: 3.4e38). Floats
+/// chosen by booleans only: WebGL2's GLSL has no choice between boolean or integer vectors.
+fn nearest_exit(exits: vec3<f32>, open: vec3<f32>) -> f32 {
+    let t = select(vec3(3.4e38), exits, open > vec3(0.5));
+    return min(min(min(3.4e38, t.x), t.y), t.z);
 }
