@@ -9,7 +9,8 @@
 // and Minimum pass blocks by their value ranges (see trace.wgsl).
 // GPU-only: `block_of` (the core's walk carries its block's index from cell to cell; a GPU ray
 // finds it from the cell), `block_range` (a texel of the ranges, where the core indexes
-// `BlockRanges`) and `nearest_exit` (the core's per-axis loop keeps the nearest as it goes).
+// `BlockRanges`) and `nearest_exit` (both exits' per-axis choice, which the core's loops make
+// as they go).
 #define_import_path voxcast::skip
 
 #import voxcast::bindings::{params, empty_texture, range_texture, cells_texture}
@@ -39,10 +40,7 @@ fn block_exit(b: vec3<u32>, o_v: vec3<f32>, d_v: vec3<f32>) -> f32 {
     // The three axes at once, as in `leap_exit_at`.
     let up = vec3<f32>((b + vec3(1u)) * #{BLOCK}u);
     let down = vec3<f32>(b * #{BLOCK}u);
-    let exits = (select(down, up, d_v > vec3(0.0)) - o_v) / d_v;
-    let open = select(select(vec3(0.0), vec3(1.0), b > vec3(0u)), select(vec3(0.0), vec3(1.0), b + vec3(1u) < params.blocks), d_v > vec3(0.0))
-        * select(vec3(0.0), vec3(1.0), d_v != vec3(0.0));
-    return nearest_exit(exits, open);
+    return nearest_exit(down, b > vec3(0u), up, b + vec3(1u) < params.blocks, o_v, d_v);
 }
 
 /// The texel of the brick holding the cell with lower corner `lo`: its visibility word's two
@@ -78,15 +76,28 @@ fn leap_exit_at(lo: vec3<u32>, distance: u32, o_v: vec3<f32>, d_v: vec3<f32>) ->
     let above = b + vec3(reach + 1u);
     let up = vec3<f32>(above * 4u) - params.brick_margin;
     let down = vec3<f32>((b - vec3(reach)) * 4u) + params.brick_margin;
-    let exits = (select(down, up, d_v > vec3(0.0)) - o_v) / d_v;
-    let open = select(select(vec3(0.0), vec3(1.0), b > vec3(reach)), select(vec3(0.0), vec3(1.0), above < params.bricks), d_v > vec3(0.0))
-        * select(vec3(0.0), vec3(1.0), d_v != vec3(0.0));
-    return nearest_exit(exits, open);
+    return nearest_exit(down, b > vec3(reach), up, above < params.bricks, o_v, d_v);
 }
 
-/// The nearest of three axes' exits, counting those whose `open` is 1 (none: 3.4e38). Floats
-/// chosen by booleans only: WebGL2's GLSL has no choice between boolean or integer vectors.
-fn nearest_exit(exits: vec3<f32>, open: vec3<f32>) -> f32 {
+/// The nearest t (world units, 3.4e38 if none) at which the ray (voxel-space origin o_v,
+/// direction d_v) meets, on each axis, the face it moves towards — `down` (voxel coordinate)
+/// when it moves down the axis, `up` when up — counting a face only where it is open
+/// (`down_open`, `up_open`) and the ray moves along the axis. Floats chosen by booleans only:
+/// WebGL2's GLSL has no choice between boolean or integer vectors.
+fn nearest_exit(
+    down: vec3<f32>,
+    down_open: vec3<bool>,
+    up: vec3<f32>,
+    up_open: vec3<bool>,
+    o_v: vec3<f32>,
+    d_v: vec3<f32>,
+) -> f32 {
+    let forward = d_v > vec3(0.0);
+    let exits = (select(down, up, forward) - o_v) / d_v;
+    let down_ok = select(vec3(0.0), vec3(1.0), down_open);
+    let up_ok = select(vec3(0.0), vec3(1.0), up_open);
+    let moving = select(vec3(0.0), vec3(1.0), d_v != vec3(0.0));
+    let open = select(down_ok, up_ok, forward) * moving;
     let t = select(vec3(3.4e38), exits, open > vec3(0.5));
     return min(min(min(3.4e38, t.x), t.y), t.z);
 }

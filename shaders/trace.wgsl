@@ -20,6 +20,11 @@
 #import voxcast::shade::shade
 #import voxcast::composite::{correct_opacity, accumulate_front_to_back, accumulate_back_to_front, reaches, crossing_fraction, sum_to_value}
 
+/// Whether a sample's value and gradient come from the lattice records (integer volumes, their
+/// records uploaded): one read of the cell's 8 corners, the same numbers as `sample` and
+/// `gradient`. As in the core, for trilinear reconstruction only.
+const RECORDED: bool = (FLAGS & #{FLAG_RECORDS}u) != 0u && (FLAGS & #{FLAG_TRILINEAR}u) != 0u;
+
 /// The value (data units) at voxel position pv.
 fn value_at(pv: vec3<f32>) -> f32 {
     return to_data(sample(pv));
@@ -98,9 +103,6 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
     var acc = vec4(0.0);
     let skip = SKIP_EMPTY != 0u && !back_to_front;
     let leaping = (FLAGS & #{FLAG_SKIP_CELLS}u) != 0u;
-    // As in the core, for trilinear reconstruction only.
-    let recorded = (FLAGS & #{FLAG_RECORDS}u) != 0u
-        && (FLAGS & #{FLAG_TRILINEAR}u) != 0u;
     let margin_t = params.skip_margin / length(d_v);
     var checked = vec3(0xffffffffu);
     var i = 0u;
@@ -165,7 +167,7 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
         // from one read of the cell's 8 corners, as in the core.
         var v: f32;
         var grad = vec3(0.0);
-        if recorded {
+        if RECORDED {
             let vg = value_and_gradient_in_cell(cell(pv));
             v = to_data(vg.w);
             grad = vg.xyz;
@@ -173,7 +175,7 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
             v = value_at(pv);
         }
         var cl: vec4<f32>;
-        if recorded {
+        if RECORDED {
             cl = classified_with(v, grad);
         } else {
             cl = classified(v, pv);
@@ -187,7 +189,7 @@ fn accumulate(plan: StepPlan, o_v: vec3<f32>, d_v: vec3<f32>, view: vec3<f32>) -
         }
         if alpha > 0.0 {
             var color: vec3<f32>;
-            if recorded {
+            if RECORDED {
                 color = shaded_with(cl.rgb, grad, pv, view);
             } else {
                 color = shaded(cl.rgb, pv, view);
@@ -362,10 +364,9 @@ fn hit(ta_in: f32, va_in: f32, tb_in: f32, vb_in: f32, o_v: vec3<f32>, d_v: vec3
     let t = ta + (tb - ta) * crossing_fraction(va, vb, target_value);
     let pv = o_v + d_v * t;
     let rgba = lut_lookup(target_value);
-    // As in accumulate(): with the lattice records uploaded, the gradient from one read of the
-    // cell's 8 corners (the same numbers as `gradient`).
+    // As in accumulate(): with the records, the gradient from one read of the cell's 8 corners.
     var color: vec3<f32>;
-    if (FLAGS & #{FLAG_RECORDS}u) != 0u && (FLAGS & #{FLAG_TRILINEAR}u) != 0u {
+    if RECORDED {
         color = shaded_with(rgba.rgb, value_and_gradient_in_cell(cell(pv)).xyz, pv, view);
     } else {
         color = shaded(rgba.rgb, pv, view);
