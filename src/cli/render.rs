@@ -7,9 +7,10 @@ use clap::Args;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
-use voxcast_core::cost::{CostMap, CostView, render_cost};
+use voxcast_core::cost::{CostMap, CostView, render_with_cost_in};
 use voxcast_core::image_out::LinearImage;
-use voxcast_core::render::{RenderStats, render};
+use voxcast_core::render::{Cancelled, Job, RenderStats, TileSlices, render};
+use voxcast_core::slices::{Deadline, Step};
 use voxcast_core::trace::Scene;
 
 #[derive(Args, Debug)]
@@ -76,7 +77,8 @@ pub fn median(v: &[f64]) -> f64 {
     voxcast_core::numbers::median(v).unwrap_or(f64::NAN)
 }
 
-/// Renders `repeat` times on `threads` threads (or the global pool), with a progress bar.
+/// `repeat` renders of `camera`'s view of `scene`, each timed, on `threads` threads (the
+/// current pool when `None`); the last one's image.
 pub fn timed_render(
     scene: &Scene<'_>,
     camera: &voxcast_core::camera::Camera,
@@ -85,6 +87,49 @@ pub fn timed_render(
     threads: Option<usize>,
     label: &str,
 ) -> Result<Timed, CliError> {
+    let cancel = AtomicBool::new(false);
+    let work =
+        |progress: &(dyn Fn(usize, usize) + Sync)| render(scene, camera, w, h, progress, &cancel);
+    let ((image, stats), seconds) = timed_runs(repeat, threads, label, work)?;
+    Ok(Timed {
+        image,
+        stats,
+        seconds,
+    })
+}
+
+/// [`timed_render`] of the picture and its cost map from one march
+/// (`render_with_cost_in`): the time is both's.
+fn timed_render_with_cost(
+    scene: &Scene<'_>,
+    camera: &voxcast_core::camera::Camera,
+    size: (u32, u32),
+    repeat: u32,
+    threads: Option<usize>,
+    label: &str,
+) -> Result<(Timed, CostMap), CliError> {
+    let cancel = AtomicBool::new(false);
+    let work = |progress: &(dyn Fn(usize, usize) + Sync)| {
+        let job = Job::plain(scene, camera, size, progress, &cancel);
+        render_with_cost_in(&job, &mut TileSlices::default(), Deadline::NONE).map(Step::whole)
+    };
+    let ((image, stats, cost), seconds) = timed_runs(repeat, threads, label, work)?;
+    let timed = Timed {
+        image,
+        stats,
+        seconds,
+    };
+    Ok((timed, cost))
+}
+
+/// `repeat` runs of `work` (given its progress callback), each timed, on `threads` threads
+/// (the current pool when `None`): the last one's result and every run's seconds.
+fn timed_runs<T: Send>(
+    repeat: u32,
+    threads: Option<usize>,
+    label: &str,
+    work: impl Fn(&(dyn Fn(usize, usize) + Sync)) -> Result<T, Cancelled> + Sync,
+) -> Result<(T, Vec<f64>), CliError> {
     let pool = match threads {
         Some(n) => Some(
             rayon::ThreadPoolBuilder::new()
@@ -94,12 +139,11 @@ pub fn timed_render(
         ),
         None => None,
     };
-    let cancel = AtomicBool::new(false);
     let mut seconds = Vec::new();
     let mut last = None;
     for i in 0..repeat.max(1) {
         let progress = Progress::new(format!("{label} {}/{}", i + 1, repeat.max(1)));
-        let run = || render(scene, camera, w, h, &|d, t| progress.update(d, t), &cancel);
+        let run = || work(&|d, t| progress.update(d, t));
         let start = Instant::now();
         let result = match &pool {
             Some(p) => p.install(run),
@@ -109,12 +153,7 @@ pub fn timed_render(
         progress.finish();
         last = Some(result.map_err(|e| CliError::failed(e.to_string()))?);
     }
-    let (image, stats) = last.expect("at least one render");
-    Ok(Timed {
-        image,
-        stats,
-        seconds,
-    })
+    Ok((last.expect("at least one run"), seconds))
 }
 
 pub fn run(a: &RenderArgs) -> Result<(), CliError> {
@@ -154,19 +193,32 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         camera.forward(),
     )?;
     let prep_s = t_prep.elapsed().as_secs_f64();
-    let timed = timed_render(&scene, &camera, a.size, a.repeat, a.threads, "rendering")?;
+    // The cost views and First's depth come from the render's own march, timed with it.
+    let (timed, cost) = if a.cost.is_some() || a.depth.is_some() {
+        let (timed, cost) =
+            timed_render_with_cost(&scene, &camera, a.size, a.repeat, a.threads, "rendering")?;
+        (timed, Some(cost))
+    } else {
+        let timed = timed_render(&scene, &camera, a.size, a.repeat, a.threads, "rendering")?;
+        (timed, None)
+    };
     timed
         .image
         .save_png(&a.out)
         .map_err(|e| CliError::failed(format!("cannot write {}: {e}", a.out.display())))?;
     let s = &resolved.settings;
     println!(
-        "rendered {}×{} {} ({}, step {} voxel) in {:.3} s{}: {} sample positions, {} interpolated ({}), {:.1} M samples/s → {} (loading {:.2} s and preparation {:.2} s excluded)",
+        "rendered {}×{} {} ({}, step {} voxel){} in {:.3} s{}: {} sample positions, {} interpolated ({}), {:.1} M samples/s → {} (loading {:.2} s and preparation {:.2} s excluded)",
         a.size.0,
         a.size.1,
         loaded.volume.name(),
         s.method.name(),
         voxcast_core::numbers::sig(s.step.voxels(loaded.volume.spacing().min_element())),
+        if cost.is_some() {
+            " with its cost map (one march)"
+        } else {
+            ""
+        },
         timed.median(),
         if a.repeat > 1 {
             format!(" (median of {})", a.repeat)
@@ -188,14 +240,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     if let Some(warning) = timed.stats.cap_warning(s.max_samples) {
         eprintln!("warning: {warning}");
     }
-    // One more march, the render's own, for the cost views and First's depth.
-    if a.cost.is_some() || a.depth.is_some() {
-        let progress = Progress::new("cost");
-        let cancel = AtomicBool::new(false);
-        let update = |d, t| progress.update(d, t);
-        let map = render_cost(&scene, &camera, a.size, &update, &cancel)
-            .map_err(|e| CliError::failed(e.to_string()))?;
-        progress.finish();
+    if let Some(map) = cost {
         if let Some(view) = a.cost.as_deref().and_then(CostView::parse) {
             write_cost(&map, a, view)?;
         }

@@ -6,6 +6,10 @@
 //!   every method. Throughput counts sample positions along the rays (skipped empty space
 //!   included), so the figure is comparable with a caster that does not skip.
 //!
+//! * `render_image`: what the sandbox's Render image marches for the embedded bunny at the
+//!   page's scene size (896×669, its preset): the picture alone, the picture and then its cost
+//!   map (two marches, as before), and both from one march (`render_with_cost_in`).
+//!
 //! * `peer_scenes`: the four shared volumes as `voxcast bench --peer` renders them beside VTK
 //!   (the peer's camera, the volume's own preset, 512×512, step 0.5 voxel, all cores) — the
 //!   scenes issue 13's ratios are measured on; those absent are left out with a note. Each
@@ -127,6 +131,45 @@ fn benches(c: &mut Criterion) {
     g.finish();
 }
 
+fn render_image(c: &mut Criterion) {
+    use voxcast_core::cost::{render_cost, render_with_cost_in};
+    use voxcast_core::render::{Job, TileSlices};
+    use voxcast_core::slices::{Deadline, Step};
+    let volume = voxcast_core::Prepared::from(load_builtin("bunny").unwrap().volume);
+    let p = preset::for_volume(volume.name()).unwrap();
+    let s = p.settings_over(&RenderSettings::default()).unwrap();
+    let view = p.view.unwrap();
+    let (lo, hi) = volume.bounds();
+    let camera = Camera::framing(lo, hi, view.from, view.up).unwrap();
+    let scene = Scene::new(&volume, &p.transfer, &s, camera.forward()).unwrap();
+    let (w, h) = (896, 669);
+    let cancel = AtomicBool::new(false);
+    let (_, stats) = render(&scene, &camera, w, h, &|_, _| {}, &cancel).unwrap();
+    let mut g = c.benchmark_group("render_image");
+    g.sample_size(10);
+    // The picture's positions, whatever else is kept of them.
+    g.throughput(Throughput::Elements(stats.positions));
+    g.bench_function("bunny_picture", |b| {
+        b.iter(|| render(&scene, &camera, w, h, &|_, _| {}, &cancel).unwrap())
+    });
+    g.bench_function("bunny_picture_then_cost_map", |b| {
+        b.iter(|| {
+            let picture = render(&scene, &camera, w, h, &|_, _| {}, &cancel).unwrap();
+            let cost = render_cost(&scene, &camera, (w, h), &|_, _| {}, &cancel).unwrap();
+            (picture, cost)
+        })
+    });
+    g.bench_function("bunny_picture_and_cost_map_one_march", |b| {
+        b.iter(|| {
+            let job = Job::plain(&scene, &camera, (w, h), &|_, _| {}, &cancel);
+            render_with_cost_in(&job, &mut TileSlices::default(), Deadline::NONE)
+                .map(Step::whole)
+                .unwrap()
+        })
+    });
+    g.finish();
+}
+
 /// The shared volumes with their peer camera files.
 const PEER_SCENES: [(&str, &str); 4] = [
     ("ct_cranium", "ct_cranium.nrrd"),
@@ -177,5 +220,5 @@ fn peer_scenes(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(render_benches, benches, peer_scenes);
+criterion_group!(render_benches, benches, render_image, peer_scenes);
 criterion_main!(render_benches);

@@ -12,7 +12,12 @@
 //! cost rise, pixel by pixel, where the work they save lies.
 //!
 //! With the method First the same march also keeps each ray's hit distance: the depth image,
-//! "distance to the first voxel" ([`crate::depth`]), is one more view of the map.
+//! "distance to the first voxel" ([`crate::depth`]), is one more view of the map. Render image
+//! takes the picture and its map from one march ([`render_with_cost_in`]).
+
+mod picture;
+
+pub use picture::{PictureAndCost, render_with_cost_in};
 
 use crate::camera::Camera;
 use crate::colormap::inferno;
@@ -254,6 +259,11 @@ pub fn render_depth(
     Ok(map.depth.expect("First keeps its depth"))
 }
 
+/// The last channel of a ray's cost packs three counts of a pixel's rays, each below this
+/// (supersampling is at most 8, so 64 rays): capped + MISSED·missed + MISSED²·early, whole
+/// numbers below 2^24, where f32 holds them exactly.
+const MISSED: f32 = 128.0;
+
 /// [`render_cost`] of `job` (its occluders and surface left out) in slices, as
 /// [`crate::render::render_in`].
 pub fn render_cost_in(
@@ -261,47 +271,63 @@ pub fn render_cost_in(
     slices: &mut TileSlices,
     deadline: Deadline,
 ) -> Result<Step<CostMap>, Cancelled> {
-    /// The last channel packs three counts of a pixel's rays, each below this (supersampling
-    /// is at most 8, so 64 rays): capped + MISSED·missed + MISSED²·early, whole numbers below
-    /// 2^24, where f32 holds them exactly.
-    const MISSED: f32 = 128.0;
     let job = Job {
         occluders: &[],
         surface: None,
         ..*job
     };
+    let step = job.run_on_volume(|out, _, _| ray_cost(out), slices, deadline)?;
+    Ok(match step {
+        Step::Paused => Step::Paused,
+        Step::Done((pixels, stats)) => Step::Done(cost_map(&job, &pixels, |p| *p, stats)),
+    })
+}
+
+/// What one ray cost, as the map's march keeps it: samples, positions, First's hit distance
+/// (0 where the ray found no target) and how it stopped (packed, see [`MISSED`]).
+pub(crate) fn ray_cost(out: &crate::trace::RayOutcome) -> Vec4 {
+    let early = matches!(out.stop, StopReason::Cutoff | StopReason::FirstHit);
+    let capped = out.stop == StopReason::SampleCap;
+    let missed = matches!(out.stop, StopReason::Missed | StopReason::CutAway);
+    let hit_t = if out.hit_t.is_nan() { 0.0 } else { out.hit_t };
+    Vec4::new(
+        out.samples as f32,
+        out.positions as f32,
+        hit_t,
+        f32::from(u8::from(capped))
+            + MISSED * f32::from(u8::from(missed))
+            + MISSED * MISSED * f32::from(u8::from(early)),
+    )
+}
+
+/// `x.round() as u32` for a count `x` (not negative, below 2^32), without the library call
+/// `round` is on targets without a rounding instruction (x86-64's baseline, WebAssembly): the
+/// whole part, and one more from a half up — the same halves away from zero. `x − ⌊x⌋` is exact
+/// in f32 where counts are (below 2^24).
+fn round_count(x: f32) -> u32 {
+    let whole = x as u32;
+    whole + u32::from(x - whole as f32 >= 0.5)
+}
+
+/// The cost map of `job` from its pixels' averaged [`ray_cost`]s, each read from a pixel by
+/// `cost` (the pixels may carry more than their cost).
+pub(crate) fn cost_map<V: Sync>(
+    job: &Job<'_, '_>,
+    pixels: &[V],
+    cost: impl Fn(&V) -> Vec4 + Sync,
+    stats: RenderStats,
+) -> CostMap {
     let (scene, width, height) = (job.scene, job.width, job.height);
-    let step = job.run_on_volume(
-        |out, _, _| {
-            let early = matches!(out.stop, StopReason::Cutoff | StopReason::FirstHit);
-            let capped = out.stop == StopReason::SampleCap;
-            let missed = matches!(out.stop, StopReason::Missed | StopReason::CutAway);
-            // The third channel: First's hit distance (0 where the ray found no target).
-            let hit_t = if out.hit_t.is_nan() { 0.0 } else { out.hit_t };
-            Vec4::new(
-                out.samples as f32,
-                out.positions as f32,
-                hit_t,
-                f32::from(u8::from(capped))
-                    + MISSED * f32::from(u8::from(missed))
-                    + MISSED * MISSED * f32::from(u8::from(early)),
-            )
-        },
-        slices,
-        deadline,
-    )?;
-    let Step::Done((pixels, stats)) = step else {
-        return Ok(Step::Paused);
-    };
     // The job averages over a pixel's rays; multiplied back, every count is a whole number
     // again (they stay far below 2^24, where f32 holds integers exactly).
     let n = scene.settings.supersampling.max(1);
     let rays = (n * n) as f32;
-    let whole = |x: f32| (x * rays).round() as u32;
+    let whole = |x: f32| round_count(x * rays);
     let m = MISSED as u32;
     let counts: Vec<[u32; 5]> = pixels
         .iter()
         .map(|p| {
+            let p = cost(p);
             let last = whole(p.w);
             let (early, missed, capped) = (last / (m * m), last / m % m, last % m);
             [whole(p.x), whole(p.y), early, capped, n * n - missed]
@@ -319,7 +345,7 @@ pub fn render_cost_in(
                 .zip(&counts)
                 .map(|(p, c)| {
                     if c[2] > 0 {
-                        p.z * rays / c[2] as f32
+                        cost(p).z * rays / c[2] as f32
                     } else {
                         f32::NAN
                     }
@@ -335,7 +361,7 @@ pub fn render_cost_in(
         .longest_ray_samples(scene.volume)
         .ceil()
         .min(f64::from(scene.settings.max_samples)) as u32;
-    Ok(Step::Done(CostMap {
+    CostMap {
         width,
         height,
         rays_per_pixel: n * n,
@@ -344,12 +370,35 @@ pub fn render_cost_in(
         full_scale: longest.max(1) * n * n,
         depth,
         background: scene.settings.background,
-    }))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn counts_round_as_round_does() {
+        let mut x = 0.0f32;
+        let edges = [
+            0.0, 0.49999997, 0.5, 1.4999999, 1.5, 2.5, 3.0000002, 8388607.5, 8388609.0,
+        ];
+        for v in edges.into_iter().chain([16777215.0, 1e9, 4294967040.0]) {
+            assert_eq!(round_count(v), v.round() as u32, "{v}");
+        }
+        // Every 37th float up to 2^24, and the neighbours of each half.
+        while x < 16777216.0 {
+            for v in [
+                x,
+                (x.floor() + 0.5).next_down(),
+                x.floor() + 0.5,
+                (x.floor() + 0.5).next_up(),
+            ] {
+                assert_eq!(round_count(v), v.round() as u32, "{v}");
+            }
+            x = f32::from_bits(x.to_bits() + 37);
+        }
+    }
     use crate::settings::RenderSettings;
     use crate::step::Length;
 

@@ -14,8 +14,10 @@
 //! [`crate::trace`]'s, run with [`NoRecord`].
 //!
 //! A render can also be done in slices ([`crate::slices`]: a browser's one thread draws the page
-//! between them): [`render_in`], [`render_layer_in`] and `cost::render_cost_in` take a
-//! [`TileSlices`] that keeps the finished tiles, and stop taking tiles at a deadline.
+//! between them): [`render_in`], [`render_layer_in`], `cost::render_cost_in` and
+//! `cost::render_with_cost_in` (the picture and its cost map from one march) take a
+//! [`TileSlices`] that keeps the finished tiles, and stop taking tiles at a deadline. Each
+//! turns a ray's outcome into its own [`RayValue`]; the march is the same.
 
 use crate::camera::Camera;
 use crate::entry::EntryBounds;
@@ -296,20 +298,42 @@ pub fn on_threads<R: Send>(threads: usize, work: impl FnOnce() -> R + Send) -> R
     pool.install(work)
 }
 
+/// What a render turns each ray into (a colour, a layer's colour and opacity, a cost map's
+/// counts, or several of these at once), summed over a pixel's rays and scaled by one over
+/// their number.
+pub trait RayValue:
+    Copy + Default + Send + Sync + std::ops::Add<Output = Self> + std::ops::Mul<f32, Output = Self>
+{
+}
+
+impl<V> RayValue for V where
+    V: Copy + Default + Send + Sync + std::ops::Add<Output = V> + std::ops::Mul<f32, Output = V>
+{
+}
+
 /// A finished tile: its top-left corner, its pixels row by row, the samples it interpolated and
 /// passed, and the rays the sample cap cut short.
-type TileResult = (u32, u32, Vec<Vec4>, u64, u64, u64);
+type TileResult<V> = (u32, u32, Vec<V>, u64, u64, u64);
 
 /// A render's work kept between slices ([`crate::slices`]): the tiles finished so far, and
 /// where each pixel's rays can first meet a visible cell (found once, by the first slice).
 /// One `TileSlices` serves one render: its job must not change between the slices.
-#[derive(Clone, Debug, Default)]
-pub struct TileSlices {
-    tiles: Vec<Option<TileResult>>,
+#[derive(Clone, Debug)]
+pub struct TileSlices<V = Vec4> {
+    tiles: Vec<Option<TileResult<V>>>,
     entry: Option<Option<EntryBounds>>,
 }
 
-impl TileSlices {
+impl<V> Default for TileSlices<V> {
+    fn default() -> Self {
+        Self {
+            tiles: Vec::new(),
+            entry: None,
+        }
+    }
+}
+
+impl<V> TileSlices<V> {
     /// The share of the tiles finished.
     pub fn fraction(&self) -> f32 {
         let done = self.tiles.iter().filter(|t| t.is_some()).count();
@@ -360,23 +384,23 @@ impl<'x, 'a> Job<'x, 'a> {
 
 impl Job<'_, '_> {
     /// [`Job::run`] on the scene's own volume, whatever its voxel type.
-    pub(crate) fn run_on_volume(
+    pub(crate) fn run_on_volume<V: RayValue>(
         &self,
-        value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
-        slices: &mut TileSlices,
+        value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> V + Sync,
+        slices: &mut TileSlices<V>,
         deadline: Deadline,
-    ) -> Result<Step<(Vec<Vec4>, RenderStats)>, Cancelled> {
-        struct Visit<'j, 'x, 'a, 's, F> {
+    ) -> Result<Step<(Vec<V>, RenderStats)>, Cancelled> {
+        struct Visit<'j, 'x, 'a, 's, F, V> {
             job: &'j Job<'x, 'a>,
             value: F,
-            slices: &'s mut TileSlices,
+            slices: &'s mut TileSlices<V>,
             deadline: Deadline,
         }
-        impl<F> GridVisitor for Visit<'_, '_, '_, '_, F>
+        impl<F, V: RayValue> GridVisitor for Visit<'_, '_, '_, '_, F, V>
         where
-            F: Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
+            F: Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> V + Sync,
         {
-            type Output = Result<Step<(Vec<Vec4>, RenderStats)>, Cancelled>;
+            type Output = Result<Step<(Vec<V>, RenderStats)>, Cancelled>;
             fn visit<T: Voxel>(self, grid: Grid<'_, T>) -> Self::Output {
                 self.job.run(grid, self.value, self.slices, self.deadline)
             }
@@ -393,13 +417,13 @@ impl Job<'_, '_> {
     /// (given the background and the colour of the occluder that stopped it, if one did) and
     /// averaged over the supersamples; row by row. The tiles `slices` holds are not done again,
     /// and no tile is begun once `deadline` has passed (but the first of each call).
-    pub(crate) fn run<T: Voxel>(
+    pub(crate) fn run<T: Voxel, V: RayValue>(
         &self,
         grid: Grid<'_, T>,
-        value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4 + Sync,
-        slices: &mut TileSlices,
+        value: impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> V + Sync,
+        slices: &mut TileSlices<V>,
         deadline: Deadline,
-    ) -> Result<Step<(Vec<Vec4>, RenderStats)>, Cancelled> {
+    ) -> Result<Step<(Vec<V>, RenderStats)>, Cancelled> {
         let (scene, width, height) = (self.scene, self.width, self.height);
         let spacing = grid.spacing;
         let marcher = Marcher::new(scene, grid);
@@ -436,7 +460,7 @@ impl Job<'_, '_> {
         let begun = AtomicUsize::new(0);
         let entry = &*entry;
 
-        let finished: Vec<Option<TileResult>> = todo
+        let finished: Vec<Option<TileResult<V>>> = todo
             .par_iter()
             .map(|&tile| {
                 if self.cancel.load(Ordering::Relaxed)
@@ -479,7 +503,7 @@ impl Job<'_, '_> {
                 Ok(Step::Paused)
             };
         }
-        let tiles: Vec<TileResult> = std::mem::take(&mut slices.tiles)
+        let tiles: Vec<TileResult<V>> = std::mem::take(&mut slices.tiles)
             .into_iter()
             .flatten()
             .collect();
@@ -496,7 +520,7 @@ impl Job<'_, '_> {
             stats.capped += capped;
         }
         // Each band of tile rows is one stretch of the image: copied in parallel.
-        let mut image = vec![Vec4::ZERO; width as usize * height as usize];
+        let mut image = vec![V::default(); width as usize * height as usize];
         image
             .par_chunks_mut((width * TILE) as usize)
             .zip(tiles.par_chunks(tiles_x as usize))
@@ -516,15 +540,15 @@ impl Job<'_, '_> {
     /// capped rays: each pixel's rays, stopped at the `near` occluders and the surface,
     /// marched, turned into a value and averaged over the supersamples.
     #[inline(always)]
-    fn tile_rays<T: Voxel>(
+    fn tile_rays<T: Voxel, V: RayValue>(
         &self,
         marcher: &Marcher<'_, '_, '_, T>,
         rays: &crate::camera::ImageRays,
         entry: &Option<EntryBounds>,
         [x0, y0, x1, y1]: [u32; 4],
         near: &[&Occluder],
-        value: &impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> Vec4,
-    ) -> (Vec<Vec4>, u64, u64, u64) {
+        value: &impl Fn(&crate::trace::RayOutcome, Vec3, Option<Vec3>) -> V,
+    ) -> (Vec<V>, u64, u64, u64) {
         let scene = self.scene;
         let n = scene.settings.supersampling.max(1);
         let inv_rays = 1.0 / (n * n) as f32;
@@ -534,7 +558,7 @@ impl Job<'_, '_> {
         for py in y0..y1 {
             for px in x0..x1 {
                 let from = entry.as_ref().map_or(f32::NEG_INFINITY, |e| e.at(px, py));
-                let mut sum = Vec4::ZERO;
+                let mut sum = V::default();
                 for sy in 0..n {
                     for sx in 0..n {
                         let x = px as f32 + (sx as f32 + 0.5) / n as f32;
@@ -561,7 +585,7 @@ impl Job<'_, '_> {
                         samples += out.samples as u64;
                         positions += out.positions as u64;
                         capped += (out.stop == StopReason::SampleCap) as u64;
-                        sum += value(&out, background, behind);
+                        sum = sum + value(&out, background, behind);
                     }
                 }
                 pixels.push(sum * inv_rays);

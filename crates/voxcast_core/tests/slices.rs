@@ -1,12 +1,13 @@
 //! Work done in slices (what a browser's page does, one thread drawing frames between them)
 //! gives what one call gives, bit for bit: the picture, the layer with its spheres, the cost
-//! map and the speed/accuracy trade, each cut into as many slices as it has pieces.
+//! map (and the picture with its cost map from one march) and the speed/accuracy trade, each
+//! cut into as many slices as it has pieces.
 
 use std::sync::atomic::AtomicBool;
 use voxcast_core::builtin::load_builtin;
 use voxcast_core::camera::Camera;
 use voxcast_core::composite::Method;
-use voxcast_core::cost::{render_cost, render_cost_in};
+use voxcast_core::cost::{render_cost, render_cost_in, render_with_cost_in};
 use voxcast_core::glam::Vec3;
 use voxcast_core::preset;
 use voxcast_core::render::{
@@ -67,6 +68,31 @@ fn a_render_in_slices_is_the_render() {
         let (sliced, _) = until_done(NOW, |d| render_cost_in(&job, &mut state, d)).unwrap();
         assert_eq!(sliced.pixels, whole.pixels, "{name}: the cost map");
         assert_eq!(sliced.stats, whole.stats);
+
+        // Render image's one march: the picture and the cost map as the two marches give them.
+        let picture = render(&scene, &camera, size.0, size.1, &|_, _| {}, &stop).unwrap();
+        let mut state = TileSlices::default();
+        let ((image, stats, cost), calls) =
+            until_done(NOW, |d| render_with_cost_in(&job, &mut state, d)).unwrap();
+        assert_eq!(calls, tiles, "{name}: one tile a call");
+        assert_eq!(
+            (image, stats),
+            picture,
+            "{name}: the picture, from one march"
+        );
+        assert_eq!(cost.pixels, whole.pixels, "{name}: its cost map");
+        assert_eq!(cost.stats, whole.stats);
+        assert_eq!(cost.full_scale, whole.full_scale);
+        let bits = |d: &Option<voxcast_core::depth::DepthMap>| {
+            d.as_ref()
+                .map(|d| d.depth.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+        };
+        assert_eq!(
+            bits(&cost.depth),
+            bits(&whole.depth),
+            "{name}: First's depth"
+        );
+        assert_eq!(cost.depth.is_some(), method == Method::First);
     }
 }
 

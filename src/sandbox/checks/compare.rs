@@ -498,31 +498,35 @@ fn start_render(
         let cancelled = |_| "cancelled".to_string();
         let size = (s.size.x, s.size.y);
         let job = render::Job::plain(&scene, &s.camera, size, &report, &worker_cancel);
+        // The picture and its cost view's counts from one march; its time is the render's
+        // own (what its samples a second divide by): not the CPU live view's capture below,
+        // which the rate once wrongly counted in.
         let mut tiles = TileSlices::default();
-        // The render's own time (what its samples a second divide by): not the CPU live
-        // view's capture below, which the rate once wrongly counted in.
-        let ((image, stats), seconds) = in_slices(|d| render::render_in(&job, &mut tiles, d))
-            .await
-            .map_err(cancelled)?;
-        let quiet = render::Job {
-            progress: &|_, _| {},
-            ..job
-        };
-        if cpu_live {
-            let mut tiles = TileSlices::default();
-            let ((layer, _), _) = in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
+        let ((image, stats, cost), seconds) =
+            in_slices(|d| voxcast_core::cost::render_with_cost_in(&job, &mut tiles, d))
                 .await
                 .map_err(cancelled)?;
-            let live = layer.over(s.settings.background);
+        if cpu_live {
+            // The live view draws the layer over the background: with one ray a pixel, that is
+            // the render bit for bit (voxcast_core's tests/layer.rs), so it is not marched
+            // again; with several, the two average in different orders (within 1/255).
+            let live = if s.settings.supersampling <= 1 {
+                image.clone()
+            } else {
+                let quiet = render::Job {
+                    progress: &|_, _| {},
+                    ..job
+                };
+                let mut tiles = TileSlices::default();
+                let ((layer, _), _) = in_slices(|d| render::render_layer_in(&quiet, &mut tiles, d))
+                    .await
+                    .map_err(cancelled)?;
+                layer.over(s.settings.background)
+            };
             if let Ok(mut slot) = live_slot.lock() {
                 *slot = Some(Ok(LinearImage::from_rgb8(&live.to_rgb8())));
             }
         }
-        // The cost view's counts, from the same march (not in the time above).
-        let mut tiles = TileSlices::default();
-        let (cost, _) = in_slices(|d| voxcast_core::cost::render_cost_in(&quiet, &mut tiles, d))
-            .await
-            .map_err(cancelled)?;
         Ok(Rendered {
             image,
             stats,
