@@ -162,9 +162,11 @@ impl Progressive {
         self.passes
     }
 
-    /// Whether the resting view is on screen at full quality: drawn whole, or a pass finished.
+    /// Whether the resting view is on screen at the quality asked for: drawn whole, or a pass
+    /// finished — at full quality where the pass under way is one (a comparison waiting for
+    /// it: until then the window keeps drawing, a strip a frame, instead of resting).
     pub fn full_quality_shown(&self) -> bool {
-        !self.active || self.finished.is_some()
+        !self.active || (self.finished.is_some() && (self.finished_full || !self.pass_full))
     }
 
     /// The image of the last pass finished at full quality ([`FullQuality`]), while the view
@@ -501,6 +503,47 @@ mod tests {
         assert!(!p.full_quality_shown());
         p.finished = Some(1);
         assert_eq!(p.layers(), vec![(made[1].clone(), 0.0, 1.0)]);
+        assert!(p.full_quality_shown());
+    }
+
+    /// A full-quality pass asked for once a resting pass has finished (Render image, the view
+    /// at rest) keeps the window drawing until it is finished in turn: the window once rested
+    /// (a frame a second) in between, and a pass of 64 strips took 50 s on the page.
+    #[test]
+    fn a_full_quality_pass_keeps_the_window_drawing_until_it_is_finished() {
+        let mut images = Assets::<Image>::default();
+        let size = UVec2::new(8, 8);
+        let target = PreviewTarget {
+            image: pass_image(&mut images, size),
+            size,
+        };
+        let mut p = Progressive::default();
+        // A resting pass in four strips (each predicted a budget's work), then one more strip
+        // call that hands the finished pass over.
+        let predicted = 4.0 * p.cost.share();
+        let mut strips = 0;
+        while p.finished.is_none() {
+            p.next_strip(&mut images, &target, false, predicted);
+            strips += 1;
+            assert!(strips < 10, "the pass finishes");
+        }
+        assert!(
+            p.full_quality_shown(),
+            "the resting pass is what was asked for"
+        );
+        // Render image asks for full quality: drawn as a new pass, the window awake meanwhile.
+        p.next_strip(&mut images, &target, true, predicted);
+        assert!(
+            !p.full_quality_shown(),
+            "the finished pass is not at full quality"
+        );
+        assert!(p.finished_full_image().is_none(), "nothing to capture yet");
+        while p.finished_full_image().is_none() {
+            assert!(!p.full_quality_shown());
+            p.next_strip(&mut images, &target, true, predicted);
+            strips += 1;
+            assert!(strips < 20, "the full-quality pass finishes");
+        }
         assert!(p.full_quality_shown());
     }
 }
