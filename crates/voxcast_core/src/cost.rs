@@ -271,11 +271,7 @@ pub fn render_cost_in(
     slices: &mut TileSlices,
     deadline: Deadline,
 ) -> Result<Step<CostMap>, Cancelled> {
-    let job = Job {
-        occluders: &[],
-        surface: None,
-        ..*job
-    };
+    let job = job.volume_alone();
     let step = job.run_on_volume(|out, _, _| ray_cost(out), slices, deadline)?;
     Ok(match step {
         Step::Paused => Step::Paused,
@@ -376,6 +372,8 @@ pub(crate) fn cost_map<V: Sync>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::settings::RenderSettings;
+    use crate::step::Length;
 
     #[test]
     fn counts_round_as_round_does() {
@@ -399,8 +397,6 @@ mod tests {
             x = f32::from_bits(x.to_bits() + 37);
         }
     }
-    use crate::settings::RenderSettings;
-    use crate::step::Length;
 
     fn head() -> crate::Prepared {
         crate::builtin::load_builtin("head").unwrap().volume.into()

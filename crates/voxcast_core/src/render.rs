@@ -101,11 +101,7 @@ pub fn render_in(
     slices: &mut TileSlices,
     deadline: Deadline,
 ) -> Result<Step<(LinearImage, RenderStats)>, Cancelled> {
-    let plain = Job {
-        occluders: &[],
-        surface: None,
-        ..*job
-    };
+    let plain = job.volume_alone();
     let step = plain.run_on_volume(
         |out, background, _| Vec4::from((out.pixel(background), 1.0)),
         slices,
@@ -378,6 +374,16 @@ impl<'x, 'a> Job<'x, 'a> {
             surface: None,
             progress,
             cancel,
+        }
+    }
+
+    /// This job with its occluders and surface left out: what the picture and the cost map
+    /// march.
+    pub(crate) fn volume_alone(&self) -> Self {
+        Self {
+            occluders: &[],
+            surface: None,
+            ..*self
         }
     }
 }

@@ -45,11 +45,7 @@ pub fn render_with_cost_in(
     slices: &mut TileSlices<PictureAndCost>,
     deadline: Deadline,
 ) -> Result<Step<(LinearImage, RenderStats, CostMap)>, Cancelled> {
-    let job = Job {
-        occluders: &[],
-        surface: None,
-        ..*job
-    };
+    let job = job.volume_alone();
     let step = job.run_on_volume(
         |out, background, _| PictureAndCost {
             picture: out.pixel(background),
