@@ -3,19 +3,23 @@
 //!
 //! egui's own default adds two emoji fonts, 0.46 MB of the page's download with gzip (of 8.1 MB
 //! then) for three glyphs our texts used; our texts keep to what these two fonts draw (the
-//! test below lists any character of ours they lack).
+//! test below lists any character of ours they lack). The two are egui's, kept to the scripts
+//! and symbols a level may use and without hinting instructions (`assets/fonts/subset.py`,
+//! 0.18 MB less with gzip); egui's renderer hints them itself.
 
 use bevy::prelude::*;
 use bevy_egui::{EguiContext, egui};
 use std::sync::Arc;
 
+/// Ubuntu Light, as `assets/fonts/subset.py` makes it (licence: `assets/fonts/NOTICE.md`).
+const UBUNTU_LIGHT: &[u8] = include_bytes!("../../../assets/fonts/Ubuntu-Light-Voxcast.ttf");
+/// Hack, as `assets/fonts/subset.py` makes it.
+const HACK: &[u8] = include_bytes!("../../../assets/fonts/Hack-Regular-Voxcast.ttf");
+
 /// The fonts every egui context of the sandbox draws with, the window's and the tests'.
 pub(crate) fn definitions() -> egui::FontDefinitions {
     let mut fonts = egui::FontDefinitions::empty();
-    for (name, bytes) in [
-        ("Ubuntu-Light", epaint_default_fonts::UBUNTU_LIGHT),
-        ("Hack", epaint_default_fonts::HACK_REGULAR),
-    ] {
+    for (name, bytes) in [("Ubuntu-Light", UBUNTU_LIGHT), ("Hack", HACK)] {
         fonts.font_data.insert(
             name.to_owned(),
             Arc::new(egui::FontData::from_static(bytes)),
