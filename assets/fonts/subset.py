@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Makes the sandbox's two fonts (assets/fonts/*.ttf) from egui's: Ubuntu Light and Hack, kept
-to the scripts and symbols below and without their hinting instructions. The fonts draw the
-same; a visitor of the page downloads 0.18 MB less with gzip (BENCHMARKS.md, "In a browser").
+to the scripts and symbols below and without their hinting instructions. Text looks the same
+(glyph edges antialiased a little differently); a visitor of the page downloads 0.17 MB less
+with gzip (BENCHMARKS.md, "In a browser").
 
 egui renders text with skrifa, whose autohinter fits a font that carries no instructions to the
 pixel grid (Hack's own were made by ttfautohint). The licences ask a changed font to carry a new

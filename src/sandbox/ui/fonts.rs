@@ -5,7 +5,7 @@
 //! then) for three glyphs our texts used; our texts keep to what these two fonts draw (the
 //! test below lists any character of ours they lack). The two are egui's, kept to the scripts
 //! and symbols a level may use and without hinting instructions (`assets/fonts/subset.py`,
-//! 0.18 MB less with gzip); egui's renderer hints them itself.
+//! 0.17 MB less with gzip); egui's renderer hints them itself.
 
 use bevy::prelude::*;
 use bevy_egui::{EguiContext, egui};
