@@ -90,23 +90,19 @@ impl CostModel {
     /// The shortest recent frame not shorter than [`BUFFERED`] of the median of the recent
     /// frames given no more work than it (the longest of those always qualifies).
     fn fixed_part(&self) -> f64 {
-        let mut alike = Vec::with_capacity(self.recent.len());
-        let mut fixed = f64::INFINITY;
-        for &(work, seconds) in &self.recent {
-            alike.clear();
-            alike.extend(
-                self.recent
+        self.recent
+            .iter()
+            .filter(|&&(work, seconds)| {
+                let alike: Vec<f64> = self
+                    .recent
                     .iter()
                     .filter(|(w, _)| *w <= work)
-                    .map(|(_, s)| *s),
-            );
-            let mid = alike.len() / 2;
-            let median = *alike.select_nth_unstable_by(mid, f64::total_cmp).1;
-            if seconds >= BUFFERED * median {
-                fixed = fixed.min(seconds);
-            }
-        }
-        fixed
+                    .map(|(_, s)| *s)
+                    .collect();
+                voxcast_core::numbers::median(&alike).is_some_and(|m| seconds >= BUFFERED * m)
+            })
+            .map(|(_, s)| *s)
+            .fold(f64::INFINITY, f64::min)
     }
 }
 
