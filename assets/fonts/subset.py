@@ -30,7 +30,8 @@ FONTS = [("Ubuntu-Light.ttf", "Ubuntu Light"), ("Hack-Regular.ttf", "Hack")]
 
 def main(source: pathlib.Path, out: pathlib.Path) -> None:
     for file, family in FONTS:
-        font = TTFont(source / file)
+        # The source's own timestamp kept, so that a second run writes the same bytes.
+        font = TTFont(source / file, recalcTimestamp=False)
         options = subset.Options()
         options.hinting = False
         options.layout_features = ["*"]
