@@ -1,7 +1,9 @@
 //! The web page in a real browser: Debian's headless `chromium`, driven over WebDriver by
 //! `chromedriver`, against the page `web/build.sh` built (`dist/`, or `$VOXCAST_WEB_DIR`)
 //! served on 127.0.0.1. Once with WebGL2 (what every browser has; here SwiftShader) and once
-//! with WebGPU (SwiftShader's Vulkan through Dawn). Each run waits for the first frame, checks
+//! with WebGPU (SwiftShader's Vulkan through Dawn: the browser's fallback adapter, which the
+//! page gives the CPU live view, checked first; the run then asks for the GPU preview). Each
+//! run waits for the first frame, checks
 //! that the bunny is drawn where the desktop's `--screenshot` draws it, orbits with a drag,
 //! renders the exact image while the page keeps drawing, opens a dropped NRRD file (and a
 //! damaged one, which leaves it), computes a dropped `.rayvis` file's density, reads a 512³ 16-bit volume with its progress (and Cancel)
@@ -220,6 +222,32 @@ const WEBGPU_FLAGS: [&str; 4] = [
     "--use-webgpu-adapter=swiftshader",
 ];
 
+/// The WebGPU build on chromium's fallback adapter: the adapter named as the browser names it,
+/// and the volume drawn by the CPU live view (as a visitor without a graphics card gets it).
+fn software_adapter_gets_the_cpu(browser: &Browser, port: u16) -> Result<(), String> {
+    let started = Instant::now();
+    browser.open(&format!("http://127.0.0.1:{port}/?gpu=webgpu&no-rays"))?;
+    let chosen = browser.wait_for(
+        "const s = window.voxcastStatus && window.voxcastStatus(); \
+         return s && s.frames >= 2 && s.adapter !== '' && s.backend === 'cpu' && s",
+        FIRST_FRAME,
+    )?;
+    println!(
+        "webgpu as a visitor gets it: the adapter \"{}\", the volume drawn by the CPU live \
+         view; {} frames after {:.1} s",
+        chosen["adapter"].as_str().unwrap_or_default(),
+        chosen["frames"],
+        started.elapsed().as_secs_f64()
+    );
+    assert!(
+        chosen["adapter"]
+            .as_str()
+            .is_some_and(|a| a.contains("swiftshader")),
+        "{chosen}"
+    );
+    Ok(())
+}
+
 fn page(graphics: &str) -> Outcome {
     let dir = page_dir();
     if let Some(skip) = unavailable(&dir, &[graphics]) {
@@ -243,9 +271,22 @@ fn page(graphics: &str) -> Outcome {
     };
     browser.set_viewport(1280, 720)?;
 
+    // WebGPU here is chromium's fallback adapter (SwiftShader: no graphics card), which the
+    // page treats as the software rasterizer it is: the CPU live view draws the volume, as in
+    // the WebGL2 build. The rest of this run asks for the GPU preview, the WebGPU path of a
+    // visitor with a graphics card.
+    let forced = if graphics == "webgpu" {
+        software_adapter_gets_the_cpu(&browser, port)?;
+        "&preview-backend=gpu"
+    } else {
+        ""
+    };
+
     // The first frame, and the graphics the page chose.
     let started = Instant::now();
-    browser.open(&format!("http://127.0.0.1:{port}/?gpu={graphics}&no-rays"))?;
+    browser.open(&format!(
+        "http://127.0.0.1:{port}/?gpu={graphics}&no-rays{forced}"
+    ))?;
     browser
         .wait_for(
             "return window.voxcastStatus && window.voxcastStatus().frames >= 2",

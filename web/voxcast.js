@@ -36,14 +36,31 @@ function askedGraphics() {
   return asked === 'webgl2' || asked === 'webgpu' ? asked : null;
 }
 
-/** Which of the two builds this browser runs: WebGPU needs an adapter, not just `navigator.gpu`. */
+/** The browser's WebGPU adapter as the sandbox reads it (`voxcastAdapter`): its name in words
+ * and whether it is the browser's fallback, a software rasterizer (wgpu names neither in a
+ * browser, and the sandbox gives a software rasterizer the CPU live view, as on the desktop).
+ * Null where there is none. */
+async function webgpuAdapter() {
+  try {
+    const adapter = navigator.gpu && (await navigator.gpu.requestAdapter());
+    if (!adapter) return null;
+    const info = adapter.info || {};
+    const name = [info.vendor, info.architecture, info.device, info.description]
+      .filter(Boolean).join(' ');
+    return { name, fallback: Boolean(info.isFallbackAdapter ?? adapter.isFallbackAdapter) };
+  } catch (_) {
+    return null; // no WebGPU
+  }
+}
+
+/** Which of the two builds this browser runs (WebGPU needs an adapter, not just
+ * `navigator.gpu`), and the promise of the WebGPU adapter where that build runs: where the
+ * address chose the build, the adapter is asked for while the module downloads. */
 async function chooseGraphics() {
   const asked = askedGraphics();
-  if (asked) return asked;
-  try {
-    if (navigator.gpu && (await navigator.gpu.requestAdapter())) return 'webgpu';
-  } catch (_) { /* no WebGPU: WebGL2 below */ }
-  return 'webgl2';
+  if (asked) return [asked, asked === 'webgpu' ? webgpuAdapter() : Promise.resolve(null)];
+  const adapter = await webgpuAdapter();
+  return adapter ? ['webgpu', Promise.resolve(adapter)] : ['webgl2', Promise.resolve(null)];
 }
 
 /** The real embedded datasets (`builtin::FILES` in the core: name and file), which the page's
@@ -244,7 +261,7 @@ async function start() {
     notify('This browser offered WebGPU but drew nothing with it: Voxcast switched to WebGL2.',
       'voxcast-switched');
   }
-  const graphics = await chooseGraphics();
+  const [graphics, adapter] = await chooseGraphics();
   window.voxcastGraphics = graphics;
   let wasm;
   try {
@@ -254,6 +271,7 @@ async function start() {
     const volumes = fetchVolumes();
     wasm = await import(`./${graphics}/voxcast.js`);
     window.voxcastVolumes = await volumes;
+    window.voxcastAdapter = await adapter;
     await wasm.default({ module_or_path: module });
   } catch (e) {
     // winit ends its start with an exception it uses for control flow; anything else failed.

@@ -326,11 +326,20 @@ fn choose_backend(
     let Some(adapter) = adapter else { return };
     *done = true;
     #[cfg(target_arch = "wasm32")]
-    crate::sandbox::shared::web::publish(|s| s.adapter = adapter.name.clone());
+    let browser = crate::sandbox::shared::web::webgpu_adapter();
+    #[cfg(not(target_arch = "wasm32"))]
+    let browser = None;
+    let (name, kind) = crate::sandbox::shared::quality::adapter_identity(
+        &adapter.name,
+        &format!("{:?}", adapter.device_type),
+        browser.as_ref(),
+    );
+    #[cfg(target_arch = "wasm32")]
+    crate::sandbox::shared::web::publish(|s| s.adapter = name.clone());
     if chosen {
         return;
     }
-    let backend = Backend::for_adapter(&adapter.name, &format!("{:?}", adapter.device_type));
+    let backend = Backend::for_adapter(&name, &kind);
     if backend != now {
         info!(
             "the preview renders on the {} ({})",
@@ -339,7 +348,7 @@ fn choose_backend(
             } else {
                 "GPU"
             },
-            adapter.name
+            name
         );
         preview.ask(Author::Adapter, PreviewChange::Backend(backend));
         #[cfg(target_arch = "wasm32")]

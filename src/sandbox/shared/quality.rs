@@ -42,6 +42,24 @@ impl Backend {
     }
 }
 
+/// An adapter's name and kind (`DeviceType` in words) as [`Backend::for_adapter`] reads them:
+/// wgpu's, or in a browser's WebGPU, where wgpu names no adapter, the browser's own name for it
+/// (`browser`: the name, and whether it is the browser's fallback adapter — a software
+/// rasterizer, counted as a CPU).
+pub fn adapter_identity(
+    name: &str,
+    device_type: &str,
+    browser: Option<&(String, bool)>,
+) -> (String, String) {
+    match browser {
+        Some((browser_name, fallback)) if name.is_empty() => (
+            browser_name.clone(),
+            if *fallback { "Cpu" } else { device_type }.to_string(),
+        ),
+        _ => (name.to_string(), device_type.to_string()),
+    }
+}
+
 /// How the preview trades quality for speed (each documented in `voxcast_core::tunables`).
 #[derive(Resource, Clone, PartialEq, Debug)]
 pub struct PreviewSettings {

@@ -36,6 +36,21 @@ fn set_text(id: &str, text: &str) {
     }
 }
 
+/// The browser's WebGPU adapter as the loader read it (`voxcastAdapter`, `web/voxcast.js`): its
+/// name in words and whether it is the browser's fallback adapter, a software rasterizer.
+/// wgpu names neither in a browser. None in the WebGL2 build.
+pub fn webgpu_adapter() -> Option<(String, bool)> {
+    let adapter = js_sys::Reflect::get(&js_sys::global(), &JsValue::from_str("voxcastAdapter"))
+        .ok()
+        .filter(|a| a.is_object())?;
+    let field = |name: &str| js_sys::Reflect::get(&adapter, &JsValue::from_str(name)).ok();
+    let name = field("name")
+        .and_then(|n| n.as_string())
+        .unwrap_or_default();
+    let fallback = field("fallback").and_then(|f| f.as_bool()).unwrap_or(false);
+    Some((name, fallback))
+}
+
 /// Hands the core the real datasets' files the page fetched beside the module
 /// (`voxcastVolumes`, `web/voxcast.js`) and lets the page's copy go.
 pub fn take_fetched_volumes() {

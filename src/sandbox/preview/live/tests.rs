@@ -218,6 +218,44 @@ fn software_rasterizers_get_the_cpu() {
     );
 }
 
+/// In a browser's WebGPU wgpu names no adapter: the browser's name for it is read, and its
+/// fallback adapter (chromium's SwiftShader: "google swiftshader") is a software rasterizer.
+#[test]
+fn a_browsers_webgpu_fallback_adapter_gets_the_cpu() {
+    use crate::sandbox::shared::quality::adapter_identity;
+    let choose = |name: &str, browser: Option<(String, bool)>| {
+        let (name, kind) = adapter_identity(name, "Other", browser.as_ref());
+        Backend::for_adapter(&name, &kind)
+    };
+    assert_eq!(
+        choose("", Some(("google swiftshader".into(), true))),
+        Backend::Cpu
+    );
+    assert_eq!(
+        choose("", Some(("".into(), true))),
+        Backend::Cpu,
+        "by the flag alone"
+    );
+    assert_eq!(
+        choose("", Some(("nvidia ampere".into(), false))),
+        Backend::Gpu
+    );
+    assert_eq!(
+        choose("", None),
+        Backend::Gpu,
+        "nothing known: the GPU, as before"
+    );
+    // Where wgpu names the adapter (the desktop, WebGL2), its name is the one read.
+    assert_eq!(
+        adapter_identity("llvmpipe (LLVM 15.0.6, 256 bits)", "Cpu", None),
+        ("llvmpipe (LLVM 15.0.6, 256 bits)".into(), "Cpu".into())
+    );
+    assert_eq!(
+        choose("AMD Radeon", Some(("google swiftshader".into(), true))),
+        Backend::Gpu
+    );
+}
+
 /// A browser's SwiftShader is a software rasterizer too; and a GPU that refuses the
 /// preview's pipeline hands the volume to the CPU, even where the GPU was asked for.
 #[test]
