@@ -13,9 +13,9 @@
 //! While a background task runs ([`super::tasks::in_flight`]) and nothing else asks for
 //! frames, the window is paced for the work: it draws its progress every [`WORK_WAIT`] and
 //! leaves the cores to the task (in a browser the task's slices and the frames share one
-//! thread, and the browser's software drawing the other core), and the task's end wakes it. An
-//! app started with [`WinitSettings::continuous`] (the measurements and the scripted players)
-//! is left as it is.
+//! thread, and the browser's software drawing the other core), and the task's end wakes it for
+//! [`AFTER_TASK`] of frames. An app started with [`WinitSettings::continuous`] (the
+//! measurements and the scripted players) is left as it is.
 
 use super::quality::Motion;
 use bevy::input::keyboard::KeyboardInput;
@@ -29,6 +29,12 @@ use std::time::Duration;
 /// How long the window keeps drawing every frame after the last input or change: long enough
 /// for a click's consequences (a task starting, an animation) to take over.
 pub const KEEP_DRAWING: Duration = Duration::from_secs(2);
+
+/// After a background task ends, how long the window draws every frame: its result's first
+/// frames (egui fitting a window to it asks for its own). Not [`KEEP_DRAWING`]: in a browser
+/// without a graphics card two seconds of frames after each Render image kept some 1.4 of 2
+/// cores busy redrawing a picture already shown (BENCHMARKS.md).
+pub const AFTER_TASK: Duration = Duration::from_millis(250);
 
 /// At rest, the longest the window waits between two frames without input: what anything
 /// that neither sends [`KeepDrawing`] nor wakes the window ([`super::wake`]) waits at most to
@@ -193,8 +199,10 @@ fn pace(
     }
     let working = (pacing.in_flight)() > 0;
     if std::mem::replace(&mut pacing.tasks_ran, working) && !working {
-        // The work is done: its result shows with every frame for a while.
-        pacing.last_active = now;
+        // The work is done: its result shows with every frame for a moment (longer where the
+        // student acted lately).
+        let shown_until = now - (KEEP_DRAWING - AFTER_TASK).as_secs_f64();
+        pacing.last_active = pacing.last_active.max(shown_until);
         pacing.woken_by = "a task finished";
     }
     let working = working && asked.is_none();
@@ -297,9 +305,8 @@ mod tests {
         assert!(!pacing.working && !pacing.resting, "{pacing:?}");
         assert_eq!(pacing.woken_by, "a task finished");
         assert_eq!(focused(&app), UpdateMode::Continuous);
-        for _ in 0..12 {
-            app.update();
-        }
+        // 250 ms a frame: AFTER_TASK later it rests, not KEEP_DRAWING later.
+        app.update();
         assert!(app.world().resource::<Pacing>().resting);
     }
 
