@@ -3,8 +3,8 @@
 //! served on 127.0.0.1. Once with WebGL2 (what every browser has; here SwiftShader) and once
 //! with WebGPU (SwiftShader's Vulkan through Dawn: the browser's fallback adapter, which the
 //! page gives the CPU live view, checked first; the run then asks for the GPU preview). Each
-//! run waits for the first frame, checks
-//! that the bunny is drawn where the desktop's `--screenshot` draws it, orbits with a drag,
+//! run waits for the first frame, checks that the bunny is drawn where the desktop's
+//! `--screenshot` draws it, orbits with a drag,
 //! renders the exact image while the page keeps drawing, opens a dropped NRRD file (and a
 //! damaged one, which leaves it), computes a dropped `.rayvis` file's density, reads a 512³ 16-bit volume with its progress (and Cancel)
 //! and draws it, refuses a file over the page's limit in words, starts level 1 with a click and reads its first step,

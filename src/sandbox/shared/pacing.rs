@@ -58,8 +58,9 @@ pub struct KeepDrawing;
 pub struct Pacing {
     /// The settings the app was started with, used while active.
     awake: Option<WinitSettings>,
-    /// When the window was last active, seconds of real time.
-    last_active: f64,
+    /// Until when the window draws every frame (unless paced for the work), seconds of real
+    /// time: [`KEEP_DRAWING`] after the last input or request, [`AFTER_TASK`] after a task's end.
+    awake_until: f64,
     /// How many background tasks run ([`super::tasks::in_flight`]; the tests' own count).
     in_flight: fn() -> usize,
     /// Whether a background task ran in the last frame.
@@ -80,7 +81,7 @@ impl Default for Pacing {
     fn default() -> Self {
         Self {
             awake: None,
-            last_active: 0.0,
+            awake_until: KEEP_DRAWING.as_secs_f64(),
             in_flight: super::tasks::in_flight,
             tasks_ran: false,
             resting: false,
@@ -194,19 +195,18 @@ fn pace(
     }
     let asked = activity.reason();
     if let Some(why) = asked {
-        pacing.last_active = now;
+        pacing.awake_until = now + KEEP_DRAWING.as_secs_f64();
         pacing.woken_by = why;
     }
     let working = (pacing.in_flight)() > 0;
     if std::mem::replace(&mut pacing.tasks_ran, working) && !working {
         // The work is done: its result shows with every frame for a moment (longer where the
         // student acted lately).
-        let shown_until = now - (KEEP_DRAWING - AFTER_TASK).as_secs_f64();
-        pacing.last_active = pacing.last_active.max(shown_until);
+        pacing.awake_until = pacing.awake_until.max(now + AFTER_TASK.as_secs_f64());
         pacing.woken_by = "a task finished";
     }
     let working = working && asked.is_none();
-    let resting = !working && now - pacing.last_active >= KEEP_DRAWING.as_secs_f64();
+    let resting = !working && now >= pacing.awake_until;
     pacing.awake_frames = if working || resting {
         0
     } else {
