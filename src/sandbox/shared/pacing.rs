@@ -27,8 +27,13 @@ use bevy_egui::{EguiInput, EguiPreUpdateSet};
 use std::time::Duration;
 
 /// How long the window keeps drawing every frame after the last input or change: long enough
-/// for a click's consequences (a task starting, an animation) to take over.
-pub const KEEP_DRAWING: Duration = Duration::from_secs(2);
+/// for a click's consequences to take over, each of which asks for its own frames (a task is
+/// counted from the frame it starts, a feature that moves sends [`KeepDrawing`], egui asks
+/// for its animations and tooltips). Not longer: every pointer move starts it, and in a
+/// browser without a graphics card each of its frames is some 100 ms of both cores' drawing
+/// (2 s of them after each move or click were about 20 frames and 1.5 of 2 cores;
+/// BENCHMARKS.md).
+pub const KEEP_DRAWING: Duration = Duration::from_millis(500);
 
 /// After a background task ends, how long the window draws every frame: its result's first
 /// frames (egui fitting a window to it asks for its own). Not [`KEEP_DRAWING`]: in a browser
@@ -251,14 +256,13 @@ mod tests {
     #[test]
     fn the_window_rests_after_a_still_while_and_wakes_on_a_request() {
         let mut app = app(WinitSettings::game());
-        for _ in 0..4 {
+        // 250 ms a frame: active for KEEP_DRAWING, then, with nothing going on, at rest.
+        let awake = (KEEP_DRAWING.as_millis() / 250) as usize;
+        for _ in 0..awake {
             app.update();
             assert_eq!(focused(&app), UpdateMode::Continuous, "active at first");
         }
-        // 250 ms a frame: after KEEP_DRAWING with nothing going on, it rests.
-        for _ in 0..12 {
-            app.update();
-        }
+        app.update();
         assert!(app.world().resource::<Pacing>().resting);
         assert_eq!(focused(&app), UpdateMode::reactive(REST_WAIT));
         app.world_mut().write_message(KeepDrawing);
