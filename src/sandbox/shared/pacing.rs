@@ -36,9 +36,10 @@ use std::time::Duration;
 pub const KEEP_DRAWING: Duration = Duration::from_millis(500);
 
 /// After a background task ends, how long the window draws every frame: its result's first
-/// frames (egui fitting a window to it asks for its own). Not [`KEEP_DRAWING`]: in a browser
-/// without a graphics card two seconds of frames after each Render image kept some 1.4 of 2
-/// cores busy redrawing a picture already shown (BENCHMARKS.md).
+/// frames (egui fitting a window to it asks for its own). Shorter than [`KEEP_DRAWING`]: no
+/// student is acting, and in a browser without a graphics card two seconds of frames after
+/// each Render image kept some 1.4 of 2 cores busy redrawing a picture already shown
+/// (BENCHMARKS.md).
 pub const AFTER_TASK: Duration = Duration::from_millis(250);
 
 /// At rest, the longest the window waits between two frames without input: what anything
@@ -232,6 +233,9 @@ mod tests {
     use super::*;
     use bevy::time::TimeUpdateStrategy;
 
+    /// Each test frame's length.
+    const FRAME: Duration = Duration::from_millis(250);
+
     fn app(start: WinitSettings) -> App {
         let mut app = App::new();
         app.add_plugins(MinimalPlugins)
@@ -240,9 +244,7 @@ mod tests {
             .add_message::<MouseWheel>()
             .add_message::<CursorMoved>()
             .insert_resource(start)
-            .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_millis(
-                250,
-            )))
+            .insert_resource(TimeUpdateStrategy::ManualDuration(FRAME))
             .add_plugins(plugin);
         // No task of this test's (the process's count holds the other tests').
         app.world_mut().resource_mut::<Pacing>().in_flight = || 0;
@@ -256,8 +258,8 @@ mod tests {
     #[test]
     fn the_window_rests_after_a_still_while_and_wakes_on_a_request() {
         let mut app = app(WinitSettings::game());
-        // 250 ms a frame: active for KEEP_DRAWING, then, with nothing going on, at rest.
-        let awake = (KEEP_DRAWING.as_millis() / 250) as usize;
+        // Active for KEEP_DRAWING, then, with nothing going on, at rest.
+        let awake = (KEEP_DRAWING.as_millis() / FRAME.as_millis()) as usize;
         for _ in 0..awake {
             app.update();
             assert_eq!(focused(&app), UpdateMode::Continuous, "active at first");
@@ -309,7 +311,7 @@ mod tests {
         assert!(!pacing.working && !pacing.resting, "{pacing:?}");
         assert_eq!(pacing.woken_by, "a task finished");
         assert_eq!(focused(&app), UpdateMode::Continuous);
-        // 250 ms a frame: AFTER_TASK later it rests, not KEEP_DRAWING later.
+        // A FRAME (AFTER_TASK) later it rests, not KEEP_DRAWING later.
         app.update();
         assert!(app.world().resource::<Pacing>().resting);
     }
